@@ -1,0 +1,31 @@
+"""kinetic-fem: velocity distributions of the one-dimensional inelastic gas.
+
+Deterministic solvers of the homogeneous Boltzmann equation
+
+.. math::
+
+    \\partial_t P - D\\partial_v^2 P = -n\\int dv'\\,|v-v'|P(v)P(v')
+    + \\frac{4n}{(1+\\alpha)^2}\\int dv'\\,|v-v'|P(v')
+      P\\Big(\\frac{2v-(1-\\alpha)v'}{1+\\alpha}\\Big)
+
+(heated steady state, free cooling), its quasi-elastic limits, and the common
+result type :class:`VelocityDistribution`.  Particle methods live in the
+``particles`` package.
+"""
+
+import logging
+
+from . import gas, grid, scaling, sonine  # noqa: F401
+from .distribution import RunInfo, VelocityDistribution
+from .gas import CoolingProblem, HeatedProblem, InelasticGas
+from .solve import (COOLING_SOLVERS, HEATED_SOLVERS, register_solver, solve_cooling,
+                    solve_heated)
+
+__version__ = "0.1.0"
+__all__ = [
+    "InelasticGas", "HeatedProblem", "CoolingProblem", "VelocityDistribution", "RunInfo",
+    "solve_heated", "solve_cooling", "register_solver", "HEATED_SOLVERS", "COOLING_SOLVERS",
+    "sonine", "scaling", "grid", "gas",
+]
+
+logging.getLogger(__name__).addHandler(logging.NullHandler())

@@ -1,0 +1,7 @@
+"""Figures and claims of the paper computed by the deterministic methods.
+
+Importing this package registers its items with :mod:`kinetic_fem.reproduce`; each
+submodule owns the items of one capability.
+"""
+
+from . import analytic, heated, scaling  # noqa: F401

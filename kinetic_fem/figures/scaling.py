@@ -1,0 +1,1 @@
+"""Reproduce items of this capability (registered on import)."""

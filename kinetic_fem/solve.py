@@ -1,0 +1,77 @@
+"""Public entry points and the registry of deterministic solvers.
+
+Each solver registers itself under a key (``"fem"``, ``"fd"``, ``"spectral"``)
+with :func:`register_solver`; :func:`solve_heated` and :func:`solve_cooling`
+validate the parameters once and dispatch.  A solver is a function
+``solver(problem, **options) -> VelocityDistribution`` whose options are explicit
+keyword arguments, so a misspelt option raises ``TypeError``.  Tests parametrise
+over :data:`HEATED_SOLVERS`, so a new solver is tested automatically.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Callable
+
+from .distribution import VelocityDistribution
+from .gas import CoolingProblem, HeatedProblem
+
+__all__ = ["HEATED_SOLVERS", "COOLING_SOLVERS", "register_solver", "solve_heated",
+           "solve_cooling"]
+
+Solver = Callable[..., VelocityDistribution]
+HEATED_SOLVERS: dict[str, Solver] = {}
+COOLING_SOLVERS: dict[str, Solver] = {}
+
+
+def register_solver(key: str, *, problem: str) -> Callable[[Solver], Solver]:
+    """Decorator registering ``solver`` under ``key`` for ``problem`` ("heated"/"cooling")."""
+    table = {"heated": HEATED_SOLVERS, "cooling": COOLING_SOLVERS}[problem]
+
+    def decorate(solver: Solver) -> Solver:
+        if key in table:
+            raise ValueError(f"a {problem} solver is already registered as {key!r}")
+        table[key] = solver
+        return solver
+
+    return decorate
+
+
+def _lookup(table: dict[str, Solver], method: str, problem: str) -> Solver:
+    if not isinstance(method, str) or method not in table:
+        raise ValueError(f"unknown {problem} method {method!r}; available: {sorted(table)}")
+    return table[method]
+
+
+def solve_heated(alpha: float, *, density: float = 1.0, diffusion: float = 1.0,
+                 method: str = "fem", **options: Any) -> VelocityDistribution:
+    """Steady state of the randomly heated inelastic gas.
+
+    Parameters
+    ----------
+    alpha : float
+        Restitution coefficient, ``0 <= alpha < 1``.
+    density, diffusion : float
+        Number density :math:`n > 0` and noise strength :math:`D > 0`.
+    method : str
+        Registry key: ``"fem"`` (Galerkin, Newton), ``"fd"`` (the paper's iteration), ...
+    **options
+        Passed to the solver; see its documentation.
+
+    Returns
+    -------
+    VelocityDistribution
+
+    Raises
+    ------
+    ValueError, TypeError
+        For invalid parameters, an unknown method or an unknown option.
+    """
+    problem = HeatedProblem.from_parameters(alpha, density=density, diffusion=diffusion)
+    return _lookup(HEATED_SOLVERS, method, "heated")(problem, **options)
+
+
+def solve_cooling(alpha: float, *, density: float = 1.0, method: str = "fem",
+                  **options: Any) -> VelocityDistribution:
+    """Homogeneous cooling state in scaled variables (see :func:`solve_heated`)."""
+    problem = CoolingProblem.from_parameters(alpha, density=density)
+    return _lookup(COOLING_SOLVERS, method, "cooling")(problem, **options)

@@ -1,0 +1,168 @@
+"""Histograms with error bars, running moments, checkpoints and replicas.
+
+Shared by DSMC and MD.  Samples are accumulated into independent *batches*: each
+batch holds a histogram and the power sums :math:`\\sum_i x_i^k`,
+``k = 0 .. MAX_MOMENT``, so that moments come from the samples themselves and the
+errors of any observable from the spread between batches
+(:meth:`kinetic_fem.VelocityDistribution.from_batches`).
+
+Randomness: every run draws from ``numpy.random.Generator`` objects built from a
+``numpy.random.SeedSequence``; independent replicas use ``SeedSequence.spawn``, and
+run through any ``concurrent.futures.Executor`` (a local process pool by default,
+``dask.distributed.Client.get_executor()`` on a cluster).
+"""
+
+from __future__ import annotations
+
+import json
+from concurrent.futures import Executor, ProcessPoolExecutor
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Callable, Mapping, Sequence
+
+import numpy as np
+from numpy.typing import NDArray
+
+from kinetic_fem.distribution import MAX_MOMENT, RunInfo, VelocityDistribution
+
+from ._jit import jit
+
+__all__ = ["Accumulator", "accumulate_kernel", "save_checkpoint", "load_checkpoint",
+           "spawn_seeds", "run_replicas"]
+
+
+@jit
+def accumulate_kernel(x, lo, hi, counts, sums):  # pragma: no cover - compiled
+    """Add samples ``x`` to one batch: histogram on ``[lo, hi)`` and power sums.
+
+    ``counts`` has shape (n_bins,), ``sums`` shape (MAX_MOMENT + 1,); both are
+    updated in place.  Samples outside the range count in the sums only.
+    """
+    n_bins = counts.shape[0]
+    width = (hi - lo) / n_bins
+    kmax = sums.shape[0]
+    for i in range(x.shape[0]):
+        xi = x[i]
+        p = 1.0
+        for k in range(kmax):
+            sums[k] += p
+            p *= xi
+        b = int(np.floor((xi - lo) / width))
+        if 0 <= b < n_bins:
+            counts[b] += 1.0
+
+
+@dataclass
+class Accumulator:
+    """Per-batch histograms and power sums of a sampled velocity (or scaled velocity).
+
+    Parameters
+    ----------
+    lo, hi : float
+        Histogram range.
+    n_bins : int
+        Number of equal bins.
+    n_batches : int
+        Number of independent batches (>= 2 for error bars).
+    """
+
+    lo: float
+    hi: float
+    n_bins: int
+    n_batches: int
+
+    def __post_init__(self) -> None:
+        if not (np.isfinite(self.lo) and np.isfinite(self.hi) and self.hi > self.lo):
+            raise ValueError(f"histogram range must be finite with hi > lo, got "
+                             f"[{self.lo}, {self.hi}]")
+        if self.n_bins < 1 or self.n_batches < 1:
+            raise ValueError("n_bins and n_batches must be >= 1")
+        self.counts = np.zeros((self.n_batches, self.n_bins))
+        self.sums = np.zeros((self.n_batches, MAX_MOMENT + 1))
+
+    @property
+    def edges(self) -> NDArray[np.float64]:
+        """Bin edges, shape (n_bins + 1,)."""
+        return np.linspace(self.lo, self.hi, self.n_bins + 1)
+
+    def add(self, batch: int, x: NDArray[np.float64]) -> None:
+        """Add samples ``x`` to ``batch``."""
+        accumulate_kernel(np.ascontiguousarray(x, dtype=np.float64), self.lo, self.hi,
+                          self.counts[batch], self.sums[batch])
+
+    def filled(self) -> NDArray[np.bool_]:
+        """Which batches hold samples."""
+        return self.sums[:, 0] > 0
+
+    def distribution(self, *, method: str, params: Mapping[str, Any], info: RunInfo,
+                     series: Mapping[str, NDArray[np.float64]] | None = None
+                     ) -> VelocityDistribution:
+        """The accumulated samples as a :class:`VelocityDistribution` (filled batches only)."""
+        keep = self.filled()
+        if not keep.any():
+            raise ValueError("no samples were accumulated; run longer or start sampling earlier")
+        return VelocityDistribution.from_batches(
+            self.edges, self.counts[keep], self.sums[keep], method=method, params=params,
+            info=info, series=series)
+
+    def state(self) -> dict[str, NDArray[np.float64]]:
+        """Arrays to checkpoint."""
+        return {"acc_counts": self.counts.copy(), "acc_sums": self.sums.copy()}
+
+    def restore(self, state: Mapping[str, NDArray[np.float64]]) -> None:
+        """Restore from :meth:`state`."""
+        self.counts[...] = state["acc_counts"]
+        self.sums[...] = state["acc_sums"]
+
+
+def save_checkpoint(path: str | Path, arrays: Mapping[str, NDArray[Any]],
+                    meta: Mapping[str, Any]) -> Path:
+    """Write arrays and JSON metadata (e.g. ``rng.bit_generator.state``) atomically.
+
+    The file is written beside ``path`` and renamed, so an interrupted write never
+    leaves a corrupt checkpoint.
+    """
+    path = Path(path)
+    if path.suffix != ".npz":
+        path = path.with_suffix(".npz")
+    tmp = path.with_name(path.stem + ".tmp.npz")
+    np.savez(tmp, __meta__=np.array(json.dumps(meta)), **arrays)
+    tmp.replace(path)
+    return path
+
+
+def load_checkpoint(path: str | Path) -> tuple[dict[str, NDArray[Any]], dict[str, Any]]:
+    """Read a checkpoint written by :func:`save_checkpoint`."""
+    with np.load(Path(path), allow_pickle=False) as data:
+        meta = json.loads(str(data["__meta__"]))
+        arrays = {k: data[k] for k in data.files if k != "__meta__"}
+    return arrays, meta
+
+
+def spawn_seeds(seed: int | np.random.SeedSequence | None, n: int) -> list[np.random.SeedSequence]:
+    """``n`` independent seed sequences from one root seed."""
+    root = seed if isinstance(seed, np.random.SeedSequence) else np.random.SeedSequence(seed)
+    return root.spawn(n)
+
+
+def run_replicas(func: Callable[..., Any], seeds: Sequence[Any], *,
+                 executor: Executor | None = None, max_workers: int | None = None,
+                 **kwargs: Any) -> list[Any]:
+    """Run ``func(seed=s, **kwargs)`` for each seed, in parallel, results in seed order.
+
+    Parameters
+    ----------
+    func : callable
+        A picklable top-level function (e.g. ``particles.dsmc.simulate_heated``).
+    seeds : sequence
+        One seed (int or SeedSequence) per replica; see :func:`spawn_seeds`.
+    executor : concurrent.futures.Executor, optional
+        Where to run; default a local ``ProcessPoolExecutor``.  On a cluster pass
+        ``dask.distributed.Client(...).get_executor()``.
+    """
+    if executor is not None:
+        futures = [executor.submit(func, seed=s, **kwargs) for s in seeds]
+        return [f.result() for f in futures]
+    with ProcessPoolExecutor(max_workers=max_workers) as pool:
+        futures = [pool.submit(func, seed=s, **kwargs) for s in seeds]
+        return [f.result() for f in futures]
