@@ -1,0 +1,23 @@
+"""All numba compile options of the ``kinetic_fem`` package, in one place.
+
+Kernels are compiled with ``cache=True``, take arrays and scalars only and hold no
+global state.  Setting ``NUMBA_DISABLE_JIT=1`` runs them as plain Python (slow, for
+tests).
+"""
+
+from __future__ import annotations
+
+from typing import Any, Callable
+
+import numba
+
+__all__ = ["jit"]
+
+
+def jit(func: Callable[..., Any] | None = None, **options: Any) -> Any:
+    """``numba.njit`` with the package's options (``cache=True``, no fastmath)."""
+    opts = {"cache": True, "fastmath": False, "nogil": True}
+    opts.update(options)
+    if func is None:
+        return lambda f: numba.njit(**opts)(f)
+    return numba.njit(**opts)(func)
