@@ -31,6 +31,7 @@ __all__ = [
     "simpson_weights",
     "abs_power_convolution",
     "moments",
+    "simpson_kink_correction",
 ]
 
 
@@ -182,3 +183,44 @@ def moments(
     """
     wp = np.asarray(w) * np.asarray(p)
     return np.array([np.sum(wp * v**k) for k in range(orders + 1)])
+
+
+def simpson_kink_correction(v: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Node corrections making Simpson's rule fourth order for :math:`|v_i - v'|` kernels.
+
+    Parameters
+    ----------
+    v : ndarray, shape (n,)
+        Equally spaced nodes, ``n`` odd (Simpson's 1/3 rule throughout).
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        :math:`c_i = h^2/3` at the panel midpoints (odd ``i``), zero elsewhere.
+
+    Notes
+    -----
+    For smooth :math:`F`, :math:`\\int |v_i - v'| F(v') dv'` has a kink at the node
+    :math:`v_i`.  Where :math:`v_i` is a panel boundary Simpson's rule stays fourth
+    order; where it is a panel midpoint the panel
+    :math:`[v_i - h, v_i + h]` gives :math:`\\tfrac23 h^2 F(v_i)` instead of
+    :math:`h^2 F(v_i) + O(h^4)`, an error that alternates from node to node.  Hence
+
+    .. math::
+
+        \\int |v_i - v'| F(v')\\, dv' = \\sum_j w_j |v_i - v_j| F_j + c_i F_i + O(h^4).
+
+    Examples
+    --------
+    >>> simpson_kink_correction(np.linspace(-1.0, 1.0, 5)) * 12
+    array([0., 1., 0., 1., 0.])
+    """
+    v = np.asarray(v, dtype=float)
+    if v.size < 3 or v.size % 2 == 0:
+        raise ValueError(f"the kink correction needs an odd number (>= 3) of nodes, got {v.size}")
+    h = (v[-1] - v[0]) / (v.size - 1)
+    if not np.allclose(np.diff(v), h, rtol=1e-9, atol=0.0):
+        raise ValueError("the kink correction needs equally spaced nodes")
+    c = np.zeros_like(v)
+    c[1::2] = h * h / 3.0
+    return c
