@@ -1,0 +1,223 @@
+"""Numba kernels of the Galerkin collision operator (see :mod:`kinetic_fem.fem`).
+
+The weak form of the inelastic collision term for a Lagrange test function
+:math:`\\varphi_i` is
+
+.. math::
+
+    C_i = \\frac n2 \\iint dx\\, dy\\, |x - y| P(x) P(y)
+    \\left[\\varphi_i(x') + \\varphi_i(y') - \\varphi_i(x) - \\varphi_i(y)\\right],
+    \\quad x' = a x + b y,\\ y' = b x + a y,
+
+with :math:`a = (1-\\alpha)/2`, :math:`b = (1+\\alpha)/2` and :math:`P = e^{u_h}`.
+It is evaluated on one set of weighted pairs :math:`(x_q, y_m)`: the outer points
+:math:`x_q` are the basis' quadrature points; for each of them the inner integral
+over :math:`y` is split at every point where the integrand is not smooth (mesh
+vertices, :math:`y = x_q`, and the pre-images of the vertices under :math:`y \\mapsto
+x'` and :math:`y \\mapsto y'`), and each piece gets the basis' reference rule.  The
+integrand is then smooth on every piece, so the pair rule keeps the order of the
+Gauss rule, and because every pair enters with the full bracket, the discrete
+operator conserves :math:`\\sum_i c_i C_i` exactly for any :math:`c` with
+:math:`\\sum_i c_i \\varphi_i \\equiv 1` or :math:`v` (and :math:`v^2` for P2).
+The cost of one evaluation is O(N^2) in the number of elements, as is the
+Jacobian :math:`\\partial C_i / \\partial u_j`.
+
+Kernels take arrays and scalars only; local shape functions are those of
+scikit-fem's ``ElementLineP1`` / ``ElementLineP2`` on the reference interval [0, 1]
+(dofs: left vertex, right vertex, midpoint), checked against ``basis.probes`` in the
+tests.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._jit import jit
+
+__all__ = ["shape_values", "collision_operator", "evaluate_field"]
+
+
+@jit
+def shape_values(order: int, xi: float, out: np.ndarray) -> None:
+    """Lagrange shape functions of degree ``order`` (1 or 2) at ``xi`` in [0, 1]."""
+    if order == 1:
+        out[0] = 1.0 - xi
+        out[1] = xi
+    else:
+        out[0] = 1.0 - 3.0 * xi + 2.0 * xi * xi
+        out[1] = -xi + 2.0 * xi * xi
+        out[2] = 4.0 * xi - 4.0 * xi * xi
+
+
+@jit
+def _locate(verts: np.ndarray, e: int, x: float) -> int:
+    """Walk forward from element ``e`` to the element containing ``x``."""
+    n_el = verts.size - 1
+    while e < n_el - 1 and verts[e + 1] <= x:
+        e += 1
+    return e
+
+
+@jit
+def evaluate_field(verts: np.ndarray, dofs: np.ndarray, order: int, coef: np.ndarray,
+                   x: np.ndarray) -> np.ndarray:
+    """Values of the finite-element field ``coef`` at increasing points ``x``."""
+    k = dofs.shape[1]
+    phi = np.empty(k)
+    out = np.empty(x.size)
+    e = 0
+    for p in range(x.size):
+        e = _locate(verts, e, x[p])
+        shape_values(order, (x[p] - verts[e]) / (verts[e + 1] - verts[e]), phi)
+        s = 0.0
+        for j in range(k):
+            s += coef[dofs[e, j]] * phi[j]
+        out[p] = s
+    return out
+
+
+@jit
+def _merge_breaks(verts: np.ndarray, x: float, a: float, b: float, buf: np.ndarray) -> int:
+    """Sorted breakpoints of the inner integrand in [v_0, v_E]; returns their count."""
+    lo = verts[0]
+    hi = verts[-1]
+    nv = verts.size
+    i1 = 0
+    i2 = 0
+    i3 = 0
+    done4 = False
+    n = 0
+    inf = np.inf
+    while True:
+        c1 = verts[i1] if i1 < nv else inf
+        c2 = (verts[i2] - a * x) / b if i2 < nv else inf
+        c3 = (verts[i3] - b * x) / a if (i3 < nv and a > 0.0) else inf
+        c4 = inf if done4 else x
+        m = min(min(c1, c2), min(c3, c4))
+        if m == inf:
+            break
+        if m == c1:
+            i1 += 1
+        elif m == c2:
+            i2 += 1
+        elif m == c3:
+            i3 += 1
+        else:
+            done4 = True
+        if m >= lo and m <= hi:
+            buf[n] = m
+            n += 1
+    return n
+
+
+@jit
+def collision_operator(verts: np.ndarray, dofs: np.ndarray, order: int, coef: np.ndarray,
+                       xq: np.ndarray, wq: np.ndarray, eq: np.ndarray, ref_x: np.ndarray,
+                       ref_w: np.ndarray, alpha: float, density: float, with_jacobian: bool,
+                       energy_power: int) -> tuple[np.ndarray, np.ndarray, float]:
+    """Weak collision term ``C_i`` for ``P = exp(u_h)``, its Jacobian and a pair moment.
+
+    Parameters
+    ----------
+    verts : ndarray, shape (E + 1,)
+        Increasing mesh vertices.
+    dofs : ndarray of int, shape (E, k)
+        Global dofs of each element (left vertex, right vertex[, midpoint]).
+    order : int
+        Element degree (1 or 2).
+    coef : ndarray, shape (N,)
+        Coefficients of :math:`u_h = \\ln P_h`.
+    xq, wq, eq : ndarray, shape (Q,)
+        Outer quadrature points, weights and their elements.
+    ref_x, ref_w : ndarray, shape (m,)
+        Reference rule on [0, 1] for the inner pieces.
+    alpha, density : float
+        Restitution coefficient and number density.
+    with_jacobian : bool
+        Also assemble the dense Jacobian :math:`\\partial C_i/\\partial u_j`.
+    energy_power : int
+        ``p`` of the returned pair moment :math:`\\sum W |x-y|^p P(x) P(y)`.
+
+    Returns
+    -------
+    residual : ndarray, shape (N,)
+    jacobian : ndarray, shape (N, N) (shape (1, 1) without ``with_jacobian``)
+    pair_moment : float
+    """
+    n_dof = coef.size
+    k = dofs.shape[1]
+    a = 0.5 * (1.0 - alpha)
+    b = 0.5 * (1.0 + alpha)
+    res = np.zeros(n_dof)
+    jac = np.zeros((n_dof, n_dof)) if with_jacobian else np.zeros((1, 1))
+    bq = np.zeros(n_dof)
+    buf = np.empty(3 * verts.size + 1)
+    phx = np.empty(k)
+    phy = np.empty(k)
+    ph1 = np.empty(k)
+    ph2 = np.empty(k)
+    idx = np.empty(4 * k, dtype=np.int64)
+    val = np.empty(4 * k)
+    scale = verts[-1] - verts[0]
+    moment = 0.0
+    for q in range(xq.size):
+        x = xq[q]
+        ex = eq[q]
+        shape_values(order, (x - verts[ex]) / (verts[ex + 1] - verts[ex]), phx)
+        ux = 0.0
+        for j in range(k):
+            ux += coef[dofs[ex, j]] * phx[j]
+        px = np.exp(ux)
+        n_br = _merge_breaks(verts, x, a, b, buf)
+        ey = 0
+        e1 = 0
+        e2 = 0
+        if with_jacobian:
+            bq[:] = 0.0
+        for s in range(n_br - 1):
+            y0 = buf[s]
+            length = buf[s + 1] - y0
+            if length <= 1e-14 * scale:
+                continue
+            mid = y0 + 0.5 * length
+            ey = _locate(verts, ey, mid)
+            e1 = _locate(verts, e1, a * x + b * mid)
+            e2 = _locate(verts, e2, b * x + a * mid)
+            hy = verts[ey + 1] - verts[ey]
+            h1 = verts[e1 + 1] - verts[e1]
+            h2 = verts[e2 + 1] - verts[e2]
+            for r in range(ref_x.size):
+                y = y0 + length * ref_x[r]
+                shape_values(order, (y - verts[ey]) / hy, phy)
+                uy = 0.0
+                for j in range(k):
+                    uy += coef[dofs[ey, j]] * phy[j]
+                x1 = a * x + b * y
+                shape_values(order, (x1 - verts[e1]) / h1, ph1)
+                shape_values(order, (b * x + a * y - verts[e2]) / h2, ph2)
+                g = abs(x - y)
+                w = wq[q] * length * ref_w[r] * px * np.exp(uy)
+                moment += w * g ** energy_power
+                c = 0.5 * density * w * g
+                for j in range(k):
+                    idx[j] = dofs[e1, j]
+                    val[j] = c * ph1[j]
+                    idx[k + j] = dofs[e2, j]
+                    val[k + j] = c * ph2[j]
+                    idx[2 * k + j] = dofs[ex, j]
+                    val[2 * k + j] = -c * phx[j]
+                    idx[3 * k + j] = dofs[ey, j]
+                    val[3 * k + j] = -c * phy[j]
+                for t in range(4 * k):
+                    res[idx[t]] += val[t]
+                if with_jacobian:
+                    for t in range(4 * k):
+                        bq[idx[t]] += val[t]
+                        for j in range(k):
+                            jac[idx[t], dofs[ey, j]] += val[t] * phy[j]
+        if with_jacobian:
+            for i in range(n_dof):
+                if bq[i] != 0.0:
+                    for j in range(k):
+                        jac[i, dofs[ex, j]] += bq[i] * phx[j]
+    return res, jac, moment

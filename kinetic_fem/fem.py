@@ -1,0 +1,333 @@
+"""Galerkin finite elements (scikit-fem) for the randomly heated inelastic gas.
+
+The homogeneous Boltzmann equation with white-noise heating,
+
+.. math::
+
+    \\partial_t P = D\\,\\partial_v^2 P + Q[P, P],
+
+is discretised in weak form on a symmetric velocity interval :math:`[-V, V]` with
+P1 or P2 Lagrange elements.  The unknown is the logarithm :math:`u_h = \\ln P_h`
+in the Lagrange space, :math:`P_h = e^{u_h} > 0`, and the test functions are the
+Lagrange basis :math:`\\varphi_i`, so that for every :math:`i`
+
+.. math::
+
+    \\frac{d}{dt}\\int \\varphi_i P_h = -D\\int \\varphi_i' P_h' + C_i[P_h],
+
+with the collision term :math:`C_i` from the weak form (see
+:mod:`kinetic_fem._fem_kernels`) and zero flux at :math:`\\pm V`.  Because
+:math:`\\sum_i \\varphi_i \\equiv 1` and :math:`\\sum_i v_i \\varphi_i \\equiv v`, the
+discrete operator conserves mass and momentum to round-off; with P2 also
+:math:`\\sum_i v_i^2 \\varphi_i \\equiv v^2`, so the discrete energy balance (claim
+C1) holds with the solver's own pair quadrature.  The logarithmic unknown keeps
+:math:`P_h` positive and its tail accurate relative to itself over 30 decades.
+
+The steady state is found by Newton's method on :math:`u_h` restricted to even
+functions, with one equation replaced by the normalisation
+:math:`\\int P_h = 1`, started from a Gaussian at the first-order Sonine
+temperature.  Transients use BDF2 (:func:`evolve_heated`).  Everything is computed
+at :math:`n = D = 1`; other :math:`n, D` follow from the exact rescaling
+:math:`v \\to v (D/n)^{1/3}`.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+import warnings
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+import scipy.linalg
+import scipy.sparse
+from numpy.typing import NDArray
+from skfem import Basis, BilinearForm, ElementLineP1, ElementLineP2, LinearForm, MeshLine, asm
+from skfem.helpers import dot, grad
+
+from . import sonine
+from ._fem_kernels import collision_operator, evaluate_field
+from .distribution import RunInfo, VelocityDistribution
+from .gas import HeatedProblem, check_positive
+from .solve import register_solver
+
+__all__ = ["FEMDiscretisation", "ResolutionWarning", "ConvergenceError", "default_cutoff",
+           "solve_fem", "evolve_heated", "ELEMENTS"]
+
+logger = logging.getLogger(__name__)
+
+ELEMENTS = {1: ElementLineP1, 2: ElementLineP2}
+"""Lagrange elements by degree."""
+
+TAIL_FLOOR = 1e-30
+"""f(c) must be resolved down to this value (30 decades)."""
+
+
+class ResolutionWarning(UserWarning):
+    """The mesh or cut-off is too coarse for the requested accuracy."""
+
+
+class ConvergenceError(RuntimeError):
+    """Newton's method failed; the message says what to change."""
+
+
+# ---------------------------------------------------------------- weak forms (n = D = 1)
+@LinearForm
+def fokker_planck(v, w):
+    """:math:`\\int \\varphi_i' P'` with :math:`P = e^{u}` (``w.u`` the current iterate)."""
+    return np.exp(w.u) * dot(grad(w.u), grad(v))
+
+
+@BilinearForm
+def fokker_planck_jacobian(du, v, w):
+    """Derivative of :func:`fokker_planck` in direction ``du``."""
+    return np.exp(w.u) * (du * dot(grad(w.u), grad(v)) + dot(grad(du), grad(v)))
+
+
+@LinearForm
+def mass(v, w):
+    """:math:`\\int \\varphi_i e^{u}` (also the gradient of the total mass)."""
+    return np.exp(w.u) * v
+
+
+@BilinearForm
+def weighted_mass(du, v, w):
+    """:math:`\\int \\varphi_i \\varphi_j e^{u}`, the derivative of :func:`mass`."""
+    return np.exp(w.u) * du * v
+
+
+def default_cutoff(alpha: float) -> float:
+    """Cut-off :math:`c_{max} = V/\\sqrt{T}` covering :math:`f(c) > 10^{-33}`.
+
+    The larger of the Gaussian estimate and the far tail
+    :math:`\\exp(-A_c c^{3/2})` of claim C4 (:func:`sonine.tail_exponent_amplitude`),
+    plus one thermal velocity.
+    """
+    decades = 33.0 * math.log(10.0)
+    c_gauss = math.sqrt(2.0 * (decades - 0.5 * math.log(2.0 * math.pi)))
+    t_est = sonine.steady_temperature(alpha)
+    c_tail = (decades / sonine.tail_exponent_amplitude(temperature=t_est)) ** (2.0 / 3.0)
+    return max(c_gauss, c_tail) + 1.0
+
+
+@dataclass(frozen=True, eq=False)
+class FEMDiscretisation:
+    """The Galerkin discretisation of the heated problem at ``n = D = 1``.
+
+    Parameters
+    ----------
+    alpha : float
+        Restitution coefficient.
+    vertices : ndarray, shape (E + 1,)
+        Mesh vertices, symmetric about 0 with a vertex at 0.
+    order : int
+        Lagrange degree, 1 or 2.
+    intorder : int
+        Degree of exactness of the Gauss rule (outer points and inner pieces).
+    """
+
+    alpha: float
+    vertices: NDArray[np.float64]
+    order: int = 2
+    intorder: int = 5
+
+    @cached_property
+    def basis(self) -> Basis:
+        """The scikit-fem basis (owns the outer quadrature)."""
+        return Basis(MeshLine(self.vertices), ELEMENTS[self.order](), intorder=self.intorder)
+
+    @cached_property
+    def points(self) -> tuple[NDArray, NDArray, NDArray]:
+        """Outer quadrature points, weights and element indices, flattened."""
+        x = self.basis.mapping.F(self.basis.X)[0]  # (E, nq)
+        w = self.basis.dx
+        e = np.repeat(np.arange(x.shape[0]), x.shape[1]).reshape(x.shape)
+        return x.ravel(), w.ravel(), e.ravel()
+
+    @cached_property
+    def _mesh_arrays(self) -> tuple[NDArray, NDArray]:
+        verts = np.ascontiguousarray(self.basis.mesh.p[0], dtype=float)
+        dofs = np.ascontiguousarray(self.basis.element_dofs.T, dtype=np.int64)
+        return verts, dofs
+
+    @property
+    def dof_locations(self) -> NDArray[np.float64]:
+        """Velocity of each degree of freedom."""
+        return self.basis.doflocs[0]
+
+    @cached_property
+    def symmetry(self) -> scipy.sparse.csr_matrix:
+        """Sparse ``S`` with ``u = S u_even``: even fields from the dofs at ``v >= 0``."""
+        x = self.dof_locations
+        scale = np.abs(x).max()
+        key = np.round(np.abs(x) / scale * 2**40).astype(np.int64)
+        keep = np.flatnonzero(x >= 0)
+        lookup = dict(zip(key[keep].tolist(), range(keep.size)))
+        try:
+            cols = np.array([lookup[k] for k in key.tolist()])
+        except KeyError as err:
+            raise ValueError("the mesh must be symmetric about v = 0") from err
+        return scipy.sparse.csr_matrix((np.ones(x.size), (np.arange(x.size), cols)),
+                                       shape=(x.size, keep.size))
+
+    def field(self, u: NDArray[np.float64]):
+        """``u`` as a scikit-fem field at the quadrature points."""
+        return self.basis.interpolate(u)
+
+    def collision(self, u: NDArray[np.float64], *, jacobian: bool = False,
+                  energy_power: int = 3) -> tuple[NDArray, NDArray, float]:
+        """Weak collision term, its Jacobian and the pair moment ``<|g|^p>``."""
+        verts, dofs = self._mesh_arrays
+        xq, wq, eq = self.points
+        ref_x, ref_w = self.basis.quadrature
+        return collision_operator(verts, dofs, self.order, np.ascontiguousarray(u), xq, wq, eq,
+                                  np.ascontiguousarray(ref_x[0]), ref_w, self.alpha, 1.0,
+                                  jacobian, energy_power)
+
+    def residual(self, u: NDArray[np.float64], *, jacobian: bool = False
+                 ) -> tuple[NDArray, NDArray | None]:
+        """:math:`R_i = -\\int \\varphi_i' P' + C_i` and optionally its dense Jacobian."""
+        field = self.field(u)
+        coll, cjac, _ = self.collision(u, jacobian=jacobian)
+        res = coll - asm(fokker_planck, self.basis, u=field)
+        if not jacobian:
+            return res, None
+        return res, cjac - asm(fokker_planck_jacobian, self.basis, u=field).toarray()
+
+    def values(self, u: NDArray[np.float64]) -> NDArray[np.float64]:
+        """:math:`P_h = e^{u_h}` at the outer quadrature points."""
+        return np.exp(self.field(u).value.ravel())
+
+    def evaluate(self, u: NDArray[np.float64], v: NDArray[np.float64]) -> NDArray[np.float64]:
+        """:math:`P_h(v) = e^{u_h(v)}` at increasing points ``v`` inside the mesh."""
+        verts, dofs = self._mesh_arrays
+        return np.exp(evaluate_field(verts, dofs, self.order, np.ascontiguousarray(u),
+                                     np.ascontiguousarray(v, dtype=float)))
+
+    def gaussian(self, temperature: float) -> NDArray[np.float64]:
+        """Coefficients of :math:`\\ln` of the normalised Gaussian (exact in P2)."""
+        x = self.dof_locations
+        return -0.5 * x**2 / temperature - 0.5 * math.log(2.0 * math.pi * temperature)
+
+    def distribution(self, u: NDArray[np.float64], **kwargs) -> VelocityDistribution:
+        """The result on the quadrature points with the quadrature weights."""
+        xq, wq, _ = self.points
+        return VelocityDistribution.from_values(xq, self.values(u), weights=wq, **kwargs)
+
+
+def _mesh(alpha: float, *, cutoff: float | None, spacing: float, vertices) -> NDArray:
+    if vertices is not None:
+        verts = np.sort(np.asarray(vertices, dtype=float))
+        if not np.allclose(verts, -verts[::-1], rtol=0, atol=1e-12 * np.abs(verts).max()):
+            raise ValueError("vertices must be symmetric about 0")
+        if not np.any(verts == 0.0):
+            raise ValueError("vertices must include v = 0")
+        return verts
+    check_positive("spacing", spacing)
+    c_max = default_cutoff(alpha) if cutoff is None else check_positive("cutoff", cutoff)
+    if spacing > 0.5:
+        warnings.warn(f"spacing={spacing} thermal velocities is too coarse to resolve the "
+                      "distribution; use spacing <= 0.25", ResolutionWarning, stacklevel=3)
+    scale = math.sqrt(sonine.steady_temperature(alpha))
+    half = max(2, int(math.ceil(c_max / spacing)))
+    return np.linspace(-c_max * scale, c_max * scale, 2 * half + 1)
+
+
+def _log_update(delta: NDArray, limit: float) -> NDArray:
+    """Map a Newton step on ``u`` to ``ln(1 + delta)``: the Newton step on ``P``.
+
+    Exact for the linear tail equation and equal to ``delta`` to second order, so
+    the iteration stays quadratic; decreases are limited to ``-limit``.
+    """
+    return np.log1p(np.maximum(delta, math.expm1(-limit)))
+
+
+def newton_steady(disc: FEMDiscretisation, u0: NDArray[np.float64], *, tol: float = 1e-11,
+                  max_iter: int = 40, step_limit: float = 10.0) -> tuple[NDArray, RunInfo]:
+    """Newton iteration for the even steady state with :math:`\\int P_h = 1`."""
+    start = time.perf_counter()
+    sym = disc.symmetry
+    # the dof at v = 0 carries the normalisation instead of its (redundant) equation
+    red_x = np.zeros(sym.shape[1])
+    red_x[sym.indices] = np.abs(disc.dof_locations)
+    row0 = int(np.argmin(red_x))
+    u_red = (sym.T @ u0) / np.asarray(sym.sum(axis=0)).ravel()
+    step = np.inf
+    history = []
+    for it in range(1, max_iter + 1):
+        u = sym @ u_red
+        res, jac = disc.residual(u, jacobian=True)
+        r = sym.T @ res
+        j = (sym.T @ (sym.T @ jac.T).T)
+        grad_mass = asm(mass, disc.basis, u=disc.field(u))
+        r[row0] = grad_mass.sum() - 1.0
+        j[row0] = sym.T @ grad_mass
+        rows = np.abs(j).max(axis=1)
+        j /= rows[:, None]
+        cols = np.abs(j).max(axis=0)
+        with warnings.catch_warnings():  # equilibrated; far-tail columns start tiny
+            warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
+            delta = scipy.linalg.solve(j / cols[None, :], -r / rows) / cols
+        u_red = u_red + _log_update(delta, step_limit)
+        step = float(np.abs(delta).max())
+        history.append(step)
+        logger.debug("newton %d: max|du| = %.3e", it, step)
+        if step < tol:
+            break
+    info = RunInfo(converged=step < tol, iterations=it, residual=step,
+                   wall_time=time.perf_counter() - start,
+                   message=f"Newton max|du| history {['%.1e' % s for s in history]}")
+    return sym @ u_red, info
+
+
+@register_solver("fem", problem="heated")
+def solve_fem(problem: HeatedProblem, *, order: int = 2, spacing: float = 0.1,
+              cutoff: float | None = None, vertices=None, intorder: int | None = None,
+              tol: float = 1e-11, max_iter: int = 40) -> VelocityDistribution:
+    """Steady state of the heated gas by Galerkin FEM and Newton's method.
+
+    Parameters
+    ----------
+    problem : HeatedProblem
+    order : int
+        Lagrange degree, 1 or 2.
+    spacing : float
+        Element size in thermal velocities :math:`\\sqrt{T}`.
+    cutoff : float, optional
+        Half-width :math:`V/\\sqrt{T}` of the velocity interval; default
+        :func:`default_cutoff` (covers :math:`f(c) > 10^{-30}`).
+    vertices : array_like, optional
+        Explicit (e.g. graded) symmetric mesh vertices at ``n = D = 1``; overrides
+        ``spacing`` and ``cutoff``.
+    intorder : int, optional
+        Gauss degree; default ``2 * order + 1``.
+    tol : float
+        Stop when the Newton update of :math:`\\ln P` is below ``tol`` everywhere.
+    max_iter : int
+        Newton iteration limit.
+
+    Returns
+    -------
+    VelocityDistribution
+        On the quadrature points with the quadrature weights.
+
+    Raises
+    ------
+    ConvergenceError
+        If Newton's method does not converge.
+    """
+    if order not in ELEMENTS:
+        raise ValueError(f"order must be one of {sorted(ELEMENTS)}, got {order!r}")
+    alpha = problem.gas.alpha
+    verts = _mesh(alpha, cutoff=cutoff, spacing=spacing, vertices=vertices)
+    disc = FEMDiscretisation(alpha, verts, order, intorder or 2 * order + 1)
+    u, info = newton_steady(disc, disc.gaussian(sonine.steady_temperature(alpha)),
+                            tol=tol, max_iter=max_iter)
+    if not info.converged:
+        raise ConvergenceError(f"FEM Newton did not converge in {max_iter} iterations at "
+                               f"alpha={alpha} ({info.message}); increase max_iter or refine "
+                               "the mesh (smaller spacing)")
+    dist = disc.distribution(u, method="fem", params=problem.as_dict(), info=info)
+    return dist.rescaled(problem.velocity_scale) if problem.velocity_scale != 1.0 else dist
