@@ -32,6 +32,7 @@ __all__ = [
     "abs_power_convolution",
     "moments",
     "simpson_kink_correction",
+    "partial_moments",
 ]
 
 
@@ -224,3 +225,47 @@ def simpson_kink_correction(v: NDArray[np.float64]) -> NDArray[np.float64]:
     c = np.zeros_like(v)
     c[1::2] = h * h / 3.0
     return c
+
+
+def partial_moments(
+    x: NDArray[np.float64], wf: NDArray[np.float64], orders: int
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Cumulative moments below and above every node, each summed from its own end.
+
+    Parameters
+    ----------
+    x : ndarray, shape (n,)
+        Increasing quadrature nodes.
+    wf : ndarray, shape (n,)
+        Quadrature weights times the integrand, :math:`w_j f(x_j)`.
+    orders : int
+        Highest power ``k``.
+
+    Returns
+    -------
+    lower, upper : ndarray, shape (orders + 1, n)
+        :math:`\\sum_{j \\le i} x_j^k (wf)_j` and :math:`\\sum_{j > i} x_j^k (wf)_j`.
+
+    Notes
+    -----
+    ``lower`` is a forward and ``upper`` a backward running sum, so each is accurate
+    relative to its own size (a tail sum is not obtained as a difference of two
+    O(1) totals).  Kernels that are polynomial on each side of the node, such as
+    :math:`|x-y|^3 - (x+y)^3`, become O(N) sums of these without cancellation.
+
+    Examples
+    --------
+    >>> lo, up = partial_moments(np.array([0.0, 1.0, 2.0]), np.ones(3), 1)
+    >>> lo
+    array([[1., 2., 3.],
+           [0., 1., 3.]])
+    >>> up
+    array([[2., 1., 0.],
+           [3., 2., 0.]])
+    """
+    x = np.asarray(x, dtype=float)
+    terms = x[None, :] ** np.arange(orders + 1)[:, None] * np.asarray(wf, dtype=float)[None, :]
+    lower = np.cumsum(terms, axis=1)
+    upper = np.zeros_like(terms)
+    upper[:, :-1] = np.cumsum(terms[:, :0:-1], axis=1)[:, ::-1]
+    return lower, upper
