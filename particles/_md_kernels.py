@@ -1,0 +1,323 @@
+"""Numba kernels of the event-driven MD of inelastic hard rods on a ring.
+
+Rods of length :math:`\\sigma` on a ring of length :math:`L` are mapped to point
+particles on the *reduced ring* of length :math:`L_f = L - N\\sigma` (the free space):
+rod ``i`` with left end :math:`X_i` becomes the point :math:`y_i = X_i - i\\sigma`.
+In one dimension this mapping is exact for hard rods: gaps, collision times and
+collision rules are unchanged.  Particles are labelled in ring order and never pass,
+so particle ``i`` only meets ``i + 1`` (pair ``i``; pair ``N - 1`` is ``(N - 1, 0)``
+across the seam, where :math:`y_0 + L_f` is the right partner's position).
+
+Positions are stored *lazily*: particle ``i`` is at ``x[i] + v[i] (t - tl[i])`` and
+only ``x``, ``tl`` of the two colliding particles change at a collision.  One
+predicted time per pair sits in an indexed binary min-heap (``heap`` of pair
+indices, ``hkey`` their times in heap order, ``where[p]`` the slot of pair ``p`` or
+-1); after a collision only three pair times change, each update costs
+:math:`O(\\log N)`.  Pairs whose time lies beyond the next random kick never enter
+the heap.
+
+Collision rule (relative speed :math:`g = v_i - v_j > 0`):
+
+.. math::
+
+    v_i' = v_i - \\tfrac{1+a}{2} g, \\quad v_j' = v_j + \\tfrac{1+a}{2} g, \\quad
+    \\Delta E = -\\tfrac{1 - a^2}{4} g^2,
+
+with :math:`a = \\alpha`, or :math:`a = 1` if :math:`g` is below the threshold
+(Ben-Naim et al. regularisation of inelastic collapse).  Elastic collisions exchange
+the two velocities exactly.  Kicks:
+:math:`v_i \\to v_i + \\sqrt{2 D \\Delta t_k}\\,\\xi_i` with the Gaussians ``xi`` drawn
+outside the kernels.  All kernels take arrays and scalars only.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._jit import jit
+
+__all__ = ["F_T", "F_T_KICK", "F_DISS", "F_INJ", "I_NCOLL", "I_HSIZE", "I_KROW", "I_STALL",
+           "I_NKICK", "I_NELASTIC", "I_BAD_PAIR", "STATUS_COLLISIONS", "STATUS_TIME",
+           "STATUS_NEED_NORMALS", "STATUS_COLLAPSE_SPEED", "STATUS_COLLAPSE_STALL",
+           "STATUS_NO_EVENTS", "N_FSTATE", "N_ISTATE", "build_heap", "run_events"]
+
+# slots of the float state vector
+F_T, F_T_KICK, F_DISS, F_INJ = 0, 1, 2, 3
+N_FSTATE = 4
+# slots of the integer state vector
+I_NCOLL, I_HSIZE, I_KROW, I_STALL, I_NKICK, I_NELASTIC, I_BAD_PAIR = 0, 1, 2, 3, 4, 5, 6
+N_ISTATE = 7
+# return codes of run_events
+STATUS_COLLISIONS = 0  # reached the requested number of collisions
+STATUS_TIME = 1  # reached the requested time
+STATUS_NEED_NORMALS = 2  # the block of kick Gaussians is used up
+STATUS_COLLAPSE_SPEED = 3  # an inelastic collision below the collapse speed floor
+STATUS_COLLAPSE_STALL = 4  # too many consecutive collisions without time advancing
+STATUS_NO_EVENTS = 5  # no approaching pair and no kicks: free streaming forever
+
+
+@jit
+def _sift_up(heap, hkey, where, pos, p, kp):  # pragma: no cover - compiled
+    """Place pair ``p`` with time ``kp`` at slot ``pos`` or above."""
+    while pos > 0:
+        parent = (pos - 1) >> 1
+        kq = hkey[parent]
+        if kq <= kp:
+            break
+        q = heap[parent]
+        heap[pos] = q
+        hkey[pos] = kq
+        where[q] = pos
+        pos = parent
+    heap[pos] = p
+    hkey[pos] = kp
+    where[p] = pos
+
+
+@jit
+def _sift_down(heap, hkey, where, pos, p, kp, size):  # pragma: no cover - compiled
+    """Place pair ``p`` with time ``kp`` at slot ``pos`` or below (heap of ``size``)."""
+    while True:
+        child = 2 * pos + 1
+        if child >= size:
+            break
+        kc = hkey[child]
+        if child + 1 < size:
+            k2 = hkey[child + 1]
+            if k2 < kc:
+                child += 1
+                kc = k2
+        if kp <= kc:
+            break
+        c = heap[child]
+        heap[pos] = c
+        hkey[pos] = kc
+        where[c] = pos
+        pos = child
+    heap[pos] = p
+    hkey[pos] = kp
+    where[p] = pos
+
+
+@jit
+def _heap_set(p, tp, t_cut, heap, hkey, where, istate):  # pragma: no cover - compiled
+    """Give pair ``p`` the time ``tp``: update, insert, or remove if ``tp >= t_cut``."""
+    pos = where[p]
+    size = istate[I_HSIZE]
+    if tp < t_cut:
+        if pos < 0:
+            istate[I_HSIZE] = size + 1
+            _sift_up(heap, hkey, where, size, p, tp)
+        elif pos > 0 and hkey[(pos - 1) >> 1] > tp:
+            _sift_up(heap, hkey, where, pos, p, tp)
+        else:
+            _sift_down(heap, hkey, where, pos, p, tp, size)
+    elif pos >= 0:
+        _heap_remove(pos, heap, hkey, where, istate)
+
+
+@jit
+def _heap_remove(pos, heap, hkey, where, istate):  # pragma: no cover - compiled
+    """Remove the pair at slot ``pos``."""
+    size = istate[I_HSIZE] - 1
+    istate[I_HSIZE] = size
+    where[heap[pos]] = -1
+    if pos < size:
+        q = heap[size]
+        kq = hkey[size]
+        if pos > 0 and hkey[(pos - 1) >> 1] > kq:
+            _sift_up(heap, hkey, where, pos, q, kq)
+        else:
+            _sift_down(heap, hkey, where, pos, q, kq, size)
+
+
+@jit
+def _pair_time(q, t, x, v, tl, free_length):  # pragma: no cover - compiled
+    """Predicted collision time of pair ``q`` = (q, q+1 mod N), or inf if receding."""
+    n = x.shape[0]
+    j = q + 1
+    shift = 0.0
+    if j == n:
+        j = 0
+        shift = free_length
+    dv = v[q] - v[j]
+    if not dv > 0.0:
+        return np.inf
+    gap = (x[j] + v[j] * (t - tl[j]) + shift) - (x[q] + v[q] * (t - tl[q]))
+    if gap < 0.0:
+        gap = 0.0
+    return t + gap / dv
+
+
+@jit
+def build_heap(t, t_cut, x, v, tl, free_length, heap, hkey, where, istate):  # pragma: no cover
+    """Recompute every pair time at time ``t`` and heapify the pairs before ``t_cut``."""
+    n = x.shape[0]
+    size = 0
+    for q in range(n):
+        tq = _pair_time(q, t, x, v, tl, free_length)
+        if tq < t_cut:
+            heap[size] = q
+            hkey[size] = tq
+            where[q] = size
+            size += 1
+        else:
+            where[q] = -1
+    istate[I_HSIZE] = size
+    for pos in range(size // 2 - 1, -1, -1):
+        _sift_down(heap, hkey, where, pos, heap[pos], hkey[pos], size)
+
+
+@jit
+def _kick(tk, amp, xi, x, v, tl):  # pragma: no cover - compiled
+    """Move every particle to ``tk`` and add ``amp * xi``; return the energy injected."""
+    inj = 0.0
+    for i in range(x.shape[0]):
+        x[i] += v[i] * (tk - tl[i])
+        tl[i] = tk
+        vo = v[i]
+        vn = vo + amp * xi[i]
+        v[i] = vn
+        inj += 0.5 * (vn * vn - vo * vo)
+    return inj
+
+
+@jit
+def run_events(x, v, tl, heap, hkey, where, fstate, istate, normals, free_length, alpha,
+               threshold, kick_dt, kick_amp, speed_floor, max_stall, t_stop,
+               coll_stop):  # pragma: no cover - compiled
+    """Advance the event-driven dynamics until a stop condition; return a status code.
+
+    Parameters
+    ----------
+    x, v, tl : ndarray, shape (N,)
+        Lazy positions on the reduced ring, velocities, times of last update.
+    heap, hkey, where : ndarray, shape (N,)
+        Indexed min-heap: pair indices and their predicted times in heap order, and
+        the slot of each pair (-1 if not queued).
+    fstate : ndarray, shape (N_FSTATE,)
+        Time, time of the next kick, energy dissipated, energy injected.
+    istate : ndarray, shape (N_ISTATE,)
+        Collisions, heap size, next row of ``normals``, stall counter, kicks,
+        threshold (elastic) collisions, pair of the last collapse.
+    normals : ndarray, shape (K, N)
+        Standard Gaussians for the next ``K`` kicks (unused when ``kick_dt`` is inf).
+    free_length : float
+        Length of the reduced ring :math:`L - N\\sigma`.
+    alpha, threshold : float
+        Restitution coefficient; collisions with relative speed below ``threshold``
+        are elastic (0 disables the regularisation).
+    kick_dt, kick_amp : float
+        Interval between kicks (inf: free cooling) and the kick amplitude
+        :math:`\\sqrt{2 D \\Delta t_k}`.
+    speed_floor : float
+        An inelastic collision slower than this signals inelastic collapse.
+    max_stall : int
+        Consecutive collisions allowed without the time advancing by more than
+        1e-13 relative.
+    t_stop, coll_stop : float, int
+        Stop before the first event after ``t_stop`` or after ``coll_stop`` collisions
+        in total.
+    """
+    n = x.shape[0]
+    t = fstate[F_T]
+    t_kick = fstate[F_T_KICK]
+    diss = fstate[F_DISS]
+    n_coll = istate[I_NCOLL]
+    stall = istate[I_STALL]
+    n_elastic = istate[I_NELASTIC]
+    status = STATUS_COLLISIONS
+    p = 0
+    while True:
+        if n_coll >= coll_stop:
+            status = STATUS_COLLISIONS
+            break
+        if istate[I_HSIZE] > 0:
+            p = heap[0]
+            tc = hkey[0]
+        else:
+            tc = np.inf
+        if tc >= t_kick and t_kick < np.inf:  # pairs beyond the next kick are not in the heap
+            if t_kick > t_stop:
+                status = STATUS_TIME
+                break
+            row = istate[I_KROW]
+            if row >= normals.shape[0]:
+                status = STATUS_NEED_NORMALS
+                break
+            fstate[F_INJ] += _kick(t_kick, kick_amp, normals[row], x, v, tl)
+            istate[I_KROW] = row + 1
+            istate[I_NKICK] += 1
+            t = t_kick
+            t_kick = (istate[I_NKICK] + 1) * kick_dt
+            build_heap(t, t_kick, x, v, tl, free_length, heap, hkey, where, istate)
+            continue
+        if tc > t_stop or tc == np.inf:
+            status = STATUS_TIME if tc < np.inf else STATUS_NO_EVENTS
+            break
+        # --- collision of pair p = (i, j) at time tc
+        i = p
+        j = p + 1
+        shift = 0.0
+        if j == n:
+            j = 0
+            shift = free_length
+        g = v[i] - v[j]
+        a = alpha
+        if g < threshold:
+            a = 1.0
+            n_elastic += 1
+        elif g < speed_floor:
+            istate[I_BAD_PAIR] = p
+            status = STATUS_COLLAPSE_SPEED
+            break
+        if tc - t <= 1e-13 * abs(tc):
+            stall += 1
+            if stall > max_stall:
+                istate[I_BAD_PAIR] = p
+                status = STATUS_COLLAPSE_STALL
+                break
+        else:
+            stall = 0
+        xi = x[i] + v[i] * (tc - tl[i])
+        xj = x[j] + v[j] * (tc - tl[j]) + shift
+        m = 0.5 * (xi + xj)
+        x[i] = m
+        x[j] = m - shift
+        tl[i] = tc
+        tl[j] = tc
+        if a == 1.0:  # elastic: exchange exactly, energy and P(v) unchanged
+            vi = v[i]
+            v[i] = v[j]
+            v[j] = vi
+        else:
+            d = 0.5 * (1.0 + a) * g
+            v[i] -= d
+            v[j] += d
+            diss += 0.25 * (1.0 - a * a) * g * g
+        t = tc
+        n_coll += 1
+        # pair p now recedes and leaves the root; its two neighbour pairs change.
+        # The earlier neighbour, if not yet queued, takes over the root slot.
+        left = p - 1 if p > 0 else n - 1
+        t_left = _pair_time(left, t, x, v, tl, free_length)
+        t_right = _pair_time(j, t, x, v, tl, free_length)
+        where[p] = -1
+        if t_right < t_left:
+            first, t_first, second, t_second = j, t_right, left, t_left
+        else:
+            first, t_first, second, t_second = left, t_left, j, t_right
+        if t_first < t_kick and where[first] < 0:
+            _sift_down(heap, hkey, where, 0, first, t_first, istate[I_HSIZE])
+        else:
+            _heap_remove(0, heap, hkey, where, istate)
+            _heap_set(first, t_first, t_kick, heap, hkey, where, istate)
+        if second != first:  # (N = 2 has a single neighbour pair)
+            _heap_set(second, t_second, t_kick, heap, hkey, where, istate)
+    fstate[F_T] = t
+    fstate[F_T_KICK] = t_kick
+    fstate[F_DISS] = diss
+    istate[I_NCOLL] = n_coll
+    istate[I_STALL] = stall
+    istate[I_NELASTIC] = n_elastic
+    return status

@@ -1,0 +1,323 @@
+"""Event-driven molecular dynamics of inelastic hard rods on a ring.
+
+``N`` rods of length :math:`\\sigma` on a ring of length :math:`L = N/n`
+(:math:`n\\sigma < 1`) move freely between binary collisions
+
+.. math::
+
+    v_1' + v_2' = v_1 + v_2, \\qquad v_1' - v_2' = -a\\,(v_1 - v_2),
+
+with :math:`a = \\alpha`, or :math:`a = 1` (elastic) when the relative speed is below
+``threshold`` (the regularisation of inelastic collapse of Ben-Naim et al., PRL 83,
+4069 (1999)).  Heated runs add independent kicks
+:math:`v_i \\to v_i + \\sqrt{2 D \\Delta t_k}\\,\\xi_i` every ``kick_interval``, a
+discretisation of the white noise of strength :math:`D` that converges as
+:math:`\\Delta t_k \\to 0`.
+
+In one dimension a rod of length :math:`\\sigma` is a point on the *reduced ring* of
+length :math:`L - N\\sigma` (subtract :math:`i\\sigma` from the ``i``-th rod's
+position): the dynamics is event-driven and exact on that ring, with one predicted
+collision time per neighbour pair in an indexed heap (:mod:`particles._md_kernels`).
+The collision frequency is therefore that of points at the density
+:math:`n/(1 - n\\sigma)` (the exact 1D Enskog factor).
+
+Time unit of a run: *collisions per particle*, ``2 * n_collisions / N`` (the mean
+number of collisions each rod has suffered).  Velocities are sampled relative to the
+instantaneous mean velocity; moments are central.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from pathlib import Path
+from typing import Any, Sequence
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from kinetic_fem.gas import check_alpha, check_finite_array, check_positive
+from kinetic_fem.sonine import steady_temperature
+
+from ._md_engine import (
+    DensityFluctuations,
+    InelasticCollapseError,
+    MDRun,
+    Snapshot,
+    density_fluctuations,
+    run_md,
+)
+
+__all__ = ["simulate_heated", "simulate_cooling", "MDRun", "Snapshot", "DensityFluctuations",
+           "InelasticCollapseError", "initial_state", "density_fluctuations",
+           "mean_free_time"]
+
+logger = logging.getLogger(__name__)
+
+KICK_FRACTION = 0.05
+"""Default kick interval, in estimated mean free times."""
+HEATED_THRESHOLD = 1e-4
+"""Default threshold of heated runs, in units of the estimated thermal speed."""
+NORMALS_PER_BLOCK = 1 << 20
+SERIES = ("t", "collisions_per_particle", "temperature", "energy", "energy_injected",
+          "energy_dissipated", "momentum", "elastic_fraction")
+
+
+def mean_free_time(temperature: float, density: float, sigma: float) -> float:
+    """Mean free time of a Gaussian gas of rods, :math:`1/(n_f \\cdot 2\\sqrt{T/\\pi})`.
+
+    :math:`n_f = n/(1 - n\\sigma)` is the density on the reduced ring and
+    :math:`2\\sqrt{T/\\pi} = \\langle |v - v'| \\rangle` for :math:`T = \\langle v^2\\rangle`.
+    """
+    n_free = density / (1.0 - density * sigma)
+    return 1.0 / (n_free * 2.0 * math.sqrt(temperature / math.pi))
+
+
+def _check_geometry(n_particles: object, density: object, sigma: object | None) -> tuple:
+    if isinstance(n_particles, bool) or not isinstance(n_particles, (int, np.integer)):
+        raise TypeError(f"n_particles must be an int, got {n_particles!r}")
+    if n_particles < 2:
+        raise ValueError(f"n_particles={n_particles} is not allowed; need at least 2 rods")
+    n = check_positive("density", density)
+    sig = 0.5 / n if sigma is None else float(sigma)
+    if not (math.isfinite(sig) and sig >= 0.0):
+        raise ValueError(f"sigma={sigma!r} is not allowed; the rod length must be >= 0")
+    if not n * sig < 1.0:
+        raise ValueError(f"density * sigma = {n * sig!r} is not allowed; rods of length "
+                         f"sigma={sig} at density {n} must fill less than the ring (n sigma < 1)")
+    return int(n_particles), n, sig
+
+
+def initial_state(n_particles: int, *, density: float, sigma: float, temperature: float,
+                  rng: np.random.Generator, positions: ArrayLike | None = None,
+                  velocities: ArrayLike | None = None) -> tuple[NDArray, NDArray]:
+    """Reduced-ring positions ``y`` (sorted) and velocities of the initial state.
+
+    Default: rods placed uniformly at random without overlap (uniform points on the
+    reduced ring, the equilibrium hard-rod state) and Gaussian velocities of variance
+    ``temperature`` with zero total momentum.  Given ``positions`` (rod left ends) are
+    sorted along the ring and checked for overlaps.
+    """
+    big_l = n_particles / density
+    free = big_l - n_particles * sigma
+    if velocities is None:
+        v = rng.normal(scale=math.sqrt(temperature), size=n_particles)
+        v -= v.mean()
+    else:
+        v = check_finite_array("velocities", velocities, ndim=1).copy()
+        if v.size != n_particles:
+            raise ValueError(f"velocities has {v.size} entries for {n_particles} rods")
+    if positions is None:
+        y = np.sort(rng.uniform(0.0, free, n_particles))
+        return y, v
+    pos = check_finite_array("positions", positions, ndim=1)
+    if pos.size != n_particles:
+        raise ValueError(f"positions has {pos.size} entries for {n_particles} rods")
+    pos = np.mod(pos, big_l)
+    order = np.argsort(pos, kind="stable")
+    pos, v = pos[order], v[order]
+    gaps = np.diff(np.append(pos, pos[0] + big_l))
+    if np.any(gaps < sigma):
+        k = int(np.argmin(gaps))
+        raise ValueError(f"initial positions overlap: rods at {pos[k]!r} and "
+                         f"{pos[(k + 1) % n_particles]!r} are {gaps[k]!r} apart, less than "
+                         f"sigma={sigma}")
+    return pos - sigma * np.arange(n_particles), v
+
+
+def _common(n_particles, density, sigma, collisions_per_particle, n_samples, n_batches,
+            n_bins, box_counts, checkpoint, checkpoint_every, collapse_tol, max_stall):
+    n, dens, sig = _check_geometry(n_particles, density, sigma)
+    cpp = check_positive("collisions_per_particle", collisions_per_particle)
+    for name, val in (("n_samples", n_samples), ("n_batches", n_batches), ("n_bins", n_bins)):
+        if isinstance(val, bool) or not isinstance(val, (int, np.integer)) or val < 1:
+            raise ValueError(f"{name} must be a positive int, got {val!r}")
+    if n_samples < n_batches:
+        raise ValueError(f"n_samples={n_samples} must be >= n_batches={n_batches}")
+    if box_counts is None:
+        box_counts = [2**k for k in range(1, int(math.log2(max(n // 4, 2))) + 1)]
+    if checkpoint_every is not None:
+        check_positive("checkpoint_every", checkpoint_every)
+        if checkpoint is None:
+            raise ValueError("checkpoint_every needs checkpoint=<path>")
+    check_positive("collapse_tol", collapse_tol)
+    stall = 100 * n + 100_000 if max_stall is None else int(max_stall)
+    return n, dens, sig, cpp, [int(m) for m in box_counts], stall
+
+
+def _seeded(seed: Any) -> np.random.Generator:
+    ss = seed if isinstance(seed, np.random.SeedSequence) else np.random.SeedSequence(seed)
+    return np.random.default_rng(ss)
+
+
+def simulate_heated(alpha: float, n_particles: int, *, density: float = 1.0,
+                    sigma: float | None = None, diffusion: float = 1.0, seed: Any = None,
+                    collisions_per_particle: float = 200.0, warmup: float | None = None,
+                    kick_interval: float | None = None, threshold: float | None = None,
+                    n_samples: int = 100, n_batches: int = 10, n_bins: int = 240,
+                    snapshots_at: Sequence[float] = (), n_records: int = 200,
+                    box_counts: Sequence[int] | None = None, positions: ArrayLike | None = None,
+                    velocities: ArrayLike | None = None, progress: bool = False,
+                    checkpoint: str | Path | None = None, checkpoint_every: float | None = None,
+                    resume: str | Path | None = None, collapse_tol: float = 1e-12,
+                    max_stall: int | None = None) -> MDRun:
+    """Heated inelastic rods: random kicks every ``kick_interval``, sampled steady state.
+
+    Parameters
+    ----------
+    alpha : float
+        Restitution coefficient, ``0 <= alpha < 1``.
+    n_particles : int
+        Number of rods N >= 2.
+    density, sigma : float
+        n = N/L and rod length (default ``0.5/density``, i.e. n sigma = 0.5 as in the
+        paper); n sigma < 1.
+    diffusion : float
+        Noise strength D: each kick adds :math:`\\sqrt{2 D \\Delta t_k}\\,\\xi`.
+    seed : int or SeedSequence, optional
+        Root of every random stream (initial state, kicks).
+    collisions_per_particle : float
+        Run length in collisions per particle (``2 * collisions / N``).
+    warmup : float, optional
+        Collisions per particle before sampling starts (default half the run).
+    kick_interval : float, optional
+        :math:`\\Delta t_k`; default ``KICK_FRACTION`` (0.05) estimated mean free times
+        (:func:`mean_free_time` at the Sonine steady temperature for the density
+        :math:`n/(1-n\\sigma)`).
+    threshold : float, optional
+        Collisions with relative speed below it are elastic; default
+        ``HEATED_THRESHOLD`` (1e-4) times the estimated thermal speed.  Between kicks
+        clusters can collapse; the threshold keeps runs finite.
+    n_samples, n_batches, n_bins : int
+        Sampling points (all N velocities each), batches for error bars, histogram
+        bins on :math:`\\pm 12\\sqrt{T_{est}}`.
+    snapshots_at : sequence of float
+        Collisions per particle of x-c snapshots.
+    n_records : int
+        Points of the time series (linear in collisions).
+    box_counts : sequence of int, optional
+        Numbers of boxes for the density fluctuations (default 2, 4, ..., N/4).
+    positions, velocities : array_like, optional
+        Initial rod left ends and velocities (default random, Gaussian).
+    progress : bool
+        tqdm progress bar.
+    checkpoint, checkpoint_every : path, float
+        Write a checkpoint every ``checkpoint_every`` collisions per particle.
+    resume : path, optional
+        Continue bit-identically from a checkpoint of a run with the same arguments.
+    collapse_tol, max_stall : float, int
+        Inelastic collapse is reported when a collision slower than
+        ``collapse_tol * sqrt(T)`` is inelastic, or after ``max_stall`` (default
+        100 N + 1e5) consecutive collisions without time advancing.
+
+    Returns
+    -------
+    MDRun
+
+    Raises
+    ------
+    InelasticCollapseError
+        With advice on the regularisation.
+
+    Examples
+    --------
+    >>> run = simulate_heated(0.9, 200, seed=1, collisions_per_particle=20.0)
+    >>> run.energy_balance_error < 1e-10
+    True
+    """
+    alpha = check_alpha(alpha)
+    d = check_positive("diffusion", diffusion)
+    n, dens, sig, cpp, boxes, stall = _common(
+        n_particles, density, sigma, collisions_per_particle, n_samples, n_batches, n_bins,
+        box_counts, checkpoint, checkpoint_every, collapse_tol, max_stall)
+    n_free = dens / (1.0 - dens * sig)
+    t_est = steady_temperature(alpha, n_free, d)
+    dt_k = (KICK_FRACTION * mean_free_time(t_est, dens, sig) if kick_interval is None
+            else check_positive("kick_interval", kick_interval))
+    thr = (HEATED_THRESHOLD * math.sqrt(t_est) if threshold is None
+           else check_positive("threshold", threshold))
+    warm = 0.5 * cpp if warmup is None else float(warmup)
+    if not 0.0 <= warm < cpp:
+        raise ValueError(f"warmup={warmup!r} must lie in [0, collisions_per_particle)")
+    rng = _seeded(seed)
+    y, v = initial_state(n, density=dens, sigma=sig, temperature=t_est, rng=rng,
+                         positions=positions, velocities=velocities)
+    params = {"problem": "heated", "alpha": alpha, "n_particles": n, "density": dens,
+              "sigma": sig, "diffusion": d, "kick_interval": dt_k, "threshold": thr,
+              "collisions_per_particle": cpp, "warmup": warm,
+              "seed": None if seed is None else str(seed)}
+    opts = {"free_length": n / dens - n * sig, "sigma": sig, "alpha": alpha, "threshold": thr,
+            "kick_dt": dt_k, "kick_amp": math.sqrt(2.0 * d * dt_k), "collapse_tol": collapse_tol,
+            "max_stall": stall}
+    return run_md("heated", params, seed=seed, y=y, v=v, rng=rng, engine_options=opts,
+                total=int(round(cpp * n / 2)), sample_from=int(round(warm * n / 2)),
+                n_samples=n_samples, n_batches=n_batches, hist_range=12.0 * math.sqrt(t_est),
+                n_bins=n_bins, snapshots_at=snapshots_at, n_records=n_records, box_counts=boxes,
+                progress=progress, checkpoint=checkpoint, checkpoint_every=checkpoint_every,
+                resume=resume)
+
+
+def simulate_cooling(alpha: float, n_particles: int, *, density: float = 1.0,
+                     sigma: float | None = None, seed: Any = None,
+                     collisions_per_particle: float = 100.0, threshold: float | None = None,
+                     snapshots_at: Sequence[float] = (), sample_from: float | None = None,
+                     n_samples: int = 50, n_batches: int = 10, n_bins: int = 160,
+                     c_max: float = 8.0, n_records: int = 200,
+                     box_counts: Sequence[int] | None = None, temperature0: float = 1.0,
+                     positions: ArrayLike | None = None, velocities: ArrayLike | None = None,
+                     progress: bool = False, checkpoint: str | Path | None = None,
+                     checkpoint_every: float | None = None, resume: str | Path | None = None,
+                     collapse_tol: float = 1e-12, max_stall: int | None = None) -> MDRun:
+    """Freely cooling inelastic rods, plain or threshold-regularised.
+
+    Parameters
+    ----------
+    alpha : float
+        Restitution coefficient, ``0 <= alpha <= 1`` (1: elastic, P(v) frozen, C17).
+    threshold : float, optional
+        None: plain inelastic dynamics (collapse is detected and raised).  A float:
+        collisions with relative speed below it are elastic (Ben-Naim et al.).
+    sample_from : float, optional
+        Collisions per particle from which scaled velocities
+        :math:`c = (v - u)/\\sqrt{T}` are sampled (default half the run).
+    c_max : float
+        Histogram range :math:`|c| \\le c_{max}`.
+    temperature0 : float
+        Initial temperature (Gaussian velocities, zero momentum).
+
+    The other parameters are those of :func:`simulate_heated`; records are spaced
+    geometrically in collisions.  The distribution is that of ``c``.
+
+    Examples
+    --------
+    >>> run = simulate_cooling(0.99, 100, seed=2, collisions_per_particle=50.0)
+    >>> run.temperature < 1.0 and abs(run.series["momentum"][-1]) < 1e-10
+    True
+    """
+    alpha = check_alpha(alpha, allow_elastic=True)
+    n, dens, sig, cpp, boxes, stall = _common(
+        n_particles, density, sigma, collisions_per_particle, n_samples, n_batches, n_bins,
+        box_counts, checkpoint, checkpoint_every, collapse_tol, max_stall)
+    thr = 0.0 if threshold is None else check_positive("threshold", threshold)
+    start = 0.5 * cpp if sample_from is None else float(sample_from)
+    if not 0.0 <= start <= cpp:
+        raise ValueError(f"sample_from={sample_from!r} must lie in [0, collisions_per_particle]")
+    for s in snapshots_at:
+        if not 0.0 <= s <= cpp:
+            raise ValueError(f"snapshot at {s!r} collisions per particle is outside the run")
+    rng = _seeded(seed)
+    y, v = initial_state(n, density=dens, sigma=sig, rng=rng, positions=positions,
+                         temperature=check_positive("temperature0", temperature0),
+                         velocities=velocities)
+    params = {"problem": "cooling", "alpha": alpha, "n_particles": n, "density": dens,
+              "sigma": sig, "threshold": threshold, "collisions_per_particle": cpp,
+              "sample_from": start, "seed": None if seed is None else str(seed)}
+    opts = {"free_length": n / dens - n * sig, "sigma": sig, "alpha": alpha, "threshold": thr,
+            "kick_dt": np.inf, "kick_amp": 0.0, "collapse_tol": collapse_tol,
+            "max_stall": stall}
+    return run_md("cooling", params, seed=seed, y=y, v=v, rng=rng, engine_options=opts,
+                total=int(round(cpp * n / 2)), sample_from=int(round(start * n / 2)),
+                n_samples=n_samples, n_batches=n_batches, hist_range=c_max, n_bins=n_bins,
+                snapshots_at=snapshots_at, n_records=n_records, box_counts=boxes,
+                progress=progress, checkpoint=checkpoint, checkpoint_every=checkpoint_every,
+                resume=resume)

@@ -1,0 +1,184 @@
+"""Tests of the event-driven MD of inelastic hard rods (particles.md)."""
+
+from __future__ import annotations
+
+import math
+import os
+import subprocess
+import sys
+from concurrent.futures import ThreadPoolExecutor
+
+import numpy as np
+import pytest
+
+from kinetic_fem.sonine import a2_first_order, haff_temperature, steady_temperature
+from particles import md
+from particles.sampling import run_replicas, spawn_seeds
+
+
+def ring_gaps(x: np.ndarray, length: float) -> np.ndarray:
+    """Gaps between consecutive rod left ends in ring (index) order."""
+    return np.mod(np.diff(np.append(x, x[0])), length)
+
+
+# --------------------------------------------------------------------------- bad input
+@pytest.mark.parametrize("kwargs, match", [
+    ({"n_particles": 1}, "at least 2"),
+    ({"sigma": 1.0}, "n sigma < 1"),
+    ({"sigma": 2.0}, "n sigma < 1"),
+    ({"threshold": 0.0}, "threshold"),
+    ({"threshold": -1e-3}, "threshold"),
+    ({"velocities": [0.0, np.nan, 1.0, 2.0]}, "non-finite"),
+    ({"positions": [0.0, 0.1, 2.0, 3.0]}, "overlap"),
+    ({"positions": [0.0, 1.0, 2.0, 3.7]}, "overlap"),  # across the seam (L = 4)
+    ({"collisions_per_particle": 0.0}, "collisions_per_particle"),
+])
+def test_bad_input_raises_before_running(kwargs, match):
+    args = {"n_particles": 4, "sigma": 0.5, **kwargs}
+    n = args.pop("n_particles")
+    with pytest.raises(ValueError, match=match):
+        md.simulate_cooling(0.9, n, **args)
+
+
+def test_bad_heated_input():
+    with pytest.raises(ValueError, match="kick_interval"):
+        md.simulate_heated(0.9, 10, kick_interval=0.0)
+    with pytest.raises(ValueError, match="kick_interval"):
+        md.simulate_heated(0.9, 10, kick_interval=-1.0)
+    with pytest.raises(ValueError, match="alpha"):
+        md.simulate_heated(1.0, 10)  # elastic heated gas has no steady state
+    with pytest.raises(TypeError):
+        md.simulate_heated(0.9, 10, colisions_per_particle=3.0)  # typo
+    with pytest.raises(TypeError, match="n_particles"):
+        md.simulate_heated(0.9, 10.0)
+
+
+# --------------------------------------------------------------------------- exact structure
+def test_rods_never_overlap_or_pass_over_a_long_run():
+    """2e5 collisions of a clustering regularised gas; gaps >= sigma at 40 snapshots.
+
+    If two rods passed, the ring-order gaps would no longer sum to L.
+    """
+    n, sigma = 200, 0.5
+    snaps = np.linspace(50, 2000, 40)
+    run = md.simulate_cooling(0.8, n, sigma=sigma, seed=11, collisions_per_particle=2000.0,
+                              threshold=1e-4, snapshots_at=snaps)
+    assert run.n_elastic > 0  # clusters formed and the threshold acted
+    length = n / 1.0
+    for s in run.snapshots:
+        gaps = ring_gaps(s.x, length)
+        assert gaps.min() >= sigma - 1e-9
+        assert abs(gaps.sum() - length) < 1e-8
+
+
+def test_cooling_conserves_momentum_and_balances_energy():
+    run = md.simulate_cooling(0.9, 300, seed=5, collisions_per_particle=300.0, threshold=1e-4,
+                              velocities=np.random.default_rng(0).normal(0.3, 1.0, 300))
+    p = run.series["momentum"]
+    assert np.max(np.abs(p - p[0])) < 1e-11 * 300
+    assert run.energy_balance_error < 1e-12
+    assert run.series["energy"][-1] < 0.1 * run.series["energy"][0]
+
+
+def test_heated_energy_balance_to_round_off():
+    run = md.simulate_heated(0.8, 300, seed=6, collisions_per_particle=200.0)
+    assert run.n_kicks > 100
+    assert run.series["energy_injected"][-1] > 10 * run.series["energy"][0]
+    assert run.energy_balance_error < 1e-12
+
+
+def test_elastic_collisions_freeze_the_velocity_histogram():
+    """C17: at alpha = 1 collisions exchange velocities; the set of velocities is frozen."""
+    rng = np.random.default_rng(3)
+    v0 = rng.normal(size=500)
+    run = md.simulate_cooling(1.0, 500, seed=3, collisions_per_particle=50.0, velocities=v0)
+    assert run.n_collisions == 12_500
+    v_sorted = np.sort(v0 - 0.0)
+    assert np.array_equal(np.sort(run.velocities), v_sorted)
+    assert not np.array_equal(run.velocities, v0)
+    assert np.all(run.series["energy_dissipated"] == 0.0)
+
+
+def test_inelastic_collapse_is_reported_not_hung():
+    """Plain inelastic dynamics of many rods at strong dissipation collapses."""
+    with pytest.raises(md.InelasticCollapseError, match="threshold"):
+        md.simulate_cooling(0.5, 400, seed=1, collisions_per_particle=1e4)
+    # the regularised run goes through
+    run = md.simulate_cooling(0.5, 400, seed=1, collisions_per_particle=200.0, threshold=1e-6)
+    assert run.n_elastic > 0
+
+
+def test_two_rods_on_a_ring():
+    """N = 2: the rods meet alternately across both gaps; energy decays by alpha^2."""
+    run = md.simulate_cooling(0.5, 2, sigma=0.1, positions=[0.0, 1.0], velocities=[1.0, -1.0],
+                              collisions_per_particle=3.0, n_samples=1, n_batches=1)
+    assert run.n_collisions == 3
+    assert math.isclose(run.series["energy"][-1], 0.5**6, rel_tol=1e-12)
+    assert abs(run.series["momentum"][-1]) < 1e-15
+
+
+# --------------------------------------------------------------------------- physics
+def test_haff_law_in_the_homogeneous_stage():
+    """T(t) = T0/(1 + t/t0)^2 with the reduced-ring density n/(1 - n sigma)."""
+    run = md.simulate_cooling(0.99, 2000, seed=1, collisions_per_particle=20.0)
+    s = run.series
+    haff = haff_temperature(s["t"], 0.99, density=1.0 / (1 - 0.5))
+    assert s["temperature"][-1] < 0.75
+    assert np.max(np.abs(s["temperature"] / haff - 1)) < 0.05
+
+
+def test_heated_quasi_elastic_agrees_with_kinetic_theory():
+    """As alpha -> 1 MD approaches the Boltzmann (Sonine) a2 and temperature (C3, C8)."""
+    runs = run_replicas(md.simulate_heated, spawn_seeds(7, 3), executor=ThreadPoolExecutor(1),
+                        alpha=0.99, n_particles=500, collisions_per_particle=400.0)
+    a2 = np.array([r.a2 for r in runs])
+    err = np.sqrt(np.sum([r.a2_error**2 for r in runs])) / len(runs)
+    assert abs(a2.mean() - a2_first_order(0.99)) < 4 * err + 0.01
+    temp = np.mean([r.temperature for r in runs]) / steady_temperature(0.99, 2.0)
+    assert abs(temp - 1) < 0.05
+    assert len({r.velocities.tobytes() for r in runs}) == 3
+
+
+def test_equilibrium_density_fluctuations_of_hard_rods():
+    """alpha = 1: Var N / <N> -> (1 - n sigma)^2 for boxes much larger than sigma."""
+    run = md.simulate_cooling(1.0, 2000, seed=2, collisions_per_particle=40.0, n_samples=200,
+                              box_counts=[128, 256])
+    # seeds 0..3 gave 0.22-0.28 (128 boxes) and 0.24-0.27 (256 boxes)
+    assert np.all(np.abs(run.density_fluctuations.variance_ratio - 0.25) < 0.06)
+
+
+# --------------------------------------------------------------------------- reproducibility
+def test_same_seed_same_run_and_snapshots():
+    kw = {"seed": 9, "collisions_per_particle": 40.0, "snapshots_at": (10.0, 40.0)}
+    a, b = md.simulate_heated(0.9, 100, **kw), md.simulate_heated(0.9, 100, **kw)
+    assert np.array_equal(a.velocities, b.velocities)
+    assert [s.collisions_per_particle for s in a.snapshots] == [10.0, 40.0]
+    assert np.array_equal(a.snapshots[1].c, b.snapshots[1].c)
+
+
+@pytest.mark.parametrize("problem", ["heated", "cooling"])
+def test_checkpoint_resume_is_bit_identical(tmp_path, problem):
+    sim = md.simulate_heated if problem == "heated" else md.simulate_cooling
+    kw = {"seed": 4, "collisions_per_particle": 60.0, "snapshots_at": (20.0, 50.0)}
+    if problem == "cooling":
+        kw["threshold"] = 1e-4
+    path = tmp_path / "md.npz"
+    full = sim(0.9, 150, checkpoint=path, checkpoint_every=25.0, **kw)
+    resumed = sim(0.9, 150, resume=path, **kw)  # from the last checkpoint (50 cpp)
+    assert np.array_equal(full.velocities, resumed.velocities)
+    assert np.array_equal(full.distribution.values, resumed.distribution.values)
+    assert full.n_collisions == resumed.n_collisions
+    for name in full.series:
+        assert np.array_equal(full.series[name], resumed.series[name])
+    assert np.array_equal(full.snapshots[1].x, resumed.snapshots[1].x)
+    with pytest.raises(ValueError, match="other parameters"):
+        sim(0.8, 150, resume=path, **kw)
+
+
+def test_kernels_run_without_jit():
+    """The kernels are plain Python under NUMBA_DISABLE_JIT=1 (tiny run)."""
+    code = ("from particles import md; r = md.simulate_cooling(0.9, 20, seed=1, "
+            "collisions_per_particle=20.0, threshold=1e-3, n_samples=10, n_batches=2); "
+            "assert r.n_collisions == 200 and r.energy_balance_error < 1e-12")
+    env = {**os.environ, "NUMBA_DISABLE_JIT": "1"}
+    subprocess.run([sys.executable, "-c", code], check=True, env=env, timeout=120)
