@@ -1,0 +1,291 @@
+"""Run loop of :mod:`particles.dsmc`: segments, measurements, relaxation, checkpoints.
+
+See :mod:`particles.dsmc` for the method; this module holds the state of one run
+(velocities, the kernel's random-stream state, counters, time series, batch
+histograms) and the loop shared by the heated and the cooling gas.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Mapping
+
+import numpy as np
+from numpy.typing import NDArray
+from tqdm.auto import tqdm
+
+from kinetic_fem.distribution import MAX_MOMENT, RunInfo, VelocityDistribution
+
+from . import _dsmc_kernels as kern
+from .sampling import accumulate_kernel, load_checkpoint, save_checkpoint
+
+__all__ = ["DSMCRun", "Engine"]
+
+logger = logging.getLogger("particles.dsmc")
+
+_SERIES = ("collisions_per_particle", "t", "log_t", "temperature", "log_temperature", "a2", "a3")
+
+
+@dataclass(frozen=True)
+class DSMCRun:
+    """Result of a DSMC run.
+
+    Attributes
+    ----------
+    distribution : VelocityDistribution
+        Time-averaged histogram after relaxation, with error bars from ``n_batches``
+        consecutive batches: of the velocity ``v`` (centre-of-mass frame, physical
+        units) for the heated gas, of the scaled velocity ``c = v/sqrt(T)`` for free
+        cooling.  Compare methods with ``distribution.f(c)``.
+    problem : str
+        ``"heated"`` or ``"cooling"``.
+    n_particles, n_collisions : int
+        Particles and accepted collisions (relaxation included).
+    relaxed_at : float
+        Collisions per particle at which averaging started.
+    series : dict of str to ndarray
+        At every measurement: ``collisions_per_particle``, ``t`` (physical time;
+        may overflow to inf in very long cooling runs), ``log_t``, ``temperature``
+        (physical, central; may underflow to 0 in cooling), ``log_temperature``,
+        ``a2`` and ``a3`` (Sonine coefficients of the central moments).
+    dissipation_rate, dissipation_error : float
+        Heated: energy dissipated per particle and unit time during averaging,
+        :math:`\\tfrac{1-\\alpha^2}{2N t}\\sum g^2` over the collisions, with its batch
+        error.  Cooling: NaN.
+    injection_rate : float
+        Heated: :math:`2D(1-1/N)`, the kicks' input into the internal energy.
+    edges, counts, power_sums : ndarray
+        Raw batch histograms and power sums (:func:`combine_runs` merges replicas).
+    info : RunInfo
+        Convergence (relaxation detected), wall time, seeds and counters in ``extra``.
+    """
+
+    distribution: VelocityDistribution
+    problem: str
+    n_particles: int
+    n_collisions: int
+    relaxed_at: float
+    series: Mapping[str, NDArray[np.float64]]
+    dissipation_rate: float
+    dissipation_error: float
+    injection_rate: float
+    edges: NDArray[np.float64]
+    counts: NDArray[np.float64]
+    power_sums: NDArray[np.float64]
+    info: RunInfo = field(default_factory=RunInfo)
+
+    @property
+    def a2(self) -> float:
+        """Kurtosis coefficient of the averaged distribution."""
+        return self.distribution.a2
+
+    @property
+    def a2_error(self) -> float:
+        """Standard error of :attr:`a2` from the batch spread."""
+        return self.distribution.a2_error
+
+    @property
+    def temperature(self) -> float:
+        """Heated: time-averaged steady T.  Cooling: physical T at the end."""
+        if self.problem == "heated":
+            return self.distribution.temperature
+        return float(math.exp(self.series["log_temperature"][-1]))
+
+    @property
+    def collisions_per_particle(self) -> float:
+        """Total collisions per particle, ``2 n_collisions / N``."""
+        return 2.0 * self.n_collisions / self.n_particles
+
+
+class Engine:
+    """Shared loop: advance a segment, measure, detect relaxation, accumulate, checkpoint."""
+
+    def __init__(self, kind: str, problem: Any, v: NDArray[np.float64], seed_seq: Any,
+                 opts: dict[str, Any]) -> None:
+        self.kind, self.problem, self.opts = kind, problem, opts
+        self.gas = problem.gas
+        self.v = v
+        self.n = v.size
+        self.state = seed_seq.generate_state(4, dtype=np.uint64)
+        self.tables = kern.ziggurat_tables()
+        self.c = {"accepted": 0, "candidates": 0, "debt": 0.0, "log_t": -math.inf,
+                  "log_scale": 0.0, "relaxed_at": -1.0, "avg_start_acc": 0,
+                  "n_samples": 0, "windows": 0, "converged": False}
+        self.series: dict[str, list[float]] = {k: [] for k in _SERIES}
+        nb = opts["n_batches"]
+        self.counts = np.zeros((nb, opts["bins"]))
+        self.sums = np.zeros((nb, MAX_MOMENT + 1))
+        self.batch_g2 = np.zeros(nb)
+        self.batch_time = np.zeros(nb)
+        self.seg_g2 = 0.0
+        self.seg_time = 0.0
+
+    # ----------------------------------------------------------------- dynamics
+    def _segment(self) -> None:
+        o, alpha = self.opts, self.gas.alpha
+        if self.kind == "heated":
+            acc, g2, debt = kern.heated_segment(
+                self.v, o["steps"], o["dt"], o["amp"], 0.5 * self.n * self.gas.density,
+                alpha, self.c["debt"], self.state, *self.tables)
+            self.c["debt"] = debt
+            t = o["steps"] * o["dt"]
+            self.c["log_t"] = float(np.logaddexp(self.c["log_t"], math.log(t)))
+            self.c["accepted"] += acc
+            self.seg_g2, self.seg_time = g2, t
+            return
+        target = self.c["accepted"] + max(1, int(round(0.5 * o["sample_every"] * self.n)))
+        while self.c["accepted"] < target:
+            ratio = self.c["accepted"] / self.c["candidates"] if self.c["candidates"] else 0.1
+            need = int((target - self.c["accepted"]) / max(ratio, 1e-3)) + 1
+            m = min(need, max(4 * self.n, 1 << 16))
+            acc, g2, inv = kern.cooling_block(self.v, m, self.n, alpha, self.state)
+            self.c["accepted"] += acc
+            self.c["candidates"] += m
+            if inv > 0:
+                log_dt = math.log(2.0 * inv / (self.n * self.gas.density)) - self.c["log_scale"]
+                self.c["log_t"] = float(np.logaddexp(self.c["log_t"], log_dt))
+            mean, cm = kern.central_sums(self.v, 2)
+            if not cm[2] > 0:
+                raise FloatingPointError("all velocities became equal; no collision can occur")
+            s = math.sqrt(cm[2])
+            self.v -= mean
+            self.v /= s
+            self.c["log_scale"] += math.log(s)
+
+    def _measure(self) -> tuple[float, float, float]:
+        mean, cm = kern.central_sums(self.v, 6)
+        self.v -= mean
+        temp = cm[2]
+        a2 = cm[4] / (3 * temp**2) - 1.0
+        a3 = 1.0 + 3.0 * a2 - cm[6] / (15.0 * temp**3)
+        log_temp = math.log(temp) + 2.0 * self.c["log_scale"]
+        row = (2.0 * self.c["accepted"] / self.n, math.exp(min(self.c["log_t"], 700.0)),
+               self.c["log_t"], math.exp(max(log_temp, -745.0)), log_temp, a2, a3)
+        for key, val in zip(_SERIES, row, strict=True):
+            self.series[key].append(float(val))
+        return log_temp, a2, a3
+
+    def _relaxed(self) -> bool:
+        o = self.opts
+        if o["relax"] != "auto":
+            return 2.0 * self.c["accepted"] / self.n >= o["relax"]
+        w = o["window"]
+        k = len(self.series["a2"])
+        if k < 2 * w or k % w:
+            return False
+        self.c["windows"] += 1
+        second = "log_temperature" if self.kind == "heated" else "a3"
+        ok = True
+        for key in ("a2", second):
+            x = np.asarray(self.series[key][-2 * w:])
+            a, b = x[:w], x[w:]
+            se = math.sqrt(a.var(ddof=1) / w + b.var(ddof=1) / w)
+            ok &= abs(a.mean() - b.mean()) <= 3.0 * se
+        if ok or self.c["windows"] >= 20:
+            self.c["converged"] = bool(ok)
+            if not ok:
+                logger.warning("relaxation not detected after 20 windows; averaging anyway")
+            return True
+        return False
+
+    def _accumulate(self) -> None:
+        o = self.opts
+        k = self.c["n_samples"]
+        b = k * o["n_batches"] // o["n_samples"]
+        x = self.v if self.kind == "heated" else self.v / math.sqrt(np.mean(self.v**2))
+        accumulate_kernel(x, o["lo"], o["hi"], self.counts[b], self.sums[b])
+        if k > 0:  # energy of the segment that led to this sample
+            self.batch_g2[b] += self.seg_g2
+            self.batch_time[b] += self.seg_time
+        self.c["n_samples"] = k + 1
+
+    # ----------------------------------------------------------------- checkpoints
+    def save(self, path: Path) -> None:
+        arrays = {"v": self.v, "state": self.state, "counts": self.counts, "sums": self.sums,
+                  "batch_g2": self.batch_g2, "batch_time": self.batch_time}
+        arrays.update({f"series__{k}": np.asarray(s) for k, s in self.series.items()})
+        meta = {"counters": self.c, "key": self.opts["key"]}
+        save_checkpoint(path, arrays, meta)
+
+    def load(self, path: Path) -> None:
+        arrays, meta = load_checkpoint(path)
+        if meta["key"] != self.opts["key"]:
+            raise ValueError(f"checkpoint {path} belongs to a different run: {meta['key']} "
+                             f"!= {self.opts['key']}")
+        self.c.update(meta["counters"])
+        for name in ("v", "state", "counts", "sums", "batch_g2", "batch_time"):
+            setattr(self, name, arrays[name].copy())
+        self.series = {k: list(arrays[f"series__{k}"]) for k in _SERIES}
+
+    # ----------------------------------------------------------------- main loop
+    def run(self) -> DSMCRun:
+        o = self.opts
+        t_start = last_ckpt = time.perf_counter()
+        path = o["checkpoint"]
+        if path is not None and o["resume"] and Path(path).with_suffix(".npz").exists():
+            self.load(Path(path).with_suffix(".npz"))
+            logger.info("resumed from %s at %d collisions", path, self.c["accepted"])
+        if not self.series["a2"]:
+            self._measure()
+        interrupted = False
+        with tqdm(total=o["n_samples"], disable=not o["progress"], desc=f"DSMC {self.kind}",
+                  initial=self.c["n_samples"]) as bar:
+            while self.c["n_samples"] < o["n_samples"]:
+                self._segment()
+                self._measure()
+                if self.c["relaxed_at"] < 0 and self._relaxed():
+                    self.c["relaxed_at"] = 2.0 * self.c["accepted"] / self.n
+                    self.c["avg_start_acc"] = self.c["accepted"]
+                if self.c["relaxed_at"] >= 0:
+                    self._accumulate()
+                    bar.update(1)
+                now = time.perf_counter()
+                if path is not None and now - last_ckpt >= o["checkpoint_every"]:
+                    self.save(Path(path))
+                    last_ckpt = now
+                if o["max_wall_time"] is not None and now - t_start >= o["max_wall_time"]:
+                    interrupted = self.c["n_samples"] < o["n_samples"]
+                    break
+        if path is not None:
+            self.save(Path(path))
+        return self._result(time.perf_counter() - t_start, interrupted)
+
+    def _result(self, wall: float, interrupted: bool) -> DSMCRun:
+        o, c = self.opts, self.c
+        keep = self.sums[:, 0] > 0
+        params = {**self.problem.as_dict(), "n_particles": self.n}
+        diss = diss_err = inj = float("nan")
+        if self.kind == "heated":
+            params.update(dt=o["dt"], diffusion=self.problem.diffusion)
+            inj = 2.0 * self.problem.diffusion * (1.0 - 1.0 / self.n)
+            k = 0.5 * (1.0 - self.gas.alpha**2) / self.n
+            ok = self.batch_time > 0
+            if ok.any():
+                rates = k * self.batch_g2[ok] / self.batch_time[ok]
+                diss = k * self.batch_g2[ok].sum() / self.batch_time[ok].sum()
+                diss_err = (float(rates.std(ddof=1) / math.sqrt(rates.size))
+                            if rates.size > 1 else float("nan"))
+        msg = ("interrupted (resume from the checkpoint)" if interrupted else
+               "relaxation detected" if c["converged"] else
+               "fixed relaxation" if o["relax"] != "auto" else "relaxation not detected")
+        info = RunInfo(converged=bool(c["converged"] and not interrupted),
+                       iterations=int(round(2.0 * c["accepted"] / self.n)),
+                       residual=abs(diss / inj - 1.0) if self.kind == "heated" else float("nan"),
+                       wall_time=wall, message=msg,
+                       extra={"seed_entropy": str(o["entropy"]), "n_collisions": c["accepted"],
+                              "relaxed_at": c["relaxed_at"], "samples": c["n_samples"]})
+        series = {k: np.asarray(s, dtype=float) for k, s in self.series.items()}
+        edges = np.linspace(o["lo"], o["hi"], o["bins"] + 1)
+        if not keep.any():
+            raise RuntimeError("run stopped before any sample was averaged; resume it from the "
+                               "checkpoint or allow more wall time")
+        dist = VelocityDistribution.from_batches(edges, self.counts[keep], self.sums[keep],
+                                                 method="dsmc", params=params, info=info,
+                                                 series=series)
+        return DSMCRun(dist, self.kind, self.n, int(c["accepted"]), float(c["relaxed_at"]),
+                       series, float(diss), float(diss_err), float(inj), edges,
+                       self.counts.copy(), self.sums.copy(), info)

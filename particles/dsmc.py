@@ -1,0 +1,287 @@
+"""Direct Simulation Monte Carlo of the homogeneous Boltzmann equation (1D inelastic rods).
+
+The ``N`` particles have velocities only (no positions).  The pair ``(i, j)`` collides
+at rate :math:`n|v_i - v_j|/(N-1)`, so that particle ``i`` collides at rate
+:math:`n \\langle |v_i - v'| \\rangle` over the others, the loss rate of
+
+.. math::
+
+    \\partial_t P - D\\partial_v^2 P = -n\\int dv'\\,|v-v'|P(v)P(v')
+    + \\frac{4n}{(1+\\alpha)^2}\\int dv'\\,|v-v'|P(v')
+      P\\Big(\\frac{2v-(1-\\alpha)v'}{1+\\alpha}\\Big).
+
+The total rate is :math:`\\Lambda = \\tfrac n{N-1}\\sum_{i<j} g_{ij}
+= \\tfrac{Nn}{2}\\langle g\\rangle`.  *Thinning*: candidate pairs (two distinct
+uniform indices, each unordered pair with probability :math:`2/(N(N-1))`) are drawn
+at rate :math:`\\Lambda_{max} = N n g_{max}/2` and accepted with probability
+:math:`g_{ij}/g_{max}`; each pair then collides at rate
+:math:`\\Lambda_{max}\\cdot\\tfrac{2}{N(N-1)}\\cdot g_{ij}/g_{max} = n g_{ij}/(N-1)`
+as required, and each candidate advances time by :math:`2/(N n g_{max})`.  The
+majorant :math:`g_{max} = \\max v - \\min v` is the exact largest relative speed,
+and a collision, :math:`v_{1,2}' = v_{1,2} \\mp \\tfrac{1+\\alpha}{2}(v_1 - v_2)`,
+replaces two velocities by convex combinations of them, so it can never exceed
+``g_max``; it is re-measured after every kick (heated) or every ``N`` candidates
+(cooling).  No collision is ever lost.
+
+*Heated* (:func:`simulate_heated`): Strang splitting
+:math:`e^{\\Delta t(C+K)} \\approx e^{\\Delta t K/2} e^{\\Delta t C} e^{\\Delta t K/2}`
+of collisions ``C`` and white-noise kicks ``K`` (:math:`v \\to v + \\sqrt{2D\\Delta t}
+\\,\\xi`, exact for the diffusion); consecutive half kicks merge, measurements are
+taken after a half kick.  Weak error :math:`O(\\Delta t^2)`
+(``benchmarks/convergence_dsmc.py``).  Kicks are applied to every particle at every
+step: "lazy" kicks (one Gaussian summing a particle's pending kicks when it is next
+touched) would leave the stored velocities without a true majorant, because a pending
+Gaussian is unbounded.  The collision count per step is the time counter
+:math:`\\lfloor \\text{debt} + \\Delta t\\,\\Lambda_{max} \\rfloor` (fraction carried over).
+The dynamics depend on velocity differences only, so velocities are kept in the
+centre-of-mass frame (the mean, a random walk driven by the kicks, is subtracted at
+every measurement); the kicks inject :math:`2D(1 - 1/N)` per particle into the
+internal energy.
+
+*Free cooling* (:func:`simulate_cooling`): velocities are rescaled to unit
+temperature after every block of candidates while :math:`\\ln` of the scale and
+:math:`\\ln t` are accumulated (``logaddexp``), so nothing under- or overflows
+over any number of collisions; time advances by the expected candidate spacing
+(the sequence of collisions is exact, the clock has relative noise
+:math:`O(\\text{candidates}^{-1/2})`).
+
+*Relaxation detector* (``relax="auto"``): the time series are cut into windows of
+:math:`W = \\max(2, 2/(1-\\alpha^2))` collisions per particle (at least 10 samples),
+about three linear relaxation times of T (:math:`\\tau\\nu = 2/(3(1-\\alpha^2))`
+collisions per particle from the energy balance).  Averaging starts after the first
+window whose means of ``a2`` and of ``ln T`` (heated) or ``a3`` (cooling) differ from
+those of the previous window by less than three combined standard errors (at least two
+windows, at most 20; ``info.converged`` is False if the cap is hit).
+
+References
+----------
+G. A. Bird, *Molecular Gas Dynamics and the Direct Simulation of Gas Flows* (1994).
+Barrat, Biben, Racz, Trizac, van Wijland, J. Phys. A 35, 463 (2002).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import numbers
+from pathlib import Path
+from typing import Any, Sequence
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from kinetic_fem.distribution import VelocityDistribution
+from kinetic_fem.gas import CoolingProblem, HeatedProblem, check_finite_array, check_positive
+from kinetic_fem.sonine import steady_temperature
+
+from ._dsmc_engine import DSMCRun, Engine
+
+__all__ = ["DSMCRun", "simulate_heated", "simulate_cooling", "combine_runs",
+           "MAX_COLLISIONS_PER_STEP"]
+
+logger = logging.getLogger(__name__)
+
+MAX_COLLISIONS_PER_STEP = 0.5
+"""Largest allowed expected number of collisions per particle in one heated step."""
+
+
+def _check_int(name: str, value: object, lo: int, hi: int | None = None) -> int:
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise TypeError(f"{name} must be an integer, got {type(value).__name__} {value!r}")
+    if value < lo or (hi is not None and value > hi):
+        allowed = f">= {lo}" if hi is None else f"in [{lo}, {hi}]"
+        raise ValueError(f"{name}={value!r} is not allowed; it must be {allowed}")
+    return int(value)
+
+
+def _initial(initial: ArrayLike | None, n: int, temperature: float,
+             seed_seq: np.random.SeedSequence) -> NDArray[np.float64]:
+    if initial is None:
+        rng = np.random.default_rng(seed_seq)
+        v = rng.normal(0.0, math.sqrt(temperature), n)
+    else:
+        v = check_finite_array("initial_velocities", initial, ndim=1).copy()
+        if v.shape != (n,):
+            raise ValueError(f"initial_velocities has shape {v.shape}; expected ({n},) "
+                             f"for n_particles={n}")
+    return v - v.mean()
+
+
+def _seeds(seed: int | np.random.SeedSequence | None) -> tuple[Any, Any, str]:
+    """Two independent children (initial state, kernel stream) without mutating ``seed``."""
+    root = seed if isinstance(seed, np.random.SeedSequence) else np.random.SeedSequence(seed)
+    kids = [np.random.SeedSequence(root.entropy, spawn_key=(*root.spawn_key, k))
+            for k in (0, 1)]
+    return kids[0], kids[1], f"{root.entropy}:{tuple(root.spawn_key)}"
+
+
+def _common(n_particles: int, collisions_per_particle: float, relax: str | float,
+            sample_every: float, n_batches: int, bins: int, c_max: float,
+            checkpoint: str | Path | None, checkpoint_every: float, resume: bool,
+            max_wall_time: float | None, progress: bool, alpha: float) -> dict[str, Any]:
+    n = _check_int("n_particles", n_particles, 2, 2**32 - 1)
+    cpp = check_positive("collisions_per_particle", collisions_per_particle)
+    every = check_positive("sample_every", sample_every)
+    nb = _check_int("n_batches", n_batches, 2)
+    n_samples = int(math.ceil(cpp / every - 1e-9))
+    if n_samples < nb:
+        raise ValueError(f"collisions_per_particle={cpp} / sample_every={every} gives "
+                         f"{n_samples} samples, fewer than n_batches={nb}")
+    if not (relax == "auto" or (isinstance(relax, numbers.Real) and not isinstance(relax, bool)
+                                and math.isfinite(relax) and relax >= 0)):
+        raise ValueError(f"relax must be 'auto' or a number of collisions per particle >= 0, "
+                         f"got {relax!r}")
+    if resume and checkpoint is None:
+        raise ValueError("resume=True needs a checkpoint path")
+    if max_wall_time is not None:
+        check_positive("max_wall_time", max_wall_time)
+    w = max(2.0, 2.0 / (1.0 - alpha**2))
+    return {"n": n, "relax": relax if relax == "auto" else float(relax),
+            "sample_every": every, "n_batches": nb, "n_samples": n_samples,
+            "bins": _check_int("bins", bins, 1), "c_max": check_positive("c_max", c_max),
+            "window": max(10, int(math.ceil(w / every))), "checkpoint": checkpoint,
+            "checkpoint_every": float(checkpoint_every), "resume": bool(resume),
+            "max_wall_time": max_wall_time, "progress": bool(progress)}
+
+
+def simulate_heated(alpha: float, n_particles: int, *, density: float = 1.0,
+                    diffusion: float = 1.0, seed: int | np.random.SeedSequence | None = None,
+                    collisions_per_particle: float = 100.0, dt: float | None = None,
+                    relax: str | float = "auto", sample_every: float = 1.0,
+                    n_batches: int = 20, bins: int = 200, c_max: float = 10.0,
+                    initial_velocities: ArrayLike | None = None,
+                    checkpoint: str | Path | None = None, checkpoint_every: float = 300.0,
+                    resume: bool = False, max_wall_time: float | None = None,
+                    progress: bool = False) -> DSMCRun:
+    """DSMC steady state of the randomly heated gas.
+
+    Parameters
+    ----------
+    alpha : float
+        Restitution coefficient, ``0 <= alpha < 1``.
+    n_particles : int
+        Number of particles ``N``, ``2 <= N < 2^32``.
+    density, diffusion : float
+        :math:`n` and the noise strength :math:`D`.
+    seed : int or SeedSequence, optional
+        Root seed; the same seed gives the same run (``None``: fresh entropy, recorded
+        in ``info.extra["seed_entropy"]``).
+    collisions_per_particle : float
+        Length of the averaging after relaxation, in collisions per particle.
+    dt : float, optional
+        Time step of the splitting (physical time).  Default: 0.05 mean free times
+        :math:`1/(n\\langle g\\rangle)` at the first-order Sonine steady temperature.
+        The expected number of collisions per particle per step must not exceed
+        :data:`MAX_COLLISIONS_PER_STEP`.
+    relax : "auto" or float
+        Start of averaging: the detector of the module docstring, or a fixed number
+        of collisions per particle.
+    sample_every : float
+        Collisions per particle between measurements (time series and histogram).
+    n_batches, bins, c_max : int, int, float
+        Consecutive batches for error bars; histogram of ``v`` with ``bins`` bins on
+        :math:`|v| \\le c_{max}\\sqrt{T_{ref}}` (first-order Sonine ``T_ref``; the same
+        edges for every seed, so replicas merge).  Moments use every sample.
+    initial_velocities : array_like, shape (N,), optional
+        Initial state (finite); default Gaussian at ``T_ref``.
+    checkpoint, checkpoint_every, resume : path, float, bool
+        Write the state every ``checkpoint_every`` seconds and at the end; with
+        ``resume=True`` continue from the file if it exists (bit-identical).
+    max_wall_time : float, optional
+        Stop after this many seconds (checkpoint written; ``info.message`` says so).
+    progress : bool
+        tqdm progress bar over the averaging samples.
+
+    Returns
+    -------
+    DSMCRun
+        ``.distribution`` is P(v) in the centre-of-mass frame.
+
+    Raises
+    ------
+    TypeError, ValueError
+        For invalid parameters (``N < 2``, too large ``dt``, non-finite initial state).
+    """
+    problem = HeatedProblem.from_parameters(alpha, density=density, diffusion=diffusion)
+    gas = problem.gas
+    o = _common(n_particles, collisions_per_particle, relax, sample_every, n_batches, bins,
+                c_max, checkpoint, checkpoint_every, resume, max_wall_time, progress, gas.alpha)
+    t_ref = steady_temperature(gas.alpha, gas.density, problem.diffusion)
+    init_seq, run_seq, entropy = _seeds(seed)
+    v = _initial(initial_velocities, o["n"], t_ref, init_seq)
+    t_max = max(t_ref, float(np.mean(v**2)))
+    rate = gas.density * 2.0 * math.sqrt(t_ref / math.pi)  # collisions per particle per time
+    dt = 0.05 / rate if dt is None else check_positive("dt", dt)
+    per_step = dt * gas.density * 2.0 * math.sqrt(t_max / math.pi)
+    if per_step > MAX_COLLISIONS_PER_STEP:
+        raise ValueError(f"dt={dt!r} gives {per_step:.3g} expected collisions per particle per "
+                         f"step; at most {MAX_COLLISIONS_PER_STEP} are allowed (dt <= "
+                         f"{MAX_COLLISIONS_PER_STEP / per_step * dt:.3g})")
+    half = o["c_max"] * math.sqrt(t_ref)
+    o.update(dt=dt, amp=math.sqrt(2.0 * problem.diffusion * dt), lo=-half, hi=half,
+             steps=max(1, int(round(o["sample_every"] / (dt * rate)))), entropy=entropy)
+    o["key"] = {"kind": "heated", "alpha": gas.alpha, "density": gas.density,
+                "diffusion": problem.diffusion, "n": o["n"], "dt": dt, "steps": o["steps"],
+                "samples": o["n_samples"], "batches": o["n_batches"], "bins": o["bins"],
+                "lo": -half, "relax": o["relax"], "seed": entropy}
+    return Engine("heated", problem, v, run_seq, o).run()
+
+
+def simulate_cooling(alpha: float, n_particles: int, *, density: float = 1.0,
+                     seed: int | np.random.SeedSequence | None = None,
+                     collisions_per_particle: float = 100.0, relax: str | float = "auto",
+                     sample_every: float = 1.0, n_batches: int = 20, bins: int = 240,
+                     c_max: float = 6.0, initial_velocities: ArrayLike | None = None,
+                     checkpoint: str | Path | None = None, checkpoint_every: float = 300.0,
+                     resume: bool = False, max_wall_time: float | None = None,
+                     progress: bool = False) -> DSMCRun:
+    """DSMC of the freely cooling gas: Haff's law and the homogeneous cooling state.
+
+    Parameters are those of :func:`simulate_heated` without ``diffusion`` and ``dt``;
+    the histogram is of the scaled velocity ``c = v/sqrt(T)`` on ``|c| <= c_max``, and
+    the default initial state is a unit Gaussian.  ``series["log_temperature"]`` and
+    ``series["log_t"]`` give the physical :math:`T(t)` (Haff: :math:`T \\sim t^{-2}`,
+    compare :func:`kinetic_fem.sonine.haff_temperature`) without under- or overflow.
+
+    Returns
+    -------
+    DSMCRun
+        ``.distribution`` is the time-averaged scaled distribution f(c).
+    """
+    problem = CoolingProblem.from_parameters(alpha, density=density)
+    o = _common(n_particles, collisions_per_particle, relax, sample_every, n_batches, bins,
+                c_max, checkpoint, checkpoint_every, resume, max_wall_time, progress,
+                problem.gas.alpha)
+    init_seq, run_seq, entropy = _seeds(seed)
+    v = _initial(initial_velocities, o["n"], 1.0, init_seq)
+    if not np.ptp(v) > 0:
+        raise ValueError("initial_velocities are all equal: no collision can ever happen")
+    o.update(lo=-o["c_max"], hi=o["c_max"], entropy=entropy)
+    o["key"] = {"kind": "cooling", "alpha": problem.gas.alpha, "density": problem.gas.density,
+                "n": o["n"], "every": o["sample_every"], "samples": o["n_samples"],
+                "batches": o["n_batches"], "bins": o["bins"], "lo": -o["c_max"],
+                "relax": o["relax"], "seed": entropy}
+    return Engine("cooling", problem, v, run_seq, o).run()
+
+
+def combine_runs(runs: Sequence[DSMCRun]) -> VelocityDistribution:
+    """Merge independent replicas (same parameters) into one distribution.
+
+    Every batch of every replica is kept, so errors come from the spread over all of
+    them.  Replicas run in parallel with :func:`particles.sampling.run_replicas`::
+
+        seeds = spawn_seeds(1, 4)
+        runs = run_replicas(simulate_heated, seeds, alpha=0.6, n_particles=25_000)
+        dist = combine_runs(runs)
+    """
+    if not runs:
+        raise ValueError("combine_runs needs at least one run")
+    edges = runs[0].edges
+    for r in runs[1:]:
+        if r.edges.shape != edges.shape or not np.array_equal(r.edges, edges):
+            raise ValueError("runs have different histogram edges; use the same parameters")
+    counts = np.concatenate([r.counts[r.power_sums[:, 0] > 0] for r in runs])
+    sums = np.concatenate([r.power_sums[r.power_sums[:, 0] > 0] for r in runs])
+    first = runs[0].distribution
+    return VelocityDistribution.from_batches(edges, counts, sums, method="dsmc",
+                                             params=first.params, info=first.info)
