@@ -142,12 +142,14 @@ class Engine:
             ratio = self.c["accepted"] / self.c["candidates"] if self.c["candidates"] else 0.1
             need = int((target - self.c["accepted"]) / max(ratio, 1e-3)) + 1
             m = min(need, max(4 * self.n, 1 << 16))
-            acc, g2, inv = kern.cooling_block(self.v, m, self.n, alpha, self.state)
+            acc, d_log_scale, elapsed = kern.cooling_block(self.v, m, self.n, alpha, self.state)
             self.c["accepted"] += acc
             self.c["candidates"] += m
-            if inv > 0:
-                log_dt = math.log(2.0 * inv / (self.n * self.gas.density)) - self.c["log_scale"]
+            if elapsed > 0:
+                log_dt = (math.log(2.0 * elapsed / (self.n * self.gas.density))
+                          - self.c["log_scale"])
                 self.c["log_t"] = float(np.logaddexp(self.c["log_t"], log_dt))
+            self.c["log_scale"] += d_log_scale
             mean, cm = kern.central_sums(self.v, 2)
             if not cm[2] > 0:
                 raise FloatingPointError("all velocities became equal; no collision can occur")

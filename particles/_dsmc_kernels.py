@@ -247,28 +247,42 @@ def heated_segment(v, n_steps, dt, amp, rate, alpha, debt, s, ki, wi, fi):  # pr
 
 @jit
 def cooling_block(v, n_candidates, refresh, alpha, s):  # pragma: no cover - compiled
-    """``n_candidates`` candidates of free cooling, re-measuring the majorant.
+    """``n_candidates`` candidates of free cooling with rescaling to unit temperature.
 
-    Every ``refresh`` candidates ``g_max = max(v) - min(v)`` is recomputed (it only
-    shrinks under collisions, so a stale value is still a bound, just a loose one).
+    Every ``refresh`` candidates the velocities are moved to the centre-of-mass frame
+    and divided by their standard deviation ``sd`` (so neither the spread nor its
+    ratio to the round-off of the mean can underflow), and the majorant
+    ``g_max = max(v) - min(v)`` is re-measured.
 
-    Returns ``(accepted, sum_g2, sum_inv_g)`` where ``sum_inv_g`` is
-    :math:`\\sum 1/g_{max}` over the candidates: each candidate advances time by
-    :math:`2/(n N g_{max})` in the units of ``v``.
+    Returns
+    -------
+    accepted : int
+        Number of collisions.
+    log_scale : float
+        :math:`\\sum \\ln sd`: physical velocities are ``exp(log_scale)`` times the
+        returned ones, in the units of ``v`` on entry.
+    time : float
+        :math:`\\sum_k m_k / (g_{max,k}\\, e^{\\text{log\\_scale}_k})`; each candidate
+        advances time by :math:`2/(n N g_{max})`, so the elapsed time is
+        ``2 time / (n N)`` in the units of ``v`` on entry.
     """
+    n = v.shape[0]
     accepted = 0
-    sum_g2 = 0.0
-    sum_inv = 0.0
+    log_scale = 0.0
+    elapsed = 0.0
     done = 0
     while done < n_candidates:
+        mean, cm = central_sums(v, 2)
+        if not cm[2] > 0.0:
+            break  # all velocities equal: no collision can ever happen again
+        sd = math.sqrt(cm[2])
+        for k in range(n):
+            v[k] = (v[k] - mean) / sd
+        log_scale += math.log(sd)
         m = min(refresh, n_candidates - done)
         lo, hi = extent(v)
-        g_max = hi - lo
-        if not g_max > 0.0:
-            break  # all velocities equal: no collision can ever happen again
-        a, g2 = collide(v, m, alpha, g_max, s)
+        a, g2 = collide(v, m, alpha, hi - lo, s)
         accepted += a
-        sum_g2 += g2
-        sum_inv += m / g_max
+        elapsed += m / ((hi - lo) * math.exp(log_scale))
         done += m
-    return accepted, sum_g2, sum_inv
+    return accepted, log_scale, elapsed
