@@ -37,7 +37,7 @@ import logging
 import math
 import time
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cached_property
 
 import numpy as np
@@ -53,8 +53,8 @@ from .distribution import RunInfo, VelocityDistribution
 from .gas import HeatedProblem, check_positive
 from .solve import register_solver
 
-__all__ = ["FEMDiscretisation", "ResolutionWarning", "ConvergenceError", "default_cutoff",
-           "solve_fem", "evolve_heated", "ELEMENTS"]
+__all__ = ["FEMDiscretisation", "SteadyState", "ResolutionWarning", "ConvergenceError",
+           "default_cutoff", "steady_state", "solve_fem", "evolve_heated", "ELEMENTS"]
 
 logger = logging.getLogger(__name__)
 
@@ -63,6 +63,8 @@ ELEMENTS = {1: ElementLineP1, 2: ElementLineP2}
 
 TAIL_FLOOR = 1e-30
 """f(c) must be resolved down to this value (30 decades)."""
+CONTINUATION_ALPHA = 0.95
+"""Above this alpha Newton starts from the solution at ten times the inelasticity."""
 INITIAL_FLOOR = math.log(1e-45)
 """Floor of ln P in transient initial data, 15 decades below the resolved range.
 
@@ -107,15 +109,17 @@ def weighted_mass(du, v, w):
 def default_cutoff(alpha: float) -> float:
     """Cut-off :math:`c_{max} = V/\\sqrt{T}` covering :math:`f(c) > 10^{-33}`.
 
-    The larger of the Gaussian estimate and the far tail
-    :math:`\\exp(-A_c c^{3/2})` of claim C4 (:func:`sonine.tail_exponent_amplitude`),
-    plus one thermal velocity.
+    The far tail :math:`\\exp(-A_c c^{3/2})` of claim C4
+    (:func:`sonine.tail_exponent_amplitude`) or, if it reaches 1e-33 sooner, the
+    smaller of the Gaussian and the quasi-elastic tail :math:`\\exp(-x^3/6)`,
+    :math:`x = (\\varepsilon T)^{1/3} c` (claim C5); plus one thermal velocity.
     """
     decades = 33.0 * math.log(10.0)
+    temperature = sonine.steady_temperature(alpha)
     c_gauss = math.sqrt(2.0 * (decades - 0.5 * math.log(2.0 * math.pi)))
-    t_est = sonine.steady_temperature(alpha)
-    c_tail = (decades / sonine.tail_exponent_amplitude(temperature=t_est)) ** (2.0 / 3.0)
-    return max(c_gauss, c_tail) + 1.0
+    c_cubic = (6.0 * decades) ** (1.0 / 3.0) / ((1.0 - alpha) ** (1 / 3) * temperature**0.5)
+    c_tail = (decades / sonine.tail_exponent_amplitude(temperature=temperature)) ** (2 / 3)
+    return max(c_tail, min(c_gauss, c_cubic)) + 1.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -273,35 +277,110 @@ class _Equilibrated:
 
 def newton_steady(disc: FEMDiscretisation, u0: NDArray[np.float64], *, tol: float = 1e-11,
                   max_iter: int = 40, step_limit: float = 10.0) -> tuple[NDArray, RunInfo]:
-    """Newton iteration for the even steady state with :math:`\\int P_h = 1`."""
+    """Newton iteration for the even steady state with :math:`\\int P_h = 1`.
+
+    The update of each dof is :math:`\\ln(1 + \\delta)` (see :func:`_log_update`).
+    """
     start = time.perf_counter()
     sym = disc.symmetry
     # the dof at v = 0 carries the normalisation instead of its (redundant) equation
     red_x = np.zeros(sym.shape[1])
     red_x[sym.indices] = np.abs(disc.dof_locations)
     row0 = int(np.argmin(red_x))
+
+    def system(u_red: NDArray, jacobian: bool) -> tuple[NDArray, NDArray | None]:
+        u = sym @ u_red
+        res, jac = disc.residual(u, jacobian=jacobian)
+        grad_mass = asm(mass, disc.basis, u=disc.field(u))
+        r = sym.T @ res
+        r[row0] = grad_mass.sum() - 1.0
+        if not jacobian:
+            return r, None
+        j = sym.T @ (sym.T @ jac.T).T
+        j[row0] = sym.T @ grad_mass
+        return r, j
+
     u_red = (sym.T @ u0) / np.asarray(sym.sum(axis=0)).ravel()
     step = np.inf
     history = []
+    r, j = system(u_red, True)
     for it in range(1, max_iter + 1):
-        u = sym @ u_red
-        res, jac = disc.residual(u, jacobian=True)
-        r = sym.T @ res
-        j = (sym.T @ (sym.T @ jac.T).T)
-        grad_mass = asm(mass, disc.basis, u=disc.field(u))
-        r[row0] = grad_mass.sum() - 1.0
-        j[row0] = sym.T @ grad_mass
         delta = _Equilibrated(j).solve(-r)
-        u_red = u_red + _log_update(delta, step_limit)
         step = float(np.abs(delta).max())
+        u_red = u_red + _log_update(delta, step_limit)
         history.append(step)
         logger.debug("newton %d: max|du| = %.3e", it, step)
         if step < tol:
             break
+        r, j = system(u_red, True)
     info = RunInfo(converged=step < tol, iterations=it, residual=step,
                    wall_time=time.perf_counter() - start,
                    message=f"Newton max|du| history {['%.1e' % s for s in history]}")
     return sym @ u_red, info
+
+
+@dataclass(frozen=True, eq=False)
+class SteadyState:
+    """A converged steady state at ``n = D = 1``: discretisation, ``u_h = ln P_h``, run info."""
+
+    disc: FEMDiscretisation
+    u: NDArray[np.float64]
+    info: RunInfo
+
+    def initial_guess(self, v: NDArray, temperature: float) -> NDArray:
+        """``ln P`` at ``v`` of this state's f(c) at another ``temperature`` (Gaussian beyond)."""
+        dist = self.disc.distribution(self.u)
+        s_old, s_new = math.sqrt(dist.temperature), math.sqrt(temperature)
+        c = v / s_new
+        edge = 0.999 * self.disc.vertices[-1] / s_old
+        c_in = np.clip(c, -edge, edge)
+        order = np.argsort(c_in)
+        log_f = np.empty_like(c)
+        log_f[order] = np.log(self.disc.evaluate(self.u, c_in[order] * s_old) * s_old)
+        return log_f - 0.5 * (c**2 - c_in**2) - math.log(s_new)
+
+    def energy_terms(self) -> tuple[float, float]:
+        """Discrete injection :math:`-\\sum_i v_i^2 \\int\\varphi_i' P'` and the pair loss.
+
+        With P2 the two are equal at a steady state up to the Newton tolerance
+        (:math:`\\sum_i v_i^2\\varphi_i = v^2`); the injection differs from
+        :math:`2D \\int P_h` by the quadrature error of one integration by parts.
+        """
+        x = self.disc.dof_locations
+        fp = asm(fokker_planck, self.disc.basis, u=self.disc.field(self.u))
+        loss = 0.25 * (1.0 - self.disc.alpha**2) * self.disc.collision(self.u)[2]
+        return -float(np.sum(x**2 * fp)), float(loss)
+
+
+def steady_state(alpha: float, *, order: int = 2, spacing: float = 0.1,
+                 cutoff: float | None = None, vertices=None, intorder: int | None = None,
+                 tol: float = 1e-11, max_iter: int = 40) -> SteadyState:
+    """Newton steady state at ``n = D = 1`` (see :func:`solve_fem` for the options)."""
+    if order not in ELEMENTS:
+        raise ValueError(f"order must be one of {sorted(ELEMENTS)}, got {order!r}")
+    verts = _mesh(alpha, cutoff=cutoff, spacing=spacing, vertices=vertices)
+    disc = FEMDiscretisation(alpha, verts, order, intorder or 2 * order + 1)
+    u0 = disc.gaussian(sonine.steady_temperature(alpha))
+    if alpha > CONTINUATION_ALPHA and vertices is None:
+        # start from the solution at eps' = 10 eps, rescaled to f(c) (quasi-elastic
+        # limits are approached smoothly in c; Newton from a Gaussian is not robust there)
+        coarse = steady_state(max(1.0 - 10.0 * (1.0 - alpha), CONTINUATION_ALPHA - 0.05),
+                              order=order, spacing=max(spacing, 0.2), tol=1e-6,
+                              max_iter=max_iter)
+        u0 = coarse.initial_guess(disc.dof_locations, sonine.steady_temperature(alpha))
+    u, info = newton_steady(disc, u0, tol=tol, max_iter=max_iter)
+    if not info.converged:
+        raise ConvergenceError(f"FEM Newton did not converge in {max_iter} iterations at "
+                               f"alpha={alpha} ({info.message}); increase max_iter or refine "
+                               "the mesh (smaller spacing)")
+    edge = float(np.exp(u[np.argmax(disc.dof_locations)]))
+    temperature = disc.distribution(u).temperature
+    if edge * math.sqrt(temperature) > TAIL_FLOOR:
+        warnings.warn(f"f(c) = {edge * math.sqrt(temperature):.2e} at the cut-off "
+                      f"c = {verts[-1] / math.sqrt(temperature):.3g} is above {TAIL_FLOOR}: "
+                      "the tail is truncated; increase cutoff (default: default_cutoff(alpha))",
+                      ResolutionWarning, stacklevel=2)
+    return SteadyState(disc, u, info)
 
 
 @register_solver("fem", problem="heated")
@@ -333,25 +412,25 @@ def solve_fem(problem: HeatedProblem, *, order: int = 2, spacing: float = 0.1,
     Returns
     -------
     VelocityDistribution
-        On the quadrature points with the quadrature weights.
+        On the quadrature points with the quadrature weights; ``info.extra`` holds
+        the mesh size and both sides of the discrete energy balance (C1).
 
     Raises
     ------
     ConvergenceError
         If Newton's method does not converge.
+
+    Warns
+    -----
+    ResolutionWarning
+        If the cut-off truncates f(c) above 1e-30 or the spacing is too coarse.
     """
-    if order not in ELEMENTS:
-        raise ValueError(f"order must be one of {sorted(ELEMENTS)}, got {order!r}")
-    alpha = problem.gas.alpha
-    verts = _mesh(alpha, cutoff=cutoff, spacing=spacing, vertices=vertices)
-    disc = FEMDiscretisation(alpha, verts, order, intorder or 2 * order + 1)
-    u, info = newton_steady(disc, disc.gaussian(sonine.steady_temperature(alpha)),
-                            tol=tol, max_iter=max_iter)
-    if not info.converged:
-        raise ConvergenceError(f"FEM Newton did not converge in {max_iter} iterations at "
-                               f"alpha={alpha} ({info.message}); increase max_iter or refine "
-                               "the mesh (smaller spacing)")
-    dist = disc.distribution(u, method="fem", params=problem.as_dict(), info=info)
+    state = steady_state(problem.gas.alpha, order=order, spacing=spacing, cutoff=cutoff,
+                         vertices=vertices, intorder=intorder, tol=tol, max_iter=max_iter)
+    injection, loss = state.energy_terms()
+    info = replace(state.info, extra={"n_dofs": int(state.u.size), "order": order,
+                                      "c1_injection": injection, "c1_loss": loss})
+    dist = state.disc.distribution(state.u, method="fem", params=problem.as_dict(), info=info)
     return dist.rescaled(problem.velocity_scale) if problem.velocity_scale != 1.0 else dist
 
 
@@ -395,18 +474,20 @@ def evolve_heated(alpha: float, *, density: float = 1.0, diffusion: float = 1.0,
 
     .. math::
 
-        \int \varphi_i \frac{3P^{k+1} - 4P^k + P^{k-1}}{2\,\Delta t}
+        \\int \\varphi_i \\frac{3P^{k+1} - 4P^k + P^{k-1}}{2\\,\\Delta t}
         = R_i(P^{k+1}),
 
-    solved for :math:`u^{k+1} = \ln P^{k+1}` by a chord Newton iteration (Jacobian
-    from the first iterate of each step).  Mass is conserved exactly (up to the
-    Newton tolerance), positivity holds by construction.
+    solved for :math:`u^{k+1} = \\ln P^{k+1}` by Newton's method (the Jacobian is
+    kept once the update is small).  Mass is conserved exactly (up to the Newton
+    tolerance) and :math:`P = e^u > 0`.  Where BDF2 has no positive solution (a far
+    tail decaying by more than a factor 4 per step) the step is taken by backward
+    Euler and a :class:`ResolutionWarning` says which ``dt`` avoids it.
 
     Parameters
     ----------
     alpha, density, diffusion : float
-        Problem parameters; time is in units of the problem (exact rescaling
-        :math:`t \to t\, (D/n)^{-1/3} / n`... applied from the ``n = D = 1`` run).
+        Problem parameters.  The run is made at ``n = D = 1`` and rescaled exactly:
+        :math:`v = u v_1`, :math:`t = t_1/(n u)` with :math:`u = (D/n)^{1/3}`.
     t_final, dt : float
         End time and step in units of ``n = D = 1``.
     initial_temperature : float, optional
@@ -444,7 +525,7 @@ def evolve_heated(alpha: float, *, density: float = 1.0, diffusion: float = 1.0,
     start = time.perf_counter()
     n_steps = int(math.ceil(t_final / dt))
     dt = t_final / n_steps
-    u_prev = u_now = np.maximum(disc.gaussian(t0), INITIAL_FLOOR)
+    u_now = np.maximum(disc.gaussian(t0), INITIAL_FLOOR)
     m_prev = m_now = asm(mass, disc.basis, u=disc.field(u_now))
     every = max(1, n_steps // n_output)
     xq, wq, _ = disc.points
@@ -477,7 +558,7 @@ def evolve_heated(alpha: float, *, density: float = 1.0, diffusion: float = 1.0,
                 raise ConvergenceError(
                     f"implicit step {step} (t={step * dt:.4g}) did not converge in "
                     f"{max_newton} Newton iterations; reduce dt={dt:.3g}")
-        u_prev, u_now = u_now, u
+        u_now = u
         m_prev, m_now = m_now, asm(mass, disc.basis, u=disc.field(u))
         if step % every == 0 or step == n_steps:
             record(step * dt, u)
@@ -489,7 +570,7 @@ def evolve_heated(alpha: float, *, density: float = 1.0, diffusion: float = 1.0,
             f"Euler (first order). For second order throughout use dt < {1.3 / nu_max:.3g}",
             ResolutionWarning, stacklevel=2)
     scale = problem.velocity_scale
-    time_unit = scale / problem.diffusion * scale  # t = t_1 * u^2 / D
+    time_unit = scale**2 / problem.diffusion  # t = t_1 / (n u) = t_1 u^2 / D
     out = {k: np.asarray(v) for k, v in series.items()}
     out["t"] = out["t"] * time_unit
     out["temperature"] = out["temperature"] * scale**2
