@@ -8,8 +8,13 @@ import numpy as np
 import pytest
 
 from kinetic_fem.distribution import MAX_MOMENT, RunInfo
-from particles.sampling import (Accumulator, load_checkpoint, run_replicas, save_checkpoint,
-                                spawn_seeds)
+from particles.sampling import (
+    Accumulator,
+    load_checkpoint,
+    run_replicas,
+    save_checkpoint,
+    spawn_seeds,
+)
 
 
 def test_accumulator_matches_numpy_histogram_and_power_sums():
