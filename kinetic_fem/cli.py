@@ -133,11 +133,12 @@ def _setup_logging(quiet: bool) -> None:
     """Log the packages to stderr at INFO (WARNING with ``--quiet``); command only."""
     for name in _PACKAGES:
         log = logging.getLogger(name)
-        if not any(getattr(h, "_kinetic_fem", False) for h in log.handlers):
-            handler = logging.StreamHandler(sys.stderr)
-            handler.setFormatter(logging.Formatter("%(levelname)s %(name)s: %(message)s"))
-            handler._kinetic_fem = True  # type: ignore[attr-defined]
-            log.addHandler(handler)
+        for old in [h for h in log.handlers if getattr(h, "_kinetic_fem", False)]:
+            log.removeHandler(old)  # a second call (tests) writes to the current stderr
+        handler = logging.StreamHandler(sys.stderr)
+        handler.setFormatter(logging.Formatter("%(levelname)s %(name)s: %(message)s"))
+        handler._kinetic_fem = True  # type: ignore[attr-defined]
+        log.addHandler(handler)
         log.setLevel(logging.WARNING if quiet else logging.INFO)
 
 

@@ -182,8 +182,8 @@ class VelocityDistribution:
         --------
         >>> v = np.linspace(-12, 12, 2401)
         >>> d = VelocityDistribution.from_values(v, np.exp(-v**2 / 2))
-        >>> round(d.temperature, 10), round(d.a2, 10)
-        (1.0, 0.0)
+        >>> round(d.temperature, 10), abs(d.a2) < 1e-10
+        (1.0, True)
         """
         v = check_finite_array("v", v, ndim=1)
         values = check_finite_array("values", values, ndim=1)
@@ -434,8 +434,8 @@ class VelocityDistribution:
         --------
         >>> v = np.linspace(-12, 12, 2401)
         >>> g = VelocityDistribution.from_values(v, np.exp(-v**2 / 2))
-        >>> g.compare(g).f_rel_max
-        0.0
+        >>> g.compare(g).f_rel_max < 1e-12
+        True
         """
         c = self.c
         if c_max is None:

@@ -1,0 +1,63 @@
+"""Tests of kinetic_fem.reproduce: the registry of figures and claims."""
+
+import csv
+
+import pytest
+
+from kinetic_fem import reproduce
+from kinetic_fem.reproduce import ITEMS, ClaimRow, Context, load_plugins, run_items, write_table
+
+
+@pytest.fixture
+def toy_item():
+    calls = []
+
+    @reproduce.register("Z9", "a toy item", claims=("C99",))
+    def run(ctx):
+        calls.append(ctx)
+        (ctx.out / "Z9.png").write_bytes(b"png")
+        return [ClaimRow("C99", "x", "1.0", "1", True, "toy", "a | pipe")]
+
+    yield calls
+    ITEMS.pop("Z9")
+
+
+def test_plugins_register_the_first_items():
+    loaded = load_plugins()
+    assert "kinetic_fem.figures" in loaded and "particles.figures" in loaded
+    assert "S1" in ITEMS and "C3" in ITEMS["S1"].claims
+
+
+def test_run_and_table(tmp_path, toy_item):
+    ctx = Context(out=tmp_path / "out", quick=True, seed=5)
+    rows = run_items(ctx, ["Z9"])
+    assert toy_item == [ctx] and rows[0].claim == "C99"
+    assert (ctx.out / "Z9.png").exists()
+    csv_path, md_path = write_table(rows, ctx.out)
+    with csv_path.open() as fh:
+        table = list(csv.DictReader(fh))
+    assert table == [{"claim": "C99", "quantity": "x", "measured": "1.0", "paper": "1",
+                      "agrees": "True", "method": "toy", "note": "a | pipe"}]
+    text = md_path.read_text()
+    assert text.startswith("| claim | quantity | measured | paper | agrees |")
+    assert "| C99 | x | 1.0 | 1 | yes | toy |" in text
+
+
+def test_unknown_item_and_double_registration(tmp_path, toy_item):
+    with pytest.raises(ValueError, match=r"unknown reproduce item\(s\) \['F99'\]"):
+        run_items(Context(out=tmp_path), ["F99"])
+    with pytest.raises(ValueError, match="registered twice"):
+        reproduce.register("Z9", "again")(lambda ctx: [])
+
+
+def test_items_run_in_figure_order():
+    keys = ["F10", "C2", "F2", "S1", "F1"]
+    assert sorted(keys, key=reproduce._order) == ["C2", "F1", "F2", "F10", "S1"]
+
+
+def test_sonine_item_checks_c3(tmp_path):
+    """The first figure: a2_first_order over alpha and the limit -16/159 (C3)."""
+    load_plugins()
+    rows = run_items(Context(out=tmp_path), ["S1"])
+    assert [r.claim for r in rows] == ["C3"] and rows[0].agrees is True
+    assert (tmp_path / "S1_a2_first_order.png").stat().st_size > 1000

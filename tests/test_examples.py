@@ -1,0 +1,67 @@
+"""Every docs example runs: ``main(**TEST_KWARGS)`` of each docs/examples/*.py.
+
+Examples are imported from their file path (they are scripts, not a package).  An
+example without ``TEST_KWARGS`` or ``main`` fails with a message saying what to add.
+Plotting happens only under ``__main__``, so importing one is cheap.
+"""
+
+import importlib.util
+import math
+import sys
+from pathlib import Path
+
+import matplotlib
+import pytest
+
+matplotlib.use("Agg")
+
+EXAMPLES = sorted((Path(__file__).parents[1] / "docs" / "examples").glob("*.py"))
+
+
+def load_example(path: Path):
+    """Import an example script as a module named ``example_<stem>``."""
+    name = f"example_{path.stem}"
+    spec = importlib.util.spec_from_file_location(name, path)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module  # dataclasses and pickling look the module up here
+    try:
+        spec.loader.exec_module(module)
+    except BaseException:
+        sys.modules.pop(name, None)
+        raise
+    return module
+
+
+def test_examples_exist():
+    assert any(p.name == "plot_sonine_a2.py" for p in EXAMPLES)
+
+
+@pytest.mark.parametrize("path", EXAMPLES, ids=[p.stem for p in EXAMPLES])
+def test_example_runs(path):
+    module = load_example(path)
+    assert callable(getattr(module, "main", None)), (
+        f"{path.name} must define main(...) returning its result")
+    assert isinstance(getattr(module, "TEST_KWARGS", None), dict), (
+        f"{path.name} must define TEST_KWARGS = {{...}}: cheap keyword arguments of main() "
+        "with which the test suite runs the example")
+    assert module.__doc__ and module.__doc__.strip().splitlines()[1].startswith("="), (
+        f"{path.name} needs a module docstring starting with an RST title (sphinx-gallery)")
+    result = module.main(**module.TEST_KWARGS)
+    assert result is not None, f"{path.name}: main() must return its result"
+
+
+def test_sonine_a2_example_numbers():
+    """The first worked example recovers a2 and gives a Gaussian no Sonine corrections."""
+    module = load_example(next(p for p in EXAMPLES if p.name == "plot_sonine_a2.py"))
+    result = module.main(**module.TEST_KWARGS)
+    assert result.alpha.shape == (module.TEST_KWARGS["n_alpha"],)
+    assert result.a2_theory[0] == pytest.approx(16 / 129)
+    assert result.a2_theory[-1] == pytest.approx(-16 / 159)
+    assert result.sonine.a2 == pytest.approx(result.a2_check, rel=1e-8)
+    assert result.gaussian.temperature == pytest.approx(2.0, rel=1e-10)
+    for p in range(2, 7):
+        assert abs(result.gaussian.sonine_coefficient(p)) < 1e-8
+        if p > 2:
+            assert abs(result.sonine.sonine_coefficient(p)) < 1e-8
+    n = result.gaussian.effective_exponent([1.0, 2.0, 3.0])
+    assert all(math.isclose(x, 2.0, abs_tol=1e-6) for x in n)
