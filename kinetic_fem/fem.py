@@ -208,7 +208,7 @@ class FEMDiscretisation:
 
     def values(self, u: NDArray[np.float64]) -> NDArray[np.float64]:
         """:math:`P_h = e^{u_h}` at the outer quadrature points."""
-        return np.exp(self.field(u).value.ravel())
+        return np.exp(np.asarray(self.field(u))).ravel()
 
     def evaluate(self, u: NDArray[np.float64], v: NDArray[np.float64]) -> NDArray[np.float64]:
         """:math:`P_h(v) = e^{u_h(v)}` at increasing points ``v`` inside the mesh."""
@@ -352,7 +352,7 @@ class SteadyState:
         return -float(np.sum(x**2 * fp)), float(loss)
 
 
-def steady_state(alpha: float, *, order: int = 2, spacing: float = 0.1,
+def steady_state(alpha: float, *, order: int = 2, spacing: float = 0.08,
                  cutoff: float | None = None, vertices=None, intorder: int | None = None,
                  tol: float = 1e-11, max_iter: int = 40) -> SteadyState:
     """Newton steady state at ``n = D = 1`` (see :func:`solve_fem` for the options)."""
@@ -384,7 +384,7 @@ def steady_state(alpha: float, *, order: int = 2, spacing: float = 0.1,
 
 
 @register_solver("fem", problem="heated")
-def solve_fem(problem: HeatedProblem, *, order: int = 2, spacing: float = 0.1,
+def solve_fem(problem: HeatedProblem, *, order: int = 2, spacing: float = 0.08,
               cutoff: float | None = None, vertices=None, intorder: int | None = None,
               tol: float = 1e-11, max_iter: int = 40) -> VelocityDistribution:
     """Steady state of the heated gas by Galerkin FEM and Newton's method.
