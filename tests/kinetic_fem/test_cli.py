@@ -41,11 +41,24 @@ def test_reproduce_writes_figures_and_table(tmp_path, capsys):
     assert (out / "S1_a2_first_order.png").exists()
 
 
-def test_reproduce_progress_and_log_go_to_stderr(tmp_path, capsys):
-    assert main(["reproduce", "--only", "C3", "--out", str(tmp_path)]) == 0
-    err = capsys.readouterr().err
-    assert "reproduce S1" in err  # the log line
-    assert "1/1" in err  # the progress bar
+@pytest.fixture
+def toy_item():
+    """An item checking its own claim C98, so tests do not depend on others' items."""
+
+    @reproduce.register("Z8", "a toy item for the CLI tests", claims=("C98",))
+    def run(ctx):
+        return [reproduce.ClaimRow("C98", "toy", "1", "1", True, "toy")]
+
+    yield
+    reproduce.ITEMS.pop("Z8")
+
+
+def test_reproduce_progress_and_log_go_to_stderr(tmp_path, capsys, toy_item):
+    assert main(["reproduce", "--only", "C98", "--out", str(tmp_path)]) == 0
+    captured = capsys.readouterr()
+    assert "reproduce Z8" in captured.err  # the log line
+    assert "1/1" in captured.err  # the progress bar
+    assert "| C98 | toy | 1 | 1 | yes | toy |" in captured.out
 
 
 def test_reproduce_list(capsys):
@@ -53,10 +66,11 @@ def test_reproduce_list(capsys):
     assert "S1" in capsys.readouterr().out
 
 
-def test_select_items_maps_claims():
+def test_select_items_maps_claims(toy_item):
     reproduce.load_plugins()
-    assert select_items(["C3"]) == ["S1"]
-    assert select_items(["S1", "C3"]) == ["S1"]
+    assert select_items(["C98"]) == ["Z8"]
+    assert select_items(["Z8", "C98", "S1"]) == ["S1", "Z8"]
+    assert "S1" in select_items(["C3"])
     assert select_items(None) == sorted(reproduce.ITEMS, key=reproduce._order)
     with pytest.raises(ValueError, match=r"unknown item or claim \['F99'\]"):
         select_items(["F99"])
