@@ -185,17 +185,22 @@ class _Engine:
     def temperature(self) -> float:
         return float(np.var(self.v))
 
-    def advance(self, coll_target: int) -> None:
-        """Run until ``coll_target`` collisions in total."""
+    def advance(self, coll_target: int, t_stop: float = np.inf) -> bool:
+        """Run until ``coll_target`` collisions in total or time ``t_stop``.
+
+        Returns True if ``t_stop`` came first (the state is then valid at ``t_stop``).
+        """
         n = self.v.size
         while True:
             floor = self.collapse_tol * math.sqrt(max(self.temperature(), 1e-300))
             status = K.run_events(self.x, self.v, self.tl, self.heap, self.hkey, self.where,
                                   self.fstate, self.istate, self.normals, self.free_length,
                                   self.alpha, self.threshold, self.kick_dt, self.kick_amp,
-                                  floor, self.max_stall, np.inf, coll_target)
+                                  floor, self.max_stall, t_stop, coll_target)
             if status == K.STATUS_COLLISIONS:
-                return
+                return False
+            if status == K.STATUS_TIME:
+                return True
             if status == K.STATUS_NEED_NORMALS:
                 rows = max(1, NORMALS_PER_BLOCK // n)
                 self.normals = self.rng.standard_normal((rows, n))
@@ -218,9 +223,9 @@ class _Engine:
             "(plain inelastic dynamics needs N (1 - alpha) small); heated runs can also "
             "use a shorter kick_interval.")
 
-    def rod_positions(self) -> NDArray[np.float64]:
-        """Rod left ends at the current time, in ``[0, L)``, ring order."""
-        t = self.fstate[K.F_T]
+    def rod_positions(self, t: float | None = None) -> NDArray[np.float64]:
+        """Rod left ends at time ``t`` (default: the last event), in ``[0, L)``, ring order."""
+        t = self.fstate[K.F_T] if t is None else t
         y = self.x + self.v * (t - self.tl)
         big_l = self.free_length + self.sigma * y.size
         return np.mod(y + self.sigma * np.arange(y.size), big_l)
@@ -246,8 +251,13 @@ def run_md(problem: str, params: dict[str, Any], *, seed: Any, y: NDArray, v: ND
          rng: np.random.Generator, engine_options: dict[str, Any], total: int, sample_from: int,
          n_samples: int, n_batches: int, hist_range: float, n_bins: int, snapshots_at: Sequence,
          n_records: int, box_counts: Sequence[int], progress: bool, checkpoint: Any,
-         checkpoint_every: float | None, resume: Any) -> MDRun:
-    """Shared driver of :func:`simulate_heated` and :func:`simulate_cooling`."""
+         checkpoint_every: float | None, resume: Any, sample_dt: float | None = None) -> MDRun:
+    """Shared driver of :func:`simulate_heated` and :func:`simulate_cooling`.
+
+    Samples are taken at ``n_samples`` collision counts from ``sample_from`` on, or,
+    with ``sample_dt``, every ``sample_dt`` of time from ``sample_from`` collisions on
+    (uniform in time: bursts of collisions inside clusters do not bias the average).
+    """
     start = time.perf_counter()
     n, big_l = params["n_particles"], params["n_particles"] / params["density"]
     cooling = problem == "cooling"
@@ -255,6 +265,11 @@ def run_md(problem: str, params: dict[str, Any], *, seed: Any, y: NDArray, v: ND
     every = None if checkpoint_every is None else max(1, int(round(checkpoint_every * n / 2)))
     stops, rec_at, sample_at, snap_at, check_at = _schedule(
         n, total, sample_from, n_samples, n_records, cooling, snap_counts, every)
+    timed = sample_dt is not None
+    if timed:
+        sample_at = {}
+        stops = np.union1d(stops, [sample_from])
+    t_next, n_sampled = np.inf, 0
     eng = _Engine(y, v, rng=rng, **engine_options)
     acc = Accumulator(-hist_range, hist_range, n_bins, n_batches)
     records: list[list[float]] = []
@@ -274,12 +289,30 @@ def run_md(problem: str, params: dict[str, Any], *, seed: Any, y: NDArray, v: ND
         snaps = [Snapshot(float(m[0]), float(m[1]), sx, sc) for m, sx, sc in
                  zip(arrays["snap_meta"], arrays["snap_x"], arrays["snap_c"], strict=True)]
         first = int(np.searchsorted(stops, meta["done"], side="right"))
-        e0, p0 = meta["e0"], meta["p0"]
+        e0, p0, t_next, n_sampled = meta["e0"], meta["p0"], meta["t_next"], meta["n_sampled"]
     bar = tqdm(total=int(stops[-1]), initial=int(stops[first - 1]) if first else 0,
                disable=not progress, unit="coll", desc=f"MD {problem}")
+
+    def take_sample(batch: int, at: float | None) -> None:
+        nonlocal dens, n_sampled
+        vel = eng.v
+        u, temp = float(vel.mean()), eng.temperature()
+        acc.add(batch, (vel - u) / math.sqrt(temp) if cooling else vel - u)
+        dens += density_fluctuations(eng.rod_positions(at), big_l, box_counts)
+        n_sampled += 1
+
+    span = max(total - sample_from, 1)
     for idx in range(first, stops.size):
         target = int(stops[idx])
-        eng.advance(target)
+        if timed:
+            while eng.advance(target, t_next):
+                take_sample(min(n_batches - 1, (eng.n_collisions - sample_from) * n_batches
+                                // span), t_next)
+                t_next += sample_dt
+            if target == sample_from and t_next == np.inf:
+                t_next = float(eng.fstate[K.F_T]) + sample_dt
+        else:
+            eng.advance(target)
         bar.update(target - bar.n)
         vel, t = eng.v, float(eng.fstate[K.F_T])
         u, temp = float(vel.mean()), eng.temperature()
@@ -289,9 +322,7 @@ def run_md(problem: str, params: dict[str, Any], *, seed: Any, y: NDArray, v: ND
                             float(eng.fstate[K.F_INJ]), float(eng.fstate[K.F_DISS]),
                             float(np.sum(vel)), eng.istate[K.I_NELASTIC] / ncoll])
         if target in sample_at:
-            batch = sample_at[target] * n_batches // len(sample_at)
-            acc.add(batch, (vel - u) / math.sqrt(temp) if cooling else vel - u)
-            dens += density_fluctuations(eng.rod_positions(), big_l, box_counts)
+            take_sample(sample_at[target] * n_batches // len(sample_at), None)
         if target in snap_at:
             snaps.append(Snapshot(2.0 * target / n, t, eng.rod_positions(),
                                   (vel - u) / math.sqrt(temp)))
@@ -303,13 +334,14 @@ def run_md(problem: str, params: dict[str, Any], *, seed: Any, y: NDArray, v: ND
                       "snap_c": np.array([s.c for s in snaps]).reshape(-1, n)}
             save_checkpoint(checkpoint, arrays, {
                 "params": json_params(params), "rng": rng.bit_generator.state,
-                "done": target, "e0": e0, "p0": p0})
+                "done": target, "e0": e0, "p0": p0, "t_next": t_next,
+                "n_sampled": n_sampled})
     bar.close()
     series = {name: np.array([r[k] for r in records]) for k, name in enumerate(SERIES)}
     wall = time.perf_counter() - start
-    n_samples_done = max(1, len(sample_at))
-    fluct = DensityFluctuations(big_l / np.asarray(box_counts, float), dens[:, 0] / n_samples_done,
-                                dens[:, 1] / n_samples_done)
+    n_sampled = max(1, n_sampled)
+    fluct = DensityFluctuations(big_l / np.asarray(box_counts, float), dens[:, 0] / n_sampled,
+                                dens[:, 1] / n_sampled)
     balance = float(np.max(np.abs(series["energy"] - e0 - series["energy_injected"]
                                   + series["energy_dissipated"])) / np.max(series["energy"]))
     info = RunInfo(converged=True, iterations=eng.n_collisions, residual=balance,

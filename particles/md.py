@@ -154,7 +154,7 @@ def simulate_heated(alpha: float, n_particles: int, *, density: float = 1.0,
                     sigma: float | None = None, diffusion: float = 1.0, seed: Any = None,
                     collisions_per_particle: float = 200.0, warmup: float | None = None,
                     kick_interval: float | None = None, threshold: float | None = None,
-                    n_samples: int = 100, n_batches: int = 10, n_bins: int = 240,
+                    sample_interval: float = 1.0, n_batches: int = 10, n_bins: int = 240,
                     snapshots_at: Sequence[float] = (), n_records: int = 200,
                     box_counts: Sequence[int] | None = None, positions: ArrayLike | None = None,
                     velocities: ArrayLike | None = None, progress: bool = False,
@@ -188,9 +188,12 @@ def simulate_heated(alpha: float, n_particles: int, *, density: float = 1.0,
         Collisions with relative speed below it are elastic; default
         ``HEATED_THRESHOLD`` (1e-4) times the estimated thermal speed.  Between kicks
         clusters can collapse; the threshold keeps runs finite.
-    n_samples, n_batches, n_bins : int
-        Sampling points (all N velocities each), batches for error bars, histogram
-        bins on :math:`\\pm 12\\sqrt{T_{est}}`.
+    sample_interval : float
+        Time between samples (all N velocities and positions each), in estimated mean
+        free times; sampling is uniform in time after the warm-up.
+    n_batches, n_bins : int
+        Batches for error bars (consecutive stretches of the sampling period) and
+        histogram bins on :math:`\\pm 12\\sqrt{T_{est}}`.
     snapshots_at : sequence of float
         Collisions per particle of x-c snapshots.
     n_records : int
@@ -228,12 +231,14 @@ def simulate_heated(alpha: float, n_particles: int, *, density: float = 1.0,
     alpha = check_alpha(alpha)
     d = check_positive("diffusion", diffusion)
     n, dens, sig, cpp, boxes, stall = _common(
-        n_particles, density, sigma, collisions_per_particle, n_samples, n_batches, n_bins,
+        n_particles, density, sigma, collisions_per_particle, n_batches, n_batches, n_bins,
         box_counts, checkpoint, checkpoint_every, collapse_tol, max_stall)
     n_free = dens / (1.0 - dens * sig)
     t_est = steady_temperature(alpha, n_free, d)
-    dt_k = (KICK_FRACTION * mean_free_time(t_est, dens, sig) if kick_interval is None
+    tau = mean_free_time(t_est, dens, sig)
+    dt_k = (KICK_FRACTION * tau if kick_interval is None
             else check_positive("kick_interval", kick_interval))
+    sample_dt = check_positive("sample_interval", sample_interval) * tau
     thr = (HEATED_THRESHOLD * math.sqrt(t_est) if threshold is None
            else check_positive("threshold", threshold))
     warm = 0.5 * cpp if warmup is None else float(warmup)
@@ -251,10 +256,10 @@ def simulate_heated(alpha: float, n_particles: int, *, density: float = 1.0,
             "max_stall": stall}
     return run_md("heated", params, seed=seed, y=y, v=v, rng=rng, engine_options=opts,
                 total=int(round(cpp * n / 2)), sample_from=int(round(warm * n / 2)),
-                n_samples=n_samples, n_batches=n_batches, hist_range=12.0 * math.sqrt(t_est),
+                n_samples=n_batches, n_batches=n_batches, hist_range=12.0 * math.sqrt(t_est),
                 n_bins=n_bins, snapshots_at=snapshots_at, n_records=n_records, box_counts=boxes,
                 progress=progress, checkpoint=checkpoint, checkpoint_every=checkpoint_every,
-                resume=resume)
+                resume=resume, sample_dt=sample_dt)
 
 
 def simulate_cooling(alpha: float, n_particles: int, *, density: float = 1.0,
