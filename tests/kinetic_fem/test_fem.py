@@ -199,3 +199,23 @@ def test_convergence_order_p2():
     for err in (err_t, err_a):
         assert math.log2(err[0] / err[1]) > 3.5
     assert err_t[-1] < 1e-8 and err_a[-1] < 1e-6
+
+
+def test_docs_example_numbers():
+    """docs/examples/plot_heated_fem.py: C1 identity and the C4 tail amplitude.
+
+    Measured at spacing 0.4: fitted A_c / predicted = 1.003 (alpha = 0.6).
+    """
+    import importlib.util
+    import sys
+    from pathlib import Path
+
+    path = Path(__file__).parents[2] / "docs" / "examples" / "plot_heated_fem.py"
+    spec = importlib.util.spec_from_file_location("example_plot_heated_fem_check", path)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module  # the dataclass looks its module up here
+    spec.loader.exec_module(module)
+    result = module.main(**module.TEST_KWARGS)
+    assert result.energy_injection == pytest.approx(result.energy_loss, rel=1e-11)
+    assert result.energy_loss == pytest.approx(2.0, rel=1e-5)
+    assert result.tail_amplitude == pytest.approx(result.tail_amplitude_theory, rel=0.02)
