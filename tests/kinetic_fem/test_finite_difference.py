@@ -1,0 +1,196 @@
+"""Tests of the finite-difference (Biben) heated solver, ``method="fd"``.
+
+Fast tests use coarse grids (spacing 0.1-0.2 sqrt(T)); the convergence-order tests are
+marked slow.  Tolerances come from benchmarks/convergence_fd.py (observed orders 2.0
+for T and a2 at alpha = 0.6 with spacings 0.16 ... 0.02).
+"""
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+import kinetic_fem as kf
+import kinetic_fem.finite_difference as fd
+from kinetic_fem._fd_kernels import gain_integral, gain_jacobian
+from kinetic_fem.collision import energy_balance, half_grid
+from kinetic_fem.grid import simpson_weights
+from kinetic_fem.sonine import a2_first_order, steady_temperature
+
+
+def solve(alpha, **options):
+    options.setdefault("spacing", 0.1)
+    options.setdefault("steady", "newton")
+    return kf.solve_heated(alpha, method="fd", **options)
+
+
+@pytest.fixture(scope="module")
+def half():
+    return solve(0.5)
+
+
+def test_registered():
+    assert kf.HEATED_SOLVERS["fd"] is fd.solve_fd
+
+
+def test_normalised_symmetric_positive(half):
+    assert half.raw_moments[0] == pytest.approx(1.0, abs=1e-14)
+    np.testing.assert_array_equal(half.values, half.values[::-1])
+    assert abs(half.mean) < 1e-15
+    assert np.all(half.values >= 0)
+    assert half.info.converged and half.method == "fd"
+
+
+def test_thirty_decades_resolved(half):
+    """f(c) is positive from its maximum down to below 1e-30 inside the cut-off (C16)."""
+    f = half.f_values
+    inside = f > 0
+    assert f.max() / f[inside].min() > 1e30
+    assert f[-1] < 1e-40  # the cut-off lies beyond the resolved range
+
+
+def test_energy_balance_steady(half):
+    """C1 holds on the discrete steady state to its discretisation error.
+
+    Measured relative imbalance: 1.6e-6 at spacing 0.1 (second order: 4.0e-6, 6.9e-7,
+    9.7e-8 at spacing 0.16, 0.08, 0.04 for alpha = 0.6).
+    """
+    eb = energy_balance(half.v, half.values, simpson_weights(half.v), alpha=0.5, density=1.0,
+                        diffusion=1.0)
+    assert eb.relative_residual < 5e-6
+
+
+@pytest.mark.parametrize("alpha, sonine_error", [(0.0, 4e-3), (0.5, 1e-3), (0.9, 7e-3)])
+def test_a2_near_first_order_sonine(alpha, sonine_error):
+    """First-order Sonine theory misses a2 by 3.3e-3, 4.9e-4, 5.5e-3 (measured here)."""
+    d = solve(alpha, spacing=0.1)
+    assert abs(d.a2 - a2_first_order(alpha)) < sonine_error
+    assert abs(d.a2 - a2_first_order(alpha)) > 0.2 * sonine_error  # a real difference
+
+
+def test_temperature_near_sonine_estimate(half):
+    assert half.temperature == pytest.approx(steady_temperature(0.5), rel=1e-3)
+
+
+def test_rescaling_with_density_and_diffusion(half):
+    """n, D enter only through v -> (D/n)^(1/3) v: solutions agree to round-off."""
+    d = solve(0.5, density=2.0, diffusion=3.0)
+    u = (3.0 / 2.0) ** (1 / 3)
+    assert d.temperature == pytest.approx(half.temperature * u**2, rel=1e-12)
+    assert d.a2 == pytest.approx(half.a2, abs=1e-12)
+    np.testing.assert_allclose(d.f_values, half.f_values, rtol=1e-10)
+
+
+def test_march_reaches_newton_fixed_point():
+    """The paper's time marching and Newton solve the same discrete equations.
+
+    The step removes the mass defect, so its fixed point does not depend on dt.
+    """
+    opts = dict(spacing=0.2, cutoff=16.0)
+    newton = solve(0.5, **opts)
+    march = solve(0.5, steady="march", tol=1e-11, **opts)
+    cmp = march.compare(newton, c_max=10.0)
+    assert march.info.converged and march.info.iterations > 50
+    # measured: 4.5e-14, 2.5e-15, 6.8e-13 (limited by the stopping tolerance)
+    assert cmp.temperature_rel < 1e-11 and cmp.a2_abs < 1e-12 and cmp.f_rel_max < 1e-10
+    series = march.series
+    assert series["t"][0] == 0.0 and np.all(np.diff(series["t"]) > 0)
+    assert series["temperature"][-1] == pytest.approx(march.temperature, rel=1e-12)
+
+
+def test_implicit_loss_same_steady_state():
+    opts = dict(spacing=0.2, cutoff=16.0, steady="march", tol=1e-10)
+    a = solve(0.5, **opts)
+    b = solve(0.5, implicit_loss=True, courant=20.0, **opts)
+    assert b.info.iterations < a.info.iterations / 5
+    cmp = b.compare(a, c_max=10.0)  # measured 4.1e-12 and 3.2e-11
+    assert cmp.temperature_rel < 1e-10 and cmp.f_rel_max < 1e-9
+
+
+def test_transient_from_cold_gaussian():
+    d = solve(0.5, spacing=0.2, cutoff=16.0, steady="march", initial_temperature=0.2)
+    temp = d.series["temperature"]
+    assert temp[0] == pytest.approx(0.2 * steady_temperature(0.5), rel=1e-3)
+    assert np.all(np.diff(temp) > -1e-12)  # heating monotonically towards the steady state
+    assert temp[-1] == pytest.approx(d.temperature)
+
+
+def test_richardson_improves_a2():
+    """(4 Q_{h/2} - Q_h)/3 is closer to a fine reference than either grid."""
+    ref = solve(0.6, spacing=0.04, cutoff=20.0)
+    coarse = solve(0.6, spacing=0.2, cutoff=20.0)
+    rich = solve(0.6, spacing=0.2, cutoff=20.0, richardson=True)
+    assert rich.v.size == coarse.v.size
+    assert abs(rich.a2 - ref.a2) < 0.2 * abs(coarse.a2 - ref.a2)
+    assert rich.info.extra["richardson"]
+
+
+def test_gain_jacobian_matches_finite_differences():
+    g = half_grid(4.0, 41)
+    p = np.exp(-g.v**2 / 8 * (1 + 0.1 * np.sin(g.v)))
+    for log_interp in (True, False):
+        jac = gain_jacobian(p, np.log(p), g.weights, g.kink, 0.3, g.h, log_interp)
+        num = np.zeros_like(jac)
+        for k in range(p.size):
+            e = np.zeros_like(p)
+            e[k] = 1e-6 * p[k]
+            plus = gain_integral(p + e, np.log(p + e), g.weights, g.kink, 0.3, g.h, log_interp)
+            minus = gain_integral(p - e, np.log(p - e), g.weights, g.kink, 0.3, g.h, log_interp)
+            num[:, k] = (plus - minus) / (2e-6 * p[k])
+        assert np.abs(jac - num).max() < 1e-7 * np.abs(jac).max()
+
+
+# ----------------------------------------------------------------------------- bad input
+@pytest.mark.parametrize("options, match", [
+    (dict(spacing=0.5), "too coarse"),
+    (dict(spacing=-0.1), "spacing"),
+    (dict(cutoff=2.0), "cutoff >= 4"),
+    (dict(steady="anneal"), "steady must be"),
+    (dict(courant=2.0, steady="march"), "breaks positivity"),
+    (dict(dt=1.0, steady="march", cutoff=10.0), "too large for an explicit"),
+])
+def test_bad_options(options, match):
+    with pytest.raises(ValueError, match=match):
+        solve(0.5, **options)
+
+
+def test_misspelt_option():
+    with pytest.raises(TypeError):
+        solve(0.5, spaceing=0.1)
+
+
+def test_bad_alpha():
+    with pytest.raises(ValueError, match="alpha"):
+        solve(1.0)
+
+
+def test_short_cutoff_warns():
+    with pytest.warns(fd.ConvergenceWarning, match="increase cutoff"):
+        solve(0.0, cutoff=6.0, spacing=0.2)
+
+
+def test_coarse_mesh_warns():
+    with pytest.warns(fd.ConvergenceWarning, match="reduce spacing"):
+        solve(0.999, spacing=0.25)
+
+
+def test_not_converged_warns():
+    with pytest.warns(fd.ConvergenceWarning, match="did not converge"):
+        d = solve(0.5, steady="march", spacing=0.2, cutoff=12.0, max_steps=5)
+    assert not d.info.converged and d.info.iterations == 5
+
+
+# ----------------------------------------------------------------------------- slow
+@pytest.mark.slow
+@pytest.mark.parametrize("alpha", [0.0, 0.9])
+def test_second_order_convergence(alpha):
+    """Observed orders of T and a2 between spacings 0.16/0.08/0.04 are 2 (+-0.1)."""
+    cutoff = 0.16 * math.ceil(fd.default_cutoff(alpha) / 0.16)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", fd.ConvergenceWarning)
+        sols = [solve(alpha, spacing=h, cutoff=cutoff) for h in (0.16, 0.08, 0.04)]
+    dt = [abs(sols[i].temperature - sols[i + 1].temperature) for i in range(2)]
+    da = [abs(sols[i].a2 - sols[i + 1].a2) for i in range(2)]
+    assert math.log2(dt[0] / dt[1]) == pytest.approx(2.0, abs=0.1)
+    assert math.log2(da[0] / da[1]) == pytest.approx(2.0, abs=0.1)
