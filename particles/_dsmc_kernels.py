@@ -93,31 +93,16 @@ def _mulhi(r, n):  # pragma: no cover - compiled
 
 
 @jit
-def _normal_full(s, ki, wi, fi):  # pragma: no cover - compiled
-    """Complete ziggurat draw (fast path, wedges, tail), used after a wedge rejection."""
-    tail = False
-    negative = False
-    while True:
-        if tail:
-            xx = -math.log1p(-next_double(s)) * (1.0 / _R)
-            yy = -math.log1p(-next_double(s))
-            if yy + yy > xx * xx:
-                return -(_R + xx) if negative else _R + xx
-            continue
-        r = next_u64(s)
-        idx = int(r & np.uint64(0xFF))
-        r >>= np.uint64(8)
-        rabs = (r >> np.uint64(1)) & np.uint64(0x000FFFFFFFFFFFFF)
-        x = float(rabs) * wi[idx]
-        if r & np.uint64(1):
-            x = -x
-        if rabs < ki[idx]:
-            return x
-        if idx == 0:
-            tail = True
-            negative = x < 0.0
-        elif (fi[idx - 1] - fi[idx]) * next_double(s) + fi[idx] < math.exp(-0.5 * x * x):
-            return x
+def _zig_draw(s, wi):  # pragma: no cover - compiled
+    """One ziggurat proposal from one 64-bit number: ``(layer, 52 bits, signed x)``."""
+    r = next_u64(s)
+    idx = int(r & np.uint64(0xFF))
+    r >>= np.uint64(8)
+    rabs = (r >> np.uint64(1)) & np.uint64(0x000FFFFFFFFFFFFF)
+    x = float(rabs) * wi[idx]
+    if r & np.uint64(1):
+        x = -x
+    return idx, rabs, x
 
 
 @jit
@@ -125,17 +110,20 @@ def _normal_slow(s, idx, x, ki, wi, fi):  # pragma: no cover - compiled
     """Finish a draw that missed the fast region of layer ``idx`` at ``x``.
 
     Layer 0: Marsaglia's exact tail beyond ``R`` (retried until accepted), signed
-    like ``x``.  Other layers: the wedge test; on rejection the whole draw restarts.
+    like ``x``.  Other layers: the wedge test; on rejection a new proposal is drawn.
     """
-    if idx == 0:
-        while True:
-            xx = -math.log1p(-next_double(s)) * (1.0 / _R)
-            yy = -math.log1p(-next_double(s))
-            if yy + yy > xx * xx:
-                return -(_R + xx) if x < 0.0 else _R + xx
-    if (fi[idx - 1] - fi[idx]) * next_double(s) + fi[idx] < math.exp(-0.5 * x * x):
-        return x
-    return _normal_full(s, ki, wi, fi)
+    while True:
+        if idx == 0:
+            while True:
+                xx = -math.log1p(-next_double(s)) * (1.0 / _R)
+                yy = -math.log1p(-next_double(s))
+                if yy + yy > xx * xx:
+                    return -(_R + xx) if x < 0.0 else _R + xx
+        if (fi[idx - 1] - fi[idx]) * next_double(s) + fi[idx] < math.exp(-0.5 * x * x):
+            return x
+        idx, rabs, x = _zig_draw(s, wi)
+        if rabs < ki[idx]:
+            return x
 
 
 @jit
@@ -163,21 +151,15 @@ def extent(v):  # pragma: no cover - compiled
 def kick(v, amp, s, ki, wi, fi):  # pragma: no cover - compiled
     """``v += amp * xi`` with independent standard normals; returns the new ``(min, max)``.
 
-    Ziggurat: 99 % of the draws take one 64-bit number and the fast path written
-    inline here; the rest go to :func:`_normal_slow`.  (Keeping the rare paths in
-    separate functions, called from the loop, matters: as one ``next_normal``
-    function numba's code for the fast path is up to 50x slower.)
+    Ziggurat: 99 % of the draws take one 64-bit number and the fast path
+    (:func:`_zig_draw` and one comparison); the rest go to :func:`_normal_slow`.
+    (Keeping the rare paths in a separate function called from the loop matters: in
+    one ``next_normal`` function numba's code for the fast path was 20-50x slower.)
     """
     lo = np.inf
     hi = -np.inf
     for k in range(v.shape[0]):
-        r = next_u64(s)
-        idx = int(r & np.uint64(0xFF))
-        r >>= np.uint64(8)
-        rabs = (r >> np.uint64(1)) & np.uint64(0x000FFFFFFFFFFFFF)
-        x = float(rabs) * wi[idx]
-        if r & np.uint64(1):
-            x = -x
+        idx, rabs, x = _zig_draw(s, wi)
         if rabs >= ki[idx]:
             x = _normal_slow(s, idx, x, ki, wi, fi)
         y = v[k] + amp * x

@@ -267,3 +267,34 @@ def test_cooling_never_under_or_overflows():
     assert s["log_temperature"][-1] < -10_000 * math.log(10)
     assert np.all(np.diff(s["log_t"]) > 0) and np.all(np.diff(s["log_temperature"]) < 0)
     assert np.isfinite(r.a2)
+
+
+# ----------------------------------------------------------------------------- examples
+def _example(name):
+    """Load a docs example with the loader of tests/test_examples.py."""
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).parents[1] / "test_examples.py"
+    spec = importlib.util.spec_from_file_location("dsmc_test_examples", path)
+    loader = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(loader)
+    return loader.load_example(loader.EXAMPLES[0].parent / name)
+
+
+def test_heated_example_numbers():
+    module = _example("plot_dsmc_heated.py")
+    result = module.main(**module.TEST_KWARGS)
+    run = result.run
+    assert run.n_particles == module.TEST_KWARGS["n_particles"]
+    assert abs(run.a2 - result.a2_sonine) < 0.01 + 3 * run.a2_error
+    assert run.temperature == pytest.approx(result.temperature_sonine, rel=0.03)
+    assert abs(run.dissipation_rate - run.injection_rate) < 4 * run.dissipation_error
+
+
+def test_cooling_example_numbers():
+    module = _example("plot_dsmc_cooling.py")
+    result = module.main(**module.TEST_KWARGS)
+    assert result.haff_exponent == pytest.approx(-2.0, abs=0.03)
+    assert 0.8 < result.haff_prefactor_ratio < 1.25
+    assert result.run.a2 < -0.2
