@@ -146,8 +146,9 @@ class PsiSolution(LimitSolution):
     c : float
         The linear coefficient of the integral form (equals ``y2``).
     errors : dict of str to float
-        Estimated error of each constant (change on halving the spacing plus change
-        on enlarging both ends of the domain by a quarter); NaN if not estimated.
+        Estimated error of each constant: 16/15 of the change on halving the spacing
+        (Richardson, order 4) plus the change on moving both ends of the domain out
+        by a quarter; NaN if not estimated.
     info : RunInfo
         Newton convergence; ``info.extra["error_parts"]`` splits the errors.
     """
