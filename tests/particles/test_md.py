@@ -4,9 +4,11 @@ from __future__ import annotations
 
 import math
 import os
+import runpy
 import subprocess
 import sys
 from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -182,3 +184,20 @@ def test_kernels_run_without_jit():
             "assert r.n_collisions == 200 and r.energy_balance_error < 1e-12")
     env = {**os.environ, "NUMBA_DISABLE_JIT": "1"}
     subprocess.run([sys.executable, "-c", code], check=True, env=env, timeout=120)
+
+
+# --------------------------------------------------------------------------- examples
+EXAMPLES = Path(__file__).parents[2] / "docs" / "examples"
+
+
+def test_md_examples_numbers():
+    """The MD docs examples: exact balances, bimodal late f(c) in the small cooling system."""
+    heated = runpy.run_path(str(EXAMPLES / "plot_md_heated.py"))
+    assert heated["run"].energy_balance_error < 1e-12
+    assert abs(heated["run"].a2 - a2_first_order(0.99)) < 4 * heated["run"].a2_error + 0.02
+    cooling = runpy.run_path(str(EXAMPLES / "plot_md_cooling.py"))
+    run = cooling["run"]
+    assert run.energy_balance_error < 1e-12
+    assert abs(run.series["momentum"][-1] - run.series["momentum"][0]) < 1e-12
+    assert run.distribution.f(0.0) < 0.3 * run.distribution.f_values.max()
+    assert len(run.snapshots) == 4
