@@ -60,7 +60,7 @@ from ._scaling_common import (
     newton_krylov,
 )
 from .distribution import RunInfo, VelocityDistribution
-from .grid import partial_moments, simpson_weights
+from .grid import abs_power_convolution, partial_moments, simpson_weights
 
 __all__ = ["solve_psi", "PsiSolution", "PsiAsymptotics", "psi_kernel", "psi_flux_kernel"]
 
@@ -247,17 +247,29 @@ def _solve_psi_on(y: NDArray[np.float64], u0: NDArray[np.float64], c0: float, to
     return u, c, ln_c, info
 
 
-def _peak(y: NDArray[np.float64], lnpsi: NDArray[np.float64]) -> tuple[float, float]:
-    i = int(np.argmax(lnpsi))
+def _peak(y: NDArray[np.float64], u: NDArray[np.float64], c: float,
+          ln_c: float) -> tuple[float, float]:
+    """Maximum of :math:`\\psi` from the equation itself, not from differences of data.
+
+    :math:`(\\ln\\psi)' = -c - K_1/2` is known at the nodes to quadrature accuracy;
+    its root is found on a local cubic spline, and the height is
+    :math:`\\ln C - c y^* - K(y^*)` with :math:`K(y^*)` summed exactly at :math:`y^*`.
+    """
+    wpsi = simpson_weights(y) * np.exp(u)
+    slope = -c - 0.5 * psi_flux_kernel(y, wpsi)
+    i = int(np.argmax(u))
     sl = slice(max(i - 8, 0), min(i + 9, y.size))
-    spline = CubicSpline(y[sl], lnpsi[sl])
-    y_peak = brentq(lambda s: float(spline(s, 1)), y[i - 1], y[i + 1], xtol=1e-14)
-    return float(y_peak), float(np.exp(spline(y_peak)))
+    spline = CubicSpline(y[sl], slope[sl])
+    y_peak = brentq(lambda s: float(spline(s)), y[i - 1], y[i + 1], xtol=1e-15)
+    k = (abs_power_convolution(y, wpsi, 3, at=np.array([y_peak]))[0]
+         - np.sum(wpsi * (y_peak + y) ** 3)) / 6.0
+    return float(y_peak), float(np.exp(ln_c - c * y_peak - k))
 
 
-def _psi_constants(y: NDArray[np.float64], u: NDArray[np.float64], ln_c: float) -> dict:
+def _psi_constants(y: NDArray[np.float64], u: NDArray[np.float64], c: float,
+                   ln_c: float) -> dict:
     w, psi = simpson_weights(y), np.exp(u)
-    y_peak, psi_peak = _peak(y, u)
+    y_peak, psi_peak = _peak(y, u, c, ln_c)
     return {"C": float(np.exp(ln_c)), "y2": float(np.sum(w * y**2 * psi)),
             "y3": float(np.sum(w * y**3 * psi)), "y_peak": y_peak, "psi_peak": psi_peak}
 
@@ -305,7 +317,7 @@ def solve_psi(
     # start from the two tails joined at the origin: e^{y^3/3} and e^{-1.2 y}
     u, c, ln_c, info = _solve_psi_on(y, log_normalise(np.minimum(y**3 / 3, -1.2 * y),
                                                       simpson_weights(y)), 1.2, tol, max_iter)
-    consts = _psi_constants(y, u, ln_c)
+    consts = _psi_constants(y, u, c, ln_c)
     errors = {k: float("nan") for k in consts}
     extra: dict = {"domain": [float(y[0]), float(y[-1])], "n_v": int(n_v), "tol": tol}
     if estimate_errors:
@@ -319,9 +331,9 @@ def solve_psi(
             u0 = np.interp(grid, y, u, left=-1e3)
             beyond = grid > y[-1]
             u0[beyond] = u[-1] - c * (grid[beyond] - y[-1])  # the exponential right tail
-            ug, _, ln_cg, _ = _solve_psi_on(grid, log_normalise(u0, simpson_weights(grid)), c,
+            ug, cg, ln_cg, _ = _solve_psi_on(grid, log_normalise(u0, simpson_weights(grid)), c,
                                             tol, max_iter)
-            variants.append(_psi_constants(grid, ug, ln_cg))
+            variants.append(_psi_constants(grid, ug, cg, ln_cg))
         errors, parts = combine_errors(consts, *variants)
         extra["error_parts"] = parts
     info = RunInfo(converged=info.converged, iterations=info.iterations,
