@@ -201,3 +201,54 @@ def test_md_examples_numbers():
     assert abs(run.series["momentum"][-1] - run.series["momentum"][0]) < 1e-12
     assert run.distribution.f(0.0) < 0.3 * run.distribution.f_values.max()
     assert len(run.snapshots) == 4
+
+
+# --------------------------------------------------------------------------- slow
+@pytest.mark.slow
+def test_invariants_over_a_long_clustered_run():
+    """2e7 collisions of a clustering regularised gas: order, momentum, energy balance."""
+    n = 2000
+    run = md.simulate_cooling(0.9, n, seed=21, threshold=1e-4, collisions_per_particle=2e4,
+                              snapshots_at=np.linspace(1e3, 2e4, 20))
+    for s in run.snapshots:
+        gaps = ring_gaps(s.x, float(n))
+        assert gaps.min() >= 0.5 - 1e-9 and abs(gaps.sum() - n) < 1e-7
+    p = run.series["momentum"]
+    assert np.max(np.abs(p - p[0])) < 1e-9
+    assert run.energy_balance_error < 1e-11
+
+
+@pytest.mark.slow
+def test_kick_interval_converged_near_elastic():
+    """alpha = 0.99: kicks every 0.4 and 0.05 mean free times give the same T and a2.
+
+    The study in benchmarks/bench_md.py (N = 2000, 2000 cpp x 4 seeds) found
+    |dT/T| <= 0.005 and |da2| <= 0.002 between 0.8 and 0.025 mean free times.
+    """
+    tau = md.mean_free_time(steady_temperature(0.99, 2.0), 1.0, 0.5)
+    temps, a2 = {}, {}
+    for f in (0.4, 0.05):  # independent realisations: errors from the spread over seeds
+        runs = [md.simulate_heated(0.99, 2000, seed=31 + k, kick_interval=f * tau,
+                                   collisions_per_particle=1000.0, warmup=200.0)
+                for k in range(3)]
+        temps[f] = np.array([r.temperature for r in runs])
+        a2[f] = np.array([r.a2 for r in runs])
+
+    def diff_in_errors(x):
+        se = [x[f].std(ddof=1) / math.sqrt(x[f].size) for f in x]
+        return abs(x[0.4].mean() - x[0.05].mean()) / math.hypot(*se)
+
+    assert diff_in_errors(temps) < 3
+    assert diff_in_errors(a2) < 3
+    assert abs(temps[0.4].mean() / temps[0.05].mean() - 1) < 0.01
+
+
+@pytest.mark.slow
+def test_cooling_threshold_independence():
+    """alpha = 0.9, N = 5000: T(t) for thresholds 1e-5 and 1e-3 agree while clusters form."""
+    runs = [md.simulate_cooling(0.9, 5000, seed=8, threshold=thr, collisions_per_particle=200.0,
+                                n_records=400) for thr in (1e-5, 1e-3)]
+    times = np.array([1.0, 5.0, 20.0, 40.0])
+    temps = [np.interp(times, r.series["t"], r.series["temperature"]) for r in runs]
+    assert runs[0].series["t"][-1] > 40 and runs[1].series["t"][-1] > 40
+    assert np.max(np.abs(temps[0] / temps[1] - 1)) < 0.02
