@@ -26,9 +26,9 @@ C1) holds with the solver's own pair quadrature.  The logarithmic unknown keeps
 The steady state is found by Newton's method on :math:`u_h` restricted to even
 functions, with one equation replaced by the normalisation
 :math:`\\int P_h = 1`, started from a Gaussian at the first-order Sonine
-temperature.  Transients use BDF2 (:func:`evolve_heated`).  Everything is computed
-at :math:`n = D = 1`; other :math:`n, D` follow from the exact rescaling
-:math:`v \\to v (D/n)^{1/3}`.
+temperature.  Transients (BDF2): :func:`kinetic_fem.fem_transient.evolve_heated`.
+Everything is computed at :math:`n = D = 1`; other :math:`n, D` follow from the
+exact rescaling :math:`v \\to v (D/n)^{1/3}`.
 """
 
 from __future__ import annotations
@@ -54,7 +54,7 @@ from .gas import HeatedProblem, check_positive
 from .solve import register_solver
 
 __all__ = ["FEMDiscretisation", "SteadyState", "ResolutionWarning", "ConvergenceError",
-           "default_cutoff", "steady_state", "solve_fem", "evolve_heated", "ELEMENTS"]
+           "default_cutoff", "steady_state", "solve_fem", "ELEMENTS"]
 
 logger = logging.getLogger(__name__)
 
@@ -65,14 +65,6 @@ TAIL_FLOOR = 1e-30
 """f(c) must be resolved down to this value (30 decades)."""
 CONTINUATION_ALPHA = 0.95
 """Above this alpha Newton starts from the solution at ten times the inelasticity."""
-INITIAL_FLOOR = math.log(1e-45)
-"""Floor of ln P in transient initial data, 15 decades below the resolved range.
-
-A Gaussian's far tail lies hundreds of decades below the collisional tail that
-builds up within one collision time; Newton's method on ln P cannot bridge that gap
-in one time step, so initial data are floored here."""
-
-
 class ResolutionWarning(UserWarning):
     """The mesh or cut-off is too coarse for the requested accuracy."""
 
@@ -432,153 +424,3 @@ def solve_fem(problem: HeatedProblem, *, order: int = 2, spacing: float = 0.08,
                                       "c1_injection": injection, "c1_loss": loss})
     dist = state.disc.distribution(state.u, method="fem", params=problem.as_dict(), info=info)
     return dist.rescaled(problem.velocity_scale) if problem.velocity_scale != 1.0 else dist
-
-
-def _reduced(disc: FEMDiscretisation, res: NDArray, jac: NDArray) -> tuple[NDArray, NDArray]:
-    """Restrict a residual and Jacobian to even fields, ``S^T R`` and ``S^T J S``."""
-    sym = disc.symmetry
-    return sym.T @ res, sym.T @ (sym.T @ jac.T).T
-
-
-def _implicit_step(disc: FEMDiscretisation, u_now: NDArray, c_new: float, c_old: NDArray,
-                   dt: float, *, tol: float, max_newton: int) -> tuple[NDArray | None, int]:
-    """Solve ``c_new * m(u) - c_old - dt * R(u) = 0`` for even ``u``; None on failure."""
-    sym = disc.symmetry
-    u = u_now.copy()
-    lu = None
-    for it in range(1, max_newton + 1):
-        field = disc.field(u)
-        res, jac = disc.residual(u, jacobian=lu is None)
-        f = c_new * asm(mass, disc.basis, u=field) - c_old - dt * res
-        if lu is None:
-            jf = c_new * asm(weighted_mass, disc.basis, u=field).toarray() - dt * jac
-            lu = _Equilibrated(_reduced(disc, f, jf)[1])
-        delta = lu.solve(-(sym.T @ f))
-        size = float(np.abs(delta).max())
-        if not np.isfinite(size) or size > 1e100:
-            return None, it
-        u = u + sym @ _log_update(delta, 10.0)
-        if size < tol:
-            return u, it
-        if size > 0.1:  # far from converged: fresh Jacobian
-            lu = None
-    return None, max_newton
-
-
-def evolve_heated(alpha: float, *, density: float = 1.0, diffusion: float = 1.0,
-                  t_final: float, dt: float, initial_temperature: float | None = None,
-                  order: int = 2, spacing: float = 0.2, cutoff: float | None = None,
-                  n_output: int = 200, tol: float = 1e-10,
-                  max_newton: int = 12) -> VelocityDistribution:
-    """Transient from a Gaussian by BDF2 (first step backward Euler).
-
-    .. math::
-
-        \\int \\varphi_i \\frac{3P^{k+1} - 4P^k + P^{k-1}}{2\\,\\Delta t}
-        = R_i(P^{k+1}),
-
-    solved for :math:`u^{k+1} = \\ln P^{k+1}` by Newton's method (the Jacobian is
-    kept once the update is small).  Mass is conserved exactly (up to the Newton
-    tolerance) and :math:`P = e^u > 0`.  Where BDF2 has no positive solution (a far
-    tail decaying by more than a factor 4 per step) the step is taken by backward
-    Euler and a :class:`ResolutionWarning` says which ``dt`` avoids it.
-
-    Parameters
-    ----------
-    alpha, density, diffusion : float
-        Problem parameters.  The run is made at ``n = D = 1`` and rescaled exactly:
-        :math:`v = u v_1`, :math:`t = t_1/(n u)` with :math:`u = (D/n)^{1/3}`.
-    t_final, dt : float
-        End time and step in units of ``n = D = 1``.
-    initial_temperature : float, optional
-        Temperature of the initial Gaussian at ``n = D = 1``; default a quarter of the
-        first-order Sonine steady temperature.  The element size is ``spacing`` times
-        the smaller thermal velocity, the cut-off covers the larger.
-    order, spacing, cutoff : see :func:`solve_fem`.
-    n_output : int
-        Number of points of the time series (``series["t"]``, ``"temperature"``,
-        ``"a2"``, ``"mass"``).
-
-    Returns
-    -------
-    VelocityDistribution
-        The distribution at ``t_final`` with the time series.
-
-    Raises
-    ------
-    ConvergenceError
-        If a step's Newton iteration fails (reduce ``dt``).
-    """
-    problem = HeatedProblem.from_parameters(alpha, density=density, diffusion=diffusion)
-    t_final = check_positive("t_final", t_final)
-    dt = check_positive("dt", dt)
-    if order not in ELEMENTS:
-        raise ValueError(f"order must be one of {sorted(ELEMENTS)}, got {order!r}")
-    t_ss = sonine.steady_temperature(alpha)
-    t0 = 0.25 * t_ss if initial_temperature is None else check_positive(
-        "initial_temperature", initial_temperature)
-    c_max = default_cutoff(alpha) if cutoff is None else check_positive("cutoff", cutoff)
-    # cut-off for the hotter, spacing for the colder of the two temperatures
-    verts = _mesh(alpha, cutoff=c_max * max(1.0, math.sqrt(t0 / t_ss)),
-                  spacing=spacing * min(1.0, math.sqrt(t0 / t_ss)), vertices=None)
-    disc = FEMDiscretisation(alpha, verts, order, 2 * order + 1)
-    start = time.perf_counter()
-    n_steps = int(math.ceil(t_final / dt))
-    dt = t_final / n_steps
-    u_now = np.maximum(disc.gaussian(t0), INITIAL_FLOOR)
-    m_prev = m_now = asm(mass, disc.basis, u=disc.field(u_now))
-    every = max(1, n_steps // n_output)
-    xq, wq, _ = disc.points
-    series: dict[str, list[float]] = {"t": [], "temperature": [], "a2": [], "mass": []}
-
-    def record(t: float, u: NDArray) -> None:
-        p = disc.values(u)
-        mom = [np.sum(wq * p * xq**k) for k in (0, 2, 4)]
-        temp = mom[1] / mom[0]
-        series["t"].append(t)
-        series["temperature"].append(temp)
-        series["a2"].append(mom[2] / mom[0] / (3.0 * temp**2) - 1.0)
-        series["mass"].append(mom[0])
-
-    record(0.0, u_now)
-    iterations = 0
-    fallbacks = 0
-    for step in range(1, n_steps + 1):
-        u = None
-        if step > 1:  # BDF2; it has no positive solution where the tail decays too fast
-            u, its = _implicit_step(disc, u_now, 1.5, 2.0 * m_now - 0.5 * m_prev, dt,
-                                    tol=tol, max_newton=max_newton)
-            iterations += its
-        if u is None:
-            fallbacks += step > 1
-            u, its = _implicit_step(disc, u_now, 1.0, m_now, dt, tol=tol,
-                                    max_newton=max_newton)
-            iterations += its
-            if u is None:
-                raise ConvergenceError(
-                    f"implicit step {step} (t={step * dt:.4g}) did not converge in "
-                    f"{max_newton} Newton iterations; reduce dt={dt:.3g}")
-        u_now = u
-        m_prev, m_now = m_now, asm(mass, disc.basis, u=disc.field(u))
-        if step % every == 0 or step == n_steps:
-            record(step * dt, u)
-    if fallbacks:
-        nu_max = float(np.abs(verts).max() * 2.0)
-        warnings.warn(
-            f"BDF2 had no positive solution in {fallbacks} of {n_steps} steps (the far tail "
-            f"relaxes at rate ~{nu_max:.3g} and dt={dt:.3g}); those steps used backward "
-            f"Euler (first order). For second order throughout use dt < {1.3 / nu_max:.3g}",
-            ResolutionWarning, stacklevel=2)
-    scale = problem.velocity_scale
-    time_unit = scale**2 / problem.diffusion  # t = t_1 / (n u) = t_1 u^2 / D
-    out = {k: np.asarray(v) for k, v in series.items()}
-    out["t"] = out["t"] * time_unit
-    out["temperature"] = out["temperature"] * scale**2
-    info = RunInfo(converged=True, iterations=iterations, residual=float("nan"),
-                   wall_time=time.perf_counter() - start,
-                   message=f"BDF2, {n_steps} steps of dt={dt:.4g}, {iterations} Newton iterations",
-                   extra={"n_dofs": int(disc.dof_locations.size), "dt": dt,
-                          "backward_euler_steps": fallbacks + 1})
-    dist = disc.distribution(u_now, method="fem", params=problem.as_dict(), info=info,
-                             series=out)
-    return dist.rescaled(scale) if scale != 1.0 else dist
