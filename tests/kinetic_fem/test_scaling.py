@@ -205,3 +205,32 @@ def test_heated_fem_solution_approaches_phi(phi):
         diffs.append(np.max(np.abs(dist.pdf(x) - phi(x))))
     rate = np.log10(diffs[0] / diffs[1])
     assert 0.8 < rate < 1.2, diffs
+
+
+# ---------------------------------------------------------------- docs examples
+def _load_example(name):
+    import importlib.util
+    import sys
+    from pathlib import Path
+
+    path = Path(__file__).parents[2] / "docs" / "examples" / name
+    spec = importlib.util.spec_from_file_location(f"example_{path.stem}", path)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module  # dataclasses look their module up here
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_phi_example_numbers():
+    module = _load_example("plot_phi.py")
+    result = module.main(**module.TEST_KWARGS)
+    assert result.phi.distribution.method == "phi"
+    assert abs(result.phi.lam - LAMBDA_REF) < 1e-7  # n_v = 353: error 2.5e-8
+    assert result.phi.errors["lam"] < 1e-7
+
+
+def test_psi_example_numbers():
+    module = _load_example("plot_psi.py")
+    sol = module.main(**module.TEST_KWARGS)
+    assert sol.distribution.method == "psi"
+    assert abs(sol.y2 - Y2_REF) < 1e-8  # n_v = 1051: error 2.3e-9
