@@ -31,6 +31,14 @@ def _temperature_error(run: dsmc.DSMCRun) -> float:
     return run.distribution.observable_error(lambda d: d.temperature)
 
 
+def _row(label: str, run: dsmc.DSMCRun, wall: float) -> tuple[float, float, float, float]:
+    """Print and return (T, its error, a2, its error) of one run."""
+    values = (run.temperature, _temperature_error(run), run.a2, run.a2_error)
+    print(f"{label:>8}{values[0]:>11.5f}{values[1]:>9.5f}{values[2]:>10.5f}{values[3]:>9.5f}"
+          f"{wall:>8.1f}")
+    return values
+
+
 def splitting(alpha: float, n: int, cpp: float, factors: list[float], seed: int) -> None:
     mft = 1.0 / (2.0 * math.sqrt(steady_temperature(alpha) / math.pi))
     rows = []
@@ -41,9 +49,7 @@ def splitting(alpha: float, n: int, cpp: float, factors: list[float], seed: int)
         t0 = time.perf_counter()
         r = dsmc.simulate_heated(alpha, n, seed=seed + k, dt=f * mft,
                                  collisions_per_particle=cpp, relax=20.0)
-        rows.append((f, r.temperature, _temperature_error(r), r.a2, r.a2_error))
-        print(f"{f:>8.4f}{r.temperature:>11.5f}{rows[-1][2]:>9.5f}{r.a2:>10.5f}"
-              f"{r.a2_error:>9.5f}{time.perf_counter() - t0:>8.1f}")
+        rows.append((f, *_row(f"{f:.4f}", r, time.perf_counter() - t0)))
     data = np.array(rows)
     for col, name in ((1, "T"), (3, "a2")):
         x, y, e = data[:, 0], data[:, col], data[:, col + 1]
@@ -70,9 +76,7 @@ def particle_number(alpha: float, sizes: list[int], samples: float, seed: int) -
         t0 = time.perf_counter()
         r = dsmc.simulate_heated(alpha, n, seed=seed + k, relax=20.0,
                                  collisions_per_particle=max(40.0, samples / n))
-        rows.append((n, r.temperature, _temperature_error(r), r.a2, r.a2_error))
-        print(f"{n:>8d}{r.temperature:>11.5f}{rows[-1][2]:>9.5f}{r.a2:>10.5f}"
-              f"{r.a2_error:>9.5f}{time.perf_counter() - t0:>8.1f}")
+        rows.append((n, *_row(str(n), r, time.perf_counter() - t0)))
     data = np.array(rows)
     for col, name in ((1, "T"), (3, "a2")):
         x, y, e = data[:, 0], data[:, col], data[:, col + 1]
