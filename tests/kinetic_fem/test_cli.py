@@ -1,5 +1,6 @@
 """Tests of the kinetic-fem command (kinetic_fem.cli and python -m kinetic_fem)."""
 
+import logging
 import subprocess
 import sys
 
@@ -10,6 +11,20 @@ from kinetic_fem import VelocityDistribution, reproduce
 from kinetic_fem.cli import build_parser, main, select_items
 from kinetic_fem.io import read_distribution
 from kinetic_fem.solve import HEATED_SOLVERS, register_solver
+
+
+@pytest.fixture(autouse=True)
+def _restore_logging():
+    """main() attaches stderr handlers to the package loggers; remove them afterwards.
+
+    Otherwise later tests would log into this test's (closed) captured stderr.
+    """
+    yield
+    for name in ("kinetic_fem", "particles"):
+        log = logging.getLogger(name)
+        for handler in [h for h in log.handlers if getattr(h, "_kinetic_fem", False)]:
+            log.removeHandler(handler)
+        log.setLevel(logging.NOTSET)
 
 
 def test_help_explains_the_package(capsys):
