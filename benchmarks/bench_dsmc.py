@@ -22,6 +22,7 @@ import numpy as np
 
 from kinetic_fem.sonine import steady_temperature
 from particles import _dsmc_kernels as kern
+from particles import dsmc
 
 TABLES = kern.ziggurat_tables()
 
@@ -126,11 +127,17 @@ def main() -> None:
         h = heated(n, cpp / 4 if n < 10**6 else cpp / 20, repeat=args.repeat)
         print(f"{'heated alpha=0.6 dt=0.05':<26}{n:>10}{h['rate']:>12.3e}{h['ns_coll']:>10.1f}"
               f"{'':>10}{'':>8}{h['ns_kick']:>9.2f}")
+    t0 = time.perf_counter()
+    run = dsmc.simulate_heated(0.6, 25_000, seed=1, collisions_per_particle=cpp, relax=10.0)
+    wall = time.perf_counter() - t0
+    print(f"end to end: simulate_heated(0.6, 25000), {run.collisions_per_particle:.0f} "
+          f"collisions per particle incl. relaxation, sampling and moments: "
+          f"{run.n_collisions / wall:.3e} collisions/s")
     r = rng_costs()
     print(f"random numbers: {r['normal']:.2f} ns per normal (ziggurat on xoshiro256**), "
           f"{r['candidate_no_accept']:.2f} ns per rejected candidate (2 draws, 2 loads)")
     workers = os.cpu_count() or 1
-    serial, parallel = replicas(25_000, cpp / 2, workers)
+    serial, parallel = replicas(25_000, 10 * cpp, workers)
     print(f"replicas: {workers} x cooling N=25000: serial {serial:.2f} s, process pool "
           f"{parallel:.2f} s, speed-up {serial / parallel:.2f} on {workers} cores")
 

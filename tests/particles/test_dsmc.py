@@ -241,6 +241,17 @@ def test_replicas_run_in_parallel_and_combine():
     assert merged.raw_moments[0] == pytest.approx(1.0)
 
 
+def test_progress_bar_and_combine_checks(capsys):
+    kw = dict(collisions_per_particle=8, relax=2.0, n_batches=4, seed=1)
+    a = dsmc.simulate_cooling(0.9, 200, progress=True, **kw)
+    assert "DSMC cooling" in capsys.readouterr().err
+    b = dsmc.simulate_cooling(0.9, 200, c_max=4.0, **kw)
+    with pytest.raises(ValueError, match="edges"):
+        dsmc.combine_runs([a, b])
+    with pytest.raises(ValueError, match="at least one"):
+        dsmc.combine_runs([])
+
+
 def test_cooling_haff_law_and_scaled_state():
     """T ~ t^-2 at late times; the scaled state is stationary and bimodal at alpha=0.9."""
     r = dsmc.simulate_cooling(0.9, 5000, seed=4, collisions_per_particle=100)
