@@ -77,7 +77,8 @@ def evaluate_field(verts: np.ndarray, dofs: np.ndarray, order: int, coef: np.nda
 
 
 @jit
-def _merge_breaks(verts: np.ndarray, x: float, a: float, b: float, buf: np.ndarray) -> int:
+def _merge_breaks(verts: np.ndarray, x: float, a: float, b: float, buf: np.ndarray,
+                  second: bool) -> int:
     """Sorted breakpoints of the inner integrand in [v_0, v_E]; returns their count."""
     lo = verts[0]
     hi = verts[-1]
@@ -91,7 +92,7 @@ def _merge_breaks(verts: np.ndarray, x: float, a: float, b: float, buf: np.ndarr
     while True:
         c1 = verts[i1] if i1 < nv else inf
         c2 = (verts[i2] - a * x) / b if i2 < nv else inf
-        c3 = (verts[i3] - b * x) / a if (i3 < nv and a > 0.0) else inf
+        c3 = (verts[i3] - b * x) / a if (second and i3 < nv and a > 0.0) else inf
         c4 = inf if done4 else x
         m = min(min(c1, c2), min(c3, c4))
         if m == inf:
@@ -114,7 +115,7 @@ def _merge_breaks(verts: np.ndarray, x: float, a: float, b: float, buf: np.ndarr
 def collision_operator(verts: np.ndarray, dofs: np.ndarray, order: int, coef: np.ndarray,
                        xq: np.ndarray, wq: np.ndarray, eq: np.ndarray, ref_x: np.ndarray,
                        ref_w: np.ndarray, alpha: float, density: float, with_jacobian: bool,
-                       energy_power: int) -> tuple[np.ndarray, np.ndarray, float]:
+                       energy_power: int, symmetric: bool) -> tuple[np.ndarray, np.ndarray, float]:
     """Weak collision term ``C_i`` for ``P = exp(u_h)``, its Jacobian and a pair moment.
 
     Parameters
@@ -137,6 +138,13 @@ def collision_operator(verts: np.ndarray, dofs: np.ndarray, order: int, coef: np
         Also assemble the dense Jacobian :math:`\\partial C_i/\\partial u_j`.
     energy_power : int
         ``p`` of the returned pair moment :math:`\\sum W |x-y|^p P(x) P(y)`.
+    symmetric : bool
+        Full bracket (exact conservation of mass, momentum and, with P2, the energy
+        identity, for any P).  Otherwise :math:`\\varphi_i(y')` is replaced by
+        :math:`\\varphi_i(x')` (equal after integration, by the x <-> y symmetry):
+        mass is still conserved exactly and momentum for even P on a symmetric mesh,
+        while the outer integrand stays smooth as alpha -> 1 (the pre-images of
+        the vertices under y -> y' sweep past the mesh at rate (1+alpha)/(1-alpha)).
 
     Returns
     -------
@@ -168,7 +176,7 @@ def collision_operator(verts: np.ndarray, dofs: np.ndarray, order: int, coef: np
         for j in range(k):
             ux += coef[dofs[ex, j]] * phx[j]
         px = np.exp(ux)
-        n_br = _merge_breaks(verts, x, a, b, buf)
+        n_br = _merge_breaks(verts, x, a, b, buf, symmetric)
         ey = 0
         e1 = 0
         e2 = 0
@@ -194,7 +202,8 @@ def collision_operator(verts: np.ndarray, dofs: np.ndarray, order: int, coef: np
                     uy += coef[dofs[ey, j]] * phy[j]
                 x1 = a * x + b * y
                 shape_values(order, (x1 - verts[e1]) / h1, ph1)
-                shape_values(order, (b * x + a * y - verts[e2]) / h2, ph2)
+                if symmetric:
+                    shape_values(order, (b * x + a * y - verts[e2]) / h2, ph2)
                 g = abs(x - y)
                 w = wq[q] * length * ref_w[r] * px * np.exp(uy)
                 moment += w * g ** energy_power
@@ -202,8 +211,12 @@ def collision_operator(verts: np.ndarray, dofs: np.ndarray, order: int, coef: np
                 for j in range(k):
                     idx[j] = dofs[e1, j]
                     val[j] = c * ph1[j]
-                    idx[k + j] = dofs[e2, j]
-                    val[k + j] = c * ph2[j]
+                    if symmetric:
+                        idx[k + j] = dofs[e2, j]
+                        val[k + j] = c * ph2[j]
+                    else:
+                        idx[k + j] = dofs[e1, j]
+                        val[k + j] = c * ph1[j]
                     idx[2 * k + j] = dofs[ex, j]
                     val[2 * k + j] = -c * phx[j]
                     idx[3 * k + j] = dofs[ey, j]
