@@ -29,14 +29,19 @@ N_FREE = 2.0  # density on the reduced ring at n = 1, n sigma = 0.5
 
 
 def _event_rate(alpha: float, n: int, cpp: float, threshold: float | None,
-                repeats: int) -> tuple[int, float, float]:
-    """Best-of-``repeats`` wall time of the event loop alone (no sampling)."""
+                repeats: int, kick_fraction: float | None = None) -> tuple[int, float, float]:
+    """Best-of-``repeats`` wall time of the event loop alone (kicks included, no sampling)."""
     best = np.inf
+    temp, kick_dt, kick_amp = 1.0, np.inf, 0.0
+    if kick_fraction is not None:
+        temp = steady_temperature(alpha, N_FREE)
+        kick_dt = kick_fraction * md.mean_free_time(temp, 1.0, 0.5)
+        kick_amp = math.sqrt(2.0 * kick_dt)
     for _ in range(repeats):
         rng = np.random.default_rng(1)
-        y, v = md.initial_state(n, density=1.0, sigma=0.5, temperature=1.0, rng=rng)
+        y, v = md.initial_state(n, density=1.0, sigma=0.5, temperature=temp, rng=rng)
         eng = _Engine(y, v, free_length=n - 0.5 * n, sigma=0.5, alpha=alpha,
-                      threshold=threshold or 0.0, kick_dt=np.inf, kick_amp=0.0, rng=rng,
+                      threshold=threshold or 0.0, kick_dt=kick_dt, kick_amp=kick_amp, rng=rng,
                       collapse_tol=1e-12, max_stall=100 * n)
         target = int(cpp * n / 2)
         start = time.perf_counter()
@@ -58,7 +63,14 @@ def speed(quick: bool) -> None:
             ns = 1e9 * wall / coll
             print(f"{alpha:6.2f} {thr or 0:9.0e} {n:7d} {cpp:5.0f} {coll:11d} {wall:7.3f} "
                   f"{coll / wall:9.3g} {ns:8.1f} {ns / math.log2(n):14.2f} {t_end:6.3f}")
-    print("\n== heated alpha = 0.9, N = 5000, whole run (kicks, sampling) ==")
+    print("\n== heated alpha = 0.9, N = 5000, event loop with kicks (no sampling), best of 3 ==")
+    print(f"{'dt_k/tau':>8} {'collisions':>11} {'s':>7} {'coll/s':>9}")
+    for frac in (0.05, 0.1, 0.25, 0.5, 1.0):
+        coll, wall, _ = _event_rate(0.9, 5000, 20.0 if quick else 100.0,
+                                    0.01 * math.sqrt(steady_temperature(0.9, N_FREE)), 3,
+                                    kick_fraction=frac)
+        print(f"{frac:8.2f} {coll:11d} {wall:7.3f} {coll / wall:9.3g}")
+    print("\n== heated alpha = 0.9, N = 5000, whole run (kicks, sampling every tau) ==")
     print(f"{'dt_k/tau':>8} {'kicks':>7} {'collisions':>11} {'s':>7} {'coll/s':>9} "
           f"{'coll/kick':>9}")
     for frac in (0.05, 0.1, 0.25, 0.5, 1.0):
