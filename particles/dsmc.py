@@ -201,6 +201,14 @@ def simulate_heated(alpha: float, n_particles: int, *, density: float = 1.0,
     ------
     TypeError, ValueError
         For invalid parameters (``N < 2``, too large ``dt``, non-finite initial state).
+
+    Examples
+    --------
+    >>> run = simulate_heated(0.6, 2000, seed=1, collisions_per_particle=40)
+    >>> abs(run.a2 - 0.03) < 0.02, run.info.converged
+    (True, True)
+    >>> abs(run.dissipation_rate / run.injection_rate - 1) < 0.03
+    True
     """
     problem = HeatedProblem.from_parameters(alpha, density=density, diffusion=diffusion)
     gas = problem.gas
@@ -247,6 +255,17 @@ def simulate_cooling(alpha: float, n_particles: int, *, density: float = 1.0,
     -------
     DSMCRun
         ``.distribution`` is the time-averaged scaled distribution f(c).
+
+    Examples
+    --------
+    >>> run = simulate_cooling(0.9, 2000, seed=1, collisions_per_particle=40)
+    >>> bool(run.a2 < -0.2)  # two humps at c = +-1
+    True
+    >>> s = run.series
+    >>> late = s["collisions_per_particle"] > run.relaxed_at
+    >>> slope = np.polyfit(s["log_t"][late], s["log_temperature"][late], 1)[0]
+    >>> bool(abs(slope + 2) < 0.05)  # Haff law T ~ t^-2
+    True
     """
     problem = CoolingProblem.from_parameters(alpha, density=density)
     o = _common(n_particles, collisions_per_particle, relax, sample_every, n_batches, bins,
