@@ -65,3 +65,16 @@ def test_sonine_a2_example_numbers():
             assert abs(result.sonine.sonine_coefficient(p)) < 1e-8
     n = result.gaussian.effective_exponent([1.0, 2.0, 3.0])
     assert all(math.isclose(x, 2.0, abs_tol=1e-6) for x in n)
+
+
+def test_readme_commands_match_ci():
+    """The README's two set-up commands exist, and .ci/run runs the README's test command."""
+    root = Path(__file__).parents[1]
+    readme = (root / "README.md").read_text()
+    ci = (root / ".ci" / "run").read_text()
+    main_job = "pip install . && kinetic-fem reproduce --quick --out reproduce-out"
+    test_command = 'pip install ".[test,docs]" && python -m pytest'
+    assert main_job in readme
+    assert test_command in readme
+    assert test_command in ci
+    assert "python -m sphinx -W" in ci
