@@ -23,6 +23,14 @@ def _pyplot():  # type: ignore[no-untyped-def]
     return plt
 
 
+def _save(fig, path) -> None:  # type: ignore[no-untyped-def]
+    import matplotlib.pyplot as plt
+
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
 def _pm(value: float, error: float, digits: int = 10) -> str:
     return f"{value:.{digits}f} +- {error:.1e}"
 
@@ -101,9 +109,7 @@ def phi_claims(ctx: Context) -> list[ClaimRow]:
     ax.set_ylabel(r"$\phi$")
     ax.set_title(rf"$\lambda$ = {sol.lam:.6f}, C = {sol.C:.6f}")
     ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(ctx.out / "C5_phi_asymptotes.png", dpi=120)
-    plt.close(fig)
+    _save(fig, ctx.out / "C5_phi_asymptotes.png")
     return rows
 
 
@@ -122,9 +128,7 @@ def phi_exponent(ctx: Context) -> list[ClaimRow]:
     ax.set_xlabel(r"$c = x/\langle x^2\rangle^{1/2}$")
     ax.set_ylabel("n(c)")
     ax.legend()
-    fig.tight_layout()
-    fig.savefig(ctx.out / "F6_phi_effective_exponent.png", dpi=120)
-    plt.close(fig)
+    _save(fig, ctx.out / "F6_phi_effective_exponent.png")
     ok = bool(abs(n[0] - 2.0) < 0.01 and np.all(np.diff(n) > 0) and n[-1] < 3.0)
     return [ClaimRow("C7", "phi effective exponent n(c) at c = 0.02 and c = 6.7",
                      f"{n[0]:.4f} -> {n[-1]:.4f}, increasing", "starts at 2; alpha -> 1 "
@@ -182,9 +186,7 @@ def psi_claims(ctx: Context) -> list[ClaimRow]:
     ax.set_xlabel("y")
     ax.set_ylabel(r"$\psi$")
     ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(ctx.out / "C12_psi_tails.png", dpi=120)
-    plt.close(fig)
+    _save(fig, ctx.out / "C12_psi_tails.png")
     return rows
 
 
@@ -205,7 +207,5 @@ def psi_figure(ctx: Context) -> list[ClaimRow]:
     bx.set_xlabel(r"$x = n\epsilon t v$")
     bx.set_ylabel(r"$\Phi(x)$ (leading order)")
     bx.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(ctx.out / "F11_psi.png", dpi=120)
-    plt.close(fig)
+    _save(fig, ctx.out / "F11_psi.png")
     return []
