@@ -49,6 +49,7 @@ from scipy.interpolate import CubicSpline
 from scipy.optimize import brentq
 
 from ._scaling_common import (
+    Evaluation,
     LimitSolution,
     check_int,
     check_solver_options,
@@ -225,7 +226,7 @@ def _solve_psi_on(y: NDArray[np.float64], u0: NDArray[np.float64], c0: float, to
     w = simpson_weights(y)
     n = y.size
 
-    def evaluate(z: NDArray[np.float64]):  # type: ignore[no-untyped-def]
+    def evaluate(z: NDArray[np.float64]) -> Evaluation:
         u, c = z[:n], z[n]
         psi = np.exp(u)
         ln_t = log_normalise(-c * y - psi_kernel(y, w * psi), w)

@@ -53,6 +53,7 @@ from numpy.typing import NDArray
 from scipy.optimize import brentq
 
 from ._scaling_common import (
+    Evaluation,
     LimitSolution,
     check_int,
     check_solver_options,
@@ -226,7 +227,7 @@ def _solve_phi_on(x: NDArray[np.float64], u0: NDArray[np.float64], tol: float,
     def full(half: NDArray[np.float64]) -> NDArray[np.float64]:
         return np.concatenate([half[:0:-1], half])
 
-    def evaluate(uh: NDArray[np.float64]):  # type: ignore[no-untyped-def]
+    def evaluate(uh: NDArray[np.float64]) -> Evaluation:
         phi = np.exp(full(uh))
         ln_t = log_normalise(-abs_power_convolution(x, w * phi, 3) / 6.0, w)
         t = np.exp(ln_t)
