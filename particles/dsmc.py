@@ -27,23 +27,32 @@ replaces two velocities by convex combinations of them, so it can never exceed
 :math:`e^{\\Delta t(C+K)} \\approx e^{\\Delta t K/2} e^{\\Delta t C} e^{\\Delta t K/2}`
 of collisions ``C`` and white-noise kicks ``K`` (:math:`v \\to v + \\sqrt{2D\\Delta t}
 \\,\\xi`, exact for the diffusion); consecutive half kicks merge, measurements are
-taken after a half kick.  Weak error :math:`O(\\Delta t^2)`
-(``benchmarks/convergence_dsmc.py``).  Kicks are applied to every particle at every
-step: "lazy" kicks (one Gaussian summing a particle's pending kicks when it is next
-touched) would leave the stored velocities without a true majorant, because a pending
-Gaussian is unbounded.  The collision count per step is the time counter
-:math:`\\lfloor \\text{debt} + \\Delta t\\,\\Lambda_{max} \\rfloor` (fraction carried over).
-The dynamics depend on velocity differences only, so velocities are kept in the
-centre-of-mass frame (the mean, a random walk driven by the kicks, is subtracted at
-every measurement); the kicks inject :math:`2D(1 - 1/N)` per particle into the
-internal energy.
+taken after a half kick.  Weak error :math:`O(\\Delta t^2)`; the measured orders are
+1.7 +- 0.1 for T and 1.9 +- 0.3 for a2 (``benchmarks/convergence_dsmc.py``).  Kicks
+are applied to every particle at every step: "lazy" kicks (one Gaussian summing a
+particle's pending kicks when it is next touched) would leave the stored velocities
+without a true majorant, because a pending Gaussian is unbounded.  The collision
+count per step is the time counter
+:math:`\\lfloor \\text{debt} + \\Delta t\\,\\Lambda_{max} \\rfloor` (fraction carried
+over): the expected count rather than a Poisson one, a difference of order
+:math:`1/N`, like the other finite-N effects (all together they lower T by about
+:math:`2T/N`, see the N table of ``benchmarks/convergence_dsmc.py``).  The dynamics
+depend on velocity differences only, so velocities are kept in the centre-of-mass
+frame (the mean, a random walk driven by the kicks, is subtracted at every
+measurement); the kicks inject :math:`2D(1 - 1/N)` per particle into the internal
+energy.
 
-*Free cooling* (:func:`simulate_cooling`): velocities are rescaled to unit
-temperature after every block of candidates while :math:`\\ln` of the scale and
-:math:`\\ln t` are accumulated (``logaddexp``), so nothing under- or overflows
-over any number of collisions; time advances by the expected candidate spacing
-(the sequence of collisions is exact, the clock has relative noise
-:math:`O(\\text{candidates}^{-1/2})`).
+*Free cooling* (:func:`simulate_cooling`): velocities are moved to the centre-of-mass
+frame and rescaled to unit temperature every ``N`` candidates (inside the kernel)
+while :math:`\\ln` of the scale and :math:`\\ln t` are accumulated (``logaddexp``),
+so nothing under- or overflows over any number of collisions.  Time advances by the
+expected candidate spacing: the sequence of collisions is exact, and the clock
+differs from the exponential waiting times of the exact process by a relative
+:math:`O(\\text{candidates}^{-1/2})`.
+
+Random numbers: an explicit-state xoshiro256** stream inside the kernels (seeded
+from a ``numpy.random.SeedSequence``, saved in checkpoints) for pairs, acceptance and
+Gaussian kicks (ziggurat); see :mod:`particles._dsmc_kernels`.
 
 *Relaxation detector* (``relax="auto"``): the time series are cut into windows of
 :math:`W = \\max(2, 2/(1-\\alpha^2))` collisions per particle (at least 10 samples),
