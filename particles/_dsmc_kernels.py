@@ -99,7 +99,7 @@ def _zig_draw(s, wi):  # pragma: no cover - compiled
     idx = int(r & np.uint64(0xFF))
     r >>= np.uint64(8)
     rabs = (r >> np.uint64(1)) & np.uint64(0x000FFFFFFFFFFFFF)
-    x = float(rabs) * wi[idx]
+    x = float(np.int64(rabs)) * wi[idx]  # rabs < 2^52: the signed conversion is exact
     if r & np.uint64(1):
         x = -x
     return idx, rabs, x
@@ -189,7 +189,7 @@ def collide(v, n_candidates, alpha, g_max, s):  # pragma: no cover - compiled
     n = np.uint64(v.shape[0])
     n1 = n - np.uint64(1)
     half = 0.5 * (1.0 + alpha)
-    scale = g_max * (1.0 / 18446744073709551616.0)  # g_max / 2^64
+    scale = g_max * (1.0 / 9007199254740992.0)  # g_max / 2^53
     accepted = 0
     sum_g2 = 0.0
     for _ in range(n_candidates):
@@ -198,7 +198,8 @@ def collide(v, n_candidates, alpha, g_max, s):  # pragma: no cover - compiled
         i = _mulhi(r1, n)
         j = _mulhi(r2, n1)
         j += np.uint64(j >= i)
-        threshold = float(r1 * n) * scale  # uniform(0, g_max), from the low bits
+        # uniform(0, g_max) from the low 64 bits of r1 * N (top 53 of them)
+        threshold = float(np.int64((r1 * n) >> np.uint64(11))) * scale
         vi = v[i]
         vj = v[j]
         g = vi - vj
