@@ -79,7 +79,8 @@ logger = logging.getLogger(__name__)
 F_FLOOR = 1e-30
 """Values of f(c) above which the tails are required to be resolved (claim C16)."""
 _TAIL_TARGET = 1e-60
-_LOG_START_FLOOR = -640.0  # about 1e-278, above the underflow guard of the Newton solver
+_MONITOR_BULK, _MONITOR_TAIL = 1e-50, 1e-200
+_POLISH_COURANT, _POLISH_STEPS = 200.0, 100
 
 
 class ConvergenceWarning(UserWarning):
@@ -89,19 +90,25 @@ class ConvergenceWarning(UserWarning):
 def default_cutoff(alpha: float) -> float:
     """Cut-off in units of :math:`\\sqrt{T}` where f(c) is below about 1e-60.
 
-    The larger of the Gaussian estimate :math:`e^{-c^2/2}` and the far tail
-    :math:`e^{-A_c c^{3/2}}` (claim C4, :math:`A_c = \\tfrac23 T^{3/4}` at ``n = D = 1``).
+    The far tail :math:`e^{-A_c c^{3/2}}` (claim C4, :math:`A_c = \\tfrac23 T^{3/4}` at
+    ``n = D = 1``) or, if that is reached first, the core: the smaller of the Gaussian
+    :math:`e^{-c^2/2}` and the quasi-elastic :math:`e^{-x^3/6}` (claim C5,
+    :math:`x = \\varepsilon^{1/3} v`, with a margin of 1.25 for the crossover).  The
+    quasi-elastic estimate keeps the cut-off short of double-precision underflow as
+    :math:`\\alpha \\to 1`.
 
     Examples
     --------
-    >>> round(default_cutoff(0.0), 1), round(default_cutoff(0.99), 1)
-    (29.2, 16.6)
+    >>> [round(default_cutoff(a), 1) for a in (0.0, 0.9, 0.99, 0.9999)]
+    [29.2, 16.6, 12.1, 12.1]
     """
     temperature = steady_temperature(alpha)
     log_target = -math.log(_TAIL_TARGET)
     gauss = math.sqrt(2.0 * log_target)
     tail = (log_target / (2.0 / 3.0 * temperature**0.75)) ** (2.0 / 3.0)
-    return max(gauss, tail)
+    x_core = (6.0 * log_target) ** (1.0 / 3.0)
+    quasi_elastic = 1.25 * x_core / ((1.0 - alpha) ** (1.0 / 3.0) * math.sqrt(temperature))
+    return max(tail, min(gauss, quasi_elastic))
 
 
 @dataclass(frozen=True)
@@ -275,11 +282,19 @@ def _solve_unit(alpha: float, *, spacing: float, cutoff: float, steady: str, dt:
     nu_bound = grid.v[-1] + math.sqrt(max(t0, 2.0 * temp_est))
     if steady == "newton":
         # start with thinner-than-Gaussian tails: Newton raises a tail by a full
-        # linear step but lowers it by at most a factor 10 per iteration; the floor
-        # keeps every node active (nonzero)
+        # linear step but lowers it by about a factor 10 per iteration; nodes where
+        # the start underflows stay at zero in the first Newton solve
         c = grid.v / math.sqrt(t0)
-        p_start = np.exp(np.maximum(-0.5 * c**2 - (c / 3.0) ** 4, _LOG_START_FLOOR))
-        res = newton_steady(grid, p_start, alpha=alpha, log_interp=log_interp)
+        p_start = np.exp(-0.5 * c**2 - (c / 3.0) ** 4)
+        res = newton_steady(grid, p_start, alpha=alpha, log_interp=log_interp,
+                            monitor_floor=_MONITOR_BULK)
+        # the deep tail (below 1e-50) is slaved to the bulk and relaxes at the large
+        # local rate nu(v): a few implicit steps settle it, then Newton polishes all
+        polish = march(grid, res.p, alpha=alpha, dt=_POLISH_COURANT / nu_bound,
+                       implicit_loss=True, log_interp=log_interp, tol=0.0,
+                       max_steps=_POLISH_STEPS, stop=False)
+        res = newton_steady(grid, polish.p, alpha=alpha, log_interp=log_interp,
+                            monitor_floor=_MONITOR_TAIL)
         p, series = res.p, {}
         extra["mass_defect_rate"] = res.multiplier
         info = dict(converged=res.converged, iterations=res.iterations, residual=res.residual,
