@@ -311,6 +311,33 @@ def test_cooling_example_numbers():
     assert result.run.a2 < -0.2
 
 
+# ----------------------------------------------------------------------------- reproduce
+DSMC_ITEMS = ["F2", "F3", "F4", "C2-DSMC", "C15-DSMC", "F9", "F10", "F11"]
+
+
+def _run_items(tmp_path, keys):
+    from kinetic_fem.reproduce import Context, load_plugins, run_items
+
+    load_plugins()
+    return run_items(Context(out=tmp_path, quick=True, seed=11), keys)
+
+
+def test_reproduce_a2_and_relaxation_items(tmp_path):
+    rows = _run_items(tmp_path, ["F3", "C2-DSMC"])
+    assert (tmp_path / "F3_dsmc_a2.png").exists()
+    assert {r.claim for r in rows} == {"C2", "C3"}
+    assert all(r.agrees for r in rows), [r for r in rows if not r.agrees]
+
+
+@pytest.mark.slow
+def test_reproduce_items_quick(tmp_path):
+    rows = _run_items(tmp_path, DSMC_ITEMS)
+    for r in rows:
+        print(f"{r.claim} | {r.quantity} | {r.measured} | {r.paper} | {r.agrees}")
+    assert len(list(tmp_path.glob("*.png"))) == 6
+    assert {"C1", "C2", "C3", "C4", "C9", "C10", "C11", "C12", "C15"} <= {r.claim for r in rows}
+
+
 # ----------------------------------------------------------------------------- slow
 def _deterministic(alpha):
     for method in ("fd", "fem"):
