@@ -224,7 +224,7 @@ def relaxation_time(ctx: Context) -> list[ClaimRow]:
 @register("C15-DSMC", "first-order Sonine: good for the heated gas, fails in free cooling",
           claims=("C15",))
 def sonine_accuracy(ctx: Context) -> list[ClaimRow]:
-    """C15: max |f - Phi (1 + a2 S2)| / f_max for |c| < 2.5, heated vs cooling (eps=1e-3)."""
+    """C15: ``max |f - Phi (1 + a2 S2)| / f_max`` for ``|c| < 2.5``, heated vs cooling."""
     n, cpp = _heated_size(ctx)
     heated = _heated(0.6, n, cpp, ctx.seed + 1)
     cooling = _cooling(1e-3, ctx.quick, ctx.seed)
@@ -270,7 +270,7 @@ def _hump(run: dsmc.DSMCRun) -> tuple[float, float]:
 @register("F9", "free cooling DSMC f(c): two humps at eps = 1e-2, 1e-3, 1e-4",
           claims=("C9", "C10"))
 def cooling_humps(ctx: Context) -> list[ClaimRow]:
-    """F9 and C9 (quasi-elastic T = 4/(n (1-alpha^2) t)^2 from <|c-c'|^3> -> 4)."""
+    """F9 and C9 (quasi-elastic ``T = 4/(n (1-alpha^2) t)^2`` from ``<|c-c'|^3> -> 4``)."""
     plt = _plt()
     fig, ax = plt.subplots(figsize=(5, 4))
     rows = []
@@ -357,7 +357,7 @@ def cooling_collapse(ctx: Context) -> list[ClaimRow]:
 
 @register("F11", "psi(y) from DSMC against the psi equation", claims=("C12",))
 def psi_from_dsmc(ctx: Context) -> list[ClaimRow]:
-    """F11: y = (1 - |c|/<|c|>)/eps^(1/3), psi = eps^(1/3) <|c|> 2 f(c) (so <y> = 0)."""
+    """F11: ``y = (1 - |c|/<|c|>)/eps^(1/3)``, ``psi = eps^(1/3) <|c|> 2 f(c)`` (``<y> = 0``)."""
     plt = _plt()
     solve_psi = getattr(kf.scaling, "solve_psi", None)
     psi = solve_psi() if solve_psi is not None else None
