@@ -184,9 +184,11 @@ class Engine:
         ok = True
         for key in ("a2", second):
             x = np.asarray(self.series[key][-2 * w:])
-            a, b = x[:w], x[w:]
-            se = math.sqrt(a.var(ddof=1) / w + b.var(ddof=1) / w)
-            ok &= abs(a.mean() - b.mean()) <= 3.0 * se
+            # standard errors from 5 sub-block means (the samples are correlated)
+            means = [np.array([blk.mean() for blk in np.array_split(half, 5)])
+                     for half in (x[:w], x[w:])]
+            se = math.sqrt(sum(m.var(ddof=1) / m.size for m in means))
+            ok &= abs(means[0].mean() - means[1].mean()) <= 3.0 * se
         if ok or self.c["windows"] >= 20:
             self.c["converged"] = bool(ok)
             if not ok:

@@ -59,8 +59,9 @@ Gaussian kicks (ziggurat); see :mod:`particles._dsmc_kernels`.
 about three linear relaxation times of T (:math:`\\tau\\nu = 2/(3(1-\\alpha^2))`
 collisions per particle from the energy balance).  Averaging starts after the first
 window whose means of ``a2`` and of ``ln T`` (heated) or ``a3`` (cooling) differ from
-those of the previous window by less than three combined standard errors (at least two
-windows, at most 20; ``info.converged`` is False if the cap is hit).
+those of the previous window by less than three combined standard errors (each from the
+spread of five sub-block means, as the samples are correlated; at least two windows,
+at most 20; ``info.converged`` is False if the cap is hit).
 
 References
 ----------
@@ -81,7 +82,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from kinetic_fem.distribution import VelocityDistribution
 from kinetic_fem.gas import CoolingProblem, HeatedProblem, check_finite_array, check_positive
-from kinetic_fem.sonine import steady_temperature
+from kinetic_fem.sonine import a2_first_order, steady_temperature
 
 from ._dsmc_engine import DSMCRun, Engine
 
@@ -104,10 +105,23 @@ def _check_int(name: str, value: object, lo: int, hi: int | None = None) -> int:
 
 
 def _initial(initial: ArrayLike | None, n: int, temperature: float,
-             seed_seq: np.random.SeedSequence) -> NDArray[np.float64]:
+             seed_seq: np.random.SeedSequence, a2: float = 0.0) -> NDArray[np.float64]:
+    r"""The user's state, or ``n`` draws from :math:`\Phi(c)(1 + a_2 S_2(c^2))_+`, ``|c| < 6``.
+
+    Rejection from the Gaussian; ``a2 = 0`` gives the Gaussian itself.
+    """
     if initial is None:
         rng = np.random.default_rng(seed_seq)
-        v = rng.normal(0.0, math.sqrt(temperature), n)
+        grid = np.linspace(0.0, 6.0, 601) ** 2
+        weight = lambda c2: np.maximum(1 + a2 * (c2**2 / 8 - 3 * c2 / 4 + 3 / 8), 0.0)  # noqa: E731
+        top = weight(grid).max()
+        parts, count = [], 0
+        while count < n:
+            c = rng.normal(size=2 * (n - count) + 16)
+            keep = (np.abs(c) < 6) & (rng.random(c.size) * top < weight(c**2))
+            parts.append(c[keep][: n - count])
+            count += parts[-1].size
+        v = np.concatenate(parts) * math.sqrt(temperature)
     else:
         v = check_finite_array("initial_velocities", initial, ndim=1).copy()
         if v.shape != (n,):
@@ -145,6 +159,11 @@ def _common(n_particles: int, collisions_per_particle: float, relax: str | float
     if max_wall_time is not None:
         check_positive("max_wall_time", max_wall_time)
     w = max(2.0, 2.0 / (1.0 - alpha**2))
+    if cpp / nb < w:
+        logger.warning("batches of %.3g collisions per particle are shorter than the "
+                       "relaxation window %.3g (2/(1-alpha^2)): consecutive batches are "
+                       "correlated and the error bars too small; run longer or use fewer "
+                       "batches", cpp / nb, w)
     return {"n": n, "relax": relax if relax == "auto" else float(relax),
             "sample_every": every, "n_batches": nb, "n_samples": n_samples,
             "bins": _check_int("bins", bins, 1), "c_max": check_positive("c_max", c_max),
@@ -188,11 +207,17 @@ def simulate_heated(alpha: float, n_particles: int, *, density: float = 1.0,
     sample_every : float
         Collisions per particle between measurements (time series and histogram).
     n_batches, bins, c_max : int, int, float
-        Consecutive batches for error bars; histogram of ``v`` with ``bins`` bins on
+        Consecutive batches for error bars (each should be longer than the correlation
+        time, about ``2/(1-alpha^2)`` collisions per particle near ``alpha = 1``, where
+        the shape changes slowly; a warning is logged otherwise); histogram of ``v``
+        with ``bins`` bins on
         :math:`|v| \\le c_{max}\\sqrt{T_{ref}}` (first-order Sonine ``T_ref``; the same
         edges for every seed, so replicas merge).  Moments use every sample.
     initial_velocities : array_like, shape (N,), optional
-        Initial state (finite); default Gaussian at ``T_ref``.
+        Initial state (finite); default the first-order Sonine distribution
+        :math:`\\Phi(c)(1 + a_2 S_2)` at ``T_ref`` (close to the steady state, so that
+        the slow shape relaxation near ``alpha = 1``, ~``1/(1-alpha)`` collisions per
+        particle, starts near its end).
     checkpoint, checkpoint_every, resume : path, float, bool
         Write the state every ``checkpoint_every`` seconds and at the end; with
         ``resume=True`` continue from the file if it exists (bit-identical).
@@ -225,7 +250,7 @@ def simulate_heated(alpha: float, n_particles: int, *, density: float = 1.0,
                 c_max, checkpoint, checkpoint_every, resume, max_wall_time, progress, gas.alpha)
     t_ref = steady_temperature(gas.alpha, gas.density, problem.diffusion)
     init_seq, run_seq, entropy = _seeds(seed)
-    v = _initial(initial_velocities, o["n"], t_ref, init_seq)
+    v = _initial(initial_velocities, o["n"], t_ref, init_seq, a2=a2_first_order(gas.alpha))
     t_max = max(t_ref, float(np.mean(v**2)))
     rate = gas.density * 2.0 * math.sqrt(t_ref / math.pi)  # collisions per particle per time
     dt = 0.05 / rate if dt is None else check_positive("dt", dt)

@@ -42,8 +42,10 @@ def _heated_size(ctx: Context) -> tuple[int, float]:
 
 @lru_cache(maxsize=None)
 def _heated(alpha: float, n: int, cpp: float, seed: int) -> dsmc.DSMCRun:
+    """Averaging over at least 10 batches of 2/(1-alpha^2) collisions per particle each."""
+    cpp = max(cpp, 20.0 / (1.0 - alpha**2))
     return dsmc.simulate_heated(alpha, n, seed=seed, collisions_per_particle=cpp, c_max=12.0,
-                                bins=240)
+                                bins=240, n_batches=10)
 
 
 @lru_cache(maxsize=None)
