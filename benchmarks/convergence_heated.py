@@ -105,7 +105,9 @@ def main() -> None:
     if args.order == 1:
         spacings = [s / 4 for s in spacings]
     for alpha in args.alphas:
-        study(alpha, spacings, args.order, args.symmetric)
+        # near-elastic: Newton from the continuation guess needs spacing <= 0.2
+        sp = [s / 2 for s in spacings] if alpha >= 0.99 else spacings
+        study(alpha, sp, args.order, args.symmetric)
 
 
 if __name__ == "__main__":

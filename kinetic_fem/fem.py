@@ -58,7 +58,7 @@ from .grid import symmetric_grid, uniform_grid
 from .solve import register_solver
 
 __all__ = ["FEMDiscretisation", "SteadyState", "ResolutionWarning", "ConvergenceError",
-           "default_cutoff", "steady_state", "solve_fem", "ELEMENTS"]
+           "default_cutoff", "default_spacing", "steady_state", "solve_fem", "ELEMENTS"]
 
 logger = logging.getLogger(__name__)
 
@@ -119,6 +119,17 @@ def default_cutoff(alpha: float) -> float:
     c_cubic = (6.0 * decades) ** (1.0 / 3.0) / ((1.0 - alpha) ** (1 / 3) * temperature**0.5)
     c_tail = (decades / sonine.tail_exponent_amplitude(temperature=temperature)) ** (2 / 3)
     return max(c_tail, min(c_gauss, c_cubic)) + 1.0
+
+
+def default_spacing(alpha: float) -> float:
+    """P2 element size (thermal velocities) meeting the production tolerances.
+
+    :math:`0.08\\,\\min(1, (\\varepsilon/0.1)^{1/5})`, from
+    ``benchmarks/convergence_heated.py``: at 0.08, T is within 3e-9, a2 within 3e-8 and
+    f(c) within 2e-6 for alpha <= 0.9; the cubic tails near alpha = 1 need finer
+    elements for f (spacing 0.05 gives 1e-4 at alpha = 0.99, 0.032 at 0.999).
+    """
+    return 0.08 * min(1.0, (10.0 * (1.0 - alpha)) ** 0.2)
 
 
 @dataclass(frozen=True, eq=False)
@@ -357,7 +368,7 @@ class SteadyState:
         return -float(np.sum(x**2 * fp)), float(loss)
 
 
-def steady_state(alpha: float, *, order: int = 2, spacing: float = 0.08,
+def steady_state(alpha: float, *, order: int = 2, spacing: float | None = None,
                  cutoff: float | None = None, vertices=None, intorder: int | None = None,
                  symmetric: bool = False, tol: float = 1e-11,
                  max_iter: int = 40) -> SteadyState:
@@ -368,6 +379,7 @@ def steady_state(alpha: float, *, order: int = 2, spacing: float = 0.08,
     """
     if order not in ELEMENTS:
         raise ValueError(f"order must be one of {sorted(ELEMENTS)}, got {order!r}")
+    spacing = default_spacing(alpha) if spacing is None else spacing
     c_max = default_cutoff(alpha) if cutoff is None else cutoff
     verts = _mesh(alpha, cutoff=c_max, spacing=spacing, vertices=vertices)
     disc = FEMDiscretisation(alpha, verts, order, intorder or 2 * order + 1, symmetric)
@@ -376,7 +388,7 @@ def steady_state(alpha: float, *, order: int = 2, spacing: float = 0.08,
         # start from the solution at eps' = 10 eps, rescaled to f(c) (quasi-elastic
         # limits are approached smoothly in c; Newton from a Gaussian is not robust there)
         coarse = steady_state(max(1.0 - 10.0 * (1.0 - alpha), CONTINUATION_ALPHA - 0.05),
-                              order=order, spacing=max(spacing, 0.2), symmetric=symmetric,
+                              order=order, spacing=0.2, symmetric=symmetric,
                               tol=1e-6, max_iter=max_iter)
         u0 = coarse.initial_guess(disc.dof_locations, sonine.steady_temperature(alpha))
     for widening in range(MAX_WIDENINGS + 1):
@@ -406,7 +418,7 @@ def steady_state(alpha: float, *, order: int = 2, spacing: float = 0.08,
 
 
 @register_solver("fem", problem="heated")
-def solve_fem(problem: HeatedProblem, *, order: int = 2, spacing: float = 0.08,
+def solve_fem(problem: HeatedProblem, *, order: int = 2, spacing: float | None = None,
               cutoff: float | None = None, vertices=None, intorder: int | None = None,
               symmetric: bool = False, tol: float = 1e-11,
               max_iter: int = 40) -> VelocityDistribution:
@@ -417,8 +429,9 @@ def solve_fem(problem: HeatedProblem, *, order: int = 2, spacing: float = 0.08,
     problem : HeatedProblem
     order : int
         Lagrange degree, 1 or 2.
-    spacing : float
-        Element size in thermal velocities :math:`\\sqrt{T}`.
+    spacing : float, optional
+        Element size in thermal velocities :math:`\\sqrt{T}`; default
+        :func:`default_spacing` (T to 1e-8, a2 to 1e-6, f(c) to 1e-4 down to 1e-30).
     cutoff : float, optional
         Half-width :math:`V/\\sqrt{T}` of the velocity interval; default
         :func:`default_cutoff` (covers :math:`f(c) > 10^{-30}`).

@@ -54,8 +54,8 @@ class HeatedFEMResult:
     tail_amplitude_theory: float
 
 
-def main(alpha: float = 0.6, spacing: float = 0.08) -> HeatedFEMResult:
-    """Solve at ``alpha`` on P2 elements of size ``spacing`` thermal velocities."""
+def main(alpha: float = 0.6, spacing: float | None = None) -> HeatedFEMResult:
+    """Solve at ``alpha`` on P2 elements of ``spacing`` thermal velocities (default: production)."""
     dist = kf.solve_heated(alpha, method="fem", spacing=spacing)
     c, f = dist.c, dist.f_values
     tail = (c > 0) & (f > 1e-30)
