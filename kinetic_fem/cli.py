@@ -18,6 +18,7 @@ Also runs as ``python -m kinetic_fem``.
 from __future__ import annotations
 
 import argparse
+import ast
 import importlib
 import logging
 import pkgutil
@@ -98,7 +99,8 @@ def build_parser() -> argparse.ArgumentParser:
     sol = sub.add_parser(
         "solve-heated", help="steady state of the heated gas at one alpha",
         description="Solve the heated steady state and print T and a2.",
-        epilog="example:\n  kinetic-fem solve-heated 0.9 --method fem --out a09.vtu",
+        epilog="examples:\n  kinetic-fem solve-heated 0.9 --method fem --out a09.vtu\n"
+               "  kinetic-fem solve-heated 0.5 --method fd -o cutoff=20.0",
         formatter_class=argparse.RawDescriptionHelpFormatter)
     sol.add_argument("alpha", type=float, help="restitution coefficient, 0 <= alpha < 1")
     sol.add_argument("--method", default="fem",
@@ -109,6 +111,10 @@ def build_parser() -> argparse.ArgumentParser:
                      help="noise strength D > 0 (default: %(default)s)")
     sol.add_argument("--out", type=Path, default=None, metavar="FILE",
                      help="save the distribution: .npz, .vtu or .xdmf")
+    sol.add_argument("-o", "--option", dest="options", type=_key_value, action="append",
+                     default=[], metavar="KEY=VALUE",
+                     help="solver option, repeatable, e.g. -o spacing=0.05 "
+                          "(see the solver's documentation)")
     sol.add_argument("--quiet", action="store_true", help="no log messages")
     return parser
 
@@ -117,6 +123,18 @@ def _version() -> str:
     from . import __version__
 
     return f"kinetic-fem {__version__}"
+
+
+def _key_value(text: str) -> tuple[str, object]:
+    """``KEY=VALUE`` with VALUE a Python literal (number, bool, string, tuple ...)."""
+    key, sep, value = text.partition("=")
+    if not sep or not key.strip().isidentifier():
+        raise argparse.ArgumentTypeError(f"expected KEY=VALUE, got {text!r}")
+    try:
+        parsed: object = ast.literal_eval(value)
+    except (ValueError, SyntaxError):
+        parsed = value  # a plain string
+    return key.strip(), parsed
 
 
 def _split_keys(text: str) -> list[str]:
@@ -229,7 +247,7 @@ def _run_solve_heated(args: argparse.Namespace) -> int:
     if args.out is not None and args.out.suffix not in {".npz", *io.FORMATS}:
         raise ValueError(f"--out must end in .npz, .vtu or .xdmf, got {str(args.out)!r}")
     dist = solve_heated(args.alpha, density=args.density, diffusion=args.diffusion,
-                        method=args.method)
+                        method=args.method, **dict(args.options))
     print(f"method={dist.method or args.method} alpha={args.alpha} density={args.density} "
           f"diffusion={args.diffusion}")
     print(f"T = {dist.temperature:.10g}")

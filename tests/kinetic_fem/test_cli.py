@@ -105,8 +105,9 @@ def test_bad_input_exits_with_a_message(capsys):
 
 @pytest.fixture
 def toy_solver():
-    def solver(problem):
-        v = np.linspace(-8, 8, 161) * problem.velocity_scale
+    def solver(problem, *, n_v=161, label="x"):
+        assert isinstance(label, str)
+        v = np.linspace(-8, 8, n_v) * problem.velocity_scale
         return VelocityDistribution.from_values(v, np.exp(-v**2 / 2), method="cli-toy")
 
     register_solver("cli-toy", problem="heated")(solver)
@@ -146,3 +147,17 @@ def test_python_dash_m_runs_the_command():
                           capture_output=True, text=True, timeout=120, check=False)
     assert done.returncode == 0, done.stderr
     assert "S1" in done.stdout
+
+
+def test_solve_heated_passes_solver_options(tmp_path, capsys, toy_solver):
+    path = tmp_path / "d.npz"
+    assert main(["solve-heated", "0.5", "--method", "cli-toy", "-o", "n_v=41",
+                 "--option", "label=abc", "--out", str(path), "--quiet"]) == 0
+    assert VelocityDistribution.load(path).v.size == 41
+    with pytest.raises(SystemExit) as exit_:
+        main(["solve-heated", "0.5", "--method", "cli-toy", "-o", "n_vv=41"])
+    assert exit_.value.code == 2
+    assert "n_vv" in capsys.readouterr().err
+    with pytest.raises(SystemExit):
+        main(["solve-heated", "0.5", "-o", "no-equals-sign"])
+    assert "expected KEY=VALUE" in capsys.readouterr().err
