@@ -379,7 +379,12 @@ def steady_state(alpha: float, *, order: int = 2, spacing: float | None = None,
     """
     if order not in ELEMENTS:
         raise ValueError(f"order must be one of {sorted(ELEMENTS)}, got {order!r}")
-    spacing = default_spacing(alpha) if spacing is None else spacing
+    spacing = default_spacing(alpha) if spacing is None else check_positive("spacing", spacing)
+    if alpha > CONTINUATION_ALPHA and spacing > 0.3 and vertices is None:
+        raise ValueError(f"spacing={spacing} thermal velocities is too coarse for alpha={alpha}"
+                         " (Newton's method does not converge there); use spacing <= 0.3, "
+                         f"production accuracy: default_spacing({alpha}) = "
+                         f"{default_spacing(alpha):.3g}")
     c_max = default_cutoff(alpha) if cutoff is None else cutoff
     verts = _mesh(alpha, cutoff=c_max, spacing=spacing, vertices=vertices)
     disc = FEMDiscretisation(alpha, verts, order, intorder or 2 * order + 1, symmetric)

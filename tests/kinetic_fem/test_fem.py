@@ -192,6 +192,8 @@ def test_bad_input():
         fem.solve_fem(problem, spacing=0.4, cutoff=5.0)
     with pytest.warns(fem.ResolutionWarning, match="coarse"):
         fem.solve_fem(problem, spacing=0.8)
+    with pytest.raises(ValueError, match="too coarse for alpha"):
+        kf.solve_heated(0.99, method="fem", spacing=0.4)
 
 
 def test_transient_conserves_mass_and_heats_towards_steady_state():
