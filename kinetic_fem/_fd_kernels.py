@@ -13,7 +13,8 @@ a sum over the ``2n - 1`` nodes :math:`v_k = (k - n + 1) h` of the symmetric gri
 its quadrature weights :math:`w_k` and kink corrections :math:`c_k`
 (:func:`kinetic_fem.grid.simpson_kink_correction`, indexed at the node of
 :math:`v_i`).  :math:`\\tilde P` is the quadratic interpolant on the three nodes
-nearest its argument, using the symmetry at ``v = 0`` and :math:`P = 0` beyond the
+nearest its argument (the paper; ``order=2``) or the cubic one on the four nodes
+around it (``order=3``), using the symmetry at ``v = 0`` and :math:`P = 0` beyond the
 cut-off.  The kernels take arrays and scalars only; callers validate.
 """
 
@@ -29,49 +30,73 @@ __all__ = ["interpolate_half", "gain_integral", "gain_jacobian"]
 
 
 @jit
-def _stencil(p, u, n):
-    """Nearest node ``m`` of ``u`` (in units of h), offset ``s`` and the three values."""
-    m = int(u + 0.5)
-    s = u - m
-    pm = p[m - 1] if m >= 1 else p[1]
-    p0 = p[m] if m < n else 0.0
-    pp = p[m + 1] if m + 1 < n else 0.0
-    return m, s, pm, p0, pp
+def _stencil(u, n, order, nodes, lw):
+    """Lagrange stencil of ``order`` (2: three nearest nodes, 3: four nodes around the
+    cell) at ``u`` (units of h, ``u >= 0``): fills ``nodes`` (mirrored at 0, -1 beyond the
+    cut-off) and weights ``lw``; returns the number of nodes."""
+    if order == 3:
+        m = int(u)
+        s = u - m
+        lw[0] = -s * (s - 1.0) * (s - 2.0) / 6.0
+        lw[1] = 0.5 * (s + 1.0) * (s - 1.0) * (s - 2.0)
+        lw[2] = -0.5 * (s + 1.0) * s * (s - 2.0)
+        lw[3] = (s + 1.0) * s * (s - 1.0) / 6.0
+        first, count = m - 1, 4
+    else:
+        m = int(u + 0.5)
+        s = u - m
+        lw[0] = 0.5 * s * (s - 1.0)
+        lw[1] = 1.0 - s * s
+        lw[2] = 0.5 * s * (s + 1.0)
+        first, count = m - 1, 3
+    for q in range(count):
+        node = abs(first + q)
+        nodes[q] = node if node < n else -1
+    return count
 
 
 @jit
-def _interp(p, lnp, u, n, log_interp):
-    """Quadratic interpolation of ``p`` (or of ``ln p``) at ``u`` h, ``u >= 0``."""
-    if u >= n:
-        return 0.0
-    m, s, pm, p0, pp = _stencil(p, u, n)
-    lm = 0.5 * s * (s - 1.0)
-    l0 = 1.0 - s * s
-    lp = 0.5 * s * (s + 1.0)
-    if log_interp and pm > 0.0 and p0 > 0.0 and pp > 0.0:
-        lnm = lnp[m - 1] if m >= 1 else lnp[1]
-        return math.exp(lm * lnm + l0 * lnp[m] + lp * lnp[m + 1])
-    val = lm * pm + l0 * p0 + lp * pp
+def _interp(p, lnp, count, nodes, lw, log_interp):
+    """Interpolated value from a stencil (of ``ln p`` when all its values are positive)."""
+    positive = log_interp
+    for q in range(count):
+        if nodes[q] < 0 or p[nodes[q]] <= 0.0:
+            positive = False
+    if positive:
+        acc = 0.0
+        for q in range(count):
+            acc += lw[q] * lnp[nodes[q]]
+        return math.exp(acc)
+    val = 0.0
+    for q in range(count):
+        if nodes[q] >= 0:
+            val += lw[q] * p[nodes[q]]
     return val if val > 0.0 else 0.0
 
 
 @jit
-def interpolate_half(p, lnp, u, log_interp):
+def interpolate_half(p, lnp, u, log_interp, order):
     """:math:`\\tilde P` at ``|u|`` (array, in units of h) from half-grid values ``p``."""
     n = p.size
-    out = np.empty(u.size)
+    out = np.zeros(u.size)
+    nodes = np.empty(4, dtype=np.int64)
+    lw = np.empty(4)
     for i in range(u.size):
-        out[i] = _interp(p, lnp, abs(u[i]), n, log_interp)
+        if abs(u[i]) < n:
+            count = _stencil(abs(u[i]), n, order, nodes, lw)
+            out[i] = _interp(p, lnp, count, nodes, lw, log_interp)
     return out
 
 
 @jit
-def gain_integral(p, lnp, w, corr, alpha, h, log_interp):
+def gain_integral(p, lnp, w, corr, alpha, h, log_interp, order):
     """:math:`G_i` (module docstring) for ``i = 0 .. n - 1``; O(n^2)."""
     n = p.size
     out = np.zeros(n)
     a = (1.0 - alpha) / (1.0 + alpha)
     b = 2.0 / (1.0 + alpha)
+    nodes = np.empty(4, dtype=np.int64)
+    lw = np.empty(4)
     for i in range(n):
         acc = 0.0
         for k in range(2 * n - 1):
@@ -82,13 +107,14 @@ def gain_integral(p, lnp, w, corr, alpha, h, log_interp):
             u = abs(b * i - a * j)
             if u >= n:
                 continue
-            acc += w[k] * abs(i - j) * h * pk * _interp(p, lnp, u, n, log_interp)
+            count = _stencil(u, n, order, nodes, lw)
+            acc += w[k] * abs(i - j) * h * pk * _interp(p, lnp, count, nodes, lw, log_interp)
         out[i] = acc + corr[n - 1 + i] * p[i] * p[i]
     return out
 
 
 @jit
-def gain_jacobian(p, lnp, w, corr, alpha, h, log_interp):
+def gain_jacobian(p, lnp, w, corr, alpha, h, log_interp, order):
     """Dense Jacobian :math:`\\partial G_i / \\partial P_l` of :func:`gain_integral`.
 
     Both the quadrature factor :math:`P(v_k)` and the interpolated value depend on
@@ -99,31 +125,28 @@ def gain_jacobian(p, lnp, w, corr, alpha, h, log_interp):
     jac = np.zeros((n, n))
     a = (1.0 - alpha) / (1.0 + alpha)
     b = 2.0 / (1.0 + alpha)
-    lw = np.empty(3)
-    nodes = np.empty(3, dtype=np.int64)
+    nodes = np.empty(4, dtype=np.int64)
+    lw = np.empty(4)
     for i in range(n):
         for k in range(2 * n - 1):
             j = k - (n - 1)
             u = abs(b * i - a * j)
             if u >= n:
                 continue
-            m, s, pm, p0, pp = _stencil(p, u, n)
-            lw[0] = 0.5 * s * (s - 1.0)
-            lw[1] = 1.0 - s * s
-            lw[2] = 0.5 * s * (s + 1.0)
-            nodes[0] = m - 1 if m >= 1 else 1
-            nodes[1] = m
-            nodes[2] = m + 1
+            count = _stencil(u, n, order, nodes, lw)
             c = w[k] * abs(i - j) * h
-            val = _interp(p, lnp, u, n, log_interp)
+            val = _interp(p, lnp, count, nodes, lw, log_interp)
             jac[i, abs(j)] += c * val
             pk = p[abs(j)]
-            use_log = log_interp and pm > 0.0 and p0 > 0.0 and pp > 0.0
+            use_log = log_interp
+            for q in range(count):
+                if nodes[q] < 0 or p[nodes[q]] <= 0.0:
+                    use_log = False
             if val == 0.0 and not use_log:
                 continue
-            for q in range(3):
+            for q in range(count):
                 node = nodes[q]
-                if node < n:
+                if node >= 0:
                     if use_log:
                         jac[i, node] += c * pk * val * lw[q] / p[node]
                     else:

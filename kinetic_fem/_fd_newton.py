@@ -59,15 +59,17 @@ def laplacian(p: NDArray[np.float64], h: float) -> NDArray[np.float64]:
 
 
 def steady_residual(grid: HalfGrid, p: NDArray[np.float64], multiplier: float, *,
-                    alpha: float, log_interp: bool = True) -> NDArray[np.float64]:
+                    alpha: float, log_interp: bool = True, order: int = 2
+                    ) -> NDArray[np.float64]:
     """:math:`R_i(P, \\lambda)` of the module docstring (unit problem)."""
     nu = loss_frequency(grid, p, density=1.0)
-    gain = gain_term(grid, p, alpha=alpha, density=1.0, log_interp=log_interp)
+    gain = gain_term(grid, p, alpha=alpha, density=1.0, log_interp=log_interp, order=order)
     return laplacian(p, grid.h) + gain - (nu + multiplier) * p
 
 
 def _jacobian(grid: HalfGrid, p: NDArray[np.float64], nu: NDArray[np.float64],
-              multiplier: float, alpha: float, log_interp: bool) -> NDArray[np.float64]:
+              multiplier: float, alpha: float, log_interp: bool, order: int
+              ) -> NDArray[np.float64]:
     """Dense :math:`\\partial R_i / \\partial P_l`."""
     n, h = grid.n, grid.h
     jac = np.zeros((n, n))
@@ -79,7 +81,8 @@ def _jacobian(grid: HalfGrid, p: NDArray[np.float64], nu: NDArray[np.float64],
     with np.errstate(divide="ignore"):
         lnp = np.where(p > 0, np.log(np.where(p > 0, p, 1.0)), -np.inf)
     jac += 4.0 / (1.0 + alpha) ** 2 * gain_jacobian(p, lnp, grid.weights, grid.kink,
-                                                    float(alpha), h, bool(log_interp))
+                                                    float(alpha), h, bool(log_interp),
+                                                    int(order))
     v = grid.v
     w_pos = grid.weights[n - 1:]
     w_neg = grid.weights[n - 1::-1]
@@ -92,8 +95,8 @@ def _jacobian(grid: HalfGrid, p: NDArray[np.float64], nu: NDArray[np.float64],
 
 
 def newton_steady(grid: HalfGrid, p0: NDArray[np.float64], *, alpha: float,
-                  log_interp: bool = True, tol: float = 1e-10, max_iter: int = 60,
-                  monitor_floor: float = 1e-50) -> NewtonResult:
+                  log_interp: bool = True, order: int = 2, tol: float = 1e-10,
+                  max_iter: int = 60, monitor_floor: float = 1e-50) -> NewtonResult:
     """Solve :math:`R(P,\\lambda) = 0`, :math:`\\sum w P = 1` from ``p0`` (positive).
 
     Parameters
@@ -124,7 +127,7 @@ def newton_steady(grid: HalfGrid, p0: NDArray[np.float64], *, alpha: float,
 
     def scaled(p_: NDArray[np.float64], lam_: float) -> tuple[NDArray[np.float64], ...]:
         nu_ = loss_frequency(grid, p_, density=1.0)
-        res_ = steady_residual(grid, p_, lam_, alpha=alpha, log_interp=log_interp)
+        res_ = steady_residual(grid, p_, lam_, alpha=alpha, log_interp=log_interp, order=order)
         act_ = p_ > _UNDERFLOW
         d_ = np.where(act_, p_ * (nu_ + 2.0 / grid.h**2), 1.0)
         return nu_, res_, d_, act_
@@ -141,7 +144,7 @@ def newton_steady(grid: HalfGrid, p0: NDArray[np.float64], *, alpha: float,
     it = 0
     while it < max_iter:
         it += 1
-        jac = _jacobian(grid, p, nu, lam, alpha, log_interp)
+        jac = _jacobian(grid, p, nu, lam, alpha, log_interp, order)
         a = np.flatnonzero(act)
         m = a.size
         big = np.zeros((m + 1, m + 1))

@@ -148,7 +148,7 @@ def loss_frequency(grid: HalfGrid, p: NDArray[np.float64], *, density: float
 
 
 def gain_term(grid: HalfGrid, p: NDArray[np.float64], *, alpha: float, density: float,
-              log_interp: bool = True) -> NDArray[np.float64]:
+              log_interp: bool = True, order: int = 2) -> NDArray[np.float64]:
     """Gain term of the strong collision operator on the half grid, O(n^2).
 
     .. math::
@@ -167,6 +167,9 @@ def gain_term(grid: HalfGrid, p: NDArray[np.float64], *, alpha: float, density: 
         Interpolate :math:`\\ln P` quadratically (exact for Gaussians, positive,
         accurate relative to the tail value) instead of :math:`P`; falls back to
         :math:`P` where a stencil value is zero.
+    order : {2, 3}
+        Quadratic interpolation on the three nearest nodes (the paper) or cubic on the
+        four nodes around the argument.
 
     Notes
     -----
@@ -177,12 +180,15 @@ def gain_term(grid: HalfGrid, p: NDArray[np.float64], *, alpha: float, density: 
     p = np.ascontiguousarray(p, dtype=float)
     with np.errstate(divide="ignore"):
         lnp = np.where(p > 0, np.log(np.where(p > 0, p, 1.0)), -np.inf)
-    g = gain_integral(p, lnp, grid.weights, grid.kink, float(alpha), grid.h, bool(log_interp))
+    if order not in (2, 3):
+        raise ValueError(f"interpolation order must be 2 or 3, got {order!r}")
+    g = gain_integral(p, lnp, grid.weights, grid.kink, float(alpha), grid.h, bool(log_interp),
+                      int(order))
     return 4.0 * density / (1.0 + alpha) ** 2 * g
 
 
 def collision_term(grid: HalfGrid, p: NDArray[np.float64], *, alpha: float, density: float,
-                   log_interp: bool = True) -> NDArray[np.float64]:
+                   log_interp: bool = True, order: int = 2) -> NDArray[np.float64]:
     """Strong form :math:`Q[P,P](v_i) = G(v_i) - \\nu(v_i) P(v_i)` on the half grid.
 
     Examples
@@ -193,5 +199,6 @@ def collision_term(grid: HalfGrid, p: NDArray[np.float64], *, alpha: float, dens
     >>> bool(abs(np.sum(g.weights * g.full(q))) < 1e-6)  # mass conserved
     True
     """
-    return (gain_term(grid, p, alpha=alpha, density=density, log_interp=log_interp)
+    return (gain_term(grid, p, alpha=alpha, density=density, log_interp=log_interp,
+                      order=order)
             - loss_frequency(grid, p, density=density) * p)

@@ -129,14 +129,16 @@ def test_richardson_improves_a2():
 def test_gain_jacobian_matches_finite_differences():
     g = half_grid(4.0, 41)
     p = np.exp(-g.v**2 / 8 * (1 + 0.1 * np.sin(g.v)))
-    for log_interp in (True, False):
-        jac = gain_jacobian(p, np.log(p), g.weights, g.kink, 0.3, g.h, log_interp)
+    for log_interp, order in ((True, 2), (False, 2), (True, 3), (False, 3)):
+        jac = gain_jacobian(p, np.log(p), g.weights, g.kink, 0.3, g.h, log_interp, order)
         num = np.zeros_like(jac)
         for k in range(p.size):
             e = np.zeros_like(p)
             e[k] = 1e-6 * p[k]
-            plus = gain_integral(p + e, np.log(p + e), g.weights, g.kink, 0.3, g.h, log_interp)
-            minus = gain_integral(p - e, np.log(p - e), g.weights, g.kink, 0.3, g.h, log_interp)
+            plus = gain_integral(p + e, np.log(p + e), g.weights, g.kink, 0.3, g.h, log_interp,
+                                 order)
+            minus = gain_integral(p - e, np.log(p - e), g.weights, g.kink, 0.3, g.h,
+                                  log_interp, order)
             num[:, k] = (plus - minus) / (2e-6 * p[k])
         assert np.abs(jac - num).max() < 1e-7 * np.abs(jac).max()
 
