@@ -26,12 +26,14 @@ import kinetic_fem.finite_difference  # noqa: F401  (registers "fd")
 from kinetic_fem.collision import energy_balance
 from kinetic_fem.distribution import VelocityDistribution
 
+ORDER = 2
+
 
 def solve(alpha: float, spacing: float, cutoff: float) -> VelocityDistribution:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         return kf.solve_heated(alpha, method="fd", steady="newton", spacing=spacing,
-                               cutoff=cutoff)
+                               cutoff=cutoff, interpolation_order=ORDER)
 
 
 def f_rel(a: VelocityDistribution, b: VelocityDistribution) -> float:
@@ -49,7 +51,8 @@ def orders(diffs: list[float]) -> list[str]:
 
 def study(alpha: float, spacings: list[float]) -> None:
     cut = kinetic_fem.finite_difference.default_cutoff(alpha)
-    print(f"\n=== alpha = {alpha}  (cutoff {cut:.1f} sqrt(T), Newton on the FD equations) ===")
+    print(f"\n=== alpha = {alpha}  (cutoff {cut:.1f} sqrt(T), Newton on the FD equations, "
+          f"interpolation order {ORDER}) ===")
     sols, times = [], []
     # a cut-off on the coarsest grid, so that all grids nest
     cutoff = spacings[0] * math.ceil(kinetic_fem.finite_difference.default_cutoff(alpha)
@@ -59,12 +62,12 @@ def study(alpha: float, spacings: list[float]) -> None:
         sols.append(solve(alpha, h, cutoff))
         times.append(time.perf_counter() - t0)
     print(f"{'h':>8} {'n_v':>6} {'T':>20} {'a2':>20} {'C1 resid':>10} {'lambda':>10} "
-          f"{'iters':>5} {'wall s':>7}")
+          f"{'iters':>5} {'conv':>5} {'wall s':>7}")
     for h, d, t in zip(spacings, sols, times, strict=True):
         eb = energy_balance(d.v, d.values, _weights(d), alpha=alpha, density=1.0, diffusion=1.0)
         print(f"{h:8.4f} {d.v.size:6d} {d.temperature:20.14f} {d.a2:20.14f} "
               f"{eb.relative_residual:10.2e} {d.info.extra['mass_defect_rate']:10.2e} "
-              f"{d.info.iterations:5d} {t:7.2f}")
+              f"{d.info.iterations:5d} {str(d.info.converged):>5} {t:7.2f}")
     dt = [abs(sols[i].temperature / sols[i + 1].temperature - 1) for i in range(len(sols) - 1)]
     da = [abs(sols[i].a2 - sols[i + 1].a2) for i in range(len(sols) - 1)]
     df = [f_rel(sols[i], sols[i + 1]) for i in range(len(sols) - 1)]
@@ -125,7 +128,11 @@ def main() -> None:
                         default=[0.0, 0.1, 0.6, 0.9, 0.99, 0.999])
     parser.add_argument("--spacings", type=float, nargs="+", default=[0.16, 0.08, 0.04, 0.02])
     parser.add_argument("--fem", action="store_true", help="import kinetic_fem.fem and compare")
+    parser.add_argument("--order", type=int, default=2, choices=(2, 3),
+                        help="interpolation order of the gain argument (2: the paper)")
     args = parser.parse_args()
+    global ORDER
+    ORDER = args.order
     if args.fem:
         import kinetic_fem.fem  # noqa: F401
     for alpha in args.alphas:
