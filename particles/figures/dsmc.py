@@ -260,6 +260,11 @@ def _cooling(eps: float, quick: bool, seed: int) -> dsmc.DSMCRun:
                                  c_max=3.0, bins=1200, n_batches=10)
 
 
+def _log_diff(log_a: float, log_b: float) -> float:
+    """:math:`\\ln(b - a)` from :math:`\\ln a < \\ln b` without leaving the float range."""
+    return float(log_b + math.log1p(-math.exp(log_a - log_b)))
+
+
 def _hump(run: dsmc.DSMCRun) -> tuple[float, float]:
     """Mean and width of the c > 0 hump from the histogram."""
     d = run.distribution
@@ -282,10 +287,11 @@ def cooling_humps(ctx: Context) -> list[ClaimRow]:
         ax.plot(d.c, d.f_values, "-", lw=0.8, label=f"eps={eps:g}")
         s = run.series
         late = s["collisions_per_particle"] > run.relaxed_at
-        # d T^(-1/2)/dt = (n/8)(1 - alpha^2) <|c - c'|^3> in the scaling state
-        inv_sqrt = np.exp(-0.5 * s["log_temperature"][late])
-        rate = np.polyfit(s["t"][late], inv_sqrt, 1)[0]
-        kappa = 8.0 * rate / (1.0 - (1.0 - eps) ** 2)
+        # d T^(-1/2)/dt = (n/8)(1 - alpha^2) <|c - c'|^3> in the scaling state, from the
+        # first and last late samples, in logarithms (T and t leave the float range)
+        lt, lx = s["log_t"][late], -0.5 * s["log_temperature"][late]
+        log_rate = _log_diff(lx[0], lx[-1]) - _log_diff(lt[0], lt[-1])
+        kappa = 8.0 * math.exp(log_rate) / (1.0 - (1.0 - eps) ** 2)
         n, relax = _cooling_size(eps, ctx.quick)
         rows.append(ClaimRow("C9", f"<|c-c'|^3> from dT/dt, eps={eps:g}", f"{kappa:.3f}",
                              "-> 4 (two delta peaks: T = 1/(n eps t)^2)",
