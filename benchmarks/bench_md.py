@@ -77,7 +77,7 @@ def speed(quick: bool) -> None:
         tau = md.mean_free_time(steady_temperature(0.9, N_FREE), 1.0, 0.5)
         run = min((md.simulate_heated(0.9, 5000, seed=2, kick_interval=frac * tau,
                                       collisions_per_particle=20.0 if quick else 100.0,
-                                      n_records=5, n_samples=10, box_counts=[2])
+                                      n_records=5, box_counts=[2])
                    for _ in range(2)), key=lambda r: r.info.wall_time)
         print(f"{frac:8.2f} {run.n_kicks:7d} {run.n_collisions:11d} {run.info.wall_time:7.3f} "
               f"{run.n_collisions / run.info.wall_time:9.3g} "
