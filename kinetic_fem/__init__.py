@@ -18,8 +18,7 @@ import logging
 from . import fem, finite_difference, gas, grid, scaling, sonine, spectral  # noqa: F401
 from .distribution import RunInfo, VelocityDistribution
 from .gas import CoolingProblem, HeatedProblem, InelasticGas
-from .solve import (COOLING_SOLVERS, HEATED_SOLVERS, register_solver, solve_cooling,
-                    solve_heated)
+from .solve import COOLING_SOLVERS, HEATED_SOLVERS, register_solver, solve_cooling, solve_heated
 
 __version__ = "0.1.0"
 __all__ = [

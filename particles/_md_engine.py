@@ -129,7 +129,10 @@ class MDRun:
 
     @property
     def energy_balance_error(self) -> float:
-        """max |E(t) - E(0) - (injected - dissipated)| / max E over the records."""
+        """Energy bookkeeping error over the records.
+
+        ``max_t abs(E(t) - E(0) - (injected(t) - dissipated(t))) / max_t E(t)``.
+        """
         s = self.series
         err = s["energy"] - s["energy"][0] - (s["energy_injected"] - s["energy_dissipated"])
         return float(np.max(np.abs(err)) / np.max(s["energy"]))
