@@ -20,7 +20,7 @@ import logging
 import math
 import time
 from dataclasses import dataclass, field
-from typing import Any, Mapping, Sequence
+from typing import Any, Mapping, NoReturn, Sequence
 
 import numpy as np
 from numpy.typing import NDArray
@@ -36,7 +36,6 @@ __all__ = ["MDRun", "Snapshot", "DensityFluctuations", "InelasticCollapseError",
 
 logger = logging.getLogger(__name__)
 
-NORMALS_PER_BLOCK = 1 << 20
 SERIES = ("t", "collisions_per_particle", "temperature", "energy", "energy_injected",
           "energy_dissipated", "momentum", "elastic_fraction")
 
@@ -160,24 +159,30 @@ class _Engine:
         n = y.size
         self.x, self.v, self.tl = y.astype(float), v.astype(float), np.zeros(n)
         self.heap = np.zeros(n, np.int64)
-        self.hkey = np.full(n, np.inf)
+        self.hkey = np.full(n + 1, np.inf)
         self.where = np.full(n, -1, np.int64)
         self.fstate = np.zeros(K.N_FSTATE)
         self.istate = np.zeros(K.N_ISTATE, np.int64)
         self.fstate[K.F_T_KICK] = kick_dt
-        self.normals = np.zeros((0, n))
+        self.rng_state = rng.bit_generator.random_raw(4).astype(np.uint64)
+        if not self.rng_state.any():  # xoshiro256** must not start from zero
+            self.rng_state[0] = 1
         self.free_length, self.sigma, self.alpha = free_length, sigma, alpha
         self.threshold, self.kick_dt, self.kick_amp = threshold, kick_dt, kick_amp
         self.rng, self.collapse_tol, self.max_stall = rng, collapse_tol, max_stall
         K.build_heap(0.0, kick_dt, self.x, self.v, self.tl, free_length, self.heap, self.hkey,
                      self.where, self.istate)
 
-    _ARRAYS = ("x", "v", "tl", "heap", "hkey", "where", "fstate", "istate", "normals")
+    _ARRAYS = ("x", "v", "tl", "heap", "hkey", "where", "fstate", "istate", "rng_state")
 
     def state(self) -> dict[str, NDArray]:
         return {f"md_{k}": getattr(self, k).copy() for k in self._ARRAYS}
 
     def restore(self, arrays: Mapping[str, NDArray]) -> None:
+        if "md_rng_state" not in arrays or arrays["md_hkey"].size != self.hkey.size:
+            raise ValueError("the checkpoint was written by an older version of the MD "
+                             "engine (other heap and random-stream layout); it cannot be "
+                             "resumed, rerun from the start")
         for k in self._ARRAYS:
             setattr(self, k, np.array(arrays[f"md_{k}"]))
 
@@ -193,28 +198,22 @@ class _Engine:
 
         Returns True if ``t_stop`` came first (the state is then valid at ``t_stop``).
         """
-        n = self.v.size
-        while True:
-            floor = self.collapse_tol * math.sqrt(max(self.temperature(), 1e-300))
-            status = K.run_events(self.x, self.v, self.tl, self.heap, self.hkey, self.where,
-                                  self.fstate, self.istate, self.normals, self.free_length,
-                                  self.alpha, self.threshold, self.kick_dt, self.kick_amp,
-                                  floor, self.max_stall, t_stop, coll_target)
-            if status == K.STATUS_COLLISIONS:
-                return False
-            if status == K.STATUS_TIME:
-                return True
-            if status == K.STATUS_NEED_NORMALS:
-                rows = max(1, NORMALS_PER_BLOCK // n)
-                self.normals = self.rng.standard_normal((rows, n))
-                self.istate[K.I_KROW] = 0
-                continue
-            if status == K.STATUS_NO_EVENTS:
-                raise RuntimeError("no rods approach each other any more (all pairs recede): "
-                                   "the run cannot reach the requested collision count")
-            self._collapse(status)
+        floor = self.collapse_tol * math.sqrt(max(self.temperature(), 1e-300))
+        with np.errstate(over="ignore"):  # uint64 wrap-around of the generator (no-JIT mode)
+            status = K.run_events(self.x, self.v, self.tl, self.heap, self.hkey,
+                                  self.where, self.fstate, self.istate, self.rng_state, *K.ZIGGURAT,
+                                  self.free_length, self.alpha, self.threshold, self.kick_dt,
+                                  self.kick_amp, floor, self.max_stall, t_stop, coll_target)
+        if status == K.STATUS_COLLISIONS:
+            return False
+        if status == K.STATUS_TIME:
+            return True
+        if status == K.STATUS_NO_EVENTS:
+            raise RuntimeError("no rods approach each other any more (all pairs recede): "
+                               "the run cannot reach the requested collision count")
+        self._collapse(status)
 
-    def _collapse(self, status: int) -> None:
+    def _collapse(self, status: int) -> NoReturn:
         what = ("an inelastic collision below the speed floor "
                 f"{self.collapse_tol:g} sqrt(T)" if status == K.STATUS_COLLAPSE_SPEED else
                 f"{self.max_stall} consecutive collisions without time advancing")

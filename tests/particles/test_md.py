@@ -12,8 +12,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from scipy import stats
 
 from kinetic_fem.sonine import a2_first_order, haff_temperature, steady_temperature
+from particles import _md_kernels as K
 from particles import md
 from particles.sampling import run_replicas, spawn_seeds
 
@@ -178,12 +180,77 @@ def test_checkpoint_resume_is_bit_identical(tmp_path, problem):
 
 
 def test_kernels_run_without_jit():
-    """The kernels are plain Python under NUMBA_DISABLE_JIT=1 (tiny run)."""
+    """The kernels are plain Python under NUMBA_DISABLE_JIT=1 (tiny runs).
+
+    The heated run (kicks: uint64 generator arithmetic, ziggurat) is bit-identical to
+    the compiled one.
+    """
+    heated = md.simulate_heated(0.9, 20, seed=1, collisions_per_particle=20.0)
     code = ("from particles import md; r = md.simulate_cooling(0.9, 20, seed=1, "
             "collisions_per_particle=20.0, threshold=1e-3, n_samples=10, n_batches=2); "
-            "assert r.n_collisions == 200 and r.energy_balance_error < 1e-12")
+            "assert r.n_collisions == 200 and r.energy_balance_error < 1e-12; "
+            "h = md.simulate_heated(0.9, 20, seed=1, collisions_per_particle=20.0); "
+            "print(h.n_kicks, h.velocities.tobytes().hex())")
     env = {**os.environ, "NUMBA_DISABLE_JIT": "1"}
-    subprocess.run([sys.executable, "-c", code], check=True, env=env, timeout=120)
+    out = subprocess.run([sys.executable, "-W", "error::RuntimeWarning", "-c", code],
+                         check=True, env=env, timeout=120, capture_output=True, text=True)
+    assert out.stdout.split() == [str(heated.n_kicks), heated.velocities.tobytes().hex()]
+
+
+# --------------------------------------------------------------------------- kernels
+def _ring_state(n, free, rng):
+    x = np.sort(rng.uniform(0.0, free, n))
+    return x, rng.normal(size=n), np.zeros(n)
+
+
+def test_kick_sweep_heap_equals_full_rebuild():
+    """The kick's filtered pair prediction queues exactly the pairs build_heap queues.
+
+    A third of the pairs are placed to meet within a few ulp of the cut ``t_cut``;
+    positions are lazy (``tl`` differs per rod).  ``amp = 0``: velocities unchanged.
+    """
+    rng = np.random.default_rng(5)
+    n, free, tk, t_cut = 600, 300.0, 0.3, 0.35
+    x, v, _ = _ring_state(n, free, rng)
+    v[::2] += 3.0  # many approaching pairs
+    tl = rng.uniform(0.0, tk, n)
+    edge = [q for q in range(0, n - 1, 3) if v[q] > v[q + 1]]
+    for q in edge:  # already at tk (tl = tk) and meeting at the cut to within 2 ulp
+        x[q + 1] = x[q] + (v[q] - v[q + 1]) * (t_cut - tk) * (1 + rng.integers(-2, 3) * 2.2e-16)
+        tl[q] = tl[q + 1] = tk
+    x -= v * (tk - tl)  # lazy positions of the other rods
+    hk = np.full(n + 1, np.inf)
+    a = [x.copy(), v.copy(), tl.copy(), np.zeros(n, np.int64), hk.copy(),
+         np.full(n, -1, np.int64), np.zeros(K.N_ISTATE, np.int64)]
+    b = [arr.copy() for arr in a]
+    state = np.array([1, 2, 3, 4], np.uint64)
+    K.kick_sweep(tk, t_cut, 0.0, state, *K.ZIGGURAT, a[0], a[1], a[2], free, *a[3:])
+    K.build_heap(tk, t_cut, b[0], b[1], b[2], free, *b[3:])
+    size = int(a[6][K.I_HSIZE])
+    assert 20 < size == b[6][K.I_HSIZE] < n
+    for name, ua, ub in zip(("x", "v", "heap", "hkey", "where"), a[:2] + a[3:6],
+                            b[:2] + b[3:6], strict=True):
+        if name == "x":
+            ub = ub + b[1] * (tk - b[2])  # build_heap leaves positions lazy
+        assert np.array_equal(ua, ub), name
+    assert np.all(a[4][size:] == np.inf) and np.all(a[4][:size] < t_cut)
+    assert np.array_equal(np.sort(a[3][:size]), np.flatnonzero(a[5] >= 0))
+    queued = a[5][edge] >= 0
+    assert 10 < queued.sum() < len(edge) - 10  # the cut falls among the edge pairs
+
+
+def test_kick_normals_are_standard_normal():
+    """Velocity increments of a kick (v = 0, amp = 1) are independent standard normals."""
+    n = 400_000
+    x, v, tl = np.arange(n, dtype=float), np.zeros(n), np.zeros(n)
+    state = np.array([11, 12, 13, 14], np.uint64)
+    ist = np.zeros(K.N_ISTATE, np.int64)
+    K.kick_sweep(0.0, 1.0, 1.0, state, *K.ZIGGURAT, x, v, tl, float(n), np.zeros(n, np.int64),
+                 np.full(n + 1, np.inf), np.full(n, -1, np.int64), ist)
+    assert stats.kstest(v, "norm").pvalue > 1e-3
+    se = 1 / math.sqrt(n)
+    assert abs(v.mean()) < 4 * se and abs(v.var() - 1) < 4 * math.sqrt(2) * se
+    assert abs(np.corrcoef(v[1:], v[:-1])[0, 1]) < 4 * se
 
 
 # --------------------------------------------------------------------------- examples
