@@ -28,25 +28,64 @@ def _state(seed=0):
     return np.random.SeedSequence(seed).generate_state(4, dtype=np.uint64)
 
 
+def _py(func):
+    """The plain-Python version of a kernel (the kernel itself under NUMBA_DISABLE_JIT=1)."""
+    return getattr(func, "py_func", func)
+
+
+@pytest.fixture
+def wrapping():
+    """The kernels' uint64 arithmetic wraps on purpose; as plain Python numpy warns."""
+    with np.errstate(over="ignore"):
+        yield
+
+
+_MASK = (1 << 64) - 1
+
+
+def _rotl(x, k):
+    return ((x << k) | (x >> (64 - k))) & _MASK
+
+
+def _xoshiro_reference(s):
+    """One xoshiro256** output from a list of 4 Python ints (the reference C code)."""
+    out = _rotl((s[1] * 5) & _MASK, 7) * 9 & _MASK
+    t = (s[1] << 17) & _MASK
+    s[2] ^= s[0]
+    s[3] ^= s[1]
+    s[1] ^= s[2]
+    s[0] ^= s[3]
+    s[2] ^= t
+    s[3] = _rotl(s[3], 45)
+    return out
+
+
+def _collide_reference(v, m, alpha, g_max, state):
+    """The sequential thinning loop in plain Python (big-int random numbers)."""
+    s = [int(x) for x in state]
+    n = len(v)
+    scale = g_max * (1.0 / 9007199254740992.0)
+    acc, g2 = 0, 0.0
+    for _ in range(m):
+        r1, r2 = _xoshiro_reference(s), _xoshiro_reference(s)
+        i = (r1 * n) >> 64
+        j = (r2 * (n - 1)) >> 64
+        j += j >= i
+        threshold = float(((r1 * n) & _MASK) >> 11) * scale
+        g = v[i] - v[j]
+        if abs(g) > threshold:
+            dv = 0.5 * (1.0 + alpha) * g
+            v[i], v[j] = v[i] - dv, v[j] + dv
+            acc += 1
+            g2 += g * g
+    return (acc, g2), s
+
+
 # ----------------------------------------------------------------------------- kernels
-def test_xoshiro_matches_reference_recurrence():
+def test_xoshiro_matches_reference_recurrence(wrapping):
     """xoshiro256** against a Python big-int transcription of the reference C code."""
-    mask = (1 << 64) - 1
-
-    def rotl(x, k):
-        return ((x << k) | (x >> (64 - k))) & mask
-
     s = [int(x) for x in _state(5)]
-    expected = []
-    for _ in range(20):
-        expected.append(rotl((s[1] * 5) & mask, 7) * 9 & mask)
-        t = (s[1] << 17) & mask
-        s[2] ^= s[0]
-        s[3] ^= s[1]
-        s[1] ^= s[2]
-        s[0] ^= s[3]
-        s[2] ^= t
-        s[3] = rotl(s[3], 45)
+    expected = [_xoshiro_reference(s) for _ in range(20)]
     state = _state(5)
     got = [int(kern.next_u64(state)) for _ in range(20)]
     assert got == expected
@@ -94,7 +133,7 @@ def test_pairs_are_uniform_and_distinct():
 
 
 @pytest.mark.parametrize("alpha", [0.0, 0.5, 0.99])
-def test_collisions_conserve_momentum_dissipate_exactly_and_keep_majorant(alpha):
+def test_collisions_conserve_momentum_dissipate_exactly_and_keep_majorant(alpha, wrapping):
     v = np.random.default_rng(4).normal(size=1000)
     p0, e0 = v.sum(), np.sum(v**2)
     lo, hi = kern.extent(v)
@@ -106,20 +145,44 @@ def test_collisions_conserve_momentum_dissipate_exactly_and_keep_majorant(alpha)
     assert lo2 >= lo and hi2 <= hi
 
 
-def test_kernels_agree_with_their_python_versions():
+@pytest.mark.parametrize("n", [2, 3, 40])
+def test_collide_plain_and_batched_are_the_sequential_algorithm(n, wrapping):
+    """Every batch size gives bit for bit the plain-Python sequential loop, also when the
+    candidates of one batch share particles (N = 2, 3)."""
+    v0 = np.random.default_rng(n).normal(size=n)
+    lo, hi = kern.extent(v0)
+    ref_v = list(v0)
+    ref, ref_state = _collide_reference(ref_v, 300, 0.4, hi - lo, _state(8))
+    for batch in (-1, 0, 1, 7, 64, 1000):
+        v, s = v0.copy(), _state(8)
+        got = kern.collide(v, 300, 0.4, hi - lo, s, batch)
+        assert got == ref, batch
+        np.testing.assert_array_equal(v, ref_v)
+        assert [int(x) for x in s] == ref_state
+    assert kern.collide(v0.copy(), 0, 0.4, hi - lo, _state(8), 64) == (0, 0.0)
+
+
+def test_mean_extent_and_variance(wrapping):
+    v = np.random.default_rng(9).normal(3.0, 2.0, size=1003)  # not a multiple of 4
+    mean, lo, hi = kern._mean_extent(v)
+    assert mean == pytest.approx(v.mean(), rel=1e-14)
+    assert (lo, hi) == (v.min(), v.max())
+    assert kern._central_variance(v, mean) == pytest.approx(v.var(), rel=1e-13)
+
+
+def test_kernels_agree_with_their_python_versions(wrapping):
     """The kernels run as plain Python (as with NUMBA_DISABLE_JIT=1) give the same numbers."""
     v0 = np.random.default_rng(5).normal(size=50)
-    with np.errstate(over="ignore"):
-        outs = []
-        for func in (kern.heated_segment, kern.heated_segment.py_func):
-            v = v0.copy()
-            r = func(v, 3, 0.1, 0.3, 25.0, 0.7, 0.0, _state(6), *TABLES)
-            outs.append((v, r))
-        np.testing.assert_array_equal(outs[0][0], outs[1][0])
-        assert outs[0][1] == pytest.approx(outs[1][1], rel=1e-12)
-        v1, v2 = v0.copy(), v0.copy()
-        r1 = kern.cooling_block(v1, 500, 50, 0.6, _state(7))
-        r2 = kern.cooling_block.py_func(v2, 500, 50, 0.6, _state(7))
+    outs = []
+    for func in (kern.heated_segment, _py(kern.heated_segment)):
+        v = v0.copy()
+        r = func(v, 3, 0.1, 0.3, 25.0, 0.7, 0.0, _state(6), *TABLES)
+        outs.append((v, r))
+    np.testing.assert_array_equal(outs[0][0], outs[1][0])
+    assert outs[0][1] == pytest.approx(outs[1][1], rel=1e-12)
+    v1, v2 = v0.copy(), v0.copy()
+    r1 = kern.cooling_block(v1, 500, 50, 0.6, _state(7))
+    r2 = _py(kern.cooling_block)(v2, 500, 50, 0.6, _state(7))
     np.testing.assert_array_equal(v1, v2)
     assert r1 == pytest.approx(r2, rel=1e-12)
 
