@@ -9,10 +9,11 @@ back on exit: kept in the array, every draw waited for a store and a reload of t
 state.  A draw then costs well under 1 ns, against 3-4 ns for a numpy
 ``random_raw`` block and 13 ns for a numpy normal on this machine.
 
-Candidate pair ``(i, j)``, ``i != j``: ``i = floor(r1 N / 2^64)`` (multiply-high,
-non-uniformity at most ``N / 2^64 < 1e-12``), ``j`` likewise from ``r2`` over the
-``N - 1`` other particles.  The acceptance uniform is the low 64 bits of
-``r1 N``, which given ``i`` is uniform on a lattice of spacing ``N / 2^64``.
+Candidate pair ``(i, j)``, ``i != j``: ``i = floor(r1 N / 2^64)`` (the high word of
+one 64 x 64 -> 128-bit multiply, :func:`_mul128`; non-uniformity at most
+``N / 2^64 < 1e-12``), ``j`` likewise from ``r2`` over the ``N - 1`` other particles.
+The acceptance uniform is the low word of the same product ``r1 N``, which given
+``i`` is uniform on a lattice of spacing ``N / 2^64``.
 Gaussians: the 256-layer ziggurat of Marsaglia and Tsang (2000), the same
 construction as numpy's, with tables built by :func:`ziggurat_tables`.
 
@@ -114,13 +115,46 @@ def next_double(s):  # pragma: no cover - compiled
     return float(next_u64(s) >> np.uint64(11)) * (1.0 / 9007199254740992.0)
 
 
+@intrinsic
+def _llvm_mul128(typingctx, a, b):  # pragma: no cover - compiled
+    """Full 128-bit product of two uint64: ``(high, low)`` words (one ``mul``)."""
+    if not (a == types.uint64 and b == types.uint64):
+        return None
+    sig = types.UniTuple(types.uint64, 2)(a, b)
+
+    def codegen(context, builder, signature, args):
+        i64, i128 = ir.IntType(64), ir.IntType(128)
+        p = builder.mul(builder.zext(args[0], i128), builder.zext(args[1], i128))
+        hi = builder.trunc(builder.lshr(p, ir.Constant(i128, 64)), i64)
+        return context.make_tuple(builder, signature.return_type, (hi, builder.trunc(p, i64)))
+
+    return sig, codegen
+
+
+def _mul128(r, n):
+    """``(floor(r n / 2^64), r n mod 2^64)`` for uint64 ``r``, ``n`` (Python ints here)."""
+    p = int(r) * int(n)
+    return np.uint64(p >> 64), np.uint64(p & 0xFFFFFFFFFFFFFFFF)
+
+
+@overload(_mul128, jit_options={"cache": True})
+def _mul128_jit(r, n):  # pragma: no cover - compiled
+    def impl(r, n):
+        return _llvm_mul128(r, n)
+
+    return impl
+
+
 @jit
 def _mulhi(r, n):  # pragma: no cover - compiled
-    """``floor(r * n / 2^64)`` for ``n < 2^32`` without 128-bit integers."""
-    mask = np.uint64(0xFFFFFFFF)
-    a = r >> np.uint64(32)
-    b = r & mask
-    return (a * n + ((b * n) >> np.uint64(32))) >> np.uint64(32)
+    """``floor(r * n / 2^64)`` for uint64 ``r``, ``n``."""
+    return _mul128(r, n)[0]
+
+
+@jit
+def _mul128_pair(r, n):  # pragma: no cover - compiled
+    """:func:`_mul128` as a kernel (for tests)."""
+    return _mul128(r, n)
 
 
 @intrinsic
@@ -290,11 +324,11 @@ def _candidate(s0, s1, s2, s3, n, n1, scale):  # pragma: no cover - compiled
     """One candidate from two draws: ``(i, j, threshold, s0, s1, s2, s3)``."""
     r1, s0, s1, s2, s3 = _xoshiro(s0, s1, s2, s3)
     r2, s0, s1, s2, s3 = _xoshiro(s0, s1, s2, s3)
-    i = _mulhi(r1, n)
-    j = _mulhi(r2, n1)
+    i, low = _mul128(r1, n)
+    j = _mul128(r2, n1)[0]
     j += np.uint64(j >= i)
     # uniform(0, g_max) from the low 64 bits of r1 * N (top 53 of them)
-    threshold = float(np.int64((r1 * n) >> np.uint64(11))) * scale
+    threshold = float(np.int64(low >> np.uint64(11))) * scale
     return np.int64(i), np.int64(j), threshold, s0, s1, s2, s3
 
 

@@ -92,10 +92,12 @@ def test_xoshiro_matches_reference_recurrence(wrapping):
     assert [int(x) for x in state] == s
 
 
-def test_mulhi_is_floor_of_product():
+def test_mul128_is_the_full_product():
     rng = np.random.default_rng(1)
     for r in rng.integers(0, 2**64, size=200, dtype=np.uint64):
-        for n in (2, 3, 25_000, 10**7, 2**32 - 1):
+        for n in (2, 3, 25_000, 10**7, 2**32 - 1, 2**64 - 1):
+            hi, lo = kern._mul128_pair(r, np.uint64(n))
+            assert (int(hi) << 64) + int(lo) == int(r) * n
             assert int(kern._mulhi(r, np.uint64(n))) == (int(r) * n) >> 64
 
 
