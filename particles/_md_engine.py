@@ -159,7 +159,7 @@ class _Engine:
         n = y.size
         self.x, self.v, self.tl = y.astype(float), v.astype(float), np.zeros(n)
         self.heap = np.zeros(n, np.int64)
-        self.hkey = np.full(n + 1, np.inf)
+        self.hkey = np.full(n + K.HEAP_PAD, np.inf)
         self.where = np.full(n, -1, np.int64)
         self.fstate = np.zeros(K.N_FSTATE)
         self.istate = np.zeros(K.N_ISTATE, np.int64)

@@ -10,10 +10,12 @@ across the seam, where :math:`y_0 + L_f` is the right partner's position).
 
 Positions are stored *lazily*: particle ``i`` is at ``x[i] + v[i] (t - tl[i])`` and
 only ``x``, ``tl`` of the two colliding particles change at a collision.  One
-predicted time per pair sits in an indexed binary min-heap (``heap`` of pair
+predicted time per pair sits in an indexed 4-ary min-heap (``heap`` of pair
 indices, ``hkey`` their times in heap order, ``where[p]`` the slot of pair ``p`` or
--1; ``hkey`` has ``N + 1`` slots and every slot at or beyond the heap size holds
-``inf``, so a sift-down needs no bounds test for the right child).  After a
+-1; ``hkey`` has ``N + HEAP_PAD`` slots and every slot at or beyond the heap size
+holds ``inf``, so a sift-down needs no bounds test for the children).  Four
+children per node halve the depth of a binary heap; their four times share one or
+two cache lines, which matters once the heap no longer fits in the cache.  After a
 collision only three pair times change: the collided pair recedes, and the earlier
 of its two neighbour pairs takes over the root slot, each update costing
 :math:`O(\\log N)`.
@@ -52,7 +54,7 @@ from ._jit import jit
 __all__ = ["F_T", "F_T_KICK", "F_DISS", "F_INJ", "I_NCOLL", "I_HSIZE", "I_STALL",
            "I_NKICK", "I_NELASTIC", "I_BAD_PAIR", "STATUS_COLLISIONS", "STATUS_TIME",
            "STATUS_COLLAPSE_SPEED", "STATUS_COLLAPSE_STALL", "STATUS_NO_EVENTS", "N_FSTATE",
-           "N_ISTATE", "ZIGGURAT", "build_heap", "kick_sweep", "run_events"]
+           "N_ISTATE", "HEAP_PAD", "ZIGGURAT", "build_heap", "kick_sweep", "run_events"]
 
 # slots of the float state vector
 F_T, F_T_KICK, F_DISS, F_INJ = 0, 1, 2, 3
@@ -60,6 +62,8 @@ N_FSTATE = 4
 # slots of the integer state vector
 I_NCOLL, I_HSIZE, I_STALL, I_NKICK, I_NELASTIC, I_BAD_PAIR = 0, 1, 2, 3, 4, 5
 N_ISTATE = 6
+HEAP_PAD = 4
+"""Slots of ``hkey`` beyond ``N`` (always ``inf``)."""
 # return codes of run_events
 STATUS_COLLISIONS = 0  # reached the requested number of collisions
 STATUS_TIME = 1  # reached the requested time
@@ -98,7 +102,7 @@ def _xoshiro(s0, s1, s2, s3):  # pragma: no cover - compiled
 def _sift_up(heap, hkey, where, pos, p, kp):  # pragma: no cover - compiled
     """Place pair ``p`` with time ``kp`` at slot ``pos`` or above."""
     while pos > 0:
-        parent = (pos - 1) >> 1
+        parent = (pos - 1) >> 2
         kq = hkey[parent]
         if kq <= kp:
             break
@@ -116,23 +120,28 @@ def _sift_up(heap, hkey, where, pos, p, kp):  # pragma: no cover - compiled
 def _sift_down(heap, hkey, where, pos, p, kp, size):  # pragma: no cover - compiled
     """Place pair ``p`` with time ``kp`` at slot ``pos`` or below (heap of ``size``).
 
-    ``hkey[size] = inf`` stands in for a missing right child; ties go left.
+    The children of slot ``k`` are ``4k + 1 ... 4k + 4``; the earliest is found by a
+    tournament (ties to the left) that reads the ``inf`` slots beyond the heap.
     """
     while True:
-        child = 2 * pos + 1
-        if child >= size:
+        c = 4 * pos + 1
+        if c >= size:
             break
-        kc = hkey[child]
-        k2 = hkey[child + 1]
-        if k2 < kc:
-            child += 1
-            kc = k2
+        c01 = c + (hkey[c + 1] < hkey[c])
+        c23 = c + 2 + (hkey[c + 3] < hkey[c + 2])
+        k01 = hkey[c01]
+        k23 = hkey[c23]
+        child = c01
+        kc = k01
+        if k23 < k01:
+            child = c23
+            kc = k23
         if kp <= kc:
             break
-        c = heap[child]
-        heap[pos] = c
+        q = heap[child]
+        heap[pos] = q
         hkey[pos] = kc
-        where[c] = pos
+        where[q] = pos
         pos = child
     heap[pos] = p
     hkey[pos] = kp
@@ -148,7 +157,7 @@ def _heap_set(p, tp, t_cut, heap, hkey, where, istate):  # pragma: no cover - co
         if pos < 0:
             istate[I_HSIZE] = size + 1
             _sift_up(heap, hkey, where, size, p, tp)
-        elif pos > 0 and hkey[(pos - 1) >> 1] > tp:
+        elif pos > 0 and hkey[(pos - 1) >> 2] > tp:
             _sift_up(heap, hkey, where, pos, p, tp)
         else:
             _sift_down(heap, hkey, where, pos, p, tp, size)
@@ -166,7 +175,7 @@ def _heap_remove(pos, heap, hkey, where, istate):  # pragma: no cover - compiled
     kq = hkey[size]
     hkey[size] = np.inf  # keep the slots beyond the heap at inf
     if pos < size:
-        if pos > 0 and hkey[(pos - 1) >> 1] > kq:
+        if pos > 0 and hkey[(pos - 1) >> 2] > kq:
             _sift_up(heap, hkey, where, pos, q, kq)
         else:
             _sift_down(heap, hkey, where, pos, q, kq, size)
@@ -195,7 +204,7 @@ def _heapify(heap, hkey, where, size, old_size):  # pragma: no cover - compiled
     """Heap order for the ``size`` entries in place (Floyd); clear the stale slots."""
     for k in range(size, old_size + 1):
         hkey[k] = np.inf
-    for pos in range(size // 2 - 1, -1, -1):
+    for pos in range((size - 2) // 4, -1, -1):
         _sift_down(heap, hkey, where, pos, heap[pos], hkey[pos], size)
 
 
@@ -297,7 +306,7 @@ def run_events(x, v, tl, heap, hkey, where, fstate, istate, rng, ki, wi, fi, fre
     heap, where : ndarray, shape (N,)
         Indexed min-heap: pair indices in heap order, and the slot of each pair (-1
         if not queued).
-    hkey : ndarray, shape (N + 1,)
+    hkey : ndarray, shape (N + HEAP_PAD,)
         The pairs' predicted times in heap order; ``inf`` from the heap size on.
     fstate : ndarray, shape (N_FSTATE,)
         Time, time of the next kick, energy dissipated, energy injected.
