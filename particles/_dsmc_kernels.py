@@ -48,7 +48,7 @@ __all__ = ["ziggurat_tables", "next_u64", "next_double", "fill_normal",
 PREFETCH_MIN_N = 1 << 17
 """Smallest ``N`` for which :func:`collide` prefetches in batches (``v`` of 1 MiB)."""
 
-PREFETCH_BATCH = 128
+PREFETCH_BATCH = 64
 """Candidates per batch of the prefetching :func:`collide`."""
 
 _R = 3.6541528853610088  # start of the tail of the 256-layer normal ziggurat
@@ -329,7 +329,7 @@ def _candidate(s0, s1, s2, s3, n, n1, scale):  # pragma: no cover - compiled
     j += np.uint64(j >= i)
     # uniform(0, g_max) from the low 64 bits of r1 * N (top 53 of them)
     threshold = float(np.int64(low >> np.uint64(11))) * scale
-    return np.int64(i), np.int64(j), threshold, s0, s1, s2, s3
+    return i, j, threshold, s0, s1, s2, s3  # unsigned: no negative-index wrap-around
 
 
 @jit
@@ -367,8 +367,8 @@ def _collide_batched(v, n_candidates, alpha, g_max, s, batch):  # pragma: no cov
     accepted = 0
     sum_g2 = 0.0
     s0, s1, s2, s3 = s[0], s[1], s[2], s[3]
-    bi = np.empty(batch, np.int64)
-    bj = np.empty(batch, np.int64)
+    bi = np.empty(batch, np.uint64)
+    bj = np.empty(batch, np.uint64)
     bt = np.empty(batch)
     done = 0
     while done < n_candidates:
