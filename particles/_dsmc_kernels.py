@@ -442,11 +442,12 @@ def heated_segment(v, n_steps, dt, amp, rate, alpha, debt, s, ki, wi, fi):  # pr
 
 
 @jit
-def _mean_extent(v):  # pragma: no cover - compiled
-    """``(mean, min, max)`` of ``v`` in one pass (four partial sums, no vector reduction
-    without fastmath otherwise)."""
+def _sums_extent(v):  # pragma: no cover - compiled
+    """``(sum v, sum v^2, min v, max v)`` in one pass (four partial sums each: without
+    fastmath a single accumulator is a chain of dependent additions)."""
     n = v.shape[0]
     a0 = a1 = a2 = a3 = 0.0
+    q0 = q1 = q2 = q3 = 0.0
     lo = hi = v[0]
     k = 0
     while k + 4 <= n:
@@ -455,15 +456,20 @@ def _mean_extent(v):  # pragma: no cover - compiled
         a1 += x1
         a2 += x2
         a3 += x3
+        q0 += x0 * x0
+        q1 += x1 * x1
+        q2 += x2 * x2
+        q3 += x3 * x3
         lo = min(lo, min(min(x0, x1), min(x2, x3)))
         hi = max(hi, max(max(x0, x1), max(x2, x3)))
         k += 4
     while k < n:
         a0 += v[k]
+        q0 += v[k] * v[k]
         lo = min(lo, v[k])
         hi = max(hi, v[k])
         k += 1
-    return ((a0 + a1) + (a2 + a3)) / n, lo, hi
+    return (a0 + a1) + (a2 + a3), (q0 + q1) + (q2 + q3), lo, hi
 
 
 @jit
@@ -491,19 +497,23 @@ def cooling_block(v, n_candidates, refresh, alpha, s):  # pragma: no cover - com
     """``n_candidates`` candidates of free cooling with rescaling to unit temperature.
 
     Every ``refresh`` candidates the velocities are moved to the centre-of-mass frame
-    and divided by their standard deviation ``sd`` (so neither the spread nor its
-    ratio to the round-off of the mean can underflow), and the majorant
-    ``g_max = max(v) - min(v)`` is re-measured.  Three sweeps: mean and extent,
-    variance, rescaling.  The extent of the rescaled velocities is that of the old
-    ones rescaled, exactly: :math:`x \\mapsto (x - \\text{mean})/sd` is monotone in
-    floating point, as rounding is.
+    and multiplied by ``1/sd``, ``sd`` their standard deviation (so neither the spread
+    nor its ratio to the round-off of the mean can underflow), and the majorant
+    ``g_max = max(v) - min(v)`` is re-measured.  Two sweeps: one for the sums of ``v``
+    and ``v^2`` and the extent, one for the rescaling.  The velocities are already
+    centred (momentum is conserved) except on entry, so
+    :math:`\\langle v^2\\rangle - \\bar v^2` has no cancellation; when
+    :math:`\\bar v^2 > 10^{-8}\\langle v^2\\rangle` a second sweep sums
+    :math:`(v - \\bar v)^2` instead.  The extent of the rescaled velocities is that of
+    the old ones rescaled, exactly: :math:`x \\mapsto (x - \\bar v)\\,(1/sd)` is
+    monotone in floating point, as rounding is.
 
     Returns
     -------
     accepted : int
         Number of collisions.
     log_scale : float
-        :math:`\\sum \\ln sd`: physical velocities are ``exp(log_scale)`` times the
+        :math:`-\\sum \\ln(1/sd)`: physical velocities are ``exp(log_scale)`` times the
         returned ones, in the units of ``v`` on entry.
     time : float
         :math:`\\sum_k m_k / (g_{max,k}\\, e^{\\text{log\\_scale}_k})`; each candidate
@@ -516,16 +526,21 @@ def cooling_block(v, n_candidates, refresh, alpha, s):  # pragma: no cover - com
     elapsed = 0.0
     done = 0
     while done < n_candidates:
-        mean, lo, hi = _mean_extent(v)
-        var = _central_variance(v, mean)
+        s1, s2, lo, hi = _sums_extent(v)
+        mean = s1 / n
+        mean_sq = s2 / n
+        if mean * mean <= 1e-8 * mean_sq:  # centred: no cancellation
+            var = mean_sq - mean * mean
+        else:
+            var = _central_variance(v, mean)
         if not var > 0.0:
             break  # all velocities equal: no collision can ever happen again
-        sd = math.sqrt(var)
+        inv_sd = 1.0 / math.sqrt(var)  # a multiply per velocity, not a divide
         for k in range(n):
-            v[k] = (v[k] - mean) / sd
-        lo = (lo - mean) / sd
-        hi = (hi - mean) / sd
-        log_scale += math.log(sd)
+            v[k] = (v[k] - mean) * inv_sd
+        lo = (lo - mean) * inv_sd
+        hi = (hi - mean) * inv_sd
+        log_scale -= math.log(inv_sd)  # the factor actually applied
         m = min(refresh, n_candidates - done)
         a, g2 = collide(v, m, alpha, hi - lo, s)
         accepted += a

@@ -164,12 +164,29 @@ def test_collide_plain_and_batched_are_the_sequential_algorithm(n, wrapping):
     assert kern.collide(v0.copy(), 0, 0.4, hi - lo, _state(8), 64) == (0, 0.0)
 
 
-def test_mean_extent_and_variance(wrapping):
+def test_sums_extent_and_variance(wrapping):
     v = np.random.default_rng(9).normal(3.0, 2.0, size=1003)  # not a multiple of 4
-    mean, lo, hi = kern._mean_extent(v)
-    assert mean == pytest.approx(v.mean(), rel=1e-14)
+    s1, s2, lo, hi = kern._sums_extent(v)
+    assert s1 == pytest.approx(v.sum(), rel=1e-14)
+    assert s2 == pytest.approx(np.sum(v**2), rel=1e-14)
     assert (lo, hi) == (v.min(), v.max())
-    assert kern._central_variance(v, mean) == pytest.approx(v.var(), rel=1e-13)
+    assert kern._central_variance(v, v.mean()) == pytest.approx(v.var(), rel=1e-13)
+
+
+@pytest.mark.parametrize("offset", [0.0, 1e3])
+def test_cooling_block_rescales_to_unit_temperature(offset, wrapping):
+    """One refresh: centred, unit variance, and the majorant re-measured exactly."""
+    v = np.random.default_rng(10).normal(offset, 3.0, size=1001)
+    sd = v.std()
+    acc, log_scale, elapsed = kern.cooling_block(v, 0, 1001, 0.5, _state(1))
+    assert (acc, log_scale, elapsed) == (0, 0.0, 0.0)  # no candidate: untouched
+    u = v.copy()
+    acc, log_scale, elapsed = kern.cooling_block(u, 1, 1001, 0.5, _state(1))
+    assert log_scale == pytest.approx(math.log(sd), rel=1e-12)
+    w = (v - v.mean()) / sd
+    lo, hi = kern.extent(w)
+    assert elapsed == pytest.approx(1.0 / ((hi - lo) * sd), rel=1e-12)
+    assert abs(u.mean()) < 1e-12 and u.var() == pytest.approx(1.0, rel=1e-12)
 
 
 def test_kernels_agree_with_their_python_versions(wrapping):
