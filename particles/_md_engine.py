@@ -167,6 +167,7 @@ class _Engine:
         self.rng_state = rng.bit_generator.random_raw(4).astype(np.uint64)
         if not self.rng_state.any():  # xoshiro256** must not start from zero
             self.rng_state[0] = 1
+        self.xi = np.zeros(n)  # scratch: the normals of one kick
         self.free_length, self.sigma, self.alpha = free_length, sigma, alpha
         self.threshold, self.kick_dt, self.kick_amp = threshold, kick_dt, kick_amp
         self.rng, self.collapse_tol, self.max_stall = rng, collapse_tol, max_stall
@@ -201,9 +202,10 @@ class _Engine:
         floor = self.collapse_tol * math.sqrt(max(self.temperature(), 1e-300))
         with np.errstate(over="ignore"):  # uint64 wrap-around of the generator (no-JIT mode)
             status = K.run_events(self.x, self.v, self.tl, self.heap, self.hkey,
-                                  self.where, self.fstate, self.istate, self.rng_state, *K.ZIGGURAT,
-                                  self.free_length, self.alpha, self.threshold, self.kick_dt,
-                                  self.kick_amp, floor, self.max_stall, t_stop, coll_target)
+                                  self.where, self.fstate, self.istate, self.rng_state,
+                                  *K.ZIGGURAT, self.xi, self.free_length, self.alpha,
+                                  self.threshold, self.kick_dt, self.kick_amp, floor,
+                                  self.max_stall, t_stop, coll_target)
         if status == K.STATUS_COLLISIONS:
             return False
         if status == K.STATUS_TIME:
