@@ -48,7 +48,7 @@ __all__ = ["ziggurat_tables", "next_u64", "next_double", "fill_normal",
 PREFETCH_MIN_N = 1 << 17
 """Smallest ``N`` for which :func:`collide` prefetches in batches (``v`` of 1 MiB)."""
 
-PREFETCH_BATCH = 64
+PREFETCH_BATCH = 256
 """Candidates per batch of the prefetching :func:`collide`."""
 
 _R = 3.6541528853610088  # start of the tail of the 256-layer normal ziggurat
@@ -159,7 +159,11 @@ def _mul128_pair(r, n):  # pragma: no cover - compiled
 
 @intrinsic
 def _llvm_prefetch(typingctx, arr, idx):  # pragma: no cover - compiled
-    """``llvm.prefetch`` of ``arr[idx]`` for writing, into all cache levels."""
+    """``llvm.prefetch`` of ``arr[idx]``: read, locality 2 (``prefetcht1``, into L2).
+
+    Measured at N = 10^6: 5 ns per candidate, against 13-17 ns with an L1 prefetch
+    (``prefetcht0`` or ``prefetchw``), which holds one of the few L1 miss buffers.
+    """
     sig = types.void(arr, idx)
 
     def codegen(context, builder, signature, args):
@@ -170,7 +174,7 @@ def _llvm_prefetch(typingctx, arr, idx):  # pragma: no cover - compiled
         fn = cgutils.get_or_insert_function(
             builder.module, ir.FunctionType(ir.VoidType(), [i8p, i32, i32, i32]),
             "llvm.prefetch.p0i8")
-        builder.call(fn, [builder.bitcast(ptr, i8p), ir.Constant(i32, 1), ir.Constant(i32, 3),
+        builder.call(fn, [builder.bitcast(ptr, i8p), ir.Constant(i32, 0), ir.Constant(i32, 2),
                           ir.Constant(i32, 1)])
         return context.get_dummy_value()
 
@@ -178,7 +182,7 @@ def _llvm_prefetch(typingctx, arr, idx):  # pragma: no cover - compiled
 
 
 def _prefetch(arr, idx):
-    """Hint that ``arr[idx]`` will be read and written soon; a no-op in plain Python."""
+    """Hint that ``arr[idx]`` will be read soon; a no-op in plain Python."""
 
 
 @overload(_prefetch, jit_options={"cache": True})
