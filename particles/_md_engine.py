@@ -158,9 +158,9 @@ class _Engine:
                  rng, collapse_tol, max_stall):
         n = y.size
         self.x, self.v, self.tl = y.astype(float), v.astype(float), np.zeros(n)
-        self.heap = np.zeros(n, np.int64)
+        self.heap = np.zeros(n, np.int32)
         self.hkey = np.full(n + K.HEAP_PAD, np.inf)
-        self.where = np.full(n, -1, np.int64)
+        self.where = np.full(n, -1, np.int32)
         self.fstate = np.zeros(K.N_FSTATE)
         self.istate = np.zeros(K.N_ISTATE, np.int64)
         self.fstate[K.F_T_KICK] = kick_dt

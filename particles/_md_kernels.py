@@ -184,7 +184,10 @@ def _heap_remove(pos, heap, hkey, where, istate):  # pragma: no cover - compiled
 
 @jit
 def _pair_time(q, t, x, v, tl, free_length):  # pragma: no cover - compiled
-    """Predicted collision time of pair ``q`` = (q, q+1 mod N), or inf if receding."""
+    """Predicted collision time of pair ``q`` = (q, q+1 mod N), or inf if receding.
+
+    Selects instead of branches: approaching or not is a coin flip for the CPU.
+    """
     n = x.shape[0]
     j = q + 1
     shift = 0.0
@@ -192,12 +195,10 @@ def _pair_time(q, t, x, v, tl, free_length):  # pragma: no cover - compiled
         j = 0
         shift = free_length
     dv = v[q] - v[j]
-    if not dv > 0.0:
-        return np.inf
     gap = (x[j] + v[j] * (t - tl[j]) + shift) - (x[q] + v[q] * (t - tl[q]))
-    if gap < 0.0:
-        gap = 0.0
-    return t + gap / dv
+    approaching = dv > 0.0
+    tq = t + max(gap, 0.0) / (dv if approaching else 1.0)
+    return tq if approaching else np.inf
 
 
 @jit
@@ -328,9 +329,9 @@ def run_events(x, v, tl, heap, hkey, where, fstate, istate, rng, ki, wi, fi, nor
     ----------
     x, v, tl : ndarray, shape (N,)
         Lazy positions on the reduced ring, velocities, times of last update.
-    heap, where : ndarray, shape (N,)
+    heap, where : ndarray of int32 (or int64), shape (N,)
         Indexed min-heap: pair indices in heap order, and the slot of each pair (-1
-        if not queued).
+        if not queued).  The engine uses int32: less memory traffic at large N.
     hkey : ndarray, shape (N + HEAP_PAD,)
         The pairs' predicted times in heap order; ``inf`` from the heap size on.
     fstate : ndarray, shape (N_FSTATE,)
@@ -442,10 +443,11 @@ def run_events(x, v, tl, heap, hkey, where, fstate, istate, rng, ki, wi, fi, nor
         t_left = _pair_time(left, t, x, v, tl, free_length)
         t_right = _pair_time(j, t, x, v, tl, free_length)
         where[p] = -1
-        if t_right < t_left:
-            first, t_first, second, t_second = j, t_right, left, t_left
-        else:
-            first, t_first, second, t_second = left, t_left, j, t_right
+        right_first = t_right < t_left  # (selects, no branch)
+        first = j if right_first else left
+        second = left if right_first else j
+        t_first = min(t_left, t_right)
+        t_second = t_left if right_first else t_right
         if t_first < t_kick and where[first] < 0:
             _sift_down(heap, hkey, where, 0, first, t_first, istate[I_HSIZE])
         else:
