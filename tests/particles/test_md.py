@@ -143,6 +143,20 @@ def test_heated_quasi_elastic_agrees_with_kinetic_theory():
     assert len({r.velocities.tobytes() for r in runs}) == 3
 
 
+def test_density_fluctuations_match_direct_binning():
+    """Counting once at the finest power-of-two level gives the counts of each level."""
+    rng = np.random.default_rng(4)
+    length = 777.7
+    x = np.append(rng.uniform(0.0, length, 5000), [0.0, np.nextafter(length, 0.0)])
+    boxes = [2, 4, 8, 64, 1024, 3, 12, 48, 5, 7]
+    direct = np.empty((len(boxes), 2))
+    for k, m in enumerate(boxes):
+        counts = np.bincount(np.minimum((x * (m / length)).astype(np.int64), m - 1),
+                             minlength=m)
+        direct[k] = counts.mean(), counts.var() / counts.mean()
+    assert np.array_equal(md.density_fluctuations(x, length, boxes), direct)
+
+
 def test_equilibrium_density_fluctuations_of_hard_rods():
     """alpha = 1: Var N / <N> -> (1 - n sigma)^2 for boxes much larger than sigma."""
     run = md.simulate_cooling(1.0, 2000, seed=2, collisions_per_particle=40.0, n_samples=200,
