@@ -16,9 +16,9 @@ indices, ``hkey`` their times in heap order, ``where[p]`` the slot of pair ``p``
 holds ``inf``, so a sift-down needs no bounds test for the children).  Four
 children per node halve the depth of a binary heap; their four times share one or
 two cache lines, which matters once the heap no longer fits in the cache.  After a
-collision only three pair times change: the collided pair recedes, and the earlier
-of its two neighbour pairs takes over the root slot, each update costing
-:math:`O(\\log N)`.
+collision only three pair times change: the collided pair recedes, and one of its
+two neighbour pairs not yet queued (the earlier if both) takes over the root slot,
+each update costing :math:`O(\\log N)`.
 
 Pairs whose time lies beyond the next random kick never enter the heap.  A kick
 moves every rod to the kick time, adds the Gaussians and recomputes every pair time
@@ -438,7 +438,8 @@ def run_events(x, v, tl, heap, hkey, where, fstate, istate, rng, ki, wi, fi, nor
         t = tc
         n_coll += 1
         # pair p now recedes and leaves the root; its two neighbour pairs change.
-        # The earlier neighbour, if not yet queued, takes over the root slot.
+        # A neighbour not yet queued (the earlier one if both) takes over the root
+        # slot: one sift-down instead of a removal and an insertion.
         left = p - 1 if p > 0 else n - 1
         t_left = _pair_time(left, t, x, v, tl, free_length)
         t_right = _pair_time(j, t, x, v, tl, free_length)
@@ -448,13 +449,20 @@ def run_events(x, v, tl, heap, hkey, where, fstate, istate, rng, ki, wi, fi, nor
         second = left if right_first else j
         t_first = min(t_left, t_right)
         t_second = t_left if right_first else t_right
+        two = second != first  # (N = 2 has a single neighbour pair)
         if t_first < t_kick and where[first] < 0:
             _sift_down(heap, hkey, where, 0, first, t_first, istate[I_HSIZE])
+            if two:
+                _heap_set(second, t_second, t_kick, heap, hkey, where, istate)
+        elif two and t_second < t_kick and where[second] < 0:
+            # first is queued (and due before the kick, as t_first <= t_second)
+            _sift_down(heap, hkey, where, 0, second, t_second, istate[I_HSIZE])
+            _heap_set(first, t_first, t_kick, heap, hkey, where, istate)
         else:
             _heap_remove(0, heap, hkey, where, istate)
             _heap_set(first, t_first, t_kick, heap, hkey, where, istate)
-        if second != first:  # (N = 2 has a single neighbour pair)
-            _heap_set(second, t_second, t_kick, heap, hkey, where, istate)
+            if two:
+                _heap_set(second, t_second, t_kick, heap, hkey, where, istate)
     fstate[F_T] = t
     fstate[F_T_KICK] = t_kick
     fstate[F_DISS] = diss
