@@ -60,10 +60,12 @@ def ziggurat_tables() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
     Layer ``i`` spans ``[0, x_i]``; ``wi = x_i / 2^52`` turns 52 random bits into
     ``x``; ``ki`` is the acceptance threshold ``2^52 x_{i-1}/x_i`` of the part of
-    the layer that lies under the density; ``fi = exp(-x_i^2/2)``.
+    the layer that lies under the density; ``fi = exp(-x_i^2/2)``.  ``wi`` has 512
+    entries, ``wi[256 + i] = -wi[i]``: the layer and the sign bit (9 random bits)
+    index a signed width, which saves the sign logic in the kernels' inner loop.
     """
     ki = np.zeros(256, dtype=np.uint64)
-    wi = np.zeros(256)
+    wi = np.zeros(512)
     fi = np.zeros(256)
     dn = tn = _R
     q = _V / math.exp(-0.5 * dn * dn)
@@ -79,6 +81,7 @@ def ziggurat_tables() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         tn = dn
         fi[i] = math.exp(-0.5 * dn * dn)
         wi[i] = dn / _M1
+    wi[256:] = -wi[:256]
     return ki, wi, fi
 
 
@@ -196,13 +199,10 @@ def _prefetch_jit(arr, idx):  # pragma: no cover - compiled
 def _zig_draw(s, wi):  # pragma: no cover - compiled
     """One ziggurat proposal from one 64-bit number: ``(layer, 52 bits, signed x)``."""
     r = next_u64(s)
-    idx = int(r & np.uint64(0xFF))
-    r >>= np.uint64(8)
-    rabs = (r >> np.uint64(1)) & np.uint64(0x000FFFFFFFFFFFFF)
-    x = float(np.int64(rabs)) * wi[idx]  # rabs < 2^52: the signed conversion is exact
-    if r & np.uint64(1):
-        x = -x
-    return idx, rabs, x
+    layer_sign = r & np.uint64(0x1FF)  # bits 0-7: layer, bit 8: sign
+    rabs = (r >> np.uint64(9)) & np.uint64(0x000FFFFFFFFFFFFF)
+    x = float(np.int64(rabs)) * wi[layer_sign]  # rabs < 2^52: the conversion is exact
+    return int(layer_sign & np.uint64(0xFF)), rabs, x
 
 
 @jit
@@ -262,11 +262,10 @@ def kick(v, amp, s, ki, wi, fi):  # pragma: no cover - compiled
     s0, s1, s2, s3 = s[0], s[1], s[2], s[3]
     for k in range(v.shape[0]):
         r, s0, s1, s2, s3 = _xoshiro(s0, s1, s2, s3)
-        idx = int(r & np.uint64(0xFF))
-        r >>= np.uint64(8)
-        rabs = (r >> np.uint64(1)) & np.uint64(0x000FFFFFFFFFFFFF)
-        x = float(np.int64(rabs)) * wi[idx]  # rabs < 2^52: the signed conversion is exact
-        x = -x if r & np.uint64(1) else x
+        layer_sign = r & np.uint64(0x1FF)  # as in _zig_draw
+        idx = int(layer_sign & np.uint64(0xFF))
+        rabs = (r >> np.uint64(9)) & np.uint64(0x000FFFFFFFFFFFFF)
+        x = float(np.int64(rabs)) * wi[layer_sign]
         if rabs >= ki[idx]:
             s[0], s[1], s[2], s[3] = s0, s1, s2, s3
             x = _normal_slow(s, idx, x, ki, wi, fi)
