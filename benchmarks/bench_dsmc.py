@@ -14,11 +14,12 @@ against its plain loop at both sizes, the cost of the random numbers alone (what
 bounds a candidate at N = 25000) and the speed-up of independent replicas over the
 cores.
 
-Each timing is the best of ``--repeat`` runs on a relaxed state (compilation
-excluded), measured in CPU seconds of this process (``time.process_time``), which on a
-machine shared with other jobs is closer to the cost on an idle core than the wall
-time (printed as ``wall coll/s`` beside it).  The cache is shared too: at N = 1e6 the
-8 MB velocity array lives in the L3 cache only if the other jobs leave room for it.
+Each timing is the best of ``--repeat`` runs on a relaxed state (40 collisions per
+particle of relaxation for cooling, 10 for the heated gas; compilation excluded),
+measured in CPU seconds of this process (``time.process_time``), which on a machine
+shared with other jobs is closer to the cost on an idle core than the wall time
+(printed as ``wall coll/s`` beside it).  The cache is shared too: at N = 1e6 the 8 MB
+velocity array lives in the L3 cache only if the other jobs leave room for it.
 """
 
 from __future__ import annotations
@@ -55,7 +56,8 @@ def cooling(n: int, collisions_per_particle: float, seed: int = 0,
     """Best-of-``repeat`` throughput of ``cooling_block`` at alpha = 0.9."""
     s = _state(seed)
     v = np.random.default_rng(seed).normal(size=n)
-    kern.cooling_block(v, 20 * n, n, 0.9, s)  # relax towards the cooling state
+    # relax: 40 collisions per particle (the acceptance settles after about 30)
+    kern.cooling_block(v, int(40 * n / 2 / 0.15), n, 0.9, s)
     best = None
     for _ in range(repeat):
         m = int(collisions_per_particle * n / 2 / 0.15)
@@ -79,7 +81,7 @@ def heated(n: int, collisions_per_particle: float, seed: int = 0, repeat: int = 
     v = np.random.default_rng(seed).normal(0.0, math.sqrt(t_ref), n)
     steps = max(1, int(collisions_per_particle / step))
     args = (dt, math.sqrt(2 * dt), 0.5 * n, alpha)
-    kern.heated_segment(v, 40, *args, 0.0, s, *TABLES)
+    kern.heated_segment(v, int(10 / step), *args, 0.0, s, *TABLES)  # 10 collisions/particle
     best = None
     for _ in range(repeat):
         t0, c0 = time.perf_counter(), time.process_time()
@@ -92,11 +94,12 @@ def heated(n: int, collisions_per_particle: float, seed: int = 0, repeat: int = 
     # split: the kicks alone (amplitude 0 leaves v unchanged)
     u = v.copy()
     kick = math.inf
-    for _ in range(repeat):
+    sweeps = max(1, min(steps, 10**7 // n))
+    for _ in range(2 * repeat):
         c0 = time.process_time()
-        for _ in range(max(1, steps // 4)):
+        for _ in range(sweeps):
             kern.kick(u, 0.0, s, *TABLES)
-        kick = min(kick, (time.process_time() - c0) / (max(1, steps // 4) * n) * 1e9)
+        kick = min(kick, (time.process_time() - c0) / (sweeps * n) * 1e9)
     best["ns_kick"] = kick
     best["kick_share"] = kick * n * best["steps"] / best["acc"] / best["ns_coll"]
     return best
@@ -131,9 +134,11 @@ def rng_costs(n: int = 4_000_000) -> dict[str, float]:
     c0 = time.process_time()
     kern.fill_normal(out, s, *TABLES)
     normal = (time.process_time() - c0) / n * 1e9
-    v = np.zeros(1000)
+    v = np.random.default_rng(1).normal(size=1000)  # 8 kB: in the L1 cache
+    lo, hi = kern.extent(v)
+    kern.collide(v, 1000, -1.0, hi - lo, s)
     c0 = time.process_time()
-    kern.collide(v, n, 0.5, 1.0, s)  # all pairs rejected (g = 0): indices + uniform only
+    kern.collide(v, n, -1.0, hi - lo, s)  # alpha = -1: collisions leave v unchanged
     candidate = (time.process_time() - c0) / n * 1e9
     return {"normal": normal, "candidate_l1": candidate}
 
@@ -189,6 +194,8 @@ def main() -> None:
           f"{cool[10**6]['ns_cand'] / cool[25_000]['ns_cand']:.2f}); heated dt=0.05 "
           f"{rh:.2f}; target <= 1.5")
     for n in (25_000, 1_000_000):
+        if not hasattr(kern, "PREFETCH_BATCH"):  # kernels older than the prefetch
+            break
         plain, batched = batch_ratio(cool[n]["v"], repeat=args.repeat)
         auto = "batches" if n >= kern.PREFETCH_MIN_N else "plain loop"
         print(f"collide N={n}: plain loop {plain:.2f} ns/cand, prefetching batches of "
@@ -201,9 +208,9 @@ def main() -> None:
           f"collisions per particle incl. relaxation, sampling and moments: "
           f"{run.n_collisions / wall:.3e} collisions per CPU second")
     r = rng_costs()
-    print(f"random numbers: {r['normal']:.2f} ns per normal (ziggurat on xoshiro256**), "
-          f"{r['candidate_l1']:.2f} ns per candidate with v in L1 (2 draws, 2 loads, "
-          f"branch-free accept)")
+    print(f"random numbers: {r['normal']:.2f} ns per normal (ziggurat on xoshiro256**); "
+          f"{r['candidate_l1']:.2f} ns per candidate with v in L1 (2 draws, pair, "
+          f"accept, 2 loads, 2 stores)")
     if not args.no_replicas:
         workers = os.cpu_count() or 1
         serial, parallel = replicas(25_000, 10 * cpp, workers)
