@@ -260,15 +260,15 @@ def test_kick_sweep_heap_equals_full_rebuild():
     assert 10 < queued.sum() < len(edge) - 10  # the cut falls among the edge pairs
 
 
-@pytest.mark.parametrize("kick", [False, True])
-def test_heap_invariants_after_many_events(kick):
+@pytest.mark.parametrize("kick, n", [(False, 300), (True, 300), (False, K.PREFETCH_MIN_N)])
+def test_heap_invariants_after_many_events(kick, n):
     """After 2e4 events: heap order, slots consistent, exactly the right pairs queued.
 
     Cooling queues every approaching pair; heated runs those meeting before the kick.
+    (``n = PREFETCH_MIN_N``: the loop that prefetches the next pair's rods.)
     """
     from particles._md_engine import _Engine
 
-    n = 300
     rng = np.random.default_rng(8)
     y, v = md.initial_state(n, density=1.0, sigma=0.5, temperature=1.0, rng=rng)
     dt = 0.1 if kick else np.inf
