@@ -389,21 +389,32 @@ def _collide_batched(v, n_candidates, alpha, g_max, s, batch):  # pragma: no cov
     while done < n_candidates:
         m = min(batch, n_candidates - done)  # candidates in the buffer
         ahead = min(batch, n_candidates - done - m)  # candidates still to draw
-        for b in range(m):
+        for b in range(ahead):  # collide candidate k, refill its slot with k + batch
             i = bi[b]
             j = bj[b]
             threshold = bt[b]
-            if b < ahead:  # refill the slot with candidate k + batch
-                i2, j2, t2, s0, s1, s2, s3 = _candidate(s0, s1, s2, s3, n, n1, scale)
-                _prefetch(v, i2)
-                _prefetch(v, j2)
-                bi[b] = i2
-                bj[b] = j2
-                bt[b] = t2
+            i2, j2, t2, s0, s1, s2, s3 = _candidate(s0, s1, s2, s3, n, n1, scale)
+            _prefetch(v, i2)
+            _prefetch(v, j2)
+            bi[b] = i2
+            bj[b] = j2
+            bt[b] = t2
             vi = v[i]
             vj = v[j]
             g = vi - vj
             acc = abs(g) > threshold
+            dv = half * g if acc else 0.0
+            v[i] = vi - dv
+            v[j] = vj + dv
+            accepted += acc
+            sum_g2 += g * g if acc else 0.0
+        for b in range(ahead, m):  # the last candidates: nothing left to draw
+            i = bi[b]
+            j = bj[b]
+            vi = v[i]
+            vj = v[j]
+            g = vi - vj
+            acc = abs(g) > bt[b]
             dv = half * g if acc else 0.0
             v[i] = vi - dv
             v[j] = vj + dv
