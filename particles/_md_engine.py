@@ -180,6 +180,8 @@ class _Engine:
         self.free_length, self.sigma, self.alpha = free_length, sigma, alpha
         self.threshold, self.kick_dt, self.kick_amp = threshold, kick_dt, kick_amp
         self.rng, self.collapse_tol, self.max_stall = rng, collapse_tol, max_stall
+        self._temp_key: tuple[int, int] | None = None
+        self._temp = math.nan
         K.build_heap(0.0, kick_dt, self.x, self.v, self.tl, free_length, self.heap, self.hkey,
                      self.where, self.istate)
 
@@ -195,13 +197,18 @@ class _Engine:
                              "resumed, rerun from the start")
         for k in self._ARRAYS:
             setattr(self, k, np.array(arrays[f"md_{k}"]))
+        self._temp_key = None
 
     @property
     def n_collisions(self) -> int:
         return int(self.istate[K.I_NCOLL])
 
     def temperature(self) -> float:
-        return float(np.var(self.v))
+        """``var(v)``; cached until the next collision or kick changes ``v``."""
+        key = (int(self.istate[K.I_NCOLL]), int(self.istate[K.I_NKICK]))
+        if self._temp_key != key:
+            self._temp_key, self._temp = key, float(np.var(self.v))
+        return self._temp
 
     def advance(self, coll_target: int, t_stop: float = np.inf) -> bool:
         """Run until ``coll_target`` collisions in total or time ``t_stop``.
