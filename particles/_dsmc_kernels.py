@@ -38,6 +38,11 @@ from llvmlite import ir
 from numba.core import cgutils, types
 from numba.extending import intrinsic, overload
 
+try:  # the name of llvm.prefetch's pointer overload follows the pointer kind
+    from llvmlite import ir_layer_typed_pointers_enabled as _TYPED_POINTERS
+except ImportError:  # pragma: no cover - llvmlite < 0.44: typed pointers only
+    _TYPED_POINTERS = True
+
 from ._jit import jit
 
 __all__ = ["ziggurat_tables", "next_u64", "next_double", "fill_normal",
@@ -175,7 +180,7 @@ def _llvm_prefetch(typingctx, arr, idx):  # pragma: no cover - compiled
         i32 = ir.IntType(32)
         fn = cgutils.get_or_insert_function(
             builder.module, ir.FunctionType(ir.VoidType(), [i8p, i32, i32, i32]),
-            "llvm.prefetch.p0i8")
+            "llvm.prefetch.p0i8" if _TYPED_POINTERS else "llvm.prefetch.p0")
         builder.call(fn, [builder.bitcast(ptr, i8p), ir.Constant(i32, 0), ir.Constant(i32, 2),
                           ir.Constant(i32, 1)])
         return context.get_dummy_value()
