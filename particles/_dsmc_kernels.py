@@ -432,20 +432,53 @@ def _collide_batched(v, n_candidates, alpha, g_max, s, batch):  # pragma: no cov
 
 @jit
 def central_sums(v, kmax):  # pragma: no cover - compiled
-    """Mean and central moments :math:`\\langle (v-u)^k\\rangle`, ``k = 0..kmax``."""
+    """Mean and central moments :math:`\\langle (v-u)^k\\rangle`, ``k = 0..kmax``.
+
+    Four interleaved accumulators (elements ``4q + l`` in lane ``l``), so that the
+    dependent additions and power products of four elements overlap.
+    """
     n = v.shape[0]
-    mean = 0.0
-    for k in range(n):
-        mean += v[k]
-    mean /= n
-    out = np.zeros(kmax + 1)
-    for k in range(n):
+    a0 = a1 = a2 = a3 = 0.0
+    k = 0
+    while k + 4 <= n:
+        a0 += v[k]
+        a1 += v[k + 1]
+        a2 += v[k + 2]
+        a3 += v[k + 3]
+        k += 4
+    while k < n:
+        a0 += v[k]
+        k += 1
+    mean = ((a0 + a1) + (a2 + a3)) / n
+    acc = np.zeros((kmax + 1, 4))
+    k = 0
+    while k + 4 <= n:
+        d0 = v[k] - mean
+        d1 = v[k + 1] - mean
+        d2 = v[k + 2] - mean
+        d3 = v[k + 3] - mean
+        p0 = p1 = p2 = p3 = 1.0
+        for m in range(kmax + 1):
+            acc[m, 0] += p0
+            acc[m, 1] += p1
+            acc[m, 2] += p2
+            acc[m, 3] += p3
+            p0 *= d0
+            p1 *= d1
+            p2 *= d2
+            p3 *= d3
+        k += 4
+    while k < n:
         d = v[k] - mean
         p = 1.0
         for m in range(kmax + 1):
-            out[m] += p
+            acc[m, 0] += p
             p *= d
-    return mean, out / n
+        k += 1
+    out = np.empty(kmax + 1)
+    for m in range(kmax + 1):
+        out[m] = ((acc[m, 0] + acc[m, 1]) + (acc[m, 2] + acc[m, 3])) / n
+    return mean, out
 
 
 @jit

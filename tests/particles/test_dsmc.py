@@ -173,6 +173,16 @@ def test_sums_extent_and_variance(wrapping):
     assert kern._central_variance(v, v.mean()) == pytest.approx(v.var(), rel=1e-13)
 
 
+@pytest.mark.parametrize("n", [1, 5, 1003])
+def test_central_sums_against_numpy(n, wrapping):
+    v = np.random.default_rng(n).normal(2.0, 3.0, size=n)
+    mean, cm = kern.central_sums(v, 6)
+    assert mean == pytest.approx(v.mean(), rel=1e-14)
+    ref = np.array([np.mean((v - v.mean()) ** k) for k in range(7)])
+    scale = max(v.std(), 1.0) ** np.arange(7)
+    np.testing.assert_allclose(cm / scale, ref / scale, rtol=0, atol=1e-13)
+
+
 @pytest.mark.parametrize("offset", [0.0, 1e3])
 def test_cooling_block_rescales_to_unit_temperature(offset, wrapping):
     """One refresh: centred, unit variance, and the majorant re-measured exactly."""
