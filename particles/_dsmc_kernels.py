@@ -368,42 +368,43 @@ def _collide_plain(v, n_candidates, alpha, g_max, s):  # pragma: no cover - comp
 def _collide_batched(v, n_candidates, alpha, g_max, s, batch):  # pragma: no cover - compiled
     """:func:`collide` with the pairs drawn and prefetched ``batch`` candidates ahead.
 
-    A buffer holds the next ``batch`` candidates ``(i, j, threshold)``; candidate ``k``
-    is collided (in order, on the current velocities) in the same loop iteration that
-    draws candidate ``k + batch`` into its slot and prefetches its two velocities.
-    The draws keep the order of the plain loop, so the results are bit-identical.
+    A buffer holds the next ``batch`` candidates (``i | j << 32`` and the threshold;
+    ``N < 2^32``); candidate ``k`` is collided (in order, on the current velocities)
+    in the same loop iteration that draws candidate ``k + batch`` into its slot and
+    prefetches its two velocities.  The draws keep the order of the plain loop, so
+    the results are bit-identical.
     """
     n = np.uint64(v.shape[0])
     n1 = n - np.uint64(1)
     half = 0.5 * (1.0 + alpha)
     scale = g_max * (1.0 / 9007199254740992.0)
+    low32 = np.uint64(0xFFFFFFFF)
+    high = np.uint64(32)
     accepted = 0
     sum_g2 = 0.0
     s0, s1, s2, s3 = s[0], s[1], s[2], s[3]
-    bi = np.empty(batch, np.uint64)
-    bj = np.empty(batch, np.uint64)
+    bij = np.empty(batch, np.uint64)
     bt = np.empty(batch)
     for b in range(min(batch, n_candidates)):
         i, j, threshold, s0, s1, s2, s3 = _candidate(s0, s1, s2, s3, n, n1, scale)
         _prefetch(v, i)
         _prefetch(v, j)
-        bi[b] = i
-        bj[b] = j
+        bij[b] = i | (j << high)
         bt[b] = threshold
     done = 0
     while done < n_candidates:
         m = min(batch, n_candidates - done)  # candidates in the buffer
         ahead = min(batch, n_candidates - done - m)  # candidates still to draw
         for b in range(ahead):  # collide candidate k, refill its slot with k + batch
-            i = bi[b]
-            j = bj[b]
+            ij = bij[b]
             threshold = bt[b]
             i2, j2, t2, s0, s1, s2, s3 = _candidate(s0, s1, s2, s3, n, n1, scale)
             _prefetch(v, i2)
             _prefetch(v, j2)
-            bi[b] = i2
-            bj[b] = j2
+            bij[b] = i2 | (j2 << high)
             bt[b] = t2
+            i = ij & low32
+            j = ij >> high
             vi = v[i]
             vj = v[j]
             g = vi - vj
@@ -414,8 +415,9 @@ def _collide_batched(v, n_candidates, alpha, g_max, s, batch):  # pragma: no cov
             accepted += acc
             sum_g2 += g * g if acc else 0.0
         for b in range(ahead, m):  # the last candidates: nothing left to draw
-            i = bi[b]
-            j = bj[b]
+            ij = bij[b]
+            i = ij & low32
+            j = ij >> high
             vi = v[i]
             vj = v[j]
             g = vi - vj
