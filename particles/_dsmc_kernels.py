@@ -6,8 +6,9 @@ state is a ``uint64`` array of length 4, seeded from a ``numpy.random.SeedSequen
 by the driver and saved in checkpoints, so a run resumes bit-identically.  The
 kernels copy the four words into local variables (registers) on entry and write them
 back on exit: kept in the array, every draw waited for a store and a reload of the
-state.  A draw then costs well under 1 ns, against 3-4 ns for a numpy
-``random_raw`` block and 13 ns for a numpy normal on this machine.
+state.  A draw then costs about 1 ns (consecutive draws form a chain of dependent
+xor/rotate steps), against 3-4 ns for a numpy ``random_raw`` block and 13 ns for a
+numpy normal on this machine.
 
 Candidate pair ``(i, j)``, ``i != j``: ``i = floor(r1 N / 2^64)`` (the high word of
 one 64 x 64 -> 128-bit multiply, :func:`_mul128`; non-uniformity at most
@@ -26,7 +27,20 @@ cache misses of many candidates overlap; each candidate is still accepted and
 collided in order on the current velocities.  The random stream, the candidates and
 the collisions are exactly those of the plain loop (bit-identical results); only the
 memory latency changes.  Without the prefetch each candidate at ``N = 10^6`` waited
-for two cache misses in turn (20-50 ns per candidate instead of 4-5).
+for two cache misses in turn (9-50 ns per candidate, depending on how much of the
+shared L3 cache the other jobs leave, instead of 4).
+
+Costs on one core of the development machine (AMD EPYC, Zen 4; CPU time, from
+``benchmarks/bench_dsmc.py``): a candidate takes 3.0 ns at ``N = 25000`` (``v`` in
+L2), of which the two draws with the pair and the acceptance uniform take 2.6 ns on
+their own (the two draws 1.7 ns): the loop is bound by the random numbers, the
+accept/collide work (two loads, a select, two stores) overlaps with them.  At ``N = 10^6`` it takes 4.0-4.2
+ns: the prefetch hides the memory latency, the buffer adds about 0.8 ns.  The
+cooling refresh adds 0.6 ns per candidate (one sweep of sums and extent, bound by
+its floating-point operations, and the rescaling).  A kick takes 2.25 ns per
+velocity (one draw, two table look-ups, the add and the running extent: bound by the
+instruction throughput); at a time step of 0.05 mean free times the kicks are 80 % of
+the cost of the heated gas.
 """
 
 from __future__ import annotations
