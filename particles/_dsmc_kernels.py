@@ -34,10 +34,10 @@ Costs on one core of the development machine (AMD EPYC, Zen 4; CPU time, from
 ``benchmarks/bench_dsmc.py``): a candidate takes 3.0 ns at ``N = 25000`` (``v`` in
 L2), of which the two draws with the pair and the acceptance uniform take 2.6 ns on
 their own (the two draws 1.7 ns): the loop is bound by the random numbers, the
-accept/collide work (two loads, a select, two stores) overlaps with them.  At ``N = 10^6`` it takes 4.0-4.2
-ns: the prefetch hides the memory latency, the buffer adds about 0.8 ns.  The
-cooling refresh adds 0.6 ns per candidate (one sweep of sums and extent, bound by
-its floating-point operations, and the rescaling).  A kick takes 2.25 ns per
+accept/collide work (two loads, a select, two stores) overlaps with them.  At
+``N = 10^6`` it takes 3.8-4.2 ns: the prefetch hides the memory latency, the buffer
+adds about 0.7 ns.  The cooling refresh adds 0.6 ns per candidate (one sweep of sums
+and extent, bound by its floating-point operations, and the rescaling).  A kick takes 2.25 ns per
 velocity (one draw, two table look-ups, the add and the running extent: bound by the
 instruction throughput); at a time step of 0.05 mean free times the kicks are 80 % of
 the cost of the heated gas.
