@@ -9,10 +9,10 @@ collisions per CPU second, ns per collision and per candidate, the acceptance ra
 (heated: the exact expected one, mean |v_i - v_j| over all pairs / g_max, of the final
 state), and for the heated gas the ns per kick (one normal added to one velocity) and
 the share of the kicks in the cost.  Then the ratios N = 1e6 / N = 25000 of the cost
-per collision (issue target: at most 1.5), the prefetching batches of ``collide``
-against its plain loop at both sizes, the cost of the random numbers alone (what
-bounds a candidate at N = 25000) and the speed-up of independent replicas over the
-cores.
+per collision (issue target: at most 1.5), the batched ``collide`` (pairs drawn and
+prefetched ``PREFETCH_BATCH`` candidates ahead) against its plain loop at both sizes,
+the cost of the random numbers alone (what bounds a candidate at N = 25000) and the
+speed-up of independent replicas over the cores.
 
 Each timing is the best of ``--repeat`` runs on a relaxed state (40 collisions per
 particle of relaxation for cooling, 10 for the heated gas; compilation excluded),
@@ -198,8 +198,8 @@ def main() -> None:
             break
         plain, batched = batch_ratio(cool[n]["v"], repeat=args.repeat)
         auto = "batches" if n >= kern.PREFETCH_MIN_N else "plain loop"
-        print(f"collide N={n}: plain loop {plain:.2f} ns/cand, prefetching batches of "
-              f"{kern.PREFETCH_BATCH} {batched:.2f} ns/cand, plain/batched "
+        print(f"collide N={n}: plain loop {plain:.2f} ns/cand, batched (pairs drawn and "
+              f"prefetched {kern.PREFETCH_BATCH} ahead) {batched:.2f} ns/cand, plain/batched "
               f"{plain / batched:.2f} (default: {auto})")
     c0 = time.process_time()
     run = dsmc.simulate_heated(0.6, 25_000, seed=1, collisions_per_particle=cpp, relax=10.0)
