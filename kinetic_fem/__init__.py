@@ -15,7 +15,7 @@ result type :class:`VelocityDistribution`.  Particle methods live in the
 
 import logging
 
-from . import fem, finite_difference, gas, grid, scaling, sonine, spectral  # noqa: F401
+from . import cooling, fem, finite_difference, gas, grid, scaling, sonine, spectral  # noqa: F401
 from .distribution import RunInfo, VelocityDistribution
 from .gas import CoolingProblem, HeatedProblem, InelasticGas
 from .solve import COOLING_SOLVERS, HEATED_SOLVERS, register_solver, solve_cooling, solve_heated

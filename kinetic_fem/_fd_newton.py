@@ -29,9 +29,10 @@ from scipy.linalg import lu_factor, lu_solve
 from ._fd_kernels import gain_jacobian
 from .collision import HalfGrid, gain_term, loss_frequency
 
-__all__ = ["NewtonResult", "laplacian", "steady_residual", "newton_steady"]
+__all__ = ["NewtonResult", "laplacian", "steady_residual", "collision_jacobian",
+           "newton_steady", "update_factor", "UNDERFLOW"]
 
-_UNDERFLOW = 1e-290
+UNDERFLOW = 1e-290
 
 
 @dataclass(frozen=True)
@@ -46,7 +47,7 @@ class NewtonResult:
     message: str
 
 
-def _update_factor(y: NDArray[np.float64]) -> NDArray[np.float64]:
+def update_factor(y: NDArray[np.float64]) -> NDArray[np.float64]:
     """:math:`1 + y` (the Newton step in ``P``), continued by :math:`0.1 e^{y + 0.9}` below
     ``y = -0.9`` so that :math:`P` stays positive."""
     return np.where(y > -0.9, 1.0 + y, 0.1 * np.exp(np.clip(y, -700.0, -0.9) + 0.9))
@@ -67,22 +68,17 @@ def steady_residual(grid: HalfGrid, p: NDArray[np.float64], multiplier: float, *
     return laplacian(p, grid.h) + gain - (nu + multiplier) * p
 
 
-def _jacobian(grid: HalfGrid, p: NDArray[np.float64], nu: NDArray[np.float64],
-              multiplier: float, alpha: float, log_interp: bool, order: int
-              ) -> NDArray[np.float64]:
-    """Dense :math:`\\partial R_i / \\partial P_l`."""
+def collision_jacobian(grid: HalfGrid, p: NDArray[np.float64], nu: NDArray[np.float64],
+                       alpha: float, log_interp: bool, order: int) -> NDArray[np.float64]:
+    """Dense :math:`\\partial Q_i / \\partial P_l` of the strong collision term
+    :math:`Q_i = G_i[P] - \\nu_i[P] P_i` on the half grid (unit density)."""
     n, h = grid.n, grid.h
-    jac = np.zeros((n, n))
     idx = np.arange(n)
-    jac[idx, idx] = -2.0 / h**2
-    jac[idx[:-1], idx[:-1] + 1] = 1.0 / h**2
-    jac[idx[1:], idx[1:] - 1] = 1.0 / h**2
-    jac[0, 1] = 2.0 / h**2
     with np.errstate(divide="ignore"):
         lnp = np.where(p > 0, np.log(np.where(p > 0, p, 1.0)), -np.inf)
-    jac += 4.0 / (1.0 + alpha) ** 2 * gain_jacobian(p, lnp, grid.weights, grid.kink,
-                                                    float(alpha), h, bool(log_interp),
-                                                    int(order))
+    jac = 4.0 / (1.0 + alpha) ** 2 * gain_jacobian(p, lnp, grid.weights, grid.kink,
+                                                   float(alpha), h, bool(log_interp),
+                                                   int(order))
     v = grid.v
     w_pos = grid.weights[n - 1:]
     w_neg = grid.weights[n - 1::-1]
@@ -90,7 +86,21 @@ def _jacobian(grid: HalfGrid, p: NDArray[np.float64], nu: NDArray[np.float64],
     dnu[:, 1:] += np.abs(v[:, None] + v[None, 1:]) * w_neg[None, 1:]
     dnu[idx, idx] += grid.kink[n - 1:]
     jac -= p[:, None] * dnu
-    jac[idx, idx] -= nu + multiplier
+    jac[idx, idx] -= nu
+    return jac
+
+
+def _jacobian(grid: HalfGrid, p: NDArray[np.float64], nu: NDArray[np.float64],
+              multiplier: float, alpha: float, log_interp: bool, order: int
+              ) -> NDArray[np.float64]:
+    """Dense :math:`\\partial R_i / \\partial P_l`."""
+    n, h = grid.n, grid.h
+    jac = collision_jacobian(grid, p, nu, alpha, log_interp, order)
+    idx = np.arange(n)
+    jac[idx, idx] += -2.0 / h**2 - multiplier
+    jac[idx[:-1], idx[:-1] + 1] += 1.0 / h**2
+    jac[idx[1:], idx[1:] - 1] += 1.0 / h**2
+    jac[0, 1] += 1.0 / h**2  # P_{-1} = P_1: the first row sees P_1 twice
     return jac
 
 
@@ -128,7 +138,7 @@ def newton_steady(grid: HalfGrid, p0: NDArray[np.float64], *, alpha: float,
     def scaled(p_: NDArray[np.float64], lam_: float) -> tuple[NDArray[np.float64], ...]:
         nu_ = loss_frequency(grid, p_, density=1.0)
         res_ = steady_residual(grid, p_, lam_, alpha=alpha, log_interp=log_interp, order=order)
-        act_ = p_ > _UNDERFLOW
+        act_ = p_ > UNDERFLOW
         d_ = np.where(act_, p_ * (nu_ + 2.0 / grid.h**2), 1.0)
         return nu_, res_, d_, act_
 
@@ -160,8 +170,8 @@ def newton_steady(grid: HalfGrid, p0: NDArray[np.float64], *, alpha: float,
         theta = 1.0
         for _ in range(12):
             p_try = p.copy()
-            p_try[a] = p[a] * _update_factor(theta * y)
-            p_try[p_try < _UNDERFLOW] = 0.0
+            p_try[a] = p[a] * update_factor(theta * y)
+            p_try[p_try < UNDERFLOW] = 0.0
             nu_t, res_t, d_t, act_t = scaled(p_try, lam + theta * dlam)
             mon_t = monitored(p_try)
             norm_t = float(np.max(np.abs(res_t[mon_t] / d_t[mon_t])))
