@@ -277,7 +277,7 @@ def newton_hcs(grid: HalfGrid, u0: NDArray[np.float64], zeta0: float, *, alpha: 
             break
     if not math.isfinite(norm):
         converged = False
-    return HCSSolution(grid, f, zeta, lam, it, norm, converged, message)
+    return HCSSolution(grid, f, float(zeta), float(lam), it, norm, converged, message)
 
 
 def _grid(alpha: float, spacing: float | None, cutoff: float | None) -> HalfGrid:
@@ -288,7 +288,7 @@ def _grid(alpha: float, spacing: float | None, cutoff: float | None) -> HalfGrid
 
 
 def initial_guess(c: NDArray[np.float64], zeta: float) -> NDArray[np.float64]:
-    """``ln f`` of a Gaussian continued by the exponential tail :math:`e^{-c/\zeta}`
+    """``ln f`` of a Gaussian continued by the exponential tail :math:`e^{-c/\\zeta}`
     (matched in value and slope at :math:`c = 1/\zeta`)."""
     c0 = 1.0 / zeta
     u = -0.5 * c**2
