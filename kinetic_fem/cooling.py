@@ -289,7 +289,7 @@ def _grid(alpha: float, spacing: float | None, cutoff: float | None) -> HalfGrid
 
 def initial_guess(c: NDArray[np.float64], zeta: float) -> NDArray[np.float64]:
     """``ln f`` of a Gaussian continued by the exponential tail :math:`e^{-c/\\zeta}`
-    (matched in value and slope at :math:`c = 1/\zeta`)."""
+    (matched in value and slope at :math:`c = 1/\\zeta`)."""
     c0 = 1.0 / zeta
     u = -0.5 * c**2
     far = c > c0

@@ -1,0 +1,127 @@
+"""Tests of the homogeneous cooling state solvers (kinetic_fem.cooling, cooling "spectral").
+
+The scaled HCS solves zeta (c f)' = Q[f] with <1> = <c^2> = 1; the energy identity
+zeta = (1 - alpha^2) <|c - c'|^3> / 8 is not imposed by the solver and converges at
+second order (benchmarks/convergence_cooling.py: 9.8e-5, 2.5e-5, 6.2e-6, 1.5e-6 at
+alpha = 0.5 for spacings 0.064 ... 0.008; the same order for zeta, a2 and f).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import kinetic_fem as kf
+from kinetic_fem import cooling, spectral
+
+
+@pytest.fixture(scope="module")
+def hcs() -> dict[float, kf.VelocityDistribution]:
+    return {a: kf.solve_cooling(a, method="fd") for a in (0.5, 0.85)}
+
+
+def test_registered():
+    assert {"fd", "spectral"} <= set(kf.COOLING_SOLVERS)
+
+
+@pytest.mark.parametrize("alpha", [0.5, 0.85])
+def test_normalised_unit_temperature_even(hcs, alpha):
+    d = hcs[alpha]
+    assert d.info.converged
+    assert abs(d.raw_moments[0] - 1.0) < 1e-12
+    assert abs(d.temperature - 1.0) < 1e-12  # imposed: <c^2> = 1
+    assert abs(d.mean) < 1e-14
+    assert np.all(d.values > 0)
+    assert d.params["problem"] == "cooling"
+
+
+def test_energy_identity_converges_at_second_order():
+    """zeta - (1-alpha^2)<g^3>/8 -> 0 like h^2 (observed 2.00 in the convergence study)."""
+    err = []
+    for h in (0.0635, 0.03175):
+        s = cooling.solve_hcs(0.5, spacing=h, cutoff=35.56)
+        err.append(abs(s.zeta - s.energy_identity(0.5)) / s.zeta)
+    assert 3.8 < err[0] / err[1] < 4.2
+
+
+def test_bimodal_above_alpha_08(hcs):
+    """Claim C10: the HCS has two humps (a minimum at c = 0) for alpha > 0.8."""
+    c = np.array([0.0, 0.5])
+    f5 = hcs[0.5].f(c)
+    f85 = hcs[0.85].f(c)
+    assert f5[0] > f5[1]
+    assert f85[0] < f85[1]
+
+
+def test_spectral_cooling_agrees_within_its_truncation_error(hcs):
+    """Sonine orders 6 and 8 bracket the truncation error of the moment method; the fd
+    HCS (grid error of a2 ~1e-5) must lie within it."""
+    s8, zeta8 = spectral.solve_sonine_cooling(0.85, 8)
+    s6, _ = spectral.solve_sonine_cooling(0.85, 6)
+    trunc = abs(s8.coefficients[2] - s6.coefficients[2])
+    d = hcs[0.85]
+    assert abs(d.a2 - s8.coefficients[2]) < trunc
+    assert abs(d.info.extra["zeta"] / zeta8 - 1) < 1e-3
+    via_registry = kf.solve_cooling(0.85, method="spectral", order=8)
+    assert via_registry.a2 == pytest.approx(s8.coefficients[2], abs=1e-8)
+
+
+@settings(max_examples=20, deadline=None)
+@given(alpha=st.floats(0.0, 0.999))
+def test_first_order_sonine_cooling_formula(alpha):
+    """Linearised P = 2: a2 = 16 (1 - 2 alpha^2) / (33 + 30 alpha^2) (van Noije-Ernst, d = 1)."""
+    sol, zeta = spectral.solve_sonine_cooling(alpha, 2, linearized=True)
+    assert sol.coefficients[2] == pytest.approx(16 * (1 - 2 * alpha**2) / (33 + 30 * alpha**2),
+                                                abs=1e-12)
+    assert zeta > 0
+
+
+def test_quasi_elastic_cooling_rate_and_humps():
+    """Claim C9: zeta -> eps (two delta peaks: T = (n eps t)^-2), humps at |c| -> 1."""
+    d = kf.solve_cooling(0.99, method="fd")
+    zeta = d.info.extra["zeta"]
+    assert abs(zeta / 0.01 - 1) < 2e-3
+    c = np.linspace(0, 2, 2001)
+    peak = c[np.argmax(d.f(c))]
+    assert abs(peak - 1) < 0.1
+    assert d.f([0.0])[0] < 0.05 * d.f([peak])[0]
+
+
+def test_exponential_tail():
+    """Far tail f ~ exp(-c/zeta)/c: the log-slope tends to -1/zeta - 1/c."""
+    s = cooling.solve_hcs(0.5)
+    c, u = s.grid.v, np.log(s.f)
+    sel = (c > 20) & (c < 30)
+    slope = np.gradient(u, c)[sel] + 1.0 / c[sel]
+    assert np.max(np.abs(slope * s.zeta + 1)) < 0.02
+
+
+def test_bad_input():
+    with pytest.raises(ValueError, match="alpha"):
+        kf.solve_cooling(1.0, method="fd")
+    with pytest.raises(ValueError, match="does not resolve the humps"):
+        kf.solve_cooling(0.999, method="fd", spacing=0.05)
+    with pytest.raises(ValueError, match="cutoff"):
+        kf.solve_cooling(0.5, method="fd", cutoff=1.0)
+    with pytest.raises(ValueError, match="interpolation_order"):
+        kf.solve_cooling(0.5, method="fd", interpolation_order=5)
+    with pytest.raises(TypeError):
+        kf.solve_cooling(0.5, method="fd", spacingg=0.1)
+    with pytest.raises(ValueError, match="order"):
+        kf.solve_cooling(0.5, method="spectral", order=1)
+
+
+def test_short_cutoff_warns():
+    with pytest.warns(cooling.ResolutionWarning, match="cut-off"):
+        kf.solve_cooling(0.5, method="fd", cutoff=8.0)
+
+
+def test_density_does_not_change_the_scaled_state(hcs):
+    other = kf.solve_cooling(0.5, density=3.0, method="fd")
+    np.testing.assert_array_equal(other.values, hcs[0.5].values)
+    assert other.params["density"] == 3.0
+    assert math.isclose(other.info.extra["zeta"], hcs[0.5].info.extra["zeta"])
