@@ -30,8 +30,8 @@ screens every pair in a second, branch-free loop; only the pairs that meet befor
 the following kick (a few per cent at the default interval) are divided out and
 heapified (:math:`O(\\text{size})`).  Its cost, about 4 ns per rod on this machine
 (half of it the normals), is paid every kick: with ``(dt_k/tau) N/2`` collisions
-between kicks it adds ``8 ns / (dt_k/tau)`` per collision (160 ns at the default
-0.05 mean free times, against ~120 ns for the collision itself at N = 5000).
+between kicks it adds ``8 ns / (dt_k/tau)`` per collision (80 ns at the default
+0.1 mean free times, against ~120 ns for the collision itself at N = 5000).
 
 Collision rule (relative speed :math:`g = v_i - v_j > 0`):
 

@@ -5,7 +5,7 @@ Event-driven MD of heated inelastic rods: f(c), a2 and density fluctuations
 :func:`particles.md.simulate_heated` follows :math:`N` hard rods of length
 :math:`\sigma` on a ring of length :math:`L = N/n` exactly, collision by collision
 (:math:`v_1' - v_2' = -\alpha(v_1 - v_2)`, momentum conserved), and kicks every rod,
-:math:`v \to v + \sqrt{2D\,\Delta t_k}\,\xi`, every :math:`\Delta t_k` (0.05 mean free
+:math:`v \to v + \sqrt{2D\,\Delta t_k}\,\xi`, every :math:`\Delta t_k` (0.1 mean free
 times by default).  Unlike DSMC it keeps the spatial correlations: at strong
 inelasticity the rods cluster (paper Fig. 1, inset) and :math:`f(c)` departs from the
 homogeneous Boltzmann prediction; as :math:`\alpha \to 1` the kurtosis approaches
