@@ -31,7 +31,8 @@ from tqdm import tqdm
 from tqdm.contrib.logging import logging_redirect_tqdm
 
 from . import io, reproduce
-from .solve import HEATED_SOLVERS, solve_heated
+from .distribution import VelocityDistribution
+from .solve import COOLING_SOLVERS, HEATED_SOLVERS, solve_cooling, solve_heated
 
 __all__ = ["main", "build_parser"]
 
@@ -116,6 +117,24 @@ def build_parser() -> argparse.ArgumentParser:
                      help="solver option, repeatable, e.g. -o spacing=0.05 "
                           "(see the solver's documentation)")
     sol.add_argument("--quiet", action="store_true", help="no log messages")
+
+    cool = sub.add_parser(
+        "solve-cooling", help="homogeneous cooling state (free cooling) at one alpha",
+        description="Solve the scaled homogeneous cooling state and print a2 and the "
+                    "cooling rate zeta (dT/dt = -2 zeta n T^(3/2)).",
+        epilog="examples:\n  kinetic-fem solve-cooling 0.9 --out hcs09.vtu\n"
+               "  kinetic-fem solve-cooling 0.5 --method spectral -o order=8",
+        formatter_class=argparse.RawDescriptionHelpFormatter)
+    cool.add_argument("alpha", type=float, help="restitution coefficient, 0 <= alpha < 1")
+    cool.add_argument("--method", default="fd", help="registered solver key (default: %(default)s)")
+    cool.add_argument("--density", type=float, default=1.0, metavar="N",
+                      help="number density n > 0 (default: %(default)s)")
+    cool.add_argument("--out", type=Path, default=None, metavar="FILE",
+                      help="save the distribution: .npz, .vtu or .xdmf")
+    cool.add_argument("-o", "--option", dest="options", type=_key_value, action="append",
+                      default=[], metavar="KEY=VALUE",
+                      help="solver option, repeatable, e.g. -o spacing=0.01")
+    cool.add_argument("--quiet", action="store_true", help="no log messages")
     return parser
 
 
@@ -238,26 +257,47 @@ def _import_solvers() -> None:
                 logger.warning("kinetic_fem.%s not loaded: %s", mod.name, exc)
 
 
+def _check_out(out: Path | None) -> None:
+    if out is not None and out.suffix not in {".npz", *io.FORMATS}:
+        raise ValueError(f"--out must end in .npz, .vtu or .xdmf, got {str(out)!r}")
+
+
+def _report(dist: VelocityDistribution, out: Path | None) -> None:
+    print(f"a2 = {dist.a2:.10g}")
+    print(f"converged={dist.info.converged} iterations={dist.info.iterations} "
+          f"wall_time={dist.info.wall_time:.3g} s")
+    if out is not None:
+        path = dist.save(out) if out.suffix == ".npz" else io.write_distribution(dist, out)
+        print(f"saved to {path}")
+
+
 def _run_solve_heated(args: argparse.Namespace) -> int:
     _import_solvers()
     if not HEATED_SOLVERS:
         raise ValueError("no heated solver is registered in this installation")
     if args.method not in HEATED_SOLVERS:
         raise ValueError(f"unknown method {args.method!r}; available: {sorted(HEATED_SOLVERS)}")
-    if args.out is not None and args.out.suffix not in {".npz", *io.FORMATS}:
-        raise ValueError(f"--out must end in .npz, .vtu or .xdmf, got {str(args.out)!r}")
+    _check_out(args.out)
     dist = solve_heated(args.alpha, density=args.density, diffusion=args.diffusion,
                         method=args.method, **dict(args.options))
     print(f"method={dist.method or args.method} alpha={args.alpha} density={args.density} "
           f"diffusion={args.diffusion}")
     print(f"T = {dist.temperature:.10g}")
-    print(f"a2 = {dist.a2:.10g}")
-    print(f"converged={dist.info.converged} iterations={dist.info.iterations} "
-          f"wall_time={dist.info.wall_time:.3g} s")
-    if args.out is not None:
-        path = (dist.save(args.out) if args.out.suffix == ".npz"
-                else io.write_distribution(dist, args.out))
-        print(f"saved to {path}")
+    _report(dist, args.out)
+    return 0
+
+
+def _run_solve_cooling(args: argparse.Namespace) -> int:
+    _import_solvers()
+    if args.method not in COOLING_SOLVERS:
+        raise ValueError(f"unknown method {args.method!r}; available: {sorted(COOLING_SOLVERS)}")
+    _check_out(args.out)
+    dist = solve_cooling(args.alpha, density=args.density, method=args.method,
+                         **dict(args.options))
+    print(f"method={dist.method or args.method} alpha={args.alpha} density={args.density} "
+          "(scaled state, T = 1)")
+    print(f"zeta = {dist.info.extra['zeta']:.10g}  (dT/dt = -2 zeta n T^(3/2))")
+    _report(dist, args.out)
     return 0
 
 
@@ -265,7 +305,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of ``kinetic-fem``; returns the exit status.
 
     Bad input (an unknown item, an invalid alpha, ...) prints one line
-    ``kinetic-fem: error: ...`` and returns 2, without a traceback.
+    ``kinetic-fem: error: ...`` and returns 2, without a traceback; a solver that fails
+    on valid input prints ``kinetic-fem: solver failed: ...`` and returns 1.
     """
     parser = build_parser()
     args = parser.parse_args(argv)
@@ -276,9 +317,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         if args.command == "reproduce":
             return _run_reproduce(args)
+        if args.command == "solve-cooling":
+            return _run_solve_cooling(args)
         return _run_solve_heated(args)
     except (ValueError, TypeError) as exc:
         parser.exit(2, f"kinetic-fem: error: {exc}\n")
+    except RuntimeError as exc:  # a solver that failed on valid input
+        parser.exit(1, f"kinetic-fem: solver failed: {exc}\n")
     return 2  # pragma: no cover
 
 

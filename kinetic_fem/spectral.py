@@ -201,7 +201,10 @@ def _solve_moments(alpha: float, order: int, linearized: bool, *, cooling: bool
 
     x, _, _, msg = fsolve(residual, np.zeros(order - 1), xtol=1e-13, full_output=True)
     if not np.max(np.abs(residual(x))) < 1e-12:
-        raise RuntimeError(f"Sonine moment equations did not converge at order {order}: {msg}")
+        raise RuntimeError(f"the Sonine moment equations ({'cooling' if cooling else 'heated'}, "
+                           f"alpha={alpha}, order {order}) have no solution the solver could "
+                           f"find ({msg.strip()}); the truncated series fails where f is far "
+                           "from a Gaussian: try another order or method='fd'")
     coef = full(x)
     return coef, j(1, coef)
 

@@ -161,3 +161,22 @@ def test_solve_heated_passes_solver_options(tmp_path, capsys, toy_solver):
     with pytest.raises(SystemExit):
         main(["solve-heated", "0.5", "-o", "no-equals-sign"])
     assert "expected KEY=VALUE" in capsys.readouterr().err
+
+
+def test_solve_cooling_prints_zeta_and_saves(tmp_path, capsys):
+    path = tmp_path / "hcs.npz"
+    assert main(["solve-cooling", "0.5", "--method", "spectral", "-o", "order=4",
+                 "--out", str(path), "--quiet"]) == 0
+    out = capsys.readouterr().out
+    assert "zeta = " in out and "a2 = " in out
+    assert path.exists()
+
+
+def test_solve_cooling_errors_without_traceback(capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(["solve-cooling", "1.5"])
+    assert exc.value.code == 2
+    with pytest.raises(SystemExit) as exc:
+        main(["solve-cooling", "0.5", "--method", "spectral", "-o", "order=8", "--quiet"])
+    assert exc.value.code == 1
+    assert "solver failed" in capsys.readouterr().err
