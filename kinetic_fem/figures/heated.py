@@ -33,10 +33,11 @@ from ..grid import simpson_weights
 from ..reproduce import ClaimRow, Context, register
 from ..solve import solve_heated
 from ..sonine import crossover_velocities, relaxation_time, tail_exponent_amplitude
+from ..sonine import steady_temperature as sonine_temperature
 
-__all__ = ["solve_steady", "ExponentPeak", "exponent_peak", "peak_sweep", "TailFit", "tail_fit",
-           "relaxation_run", "relaxation_fit", "richardson", "power_law_exponent",
-           "F_ANALYSIS_FLOOR"]
+__all__ = ["solve_steady", "fem_steady", "ExponentPeak", "exponent_peak", "peak_sweep",
+           "PeakSweep", "TailFit", "tail_fit", "relaxation_run", "relaxation_fit", "richardson",
+           "power_law_exponent", "local_exponents", "F_ANALYSIS_FLOOR"]
 
 F_ANALYSIS_FLOOR = 1e-60
 """Smallest f(c) used in fits; with the cut-off moved out (f below 1e-89 there) the
@@ -65,6 +66,58 @@ def solve_steady(alpha: float, *, spacing: float = 0.04, cutoff_factor: float = 
     return dist
 
 
+def fem_steady(alpha: float, *, spacing: float = 0.05, cutoff_factor: float = 1.5,
+               widen_spacing: float = 0.07, widen_step: float = 1.08) -> VelocityDistribution:
+    """FEM (P2, Newton) steady state at ``n = D = 1`` with a cut-off beyond the default.
+
+    The cut-off is ``cutoff_factor`` times :func:`kinetic_fem.fem.default_cutoff` (which
+    puts f near 1e-33); at small eps the peak of n(c) lies deeper (f ~ 1e-60 at
+    eps = 1e-4), so the interval is widened in steps of ``widen_step`` at spacing
+    ``widen_spacing``, each Newton solve started from the previous one continued by a
+    cubic in ``|v|`` (the C5 tail; a Gaussian continuation makes Newton diverge), and
+    the last solve is at ``spacing``.  At spacing 0.1 n(c) is noisy where f < 1e-44
+    (eps = 1e-3); 0.05 is smooth down to the cut-off.
+    """
+    from .. import fem
+    from ..grid import symmetric_grid, uniform_grid
+
+    state = fem.steady_state(alpha, spacing=min(widen_spacing, 0.2), tol=1e-9)
+    scale = math.sqrt(sonine_temperature(alpha))
+    target = cutoff_factor * fem.default_cutoff(alpha)
+    c_max = float(state.disc.vertices[-1]) / scale
+    while True:
+        last = c_max >= 0.999 * target
+        c_max = c_max if last else min(target, widen_step * c_max)
+        h = spacing if last else widen_spacing
+        half = max(2, int(math.ceil(c_max / h)))
+        disc = fem.FEMDiscretisation(alpha, symmetric_grid(uniform_grid(c_max * scale, half + 1)))
+        u, info = fem.newton_steady(disc, _cubic_continuation(state, disc.dof_locations),
+                                    tol=1e-11 if last else 1e-9)
+        if not info.converged:
+            raise fem.ConvergenceError(f"FEM Newton failed at alpha={alpha}, cut-off "
+                                       f"{c_max:.2f}: {info.message}; use a smaller "
+                                       "cutoff_factor or widen_step")
+        state = fem.SteadyState(disc, u, info)
+        if last:
+            return disc.distribution(u, method="fem", info=info,
+                                     params={"alpha": alpha, "density": 1.0,
+                                             "diffusion": 1.0, "cutoff": c_max,
+                                             "spacing": spacing})
+
+
+def _cubic_continuation(state, v: NDArray[np.float64]) -> NDArray[np.float64]:
+    """ln P of ``state`` at ``v``, continued beyond 0.9 of its edge as a cubic in |v|."""
+    v0 = 0.9 * float(state.disc.vertices[-1])
+    l0, l1 = np.log(state.disc.evaluate(state.u, np.array([0.999 * v0, v0])))
+    slope = (l1 - l0) / (0.001 * v0)
+    a = np.abs(v)
+    out = l1 + slope * (a**3 - v0**3) / (3.0 * v0**2)
+    inside = np.flatnonzero(a <= v0)
+    order = inside[np.argsort(a[inside])]
+    out[order] = np.log(state.disc.evaluate(state.u, a[order]))
+    return out
+
+
 def power_law_exponent(x: NDArray[np.float64], y: NDArray[np.float64]) -> float:
     """Slope of the least-squares line of ``log y`` against ``log x``."""
     return float(np.polyfit(np.log(x), np.log(y), 1)[0])
@@ -72,13 +125,18 @@ def power_law_exponent(x: NDArray[np.float64], y: NDArray[np.float64]) -> float:
 
 @dataclass(frozen=True)
 class ExponentPeak:
-    """Maximum of the effective exponent: position in c, v and x, height ``n``."""
+    """Maximum of the effective exponent: position in c, v and x, height ``n``.
+
+    ``interior`` is False when the largest n(c) sits at the end of the searched range
+    (no maximum resolved).
+    """
 
     eps: float
     c: float
     v: float
     x: float
     n: float
+    interior: bool = True
 
 
 def _resolved_c_max(dist: VelocityDistribution, floor: float) -> float:
@@ -87,12 +145,16 @@ def _resolved_c_max(dist: VelocityDistribution, floor: float) -> float:
 
 
 def exponent_peak(dist: VelocityDistribution, *, floor: float = F_ANALYSIS_FLOOR,
-                  c_min: float = 0.3, n_points: int = 4000) -> ExponentPeak:
-    """Largest :math:`n(c)` for ``c_min <= c`` and ``f(c) > floor`` (parabolic refinement)."""
-    c = np.linspace(c_min, _resolved_c_max(dist, floor), n_points)
+                  c_min: float = 0.3, n_points: int = 4000,
+                  c_max: float | None = None) -> ExponentPeak:
+    """Largest :math:`n(c)` for ``c_min <= c <= c_max`` and ``f(c) > floor`` (parabolic
+    refinement); ``c_max`` keeps the search away from the cut-off's boundary layer."""
+    top = _resolved_c_max(dist, floor)
+    c = np.linspace(c_min, top if c_max is None else min(top, c_max), n_points)
     n = dist.effective_exponent(c)
     i = int(np.nanargmax(n))
-    if 0 < i < c.size - 1:
+    interior = 0 < i < c.size - 1
+    if interior:
         y0, y1, y2 = n[i - 1], n[i], n[i + 1]
         shift = 0.5 * (y0 - y2) / (y0 - 2 * y1 + y2)
         c_star = c[i] + shift * (c[1] - c[0])
@@ -101,7 +163,8 @@ def exponent_peak(dist: VelocityDistribution, *, floor: float = F_ANALYSIS_FLOOR
         c_star, n_star = c[i], n[i]
     eps = 1.0 - float(dist.params["alpha"])
     v = c_star * math.sqrt(dist.temperature)
-    return ExponentPeak(eps, float(c_star), float(v), float(v * eps ** (1 / 3)), float(n_star))
+    return ExponentPeak(eps, float(c_star), float(v), float(v * eps ** (1 / 3)), float(n_star),
+                        interior)
 
 
 @dataclass(frozen=True)
@@ -240,28 +303,105 @@ def figure_f2(ctx: Context) -> list[ClaimRow]:
 
 @dataclass(frozen=True)
 class PeakSweep:
-    """Peaks of n(c) at spacing h and h/2; ``converged`` where x* moved by < 2%."""
+    """Peaks of n(c) at each eps: best resolution, coarser spacing, (other cut-off).
+
+    ``converged`` where the peak is interior and moved by less than ``x_tol``
+    (relative, in x*) and ``n_tol`` (absolute, in n*) between the resolutions (FD:
+    spacing h and 2h; FEM: spacing h and h_fine, and cut-offs a and b).
+    """
 
     peaks: tuple[ExponentPeak, ...]
     coarse: tuple[ExponentPeak, ...]
     converged: tuple[bool, ...]
+    other_cutoff: tuple[ExponentPeak, ...] = ()
+    method: str = "fd"
+    x_tol: float = 0.02
+    n_tol: float = math.inf
+
+    def selected(self) -> list[ExponentPeak]:
+        """The converged peaks."""
+        return [p for p, ok in zip(self.peaks, self.converged, strict=True) if ok]
 
     def fits(self) -> tuple[float, float]:
         """Exponents of v* and 3 - n* against eps over the converged peaks."""
-        sel = [p for p, ok in zip(self.peaks, self.converged, strict=True) if ok]
+        sel = self.selected()
         if len(sel) < 2:
             return math.nan, math.nan
         eps = np.array([p.eps for p in sel])
         return (power_law_exponent(eps, np.array([p.v for p in sel])),
                 power_law_exponent(eps, 3.0 - np.array([p.n for p in sel])))
 
+    def local(self) -> list[tuple[float, float, float, float]]:
+        """``(eps_1, eps_2, exponent of v*, exponent of 3 - n*)`` between successive
+        converged peaks."""
+        return local_exponents(self.selected())
 
-def peak_sweep(eps_values: tuple[float, ...], *, spacing: float) -> PeakSweep:
-    """:func:`exponent_peak` of the FD steady state at each ``eps``, at two spacings."""
-    coarse = tuple(exponent_peak(solve_steady(1.0 - e, spacing=2 * spacing)) for e in eps_values)
-    fine = tuple(exponent_peak(solve_steady(1.0 - e, spacing=spacing)) for e in eps_values)
-    ok = tuple(abs(f.x / c.x - 1) < 0.02 for f, c in zip(fine, coarse, strict=True))
-    return PeakSweep(fine, coarse, ok)
+
+def local_exponents(peaks) -> list[tuple[float, float, float, float]]:
+    """Two-point exponents of v* and 3 - n* between successive peaks."""
+    out = []
+    for a, b in zip(peaks[:-1], peaks[1:], strict=True):
+        le = math.log(b.eps / a.eps)
+        out.append((a.eps, b.eps, math.log(b.v / a.v) / le,
+                    math.log((3.0 - b.n) / (3.0 - a.n)) / le))
+    return out
+
+
+FEM_PEAK_SPACINGS = (0.05, 0.035)
+"""FEM spacings of the peak sweep (thermal velocities); 0.1 is noisy below f ~ 1e-44."""
+
+
+def fem_cutoff_factors(eps: float) -> tuple[float, float]:
+    """Two cut-offs (times the FEM default) placing the peak of n(c) well inside."""
+    return (1.3, 1.5) if eps >= 1e-3 else (1.5, 1.7)
+
+
+def peak_sweep(eps_values: tuple[float, ...], *, spacing: float, method: str = "fd",
+               fine_spacing: float | None = None, x_tol: float | None = None,
+               n_tol: float | None = None, log=None) -> PeakSweep:
+    """:func:`exponent_peak` of the steady state at each ``eps``.
+
+    ``method="fd"``: :func:`solve_steady` at spacings ``2 spacing`` and ``spacing``,
+    converged if x* moved by < 2 %.  ``method="fem"``: :func:`fem_steady` at
+    (``spacing``, cut-off a), (``fine_spacing``, a) and (``spacing``, cut-off b) with
+    the cut-offs of :func:`fem_cutoff_factors`; converged if the peak is interior and
+    x* moved by < ``x_tol`` (default 1 %) and n* by < ``n_tol`` (default 1e-3) in
+    both comparisons; the fine-spacing peak is reported.
+    """
+    if method == "fd":
+        coarse = tuple(exponent_peak(solve_steady(1.0 - e, spacing=2 * spacing))
+                       for e in eps_values)
+        fine = tuple(exponent_peak(solve_steady(1.0 - e, spacing=spacing)) for e in eps_values)
+        tol = 0.02 if x_tol is None else x_tol
+        ok = tuple(abs(f.x / c.x - 1) < tol for f, c in zip(fine, coarse, strict=True))
+        return PeakSweep(fine, coarse, ok, x_tol=tol)
+    if method != "fem":
+        raise ValueError(f"method must be 'fd' or 'fem', got {method!r}")
+    fine_spacing = spacing / math.sqrt(2.0) if fine_spacing is None else fine_spacing
+    x_tol = 0.01 if x_tol is None else x_tol
+    n_tol = 1e-3 if n_tol is None else n_tol
+    coarse, fine, other, ok = [], [], [], []
+
+    def peak(eps: float, h: float, factor: float) -> ExponentPeak:
+        dist = fem_steady(1.0 - eps, spacing=h, cutoff_factor=factor)
+        # stay clear of the zero-flux boundary layer at the cut-off
+        p = exponent_peak(dist, floor=1e-300, c_max=0.9 * float(dist.c.max()))
+        if log is not None:
+            log(f"eps={eps:g} h={h:g} cut-off={dist.c.max():.2f} (x{factor}) "
+                f"nodes={dist.v.size}: c*={p.c:.4f} x*={p.x:.4f} n*={p.n:.5f}"
+                + ("" if p.interior else " (at the end of the range)"))
+        return p
+
+    for eps in eps_values:
+        fa, fb = fem_cutoff_factors(eps)
+        pc, pf, po = peak(eps, spacing, fa), peak(eps, fine_spacing, fa), peak(eps, spacing, fb)
+        coarse.append(pc)
+        fine.append(pf)
+        other.append(po)
+        ok.append(all(p.interior for p in (pc, pf, po))
+                  and all(abs(q.x / pf.x - 1) < x_tol and abs(q.n - pf.n) < n_tol
+                          for q in (pc, po)))
+    return PeakSweep(tuple(fine), tuple(coarse), tuple(ok), tuple(other), "fem", x_tol, n_tol)
 
 
 @register("F6", "effective exponent n(c) of the deterministic solution, peak scaling",

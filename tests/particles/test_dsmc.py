@@ -372,6 +372,44 @@ def test_cooling_never_under_or_overflows():
     assert np.isfinite(r.a2)
 
 
+@pytest.fixture(scope="module")
+def cooling_085():
+    """DSMC cooling at alpha = 0.85 and the fd homogeneous cooling state.
+
+    20 batches of 200 collisions per particle, about 40 correlation times of a2 each
+    (``benchmarks/validate_dsmc.py`` measures tau_a2 = 4-7), so the batch errors are
+    honest; averaging starts after 1000 collisions per particle (the shape relaxes
+    from the initial Gaussian within a few hundred).
+    """
+    run = dsmc.simulate_cooling(0.85, 10_000, seed=21, relax=1000.0,
+                                collisions_per_particle=4000.0, sample_every=2.0,
+                                n_batches=20)
+    return run, kf.solve_cooling(0.85, method="fd")
+
+
+def test_cooling_a2_against_fd_homogeneous_cooling_state(cooling_085):
+    run, hcs = cooling_085
+    assert run.a2_error < 1e-3
+    assert abs(run.a2 - hcs.a2) < 3 * run.a2_error, (run.a2, run.a2_error, hcs.a2)
+
+
+def test_cooling_rate_against_fd_homogeneous_cooling_state(cooling_085):
+    """T^(-1/2) grows as zeta n t: the slope of each batch against the fd zeta."""
+    run, hcs = cooling_085
+    s = run.series
+    late = np.flatnonzero(s["collisions_per_particle"] >= run.relaxed_at)
+    idx = np.linspace(late[0], late[-1], 21).round().astype(int)
+    lx, lt = -0.5 * s["log_temperature"], s["log_t"]
+
+    def log_diff(a, b):  # ln(exp(b) - exp(a)): T and t leave the float range
+        return b + np.log1p(-np.exp(a - b))
+
+    zeta = np.exp(log_diff(lx[idx[:-1]], lx[idx[1:]]) - log_diff(lt[idx[:-1]], lt[idx[1:]]))
+    err = zeta.std(ddof=1) / math.sqrt(zeta.size)
+    assert err < 2e-3 * hcs.info.extra["zeta"]
+    assert abs(zeta.mean() - hcs.info.extra["zeta"]) < 3 * err, (zeta.mean(), err)
+
+
 # ----------------------------------------------------------------------------- examples
 def _example(name):
     """Load a docs example with the loader of tests/test_examples.py."""
