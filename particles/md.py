@@ -29,11 +29,11 @@ time); cooling runs at evenly spaced collision counts of the requested window.
 
 Defaults and their checks (``benchmarks/bench_md.py``): kicks every 0.1 mean free
 times.  The kick-interval study (``--part kicks``: N = 5000, n sigma = 0.5, 2000
-collisions per particle per run, 12-24 seeds per interval, dt_k/tau = 0.025 ... 0.4)
+collisions per particle per run, 12-48 seeds per interval, dt_k/tau = 0.025 ... 0.4)
 resolves no dependence at alpha = 0.99 and 0.9 (linear slopes of T/T_Sonine and a2
-within 0.4 and 1.8 standard errors; at 0.1 tau the bias is at most 0.001 in T/T_Sonine
-and 0.0014 in a2 at alpha = 0.99, 0.006 and 0.009 at alpha = 0.9, two-sigma bounds,
-against standard deviations of one run of 0.005, 0.007 and 0.044, 0.035).
+within 0.9 and 1.8 standard errors; at 0.1 tau the bias is at most 0.0008 in
+T/T_Sonine and 0.0006 in a2 at alpha = 0.99, 0.006 and 0.009 at alpha = 0.9, two-sigma
+bounds, against standard deviations of one run of 0.006, 0.007 and 0.044, 0.035).
 At alpha = 0.6 and 0.3, where clusters collapse between kicks and the threshold
 makes half the collisions elastic, T decreases linearly in dt_k (slopes -0.25 +- 0.07
 and -0.38 +- 0.07 in T/T_Sonine per mean free time, first order): at 0.1 tau T is

@@ -394,20 +394,17 @@ def test_cooling_a2_against_fd_homogeneous_cooling_state(cooling_085):
 
 
 def test_cooling_rate_against_fd_homogeneous_cooling_state(cooling_085):
-    """T^(-1/2) grows as zeta n t: the slope of each batch against the fd zeta."""
+    """T^(-1/2) = zeta n t + T_0^(-1/2): after relaxation (hundreds of e-folds of T) the
+    constant is negligible and every sample gives T^(-1/2)/(n t); batch errors."""
     run, hcs = cooling_085
     s = run.series
-    late = np.flatnonzero(s["collisions_per_particle"] >= run.relaxed_at)
-    idx = np.linspace(late[0], late[-1], 21).round().astype(int)
-    lx, lt = -0.5 * s["log_temperature"], s["log_t"]
-
-    def log_diff(a, b):  # ln(exp(b) - exp(a)): T and t leave the float range
-        return b + np.log1p(-np.exp(a - b))
-
-    zeta = np.exp(log_diff(lx[idx[:-1]], lx[idx[1:]]) - log_diff(lt[idx[:-1]], lt[idx[1:]]))
-    err = zeta.std(ddof=1) / math.sqrt(zeta.size)
-    assert err < 2e-3 * hcs.info.extra["zeta"]
-    assert abs(zeta.mean() - hcs.info.extra["zeta"]) < 3 * err, (zeta.mean(), err)
+    late = s["collisions_per_particle"] >= run.relaxed_at
+    z = np.exp(-0.5 * s["log_temperature"][late] - s["log_t"][late])  # T, t leave floats
+    means = np.array([b.mean() for b in np.array_split(z, 20)])
+    zeta, err = means.mean(), means.std(ddof=1) / math.sqrt(means.size)
+    assert s["log_temperature"][late][0] < -100
+    assert err < 1e-3 * hcs.info.extra["zeta"]
+    assert abs(zeta - hcs.info.extra["zeta"]) < 3 * err, (zeta, err)
 
 
 # ----------------------------------------------------------------------------- examples

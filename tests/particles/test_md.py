@@ -349,9 +349,9 @@ def test_invariants_over_a_long_clustered_run():
 def test_kick_interval_converged_near_elastic():
     """alpha = 0.99: kicks every 0.4 mean free times and at the default give the same T, a2.
 
-    The study in benchmarks/bench_md.py (--part kicks: N = 5000, 2000 cpp x 16 seeds per
+    The study in benchmarks/bench_md.py (--part kicks: N = 5000, 2000 cpp x 48 seeds per
     interval, 0.025 ... 0.4 mean free times) resolved no dependence: linear slopes
-    +0.0016 +- 0.0036 in T/T_Sonine and -0.0025 +- 0.0057 in a2 per mean free time.
+    +0.0025 +- 0.0029 in T/T_Sonine and +0.0002 +- 0.0030 in a2 per mean free time.
     """
     tau = md.mean_free_time(steady_temperature(0.99, 2.0), 1.0, 0.5)
     temps, a2 = {}, {}
