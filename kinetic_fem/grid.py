@@ -115,7 +115,8 @@ def simpson_weights(v: NDArray[np.float64]) -> NDArray[np.float64]:
 
 
 def abs_power_convolution(
-    x: NDArray[np.float64], wf: NDArray[np.float64], power: int, at: NDArray[np.float64] | None = None
+    x: NDArray[np.float64], wf: NDArray[np.float64], power: int,
+    at: NDArray[np.float64] | None = None,
 ) -> NDArray[np.float64]:
     """:math:`\\sum_j |a_i - x_j|^p\\, (wf)_j` in O(N + M) for odd ``power``.
 
