@@ -281,7 +281,7 @@ def cooling(quick: bool) -> None:
           f"{'Haff exp':>10}{'ln T end':>11}")
     for alpha, run, det, _, _, (zeta, zerr), haff, _ in rows:
         zf = float(det.info.extra["zeta"])
-        print(f"{alpha:>6}{run.n_particles:>7}{zeta:>11.6f}{zerr:>10.6f}{zf:>10.6f}"
+        print(f"{alpha:>6}{run.n_particles:>7}{zeta:>11.7f}{zerr:>10.1e}{zf:>10.7f}"
               f"{zeta / zf - 1:>+11.2e}"
               f"{(zeta - zf) / zerr:>+7.2f}{haff:>10.5f}{run.series['log_temperature'][-1]:>11.4g}")
     # finite-N effects: two sizes at alpha = 0.99, X(N) = X_inf + b/N
