@@ -9,8 +9,16 @@ Setting ``NUMBA_DISABLE_JIT=1`` runs the kernels as plain Python (slow, for test
 from __future__ import annotations
 
 import numba
+from llvmlite import ir
+from numba.core import cgutils, types
+from numba.extending import intrinsic, overload
 
-__all__ = ["jit"]
+try:  # the name of llvm.prefetch's pointer overload follows the pointer kind
+    from llvmlite import ir_layer_typed_pointers_enabled as _TYPED_POINTERS
+except ImportError:  # pragma: no cover - older llvmlite: typed pointers
+    _TYPED_POINTERS = True
+
+__all__ = ["jit", "prefetch"]
 
 
 def jit(func=None, **options):
@@ -20,3 +28,39 @@ def jit(func=None, **options):
     if func is None:
         return lambda f: numba.njit(**opts)(f)
     return numba.njit(**opts)(func)
+
+
+@intrinsic
+def _llvm_prefetch(typingctx, arr, idx):  # pragma: no cover - compiled
+    """``llvm.prefetch`` of ``arr[idx]``: read, locality 2 (``prefetcht1``, into L2).
+
+    Measured for the DSMC at N = 10^6: 5 ns per candidate, against 13-17 ns with an L1
+    prefetch (``prefetcht0`` or ``prefetchw``), which holds one of the few L1 miss buffers.
+    """
+    sig = types.void(arr, idx)
+
+    def codegen(context, builder, signature, args):
+        ary = context.make_array(signature.args[0])(context, builder, args[0])
+        ptr = cgutils.get_item_pointer(context, builder, signature.args[0], ary, [args[1]])
+        i8p = ir.IntType(8).as_pointer()
+        i32 = ir.IntType(32)
+        fn = cgutils.get_or_insert_function(
+            builder.module, ir.FunctionType(ir.VoidType(), [i8p, i32, i32, i32]),
+            "llvm.prefetch.p0i8" if _TYPED_POINTERS else "llvm.prefetch.p0")
+        builder.call(fn, [builder.bitcast(ptr, i8p), ir.Constant(i32, 0), ir.Constant(i32, 2),
+                          ir.Constant(i32, 1)])
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
+def prefetch(arr, idx):
+    """Hint that ``arr[idx]`` will be read soon (compiled kernels); a no-op in Python."""
+
+
+@overload(prefetch, jit_options={"cache": True})
+def _prefetch_jit(arr, idx):  # pragma: no cover - compiled
+    def impl(arr, idx):
+        _llvm_prefetch(arr, idx)
+
+    return impl

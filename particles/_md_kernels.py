@@ -54,12 +54,9 @@ here.  All kernels take arrays and scalars only.
 from __future__ import annotations
 
 import numpy as np
-from llvmlite import ir
-from numba.core import cgutils, types
-from numba.extending import intrinsic, overload
 
 from ._dsmc_kernels import _normal_slow, ziggurat_tables
-from ._jit import jit
+from ._jit import jit, prefetch
 
 __all__ = ["F_T", "F_T_KICK", "F_DISS", "F_INJ", "I_NCOLL", "I_HSIZE", "I_STALL",
            "I_NKICK", "I_NELASTIC", "I_BAD_PAIR", "STATUS_COLLISIONS", "STATUS_TIME",
@@ -88,36 +85,6 @@ PREFETCH_MIN_N = 1 << 14
 """From this N on (arrays beyond the 1 MiB L2 cache) :func:`run_events` prefetches."""
 
 
-@intrinsic
-def _llvm_prefetch(typingctx, arr, idx):  # pragma: no cover - compiled
-    """``llvm.prefetch`` of ``arr[idx]``: read, locality 2 (into L2)."""
-    sig = types.void(arr, idx)
-
-    def codegen(context, builder, signature, args):
-        ary = context.make_array(signature.args[0])(context, builder, args[0])
-        ptr = cgutils.get_item_pointer(context, builder, signature.args[0], ary, [args[1]])
-        i8p = ir.IntType(8).as_pointer()
-        i32 = ir.IntType(32)
-        fn = cgutils.get_or_insert_function(
-            builder.module, ir.FunctionType(ir.VoidType(), [i8p, i32, i32, i32]),
-            "llvm.prefetch.p0i8")
-        builder.call(fn, [builder.bitcast(ptr, i8p), ir.Constant(i32, 0), ir.Constant(i32, 2),
-                          ir.Constant(i32, 1)])
-        return context.get_dummy_value()
-
-    return sig, codegen
-
-
-def _prefetch(arr, idx):
-    """Hint that ``arr[idx]`` will be read soon; a no-op in plain Python."""
-
-
-@overload(_prefetch, jit_options={"cache": True})
-def _prefetch_jit(arr, idx):  # pragma: no cover - compiled
-    def impl(arr, idx):
-        _llvm_prefetch(arr, idx)
-
-    return impl
 
 
 @jit
@@ -415,7 +382,7 @@ def run_events(x, v, tl, heap, hkey, where, fstate, istate, rng, ki, wi, fi, nor
     n_elastic = istate[I_NELASTIC]
     status = STATUS_COLLISIONS
     p = 0
-    prefetch = n >= PREFETCH_MIN_N
+    use_prefetch = n >= PREFETCH_MIN_N
     while True:
         if n_coll >= coll_stop:
             status = STATUS_COLLISIONS
@@ -441,16 +408,16 @@ def run_events(x, v, tl, heap, hkey, where, fstate, istate, rng, ki, wi, fi, nor
             status = STATUS_TIME if tc < np.inf else STATUS_NO_EVENTS
             break
         # --- collision of pair p = (i, j) at time tc
-        if prefetch and istate[I_HSIZE] > 4:
+        if use_prefetch and istate[I_HSIZE] > 4:
             # the earliest child of the root is likely the next collision: fetch its
             # rods while this one is processed (overlaps the cache misses of large N)
             c01 = 1 + (hkey[2] < hkey[1])
             c23 = 3 + (hkey[4] < hkey[3])
             q2 = heap[c23] if hkey[c23] < hkey[c01] else heap[c01]
-            _prefetch(x, q2)
-            _prefetch(v, q2)
-            _prefetch(tl, q2)
-            _prefetch(where, q2)
+            prefetch(x, q2)
+            prefetch(v, q2)
+            prefetch(tl, q2)
+            prefetch(where, q2)
         i = p
         j = p + 1
         shift = 0.0
