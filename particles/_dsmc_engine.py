@@ -126,6 +126,10 @@ class Engine:
 
     # ----------------------------------------------------------------- dynamics
     def _segment(self) -> None:
+        with np.errstate(over="ignore"):  # uint64 wrap-around of the generator (no-JIT mode)
+            self._segment_kernels()
+
+    def _segment_kernels(self) -> None:
         o, alpha = self.opts, self.gas.alpha
         if self.kind == "heated":
             acc, g2, debt = kern.heated_segment(
@@ -134,7 +138,7 @@ class Engine:
             self.c["debt"] = debt
             t = o["steps"] * o["dt"]
             self.c["log_t"] = float(np.logaddexp(self.c["log_t"], math.log(t)))
-            self.c["accepted"] += acc
+            self.c["accepted"] += int(acc)
             self.seg_g2, self.seg_time = g2, t
             return
         target = self.c["accepted"] + max(1, int(round(0.5 * o["sample_every"] * self.n)))
@@ -143,7 +147,7 @@ class Engine:
             need = int((target - self.c["accepted"]) / max(ratio, 1e-3)) + 1
             m = min(need, max(4 * self.n, 1 << 16))
             acc, d_log_scale, elapsed = kern.cooling_block(self.v, m, self.n, alpha, self.state)
-            self.c["accepted"] += acc
+            self.c["accepted"] += int(acc)
             self.c["candidates"] += m
             if elapsed > 0:
                 log_dt = (math.log(2.0 * elapsed / (self.n * self.gas.density))
