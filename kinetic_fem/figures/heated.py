@@ -5,6 +5,9 @@ solved by Newton's method on its discrete equations (``steady="newton"``, the sa
 fixed point as the time marching, which is used for the transients of C2), with cubic
 interpolation of the gain-term argument (``interpolation_order=3``), whose error is
 not amplified by :math:`1/\\varepsilon` as that of the paper's quadratic one is.
+The peaks of n(c) behind C6 and C7 (F6) come from the FEM solver instead
+(:func:`fem_steady`, :func:`peak_sweep` with ``method="fem"``): at eps = 1e-3 the FD
+peak position still moves by 20 % between h = 0.06 and 0.03.
 
 Observables, all at ``n = D = 1``:
 
@@ -67,16 +70,20 @@ def solve_steady(alpha: float, *, spacing: float = 0.04, cutoff_factor: float = 
 
 
 def fem_steady(alpha: float, *, spacing: float = 0.05, cutoff_factor: float = 1.5,
-               widen_spacing: float = 0.07, widen_step: float = 1.08) -> VelocityDistribution:
+               widen_spacing: float = 0.07, widen_step: float = 1.08,
+               intorder: int = 5) -> VelocityDistribution:
     """FEM (P2, Newton) steady state at ``n = D = 1`` with a cut-off beyond the default.
 
     The cut-off is ``cutoff_factor`` times :func:`kinetic_fem.fem.default_cutoff` (which
-    puts f near 1e-33); at small eps the peak of n(c) lies deeper (f ~ 1e-60 at
+    puts f near 1e-33); at small eps the peak of n(c) lies deeper (f ~ 1e-100 at
     eps = 1e-4), so the interval is widened in steps of ``widen_step`` at spacing
     ``widen_spacing``, each Newton solve started from the previous one continued by a
     cubic in ``|v|`` (the C5 tail; a Gaussian continuation makes Newton diverge), and
-    the last solve is at ``spacing``.  At spacing 0.1 n(c) is noisy where f < 1e-44
-    (eps = 1e-3); 0.05 is smooth down to the cut-off.
+    the last solve is at ``spacing`` with Gauss degree ``intorder``.  In the deep tail
+    at small eps the gain and loss terms cancel to O(eps), so their quadrature error is
+    amplified by 1/eps and n(c) becomes noisy (degree 5: below f ~ 1e-44 at h = 0.1,
+    eps = 1e-3; near the peak at h = 0.05, eps = 1e-4); degree 9 at h = 0.05 is smooth
+    and converged at the peak for eps down to 1e-4 (``benchmarks/effective_exponent_peak.py``).
     """
     from .. import fem
     from ..grid import symmetric_grid, uniform_grid
@@ -85,7 +92,7 @@ def fem_steady(alpha: float, *, spacing: float = 0.05, cutoff_factor: float = 1.
     target = cutoff_factor * fem.default_cutoff(alpha)
     if cutoff_factor <= 1.0:
         # the default interval (widened by steady_state itself if f(cut-off) > 1e-33)
-        state = fem.steady_state(alpha, spacing=spacing)
+        state = fem.steady_state(alpha, spacing=spacing, intorder=intorder)
         c_max = float(state.disc.vertices[-1]) / scale
         return state.disc.distribution(state.u, method="fem", info=state.info,
                                        params={"alpha": alpha, "density": 1.0,
@@ -98,7 +105,8 @@ def fem_steady(alpha: float, *, spacing: float = 0.05, cutoff_factor: float = 1.
         c_max = c_max if last else min(target, widen_step * c_max)
         h = spacing if last else widen_spacing
         half = max(2, int(math.ceil(c_max / h)))
-        disc = fem.FEMDiscretisation(alpha, symmetric_grid(uniform_grid(c_max * scale, half + 1)))
+        disc = fem.FEMDiscretisation(alpha, symmetric_grid(uniform_grid(c_max * scale, half + 1)),
+                                     intorder=intorder if last else 5)
         u, info = fem.newton_steady(disc, _cubic_continuation(state, disc.dof_locations),
                                     tol=1e-11 if last else 1e-9)
         if not info.converged:
@@ -365,7 +373,7 @@ def local_exponents(peaks) -> list[tuple[float, float, float, float]]:
 
 
 FEM_PEAK_SPACINGS = (0.05, 0.035)
-"""FEM spacings of the peak sweep (thermal velocities); 0.1 is noisy below f ~ 1e-44."""
+"""FEM spacings of the full peak sweep (thermal velocities), with Gauss degree 9."""
 
 
 def fem_cutoff_factors(eps: float) -> tuple[float, float]:
@@ -378,7 +386,7 @@ def fem_cutoff_factors(eps: float) -> tuple[float, float]:
 def peak_sweep(eps_values: tuple[float, ...], *, spacing: float, method: str = "fd",
                fine_spacing: float | None = None, x_tol: float | None = None,
                n_tol: float | None = None, widen_spacing: float = 0.07,
-               log=None) -> PeakSweep:
+               cutoff_check: bool = True, intorder: int = 9, log=None) -> PeakSweep:
     """:func:`exponent_peak` of the steady state at each ``eps``.
 
     ``method="fd"``: :func:`solve_steady` at spacings ``2 spacing`` and ``spacing``,
@@ -387,8 +395,14 @@ def peak_sweep(eps_values: tuple[float, ...], *, spacing: float, method: str = "
     the cut-offs of :func:`fem_cutoff_factors`; converged if the peak is interior and
     x* moved by < ``x_tol`` (default 1 %) and n* by < ``n_tol`` (default 1e-3) in
     both comparisons; the fine-spacing peak is reported.  ``widen_spacing``: see
-    :func:`fem_steady`.
+    :func:`fem_steady`.  Peaks are returned in order of decreasing eps.
+    ``cutoff_check=False`` skips the second cut-off (quick mode,
+    where the peak lies at f > 1e-10, far inside the default cut-off).  ``intorder``:
+    Gauss degree of the final solves (9: 5 points per element); in the deep tail at
+    small eps the gain and loss terms cancel to O(eps), so their quadrature error is
+    amplified by 1/eps (eps = 3e-4, h = 0.05: x* = 9.43 with degree 5, 9.01 with 9).
     """
+    eps_values = tuple(sorted(eps_values, reverse=True))
     if method == "fd":
         coarse = tuple(exponent_peak(solve_steady(1.0 - e, spacing=2 * spacing))
                        for e in eps_values)
@@ -405,7 +419,7 @@ def peak_sweep(eps_values: tuple[float, ...], *, spacing: float, method: str = "
 
     def peak(eps: float, h: float, factor: float) -> ExponentPeak:
         dist = fem_steady(1.0 - eps, spacing=h, cutoff_factor=factor,
-                          widen_spacing=widen_spacing)
+                          widen_spacing=widen_spacing, intorder=intorder)
         # stay clear of the zero-flux boundary layer at the cut-off
         p = exponent_peak(dist, floor=1e-300, c_max=0.9 * float(dist.c.max()), drop=0.01)
         if log is not None:
@@ -416,13 +430,16 @@ def peak_sweep(eps_values: tuple[float, ...], *, spacing: float, method: str = "
 
     for eps in eps_values:
         fa, fb = fem_cutoff_factors(eps)
-        pc, pf, po = peak(eps, spacing, fa), peak(eps, fine_spacing, fa), peak(eps, spacing, fb)
+        pc, pf = peak(eps, spacing, fa), peak(eps, fine_spacing, fa)
+        checks = [pc]
+        if cutoff_check:
+            other.append(peak(eps, spacing, fb))
+            checks.append(other[-1])
         coarse.append(pc)
         fine.append(pf)
-        other.append(po)
-        ok.append(all(p.interior for p in (pc, pf, po))
+        ok.append(all(p.interior for p in (pf, *checks))
                   and all(abs(q.x / pf.x - 1) < x_tol and abs(q.n - pf.n) < n_tol
-                          for q in (pc, po)))
+                          for q in checks))
     return PeakSweep(tuple(fine), tuple(coarse), tuple(ok), tuple(other), "fem", x_tol, n_tol)
 
 
@@ -433,8 +450,12 @@ def figure_f6(ctx: Context) -> list[ClaimRow]:
 
     The peaks come from the FEM solver (:func:`peak_sweep` with ``method="fem"``),
     validated in ``benchmarks/effective_exponent_peak.py``: full mode eps = 1e-1 ... 1e-4
-    at spacings 0.05 / 0.035 with two cut-offs each (about 30 min on a loaded core);
-    quick mode eps = 0.1, 0.03, 0.01 at spacings 0.1 / 0.07.
+    at spacings 0.05 / 0.035 (Gauss degree 9) with two cut-offs each (21 solves of
+    1800 to 3850 quadrature nodes, 382 s on one core); quick mode
+    eps = 0.1, 0.03, 0.01 at spacings 0.1 / 0.07, degree 5, default cut-off (peaks at
+    f > 1e-10).  Measured (full): v* ~ eps^-0.545, x* ~ eps^-0.212, 3 - n* ~ eps^0.347
+    over 1e-1 ... 1e-4; local exponents of v* -0.577 ... -0.537 (flat near -0.54 below
+    eps = 1e-2), of 3 - n* rising 0.297 ... 0.380.
     """
     from ..scaling import solve_phi
 
@@ -442,11 +463,10 @@ def figure_f6(ctx: Context) -> list[ClaimRow]:
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(10, 4.2))
     for alpha in (0.6, 0.9, 0.99, 0.999):
         if ctx.quick:
-            d = solve_steady(alpha, spacing=0.06)
-            top = _resolved_c_max(d, F_ANALYSIS_FLOOR)
+            d = fem_steady(alpha, spacing=0.1, cutoff_factor=1.0, intorder=9)
         else:
-            d = fem_steady(alpha, spacing=FEM_PEAK_SPACINGS[0], cutoff_factor=1.3)
-            top = 0.9 * float(d.c.max())
+            d = fem_steady(alpha, spacing=FEM_PEAK_SPACINGS[0], cutoff_factor=1.3, intorder=9)
+        top = 0.9 * float(d.c.max())
         c = np.linspace(0.05, top, 800)
         ax.plot(c, d.effective_exponent(c), label=f"alpha={alpha}")
     phi = solve_phi().distribution
@@ -462,7 +482,7 @@ def figure_f6(ctx: Context) -> list[ClaimRow]:
     else:
         eps_values, spacings = (0.1, 0.03, 0.01, 0.003, 0.001, 3e-4, 1e-4), FEM_PEAK_SPACINGS
     sweep = peak_sweep(eps_values, spacing=spacings[0], fine_spacing=spacings[1], method="fem",
-                       widen_spacing=spacings[0] if ctx.quick else 0.07)
+                       cutoff_check=not ctx.quick, intorder=5 if ctx.quick else 9)
     v_exp, n_exp = sweep.fits()
     sel = sweep.selected()
     eps_sel = np.array([p.eps for p in sel])
@@ -484,20 +504,36 @@ def figure_f6(ctx: Context) -> list[ClaimRow]:
     loc_n = ", ".join(f"{e1:.0e}-{e2:.0e}: {ne:+.3f}" for e1, e2, _, ne in local)
     ratios = [p.v / crossover_velocities(1.0 - p.eps)[0] for p in sel]
     n0 = float(phi.effective_exponent(np.array([0.05]))[0])
-    span = (f"fem P2 h={spacings[0]:g}/{spacings[1]:g}, two cut-offs; fit over eps = "
+    cuts = "one cut-off (quick)" if ctx.quick else "two cut-offs"
+    span = (f"fem P2 h={spacings[0]:g}/{spacings[1]:g}, Gauss degree "
+            f"{5 if ctx.quick else 9}, {cuts}; fit over eps = "
             f"{', '.join(f'{e:.0e}' for e in eps_sel)} (peaks converged to "
             f"{sweep.x_tol:.0%} in x*, {sweep.n_tol:g} in n*)")
-    why = ("x* = v* eps^(1/3) is not constant: it grows as the peak sits where the "
-           "phi-limit exponent ~ 3 - 6<x^2>/x^2 (rising toward 3) is bent down by the "
-           "finite-eps crossover; if 3 - n* ~ eps^(1/3) then x* ~ eps^(-1/6) and "
-           "v* ~ eps^(-1/2)")
+    x_exp = (power_law_exponent(eps_sel, np.array([p.x for p in sel]))
+             if len(sel) >= 2 else math.nan)
+    why = (f"x* = v* eps^(1/3) is not constant but grows as eps^({x_exp:.3f}) (fit): the "
+           "peak sits where the phi-limit exponent n ~ 3 - 6<x^2>/x^2 (rising toward 3) "
+           "is bent down by the finite-eps crossover, further out in x as eps -> 0; "
+           f"local exponents of v* from {local[0][2] if local else math.nan:.3f} (largest "
+           f"eps) to {local[-1][2] if local else math.nan:.3f} (smallest)")
+    last = local[-1] if local else (math.nan, math.nan, math.nan, math.nan)
+    pair = f"eps = {last[0]:.0e} -> {last[1]:.0e}"
     return [
         ClaimRow("C7", "n(c -> 0) (phi limit, c = 0.05)", f"{n0:.4f}", "2",
                  bool(abs(n0 - 2) < 0.01), "scaling.solve_phi"),
         ClaimRow("C7", "exponent of v* against eps", f"{v_exp:.3f} (local: {loc_v})", "-1/3",
                  bool(abs(v_exp + 1 / 3) < 0.05), "fem (Newton)", f"{span}; {why}; {table}"),
         ClaimRow("C7", "exponent of 3 - n* against eps", f"{n_exp:.3f} (local: {loc_n})", "1/3",
-                 bool(abs(n_exp - 1 / 3) < 0.05), "fem (Newton)", span),
+                 bool(abs(n_exp - 1 / 3) < 0.05), "fem (Newton)",
+                 f"{span}; local exponent from {local[0][3] if local else math.nan:.3f} "
+                 f"(largest eps) to {local[-1][3] if local else math.nan:.3f} (smallest); "
+                 "3 - n* ~ 6<x^2>/x*^2 of the phi limit would follow x*^-2"),
+        ClaimRow("C7", f"local exponent of v*, smallest pair ({pair})", f"{last[2]:.3f}",
+                 "-1/3", bool(abs(last[2] + 1 / 3) < 0.05), "fem (Newton)",
+                 "two-point exponent between the two smallest converged eps"),
+        ClaimRow("C7", f"local exponent of 3 - n*, smallest pair ({pair})", f"{last[3]:.3f}",
+                 "1/3", bool(abs(last[3] - 1 / 3) < 0.05), "fem (Newton)",
+                 "two-point exponent between the two smallest converged eps"),
         ClaimRow("C6", "x* = v*/v_cr1, v_cr1 = (D/(n eps))^(1/3)",
                  ", ".join(f"{r:.2f}" for r in ratios), "O(1), eps-independent",
                  bool(ratios and max(ratios) / min(ratios) < 1.2), "fem (Newton)",
