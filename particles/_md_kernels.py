@@ -55,7 +55,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._dsmc_kernels import _normal_slow, ziggurat_tables
+from ._dsmc_kernels import _normal_slow, _xoshiro, ziggurat_tables
 from ._jit import jit, prefetch
 
 __all__ = ["F_T", "F_T_KICK", "F_DISS", "F_INJ", "I_NCOLL", "I_HSIZE", "I_STALL",
@@ -83,31 +83,6 @@ ZIGGURAT = ziggurat_tables()
 """``(ki, wi, fi)`` of the 256-layer normal ziggurat, passed to the kernels."""
 PREFETCH_MIN_N = 1 << 14
 """From this N on (arrays beyond the 1 MiB L2 cache) :func:`run_events` prefetches."""
-
-
-
-
-@jit
-def _rotl(x, k):  # pragma: no cover - compiled
-    return (x << np.uint64(k)) | (x >> np.uint64(64 - k))
-
-
-@jit
-def _xoshiro(s0, s1, s2, s3):  # pragma: no cover - compiled
-    """xoshiro256** on a state in four local variables: ``(result, s0, s1, s2, s3)``.
-
-    The same stream as :func:`particles._dsmc_kernels.next_u64` on ``[s0, s1, s2, s3]``;
-    kept in registers, a draw does not wait for a store and reload of the state array.
-    """
-    result = _rotl(s1 * np.uint64(5), 7) * np.uint64(9)
-    t = s1 << np.uint64(17)
-    s2 ^= s0
-    s3 ^= s1
-    s1 ^= s2
-    s0 ^= s3
-    s2 ^= t
-    s3 = _rotl(s3, 45)
-    return result, s0, s1, s2, s3
 
 
 @jit
