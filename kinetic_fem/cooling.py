@@ -61,7 +61,7 @@ from numpy.typing import NDArray
 from scipy.linalg import lu_factor, lu_solve
 
 from ._fd_newton import collision_jacobian, update_factor
-from .collision import HalfGrid, gain_term, half_grid, loss_frequency
+from .collision import HalfGrid, gain_term, half_grid, loss_frequency, pair_moment
 from .distribution import RunInfo, VelocityDistribution
 from .gas import CoolingProblem, check_alpha, check_positive
 from .solve import register_solver
@@ -193,8 +193,6 @@ class HCSSolution:
 
     def energy_identity(self, alpha: float) -> float:
         """:math:`(1-\\alpha^2)\\langle|c-c'|^3\\rangle/8`, to compare with :attr:`zeta`."""
-        from .collision import pair_moment
-
         w = self.grid.weights
         g3 = pair_moment(self.grid.v_full, self.grid.full(self.f), w, 3)
         return (1.0 - alpha**2) * g3 / 8.0
