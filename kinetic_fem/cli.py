@@ -103,20 +103,7 @@ def build_parser() -> argparse.ArgumentParser:
         epilog="examples:\n  kinetic-fem solve-heated 0.9 --method fem --out a09.vtu\n"
                "  kinetic-fem solve-heated 0.5 --method fd -o cutoff=20.0",
         formatter_class=argparse.RawDescriptionHelpFormatter)
-    sol.add_argument("alpha", type=float, help="restitution coefficient, 0 <= alpha < 1")
-    sol.add_argument("--method", default="fem",
-                     help="registered solver key (default: %(default)s)")
-    sol.add_argument("--density", type=float, default=1.0, metavar="N",
-                     help="number density n > 0 (default: %(default)s)")
-    sol.add_argument("--diffusion", type=float, default=1.0, metavar="D",
-                     help="noise strength D > 0 (default: %(default)s)")
-    sol.add_argument("--out", type=Path, default=None, metavar="FILE",
-                     help="save the distribution: .npz, .vtu or .xdmf")
-    sol.add_argument("-o", "--option", dest="options", type=_key_value, action="append",
-                     default=[], metavar="KEY=VALUE",
-                     help="solver option, repeatable, e.g. -o spacing=0.05 "
-                          "(see the solver's documentation)")
-    sol.add_argument("--quiet", action="store_true", help="no log messages")
+    _add_solve_arguments(sol, method="fem", diffusion=True, example="spacing=0.05")
 
     cool = sub.add_parser(
         "solve-cooling", help="homogeneous cooling state (free cooling) at one alpha",
@@ -125,17 +112,28 @@ def build_parser() -> argparse.ArgumentParser:
         epilog="examples:\n  kinetic-fem solve-cooling 0.9 --out hcs09.vtu\n"
                "  kinetic-fem solve-cooling 0.5 --method spectral -o order=8",
         formatter_class=argparse.RawDescriptionHelpFormatter)
-    cool.add_argument("alpha", type=float, help="restitution coefficient, 0 <= alpha < 1")
-    cool.add_argument("--method", default="fd", help="registered solver key (default: %(default)s)")
-    cool.add_argument("--density", type=float, default=1.0, metavar="N",
-                      help="number density n > 0 (default: %(default)s)")
-    cool.add_argument("--out", type=Path, default=None, metavar="FILE",
-                      help="save the distribution: .npz, .vtu or .xdmf")
-    cool.add_argument("-o", "--option", dest="options", type=_key_value, action="append",
-                      default=[], metavar="KEY=VALUE",
-                      help="solver option, repeatable, e.g. -o spacing=0.01")
-    cool.add_argument("--quiet", action="store_true", help="no log messages")
+    _add_solve_arguments(cool, method="fd", diffusion=False, example="spacing=0.01")
     return parser
+
+
+def _add_solve_arguments(parser: argparse.ArgumentParser, *, method: str, diffusion: bool,
+                         example: str) -> None:
+    """The arguments shared by ``solve-heated`` and ``solve-cooling``."""
+    parser.add_argument("alpha", type=float, help="restitution coefficient, 0 <= alpha < 1")
+    parser.add_argument("--method", default=method,
+                        help="registered solver key (default: %(default)s)")
+    parser.add_argument("--density", type=float, default=1.0, metavar="N",
+                        help="number density n > 0 (default: %(default)s)")
+    if diffusion:
+        parser.add_argument("--diffusion", type=float, default=1.0, metavar="D",
+                            help="noise strength D > 0 (default: %(default)s)")
+    parser.add_argument("--out", type=Path, default=None, metavar="FILE",
+                        help="save the distribution: .npz, .vtu or .xdmf")
+    parser.add_argument("-o", "--option", dest="options", type=_key_value, action="append",
+                        default=[], metavar="KEY=VALUE",
+                        help=f"solver option, repeatable, e.g. -o {example} "
+                             "(see the solver's documentation)")
+    parser.add_argument("--quiet", action="store_true", help="no log messages")
 
 
 def _version() -> str:
