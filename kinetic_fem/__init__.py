@@ -15,16 +15,26 @@ result type :class:`VelocityDistribution`.  Particle methods live in the
 
 import logging
 
-from . import cooling, fem, finite_difference, gas, grid, scaling, sonine, spectral  # noqa: F401
+from . import cooling, fem, finite_difference, gas, grid, model, scaling, sonine, spectral  # noqa: F401
 from .distribution import RunInfo, VelocityDistribution
-from .gas import CoolingProblem, HeatedProblem, InelasticGas
+from .model import (
+    CoolingProblem,
+    FokkerPlanckBath,
+    HeatedProblem,
+    InelasticGas,
+    PowerLawKernel,
+    ThresholdRestitution,
+    ViscoelasticRestitution,
+    WhiteNoise,
+)
 from .solve import COOLING_SOLVERS, HEATED_SOLVERS, register_solver, solve_cooling, solve_heated
 
 __version__ = "0.1.0"
 __all__ = [
     "InelasticGas", "HeatedProblem", "CoolingProblem", "VelocityDistribution", "RunInfo",
     "solve_heated", "solve_cooling", "register_solver", "HEATED_SOLVERS", "COOLING_SOLVERS",
-    "sonine", "scaling", "grid", "gas",
+    "PowerLawKernel", "ThresholdRestitution", "ViscoelasticRestitution", "WhiteNoise",
+    "FokkerPlanckBath", "sonine", "scaling", "grid", "gas", "model",
 ]
 
 logging.getLogger(__name__).addHandler(logging.NullHandler())

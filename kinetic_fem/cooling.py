@@ -428,6 +428,7 @@ def hcs_fd(problem: CoolingProblem, *, spacing: float | None = None,
         identity ``zeta_energy`` (equal to ``zeta`` up to the discretisation error),
         the mass-defect rate, the spacing and the cut-off.
     """
+    problem.require("fd", gammas=(1.0,), constant_restitution=True)
     start = time.perf_counter()
     alpha = problem.gas.alpha
     sol = solve_hcs(alpha, spacing=spacing, cutoff=cutoff,

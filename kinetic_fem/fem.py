@@ -55,6 +55,7 @@ from ._fem_kernels import collision_operator, evaluate_field
 from .distribution import RunInfo, VelocityDistribution
 from .gas import HeatedProblem, check_positive
 from .grid import symmetric_grid, uniform_grid
+from .model import WhiteNoise
 from .solve import register_solver
 
 __all__ = ["FEMDiscretisation", "SteadyState", "ResolutionWarning", "ConvergenceError",
@@ -475,6 +476,7 @@ def solve_fem(problem: HeatedProblem, *, order: int = 2, spacing: float | None =
     ResolutionWarning
         If the cut-off truncates f(c) above 1e-30 or the spacing is too coarse.
     """
+    problem.require("fem", gammas=(1.0,), constant_restitution=True, thermostats=(WhiteNoise,))
     state = steady_state(problem.gas.alpha, order=order, spacing=spacing, cutoff=cutoff,
                          vertices=vertices, intorder=intorder, symmetric=symmetric, tol=tol,
                          max_iter=max_iter)

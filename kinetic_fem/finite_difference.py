@@ -70,6 +70,7 @@ from .collision import HalfGrid, gain_term, half_grid, loss_frequency
 from .distribution import RunInfo, VelocityDistribution
 from .gas import HeatedProblem, check_positive
 from .grid import moments
+from .model import WhiteNoise
 from .solve import register_solver
 from .sonine import relaxation_time, steady_temperature
 
@@ -403,6 +404,7 @@ def solve_fd(problem: HeatedProblem, *, spacing: float = 0.04, cutoff: float | N
     >>> round(d.a2, 3)
     0.058
     """
+    problem.require("fd", gammas=(1.0,), constant_restitution=True, thermostats=(WhiteNoise,))
     spacing = check_positive("spacing", spacing)
     if spacing > 0.25:
         raise ValueError(f"spacing={spacing} sqrt(T) is too coarse; use spacing <= 0.25 "

@@ -13,7 +13,7 @@ from __future__ import annotations
 from typing import Any, Callable
 
 from .distribution import VelocityDistribution
-from .gas import CoolingProblem, HeatedProblem
+from .model import CoolingProblem, HeatedProblem, PowerLawKernel, RestitutionLaw
 
 __all__ = ["HEATED_SOLVERS", "COOLING_SOLVERS", "register_solver", "solve_heated",
            "solve_cooling"]
@@ -42,16 +42,23 @@ def _lookup(table: dict[str, Solver], method: str, problem: str) -> Solver:
     return table[method]
 
 
-def solve_heated(alpha: float, *, density: float = 1.0, diffusion: float = 1.0,
-                 method: str = "fem", **options: Any) -> VelocityDistribution:
-    """Steady state of the randomly heated inelastic gas.
+def solve_heated(alpha: float | RestitutionLaw, *, density: float = 1.0,
+                 diffusion: float = 1.0, friction: float = 0.0,
+                 kernel: float | PowerLawKernel = 1.0, method: str = "fem",
+                 **options: Any) -> VelocityDistribution:
+    """Steady state of the heated inelastic gas.
 
     Parameters
     ----------
-    alpha : float
-        Restitution coefficient, ``0 <= alpha < 1``.
+    alpha : float or RestitutionLaw
+        Restitution coefficient, ``0 <= alpha < 1`` (``alpha = 1`` with ``friction > 0``),
+        or a law :math:`\\alpha(g)` (:mod:`kinetic_fem.model`).
     density, diffusion : float
         Number density :math:`n > 0` and noise strength :math:`D > 0`.
+    friction : float
+        Friction :math:`\\xi \\ge 0` of a Fokker-Planck bath (0: white noise, the paper).
+    kernel : float or PowerLawKernel
+        Collision kernel :math:`|g|^\\gamma`, given by ``gamma`` in ``[0, 2]`` (1: hard rods).
     method : str
         Registry key: ``"fem"`` (Galerkin, Newton), ``"fd"`` (the paper's iteration), ...
     **options
@@ -65,13 +72,21 @@ def solve_heated(alpha: float, *, density: float = 1.0, diffusion: float = 1.0,
     ------
     ValueError, TypeError
         For invalid parameters, an unknown method or an unknown option.
+    UnsupportedModelError
+        (a ValueError) if the method cannot solve this model; the message says which can.
     """
-    problem = HeatedProblem.from_parameters(alpha, density=density, diffusion=diffusion)
+    problem = HeatedProblem.from_parameters(alpha, density=density, diffusion=diffusion,
+                                            friction=friction, kernel=kernel)
     return _lookup(HEATED_SOLVERS, method, "heated")(problem, **options)
 
 
-def solve_cooling(alpha: float, *, density: float = 1.0, method: str = "fem",
+def solve_cooling(alpha: float | RestitutionLaw, *, density: float = 1.0,
+                  kernel: float | PowerLawKernel = 1.0, method: str = "fem",
                   **options: Any) -> VelocityDistribution:
-    """Homogeneous cooling state in scaled variables (see :func:`solve_heated`)."""
-    problem = CoolingProblem.from_parameters(alpha, density=density)
+    """Homogeneous cooling state in scaled variables (see :func:`solve_heated`).
+
+    The result has unit temperature; its cooling rate :math:`\\zeta`, defined by
+    :math:`dT/dt = -2\\zeta n T^{1+\\gamma/2}`, is ``dist.info.extra["zeta"]``.
+    """
+    problem = CoolingProblem.from_parameters(alpha, density=density, kernel=kernel)
     return _lookup(COOLING_SOLVERS, method, "cooling")(problem, **options)

@@ -49,6 +49,7 @@ from scipy.special import genlaguerre, roots_genlaguerre, roots_hermite
 from .distribution import RunInfo, VelocityDistribution
 from .gas import CoolingProblem, HeatedProblem, check_alpha
 from .grid import simpson_weights
+from .model import WhiteNoise
 from .solve import register_solver
 
 __all__ = ["SonineSolution", "solve_sonine", "sonine_heated", "solve_sonine_cooling",
@@ -263,6 +264,7 @@ def sonine_heated(problem: HeatedProblem, *, order: int = 6, cutoff: float = 12.
         Values of the truncated series on the grid; ``info.extra['sonine']`` holds
         :math:`a_0 .. a_P`.
     """
+    problem.require("spectral", gammas=(1.0,), constant_restitution=True, thermostats=(WhiteNoise,))
     start = time.perf_counter()
     sol = solve_sonine(problem.gas.alpha, order, density=problem.gas.density,
                        diffusion=problem.diffusion, linearized=linearized)
@@ -288,6 +290,7 @@ def sonine_cooling(problem: CoolingProblem, *, order: int = 6, cutoff: float = 1
     series.  Parameters as :func:`sonine_heated`; the result is at unit temperature
     and ``info.extra`` holds ``zeta`` and the coefficients.
     """
+    problem.require("spectral", gammas=(1.0,), constant_restitution=True)
     start = time.perf_counter()
     sol, zeta = solve_sonine_cooling(problem.gas.alpha, order, linearized=linearized)
     c = np.linspace(-cutoff, cutoff, n_v)

@@ -130,7 +130,7 @@ def test_solve_heated_rejects_bad_alpha(capsys, toy_solver):
     with pytest.raises(SystemExit) as exit_:
         main(["solve-heated", "1.0", "--method", "cli-toy"])
     assert exit_.value.code == 2
-    assert "no heated steady state" in capsys.readouterr().err
+    assert "no steady state" in capsys.readouterr().err
     with pytest.raises(SystemExit):
         main(["solve-heated", "0.5", "--method", "cli-toy", "--out", "x.txt"])
     assert "--out must end in" in capsys.readouterr().err

@@ -49,13 +49,14 @@ def test_dispatch_validates_and_passes_options(dummy):
     d = solve_heated(0.7, density=2, diffusion=3, method="dummy-test", n_v=21)
     problem, n_v, tol = dummy[-1]
     assert isinstance(problem, HeatedProblem) and n_v == 21 and tol == 1e-8
-    assert d.params == {"problem": "heated", "alpha": 0.7, "density": 2.0, "diffusion": 3.0}
+    assert d.params == {"problem": "heated", "alpha": 0.7, "density": 2.0, "diffusion": 3.0,
+                        "gamma": 1.0}
     solve_cooling(0.7, method="dummy-test")
     assert isinstance(dummy[-1][0], CoolingProblem)
 
 
 def test_bad_parameters_raise_before_the_solver_runs(dummy):
-    with pytest.raises(ValueError, match="no heated steady state"):
+    with pytest.raises(ValueError, match="no steady state"):
         solve_heated(1.0, method="dummy-test")
     with pytest.raises(ValueError, match="diffusion"):
         solve_heated(0.5, diffusion=-1, method="dummy-test")

@@ -1,0 +1,40 @@
+"""The model: collision kernel, restitution law, thermostat, and the problems posed.
+
+Every method reads the model from here.  Parameters are validated once, where they
+enter (the constructors below); solvers state what they support with
+``problem.require(...)``, which raises :class:`UnsupportedModelError` with a message
+naming the method that does.
+
+Adding a kernel or a thermostat is one class here plus the support each solver needs
+in its own module.
+"""
+
+from .kernel import HARD_RODS, MAXWELL, PowerLawKernel, as_kernel
+from .problem import CoolingProblem, HeatedProblem, InelasticGas
+from .restitution import (
+    ConstantRestitution,
+    RestitutionLaw,
+    ThresholdRestitution,
+    ViscoelasticRestitution,
+    as_restitution,
+    restitution_value,
+)
+from .thermostat import FokkerPlanckBath, NoThermostat, Thermostat, WhiteNoise, as_thermostat
+from .validation import (
+    UnsupportedModelError,
+    check_alpha,
+    check_finite_array,
+    check_nonnegative,
+    check_positive,
+    check_real,
+)
+
+__all__ = [
+    "PowerLawKernel", "HARD_RODS", "MAXWELL", "as_kernel",
+    "RestitutionLaw", "ConstantRestitution", "ThresholdRestitution",
+    "ViscoelasticRestitution", "as_restitution", "restitution_value",
+    "Thermostat", "WhiteNoise", "FokkerPlanckBath", "NoThermostat", "as_thermostat",
+    "InelasticGas", "HeatedProblem", "CoolingProblem",
+    "UnsupportedModelError", "check_alpha", "check_positive", "check_nonnegative",
+    "check_real", "check_finite_array",
+]
