@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 
 from .kernel import PowerLawKernel, as_kernel
-from .restitution import RestitutionLaw, as_restitution
+from .restitution import RestitutionLaw, ThresholdRestitution, as_restitution
 from .thermostat import FokkerPlanckBath, NoThermostat, Thermostat, WhiteNoise, as_thermostat
 from .validation import UnsupportedModelError, check_positive
 
@@ -110,11 +110,24 @@ class InelasticGas:
         if law.constant is not None:
             return 0.25 * self.density * (1.0 - law.constant**2) * \
                 self.kernel.gaussian_mean(temperature, 2.0)
-        # g ~ N(0, 2T): Gauss-Hermite in s with g = 2 sqrt(T) s, weight exp(-s^2)/sqrt(pi)
-        s, w = np.polynomial.hermite.hermgauss(120)
-        g = 2.0 * np.sqrt(temperature) * np.abs(s)
-        integrand = (1.0 - law(np.minimum(g, law.max_speed)) ** 2) * g ** (self.gamma + 2.0)
-        return 0.25 * self.density * float(np.sum(w * integrand) / np.sqrt(np.pi))
+        # |g| of two Gaussians of variance T has density exp(-g^2/4T)/sqrt(pi T), g > 0.
+        # The law is continued beyond its range (viscoelastic) by its value there: this
+        # is a scale estimate, and problems that reach such speeds are refused elsewhere.
+        from scipy.integrate import quad
+
+        scale = 2.0 * float(np.sqrt(temperature))
+        gamma = self.gamma
+
+        def integrand(x: float) -> float:  # x = g / (2 sqrt T)
+            g = scale * x
+            a = float(law(min(g, law.max_speed)))
+            return (1.0 - a * a) * x ** (gamma + 2.0) * float(np.exp(-x * x))
+
+        points = [law.threshold / scale] if isinstance(law, ThresholdRestitution) else None
+        value, _ = quad(integrand, 0.0, 12.0, points=points, epsabs=0.0, epsrel=1e-12,
+                        limit=200)
+        mean = 2.0 * scale ** (gamma + 2.0) * value / float(np.sqrt(np.pi))
+        return 0.25 * self.density * mean
 
     def as_dict(self) -> dict[str, Any]:
         """Plain parameters, as stored with results."""
