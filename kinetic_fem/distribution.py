@@ -80,6 +80,23 @@ class RunInfo:
     message: str = ""
     extra: Mapping[str, Any] = field(default_factory=dict)
 
+    def __repr__(self) -> str:
+        """One line: status, counts, cost and the names (not values) of ``extra``.
+
+        Examples
+        --------
+        >>> RunInfo(iterations=7, residual=3e-13, wall_time=0.25, extra={"n_v": 601})
+        RunInfo(converged=True, iterations=7, residual=3e-13, wall_time=0.25 s, extra=['n_v'])
+        """
+        parts = [f"converged={self.converged}", f"iterations={self.iterations}",
+                 f"residual={self.residual:.3g}", f"wall_time={self.wall_time:.3g} s"]
+        if self.message:
+            msg = self.message if len(self.message) <= 60 else self.message[:57] + "..."
+            parts.append(f"message={msg!r}")
+        if self.extra:
+            parts.append(f"extra={sorted(map(str, self.extra))}")
+        return f"RunInfo({', '.join(parts)})"
+
 
 @dataclass(frozen=True)
 class Comparison:
@@ -149,6 +166,31 @@ class VelocityDistribution:
     params: Mapping[str, Any] = field(default_factory=dict)
     info: RunInfo = field(default_factory=RunInfo)
     series: Mapping[str, NDArray[np.float64]] = field(default_factory=dict)
+
+    def __repr__(self) -> str:
+        """One line: method, nodes, T, a2 (with its error if sampled), convergence, params.
+
+        The arrays are left out (they are :attr:`v`, :attr:`values`, ...).
+
+        Examples
+        --------
+        >>> v = np.linspace(-12, 12, 2401)
+        >>> VelocityDistribution.from_values(v, np.exp(-v**2 / 2), method="exact",
+        ...                                  params={"alpha": 1.0})  # doctest: +ELLIPSIS
+        VelocityDistribution(method='exact', n_v=2401, v=[-12, 12], temperature=1,
+                             a2=..., converged=True, params={'alpha': 1.0})
+        """
+        a2 = f"{self.a2:.4g}"
+        if self.batch_moments is not None:
+            a2 += f" +- {self.a2_error:.2g}"
+        params = repr(dict(self.params))
+        if len(params) > 100:
+            params = params[:97] + "..."
+        with np.errstate(all="ignore"):
+            temperature = f"{self.temperature:.6g}"
+        return (f"VelocityDistribution(method={self.method!r}, n_v={self.v.size}, "
+                f"v=[{self.v[0]:.4g}, {self.v[-1]:.4g}], temperature={temperature}, "
+                f"a2={a2}, converged={self.info.converged}, params={params})")
 
     # ------------------------------------------------------------------ constructors
     @classmethod
