@@ -53,13 +53,25 @@ from skfem.helpers import dot, grad
 from . import sonine
 from ._fem_kernels import collision_operator, evaluate_field
 from .distribution import RunInfo, VelocityDistribution
+from .fem_defaults import (
+    ScaledModel,
+    default_cutoff,
+    default_spacing,
+    graded_vertices,
+    model_cutoff,
+    model_spacing,
+    scaled_model,
+    tail_exponent,
+)
 from .gas import HeatedProblem, check_positive
 from .grid import symmetric_grid, uniform_grid
-from .model import WhiteNoise
+from .model import RestitutionLaw
+from .model.restitution import CONSTANT
 from .solve import register_solver
 
 __all__ = ["FEMDiscretisation", "SteadyState", "ResolutionWarning", "ConvergenceError",
-           "default_cutoff", "default_spacing", "steady_state", "solve_fem", "ELEMENTS"]
+           "default_cutoff", "default_spacing", "steady_state", "solve_fem", "ELEMENTS",
+           "newton_steady", "discretisation", "STALL_LEVEL"]
 
 logger = logging.getLogger(__name__)
 
@@ -73,6 +85,8 @@ CUTOFF_TARGET = 1e-33
 MAX_WIDENINGS = 4
 CONTINUATION_ALPHA = 0.95
 """Above this alpha Newton starts from the solution at ten times the inelasticity."""
+STALL_LEVEL = 1e-8
+"""A Newton update that stops decreasing below this is round-off: converged."""
 class ResolutionWarning(UserWarning):
     """The mesh or cut-off is too coarse for the requested accuracy."""
 
@@ -95,6 +109,19 @@ def fokker_planck_jacobian(du, v, w):
 
 
 @LinearForm
+def bath_drift(v, w):
+    """:math:`\\int \\varphi_i' \\, v P` with :math:`P = e^{u}`: the weak form of
+    :math:`-\\partial_v(vP)` (times the friction :math:`\\xi`; zero flux at the ends)."""
+    return w.x[0] * np.exp(w.u) * grad(v)[0]
+
+
+@BilinearForm
+def bath_drift_jacobian(du, v, w):
+    """Derivative of :func:`bath_drift` in direction ``du``."""
+    return w.x[0] * np.exp(w.u) * du * grad(v)[0]
+
+
+@LinearForm
 def mass(v, w):
     """:math:`\\int \\varphi_i e^{u}` (also the gradient of the total mass)."""
     return np.exp(w.u) * v
@@ -104,33 +131,6 @@ def mass(v, w):
 def weighted_mass(du, v, w):
     """:math:`\\int \\varphi_i \\varphi_j e^{u}`, the derivative of :func:`mass`."""
     return np.exp(w.u) * du * v
-
-
-def default_cutoff(alpha: float) -> float:
-    """Cut-off :math:`c_{max} = V/\\sqrt{T}` covering :math:`f(c) > 10^{-33}`.
-
-    The far tail :math:`\\exp(-A_c c^{3/2})` of claim C4
-    (:func:`sonine.tail_exponent_amplitude`) or, if it reaches 1e-33 sooner, the
-    smaller of the Gaussian and the quasi-elastic tail :math:`\\exp(-x^3/6)`,
-    :math:`x = (\\varepsilon T)^{1/3} c` (claim C5); plus one thermal velocity.
-    """
-    decades = 33.0 * math.log(10.0)
-    temperature = sonine.steady_temperature(alpha)
-    c_gauss = math.sqrt(2.0 * (decades - 0.5 * math.log(2.0 * math.pi)))
-    c_cubic = (6.0 * decades) ** (1.0 / 3.0) / ((1.0 - alpha) ** (1 / 3) * temperature**0.5)
-    c_tail = (decades / sonine.tail_exponent_amplitude(temperature=temperature)) ** (2 / 3)
-    return max(c_tail, min(c_gauss, c_cubic)) + 1.0
-
-
-def default_spacing(alpha: float) -> float:
-    """P2 element size (thermal velocities) meeting the production tolerances.
-
-    :math:`0.08\\,\\min(1, (\\varepsilon/0.1)^{1/5})`, from
-    ``benchmarks/convergence_heated.py``: at 0.08, T is within 3e-9, a2 within 3e-8 and
-    f(c) within 2e-6 for alpha <= 0.9; the cubic tails near alpha = 1 need finer
-    elements for f (spacing 0.05 gives 1e-4 at alpha = 0.99, 0.032 at 0.999).
-    """
-    return 0.08 * min(1.0, (10.0 * (1.0 - alpha)) ** 0.2)
 
 
 @dataclass(frozen=True, eq=False)
@@ -150,7 +150,16 @@ class FEMDiscretisation:
     symmetric : bool
         Full collision bracket, exact conservation for any P (default: the reduced
         bracket, more accurate as alpha -> 1; see
-        :func:`kinetic_fem._fem_kernels.collision_operator`).
+        :func:`kinetic_fem._fem_kernels.collision_operator`); constant laws only.
+    gamma : float
+        Kernel exponent, :math:`B(g) = |g|^\\gamma`.
+    law : RestitutionLaw, optional
+        A velocity-dependent restitution law (evaluated at ``speed_scale`` times the
+        relative speed); ``None``: the constant ``alpha``.
+    friction : float
+        Scaled friction :math:`\\xi` of a Fokker-Planck bath (0: white noise).
+    speed_scale : float
+        Physical speed of a unit of mesh velocity.
     """
 
     alpha: float
@@ -158,6 +167,26 @@ class FEMDiscretisation:
     order: int = 2
     intorder: int = 5
     symmetric: bool = False
+    gamma: float = 1.0
+    law: RestitutionLaw | None = None
+    friction: float = 0.0
+    speed_scale: float = 1.0
+
+    def __post_init__(self) -> None:
+        if self.symmetric and self.law is not None and self.law.constant is None:
+            raise ValueError("symmetric=True (the full collision bracket) needs a constant "
+                             f"restitution coefficient, got {self.law!r}; use the default "
+                             "reduced bracket")
+
+    @cached_property
+    def _law_arrays(self) -> tuple[int, float, float, float]:
+        """``(code, p0, p1, b_lo)`` of the law for the kernels."""
+        law = self.law
+        if law is None or law.constant is not None:
+            alpha = self.alpha if law is None else law.constant
+            return CONSTANT, alpha, 0.0, 0.5 * (1.0 + alpha)
+        p0, p1 = law.parameters
+        return law.code, p0, p1, 0.5 * (1.0 + law.min_alpha)
 
     @cached_property
     def basis(self) -> Basis:
@@ -202,25 +231,51 @@ class FEMDiscretisation:
         """``u`` as a scikit-fem field at the quadrature points."""
         return self.basis.interpolate(u)
 
-    def collision(self, u: NDArray[np.float64], *, jacobian: bool = False,
-                  energy_power: int = 3) -> tuple[NDArray, NDArray, float]:
-        """Weak collision term, its Jacobian and the pair moment ``<|g|^p>``."""
+    def _collide(self, u: NDArray[np.float64], jacobian: bool,
+                 energy_power: int) -> tuple[NDArray, NDArray, float, float]:
         verts, dofs = self._mesh_arrays
         xq, wq, eq = self.points
         ref_x, ref_w = self.basis.quadrature
+        code, p0, p1, b_lo = self._law_arrays
         return collision_operator(verts, dofs, self.order, np.ascontiguousarray(u), xq, wq, eq,
-                                  np.ascontiguousarray(ref_x[0]), ref_w, self.alpha, 1.0,
-                                  jacobian, energy_power, self.symmetric)
+                                  np.ascontiguousarray(ref_x[0]), ref_w, p0, 1.0,
+                                  jacobian, energy_power, self.symmetric, float(self.gamma),
+                                  code, p0, p1, float(self.speed_scale), b_lo)
+
+    def collision(self, u: NDArray[np.float64], *, jacobian: bool = False,
+                  energy_power: int = 3) -> tuple[NDArray, NDArray, float]:
+        """Weak collision term, its Jacobian and the pair moment ``<|g|^p>``."""
+        return self._collide(u, jacobian, energy_power)[:3]
+
+    def energy_loss(self, u: NDArray[np.float64]) -> float:
+        """Pair-quadrature energy loss :math:`\\tfrac14\\langle(1-\\alpha(g)^2)
+        |g|^{\\gamma+2}\\rangle` (``n = 1``), the loss side of C1."""
+        return 0.25 * self._collide(u, False, 0)[3]
+
+    def transport(self, u: NDArray[np.float64], *, jacobian: bool = False
+                  ) -> tuple[NDArray, NDArray | None]:
+        """Weak thermostat term :math:`-\\int\\varphi_i'(P' + \\xi v P)` and its Jacobian."""
+        field = self.field(u)
+        res = -asm(fokker_planck, self.basis, u=field)
+        if self.friction > 0.0:
+            res -= self.friction * asm(bath_drift, self.basis, u=field)
+        if not jacobian:
+            return res, None
+        jac = asm(fokker_planck_jacobian, self.basis, u=field)
+        if self.friction > 0.0:
+            jac = jac + self.friction * asm(bath_drift_jacobian, self.basis, u=field)
+        return res, -jac.toarray()
 
     def residual(self, u: NDArray[np.float64], *, jacobian: bool = False
                  ) -> tuple[NDArray, NDArray | None]:
-        """:math:`R_i = -\\int \\varphi_i' P' + C_i` and optionally its dense Jacobian."""
-        field = self.field(u)
+        """:math:`R_i = -\\int \\varphi_i' (P' + \\xi v P) + C_i` and optionally its dense
+        Jacobian."""
         coll, cjac, _ = self.collision(u, jacobian=jacobian)
-        res = coll - asm(fokker_planck, self.basis, u=field)
+        heat, hjac = self.transport(u, jacobian=jacobian)
+        res = coll + heat
         if not jacobian:
             return res, None
-        return res, cjac - asm(fokker_planck_jacobian, self.basis, u=field).toarray()
+        return res, cjac + hjac
 
     def values(self, u: NDArray[np.float64]) -> NDArray[np.float64]:
         """:math:`P_h = e^{u_h}` at the outer quadrature points."""
@@ -243,7 +298,10 @@ class FEMDiscretisation:
         return VelocityDistribution.from_values(xq, self.values(u), weights=wq, **kwargs)
 
 
-def _mesh(alpha: float, *, cutoff: float | None, spacing: float, vertices) -> NDArray:
+def _mesh(alpha: float, *, cutoff: float | None, spacing: float, vertices,
+          model: ScaledModel | None = None) -> NDArray:
+    """Mesh vertices at ``n = D = 1``: explicit, or uniform (the paper's model) or graded
+    (:func:`kinetic_fem.fem_defaults.graded_vertices`) in thermal velocities."""
     if vertices is not None:
         verts = np.sort(np.asarray(vertices, dtype=float))
         if not np.allclose(verts, -verts[::-1], rtol=0, atol=1e-12 * np.abs(verts).max()):
@@ -252,13 +310,19 @@ def _mesh(alpha: float, *, cutoff: float | None, spacing: float, vertices) -> ND
             raise ValueError("vertices must include v = 0")
         return verts
     check_positive("spacing", spacing)
-    c_max = default_cutoff(alpha) if cutoff is None else check_positive("cutoff", cutoff)
+    if model is None or model.is_paper_model:
+        c_max = default_cutoff(alpha) if cutoff is None else check_positive("cutoff", cutoff)
+    else:
+        c_max = model_cutoff(model) if cutoff is None else check_positive("cutoff", cutoff)
     if spacing > 0.5:
         warnings.warn(f"spacing={spacing} thermal velocities is too coarse to resolve the "
                       "distribution; use spacing <= 0.25", ResolutionWarning, stacklevel=3)
-    scale = math.sqrt(sonine.steady_temperature(alpha))
-    half = max(2, int(math.ceil(c_max / spacing)))
-    return symmetric_grid(uniform_grid(c_max * scale, half + 1))
+    if model is None or model.is_paper_model:
+        scale = math.sqrt(sonine.steady_temperature(alpha))
+        half = max(2, int(math.ceil(c_max / spacing)))
+        return symmetric_grid(uniform_grid(c_max * scale, half + 1))
+    grading = (3.0 - tail_exponent(model)) / 3.0
+    return math.sqrt(model.temperature) * graded_vertices(c_max, spacing, grading=grading)
 
 
 def _log_update(delta: NDArray, limit: float) -> NDArray:
@@ -326,13 +390,28 @@ def newton_steady(disc: FEMDiscretisation, u0: NDArray[np.float64], *, tol: floa
         u_red = u_red + _log_update(delta, step_limit)
         history.append(step)
         logger.debug("newton %d: max|du| = %.3e", it, step)
-        if step < tol:
+        if step < tol or _stalled(history):
             break
         r, j = system(u_red, True)
-    info = RunInfo(converged=step < tol, iterations=it, residual=step,
-                   wall_time=time.perf_counter() - start,
-                   message=f"Newton max|du| history {['%.1e' % s for s in history]}")
-    return sym @ u_red, info
+    return sym @ u_red, _newton_info(history, tol, it, start)
+
+
+def _stalled(history: list[float]) -> bool:
+    """The update stopped decreasing below :data:`STALL_LEVEL`: round-off reached."""
+    return len(history) >= 3 and history[-1] < STALL_LEVEL and \
+        history[-1] > 0.25 * min(history[-3:-1])
+
+
+def _newton_info(history: list[float], tol: float, iterations: int, start: float) -> RunInfo:
+    """Run info of a Newton iteration: converged below ``tol`` or stalled at round-off."""
+    step = history[-1]
+    text = f"Newton max|du| history {['%.1e' % s for s in history]}"
+    if step >= tol and _stalled(history):
+        text = (f"Newton stalled at round-off, max|du| = {step:.1e} (tol {tol:.0e}); "
+                + text)
+        logger.info("%s", text)
+    return RunInfo(converged=step < tol or _stalled(history), iterations=iterations,
+                   residual=step, wall_time=time.perf_counter() - start, message=text)
 
 
 @dataclass(frozen=True, eq=False)
@@ -343,8 +422,13 @@ class SteadyState:
     u: NDArray[np.float64]
     info: RunInfo
 
-    def initial_guess(self, v: NDArray, temperature: float) -> NDArray:
-        """``ln P`` at ``v`` of this state's f(c) at another ``temperature`` (Gaussian beyond)."""
+    def initial_guess(self, v: NDArray, temperature: float, *,
+                      linear_tail: bool = False) -> NDArray:
+        """``ln P`` at ``v`` of this state's f(c) at another ``temperature``.
+
+        Beyond the mesh, ``ln f`` continues as a Gaussian, or with ``linear_tail``
+        linearly with its slope at the edge (exponential tails).
+        """
         dist = self.disc.distribution(self.u)
         s_old, s_new = math.sqrt(dist.temperature), math.sqrt(temperature)
         c = v / s_new
@@ -353,10 +437,15 @@ class SteadyState:
         order = np.argsort(c_in)
         log_f = np.empty_like(c)
         log_f[order] = np.log(self.disc.evaluate(self.u, c_in[order] * s_old) * s_old)
+        if linear_tail:
+            ends = np.log(self.disc.evaluate(self.u, np.array([0.97, 1.0]) * edge * s_old))
+            slope = min((ends[1] - ends[0]) / (0.03 * edge), 0.0)
+            return log_f + slope * (np.abs(c) - np.abs(c_in)) - math.log(s_new / s_old)
         return log_f - 0.5 * (c**2 - c_in**2) - math.log(s_new)
 
     def energy_terms(self) -> tuple[float, float]:
-        """Discrete injection :math:`-\\sum_i v_i^2 \\int\\varphi_i' P'` and the pair loss.
+        """Discrete input :math:`-\\sum_i v_i^2 \\int\\varphi_i' (P' + \\xi v P)` and the pair
+        loss.
 
         With P2 and the full bracket the two are equal at a steady state up to the
         Newton tolerance (:math:`\\sum_i v_i^2\\varphi_i = v^2`), with the reduced
@@ -364,39 +453,63 @@ class SteadyState:
         :math:`2D \\int P_h` by the quadrature error of one integration by parts.
         """
         x = self.disc.dof_locations
-        fp = asm(fokker_planck, self.disc.basis, u=self.disc.field(self.u))
-        loss = 0.25 * (1.0 - self.disc.alpha**2) * self.disc.collision(self.u)[2]
-        return -float(np.sum(x**2 * fp)), float(loss)
+        heat, _ = self.disc.transport(self.u)
+        return float(np.sum(x**2 * heat)), float(self.disc.energy_loss(self.u))
 
 
-def steady_state(alpha: float, *, order: int = 2, spacing: float | None = None,
-                 cutoff: float | None = None, vertices=None, intorder: int | None = None,
-                 symmetric: bool = False, tol: float = 1e-11,
+def discretisation(model: ScaledModel, vertices: NDArray, order: int = 2,
+                   intorder: int | None = None, symmetric: bool = False) -> FEMDiscretisation:
+    """The :class:`FEMDiscretisation` of a scaled model on ``vertices``."""
+    law = None if model.law.constant is not None else model.law
+    return FEMDiscretisation(model.alpha, vertices, order, intorder or 2 * order + 1, symmetric,
+                             gamma=model.gamma, law=law, friction=model.friction,
+                             speed_scale=model.speed_scale)
+
+
+def steady_state(model: float | HeatedProblem, *, order: int = 2,
+                 spacing: float | None = None, cutoff: float | None = None, vertices=None,
+                 intorder: int | None = None, symmetric: bool = False, tol: float = 1e-11,
                  max_iter: int = 40) -> SteadyState:
     """Newton steady state at ``n = D = 1`` (see :func:`solve_fem` for the options).
 
-    With the default cut-off, the interval is widened (by 15 %, from the current
-    solution) until :math:`f` at the cut-off is below :data:`CUTOFF_TARGET`.
+    ``model`` is a heated problem (solved at ``n = D = 1``, see
+    :func:`kinetic_fem.fem_defaults.scaled_model`) or a restitution coefficient of
+    the paper's model (hard rods, white noise).  With the default cut-off, the
+    interval is widened (by 15 %, from the current solution) until :math:`f` at the
+    cut-off is below :data:`CUTOFF_TARGET`.
     """
+    problem = model if isinstance(model, HeatedProblem) else \
+        HeatedProblem.from_parameters(model)
+    scaled = scaled_model(problem)
+    paper = scaled.is_paper_model
+    alpha = scaled.alpha
+    alpha_eff = 1.0 - scaled.effective_epsilon
     if order not in ELEMENTS:
         raise ValueError(f"order must be one of {sorted(ELEMENTS)}, got {order!r}")
-    spacing = default_spacing(alpha) if spacing is None else check_positive("spacing", spacing)
-    if alpha > CONTINUATION_ALPHA and spacing > 0.3 and vertices is None:
-        raise ValueError(f"spacing={spacing} thermal velocities is too coarse for alpha={alpha}"
-                         " (Newton's method does not converge there); use spacing <= 0.3, "
-                         f"production accuracy: default_spacing({alpha}) = "
-                         f"{default_spacing(alpha):.3g}")
-    c_max = default_cutoff(alpha) if cutoff is None else cutoff
-    verts = _mesh(alpha, cutoff=c_max, spacing=spacing, vertices=vertices)
-    disc = FEMDiscretisation(alpha, verts, order, intorder or 2 * order + 1, symmetric)
-    u0 = disc.gaussian(sonine.steady_temperature(alpha))
-    if alpha > CONTINUATION_ALPHA and vertices is None:
+    default = default_spacing(alpha) if paper else model_spacing(scaled)
+    spacing = default if spacing is None else check_positive("spacing", spacing)
+    if alpha_eff > CONTINUATION_ALPHA and spacing > 0.3 and vertices is None:
+        raise ValueError(f"spacing={spacing} thermal velocities is too coarse for alpha="
+                         f"{alpha_eff:.6g} (Newton's method does not converge there); use "
+                         f"spacing <= 0.3, production accuracy: default spacing {default:.3g}")
+    if cutoff is None:
+        c_max = default_cutoff(alpha) if paper else model_cutoff(scaled)
+    else:
+        c_max = cutoff
+    verts = _mesh(alpha, cutoff=c_max, spacing=spacing, vertices=vertices, model=scaled)
+    scaled.law.check_speed(2.0 * verts[-1] * scaled.speed_scale, "the FEM velocity interval")
+    disc = discretisation(scaled, verts, order, intorder, symmetric)
+    u0 = disc.gaussian(scaled.temperature)
+    if alpha_eff > CONTINUATION_ALPHA and vertices is None and scaled.law.constant is not None:
         # start from the solution at eps' = 10 eps, rescaled to f(c) (quasi-elastic
         # limits are approached smoothly in c; Newton from a Gaussian is not robust there)
-        coarse = steady_state(max(1.0 - 10.0 * (1.0 - alpha), CONTINUATION_ALPHA - 0.05),
-                              order=order, spacing=0.2, symmetric=symmetric,
+        coarse_problem = HeatedProblem.from_parameters(
+            max(1.0 - 10.0 * (1.0 - alpha), CONTINUATION_ALPHA - 0.05),
+            friction=scaled.friction, kernel=scaled.gamma)
+        coarse = steady_state(coarse_problem, order=order, spacing=0.2, symmetric=symmetric,
                               tol=1e-6, max_iter=max_iter)
-        u0 = coarse.initial_guess(disc.dof_locations, sonine.steady_temperature(alpha))
+        u0 = coarse.initial_guess(disc.dof_locations, scaled.temperature,
+                                  linear_tail=not paper)
     for widening in range(MAX_WIDENINGS + 1):
         u, info = newton_steady(disc, u0, tol=tol, max_iter=max_iter)
         if not info.converged:
@@ -411,14 +524,16 @@ def steady_state(alpha: float, *, order: int = 2, spacing: float | None = None,
             logger.info("f = %.1e at the cut-off; widening the interval", edge)
             state = SteadyState(disc, u, info)
             c_max *= 1.15
-            verts = _mesh(alpha, cutoff=c_max, spacing=spacing, vertices=None)
-            disc = FEMDiscretisation(alpha, verts, order, intorder or 2 * order + 1, symmetric)
-            u0 = state.initial_guess(disc.dof_locations, temperature)
+            verts = _mesh(alpha, cutoff=c_max, spacing=spacing, vertices=None, model=scaled)
+            scaled.law.check_speed(2.0 * verts[-1] * scaled.speed_scale,
+                                   "the FEM velocity interval")
+            disc = discretisation(scaled, verts, order, intorder, symmetric)
+            u0 = state.initial_guess(disc.dof_locations, temperature, linear_tail=not paper)
     if edge > TAIL_FLOOR:
         c_edge = verts[-1] / math.sqrt(temperature)
         warnings.warn(f"f(c) = {edge:.2e} at the cut-off c = {c_edge:.3g} is above "
                       f"{TAIL_FLOOR}: the tail is truncated; increase cutoff "
-                      "(default: default_cutoff(alpha), widened automatically)",
+                      "(default: from the model's tail, widened automatically)",
                       ResolutionWarning, stacklevel=2)
     return SteadyState(disc, u, info)
 
@@ -476,8 +591,8 @@ def solve_fem(problem: HeatedProblem, *, order: int = 2, spacing: float | None =
     ResolutionWarning
         If the cut-off truncates f(c) above 1e-30 or the spacing is too coarse.
     """
-    problem.require("fem", gammas=(1.0,), constant_restitution=True, thermostats=(WhiteNoise,))
-    state = steady_state(problem.gas.alpha, order=order, spacing=spacing, cutoff=cutoff,
+    problem.require("fem")
+    state = steady_state(problem, order=order, spacing=spacing, cutoff=cutoff,
                          vertices=vertices, intorder=intorder, symmetric=symmetric, tol=tol,
                          max_iter=max_iter)
     injection, loss = state.energy_terms()
