@@ -28,6 +28,7 @@ from .model import (
     WhiteNoise,
 )
 from .solve import COOLING_SOLVERS, HEATED_SOLVERS, register_solver, solve_cooling, solve_heated
+from .sweep import sweep  # noqa: F401 - kf.sweep is the function, kinetic_fem.sweep the package
 
 __version__ = "0.1.0"
 __all__ = [

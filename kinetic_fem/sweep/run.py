@@ -1,0 +1,349 @@
+"""Run a parameter sweep: evaluate every grid point, persist it, gather a Dataset.
+
+``sweep(function, grid, **fixed)`` calls ``function(**point, **fixed)`` for every point
+of the outer product of ``grid`` (:mod:`kinetic_fem.sweep.grid`) and reduces each
+result, a :class:`~kinetic_fem.distribution.VelocityDistribution` or a particle run
+(any object with ``.distribution``, ``.a2``, ``.a2_error``, ``.temperature`` and
+``.n_collisions``, as :mod:`particles.dsmc` and :mod:`particles.md` return), to a small
+record on the worker: :math:`T`, :math:`a_2` and its error, :math:`\\zeta`, the Sonine
+coefficients :math:`a_p`, ``p = 2..6``, the wall time, ``converged`` and
+:math:`f(c) = \\sqrt{T}P(u + c\\sqrt T)` on a common grid of :math:`c`.  Only records
+travel back to the caller, which writes each to the store
+(:mod:`kinetic_fem.sweep.store`) before reporting it.
+"""
+
+from __future__ import annotations
+
+import inspect
+import json
+import logging
+import math
+import os
+import pickle
+import time
+from concurrent.futures import FIRST_COMPLETED, Executor, Future, ProcessPoolExecutor, wait
+from pathlib import Path
+from typing import Any, Callable, Mapping
+
+import numpy as np
+from numpy.typing import NDArray
+from tqdm import tqdm
+
+from ..distribution import MAX_SONINE, VelocityDistribution
+from .grid import canonical_value, grid_points, point_key, point_seed
+from .store import PointStore
+
+__all__ = ["sweep", "evaluate_point", "summarize", "SerialExecutor", "C_GRID", "SCALARS"]
+
+logger = logging.getLogger(__name__)
+
+C_GRID = np.linspace(-6.0, 6.0, 241)
+"""Common scaled velocities :math:`c` at which every point's :math:`f(c)` is stored."""
+
+SCALARS = ("T", "T_error", "a2", "a2_error", "zeta", "wall_time", "converged",
+           "n_collisions")
+"""Scalar data variables of a sweep (NaN where a method does not provide them)."""
+
+SONINE_ORDERS = np.arange(2, MAX_SONINE + 1)
+
+
+class SerialExecutor(Executor):
+    """Runs each submitted call at once in the calling process (debugging, tests, CLI)."""
+
+    def submit(self, fn: Callable[..., Any], /, *args: Any, **kwargs: Any) -> Future:
+        future: Future = Future()
+        try:
+            future.set_result(fn(*args, **kwargs))
+        except BaseException as exc:  # handed to the caller through the future
+            future.set_exception(exc)
+        return future
+
+
+def summarize(result: Any, c: NDArray[np.float64] = C_GRID) -> dict[str, NDArray[np.float64]]:
+    """The record of one result: the scalars of :data:`SCALARS`, ``sonine``, ``f``, ``f_error``.
+
+    Parameters
+    ----------
+    result : VelocityDistribution or particle run
+        A run is recognised by its ``distribution`` attribute (duck typing: kinetic_fem
+        never imports particles); its own ``temperature``, ``a2``, ``a2_error`` and
+        ``n_collisions`` are used.
+    c : ndarray, shape (n_c,)
+        Scaled velocities of ``f``.
+
+    Returns
+    -------
+    dict of str to ndarray
+        float64 arrays: 0-d scalars, ``sonine`` shape (5,) for ``p = 2..6``, ``f`` and
+        ``f_error`` shape (n_c,); ``wall_time`` is NaN here (set by :func:`evaluate_point`).
+
+    Raises
+    ------
+    TypeError
+        If ``result`` is neither a distribution nor a run.
+    """
+    if isinstance(result, VelocityDistribution):
+        dist, run = result, None
+    elif isinstance(getattr(result, "distribution", None), VelocityDistribution):
+        dist, run = result.distribution, result
+    else:
+        raise TypeError("a sweep function must return a VelocityDistribution or a particle run "
+                        f"(with .distribution); got {type(result).__name__}")
+    src = dist if run is None else run
+    extra = dist.info.extra
+    temperature = float(src.temperature)
+    same_t = run is None or math.isclose(temperature, dist.temperature, rel_tol=1e-12)
+    t_error = dist.observable_error(lambda d: d.temperature) if same_t else math.nan
+    zeta = getattr(run, "zeta", None) if run is not None else None
+    zeta = extra.get("zeta", math.nan) if zeta is None else zeta
+    n_coll = getattr(run, "n_collisions", None) if run is not None else None
+    n_coll = extra.get("n_collisions", math.nan) if n_coll is None else n_coll
+    f_err = (np.full(c.shape, np.nan) if dist.f_errors is None else
+             np.interp(c, dist.c, dist.f_errors, left=np.nan, right=np.nan))
+    out = {"T": temperature, "T_error": t_error, "a2": float(src.a2),
+           "a2_error": float(src.a2_error), "zeta": float(zeta), "wall_time": math.nan,
+           "converged": float(bool(dist.info.converged)), "n_collisions": float(n_coll)}
+    rec = {k: np.asarray(v, dtype=float) for k, v in out.items()}
+    rec["sonine"] = np.array([dist.sonine_coefficient(int(p)) for p in SONINE_ORDERS])
+    rec["f"] = np.asarray(dist.f(c), dtype=float)
+    rec["f_error"] = np.asarray(f_err, dtype=float)
+    return rec
+
+
+def evaluate_point(function: Callable[..., Any], kwargs: Mapping[str, Any],
+                   c: NDArray[np.float64] = C_GRID) -> tuple[dict[str, Any], dict[str, str]]:
+    """Call ``function(**kwargs)`` and return its record and text attributes (worker side)."""
+    start = time.perf_counter()
+    result = function(**kwargs)
+    wall = time.perf_counter() - start
+    rec = summarize(result, np.asarray(c, dtype=float))
+    rec["wall_time"] = np.asarray(wall)
+    dist = getattr(result, "distribution", result)
+    attrs = {"method": str(dist.method), "message": str(dist.info.message)}
+    return rec, attrs
+
+
+def _name(function: Callable[..., Any]) -> str:
+    module = getattr(function, "__module__", None) or "?"
+    return f"{module}.{getattr(function, '__qualname__', repr(function))}"
+
+
+def _text(value: Any) -> str | int | float:
+    if isinstance(value, (bool, np.bool_)):
+        return str(bool(value))
+    if isinstance(value, (int, float, str, np.integer, np.floating)):
+        return canonical_value(value)  # type: ignore[return-value]
+    return repr(value)
+
+
+def _takes(function: Callable[..., Any], name: str) -> bool:
+    try:
+        params = inspect.signature(function).parameters
+    except (TypeError, ValueError):
+        return False
+    return name in params
+
+
+def _check_call(function: Callable[..., Any], names: list[str]) -> None:
+    """Raise TypeError now if ``function`` cannot take these keyword arguments."""
+    try:
+        sig = inspect.signature(function)
+    except (TypeError, ValueError):
+        return
+    if any(p.kind is p.VAR_KEYWORD for p in sig.parameters.values()):
+        return
+    valid = [n for n, p in sig.parameters.items()
+             if p.kind in (p.KEYWORD_ONLY, p.POSITIONAL_OR_KEYWORD)]
+    unknown = [n for n in names if n not in valid]
+    if unknown:
+        raise TypeError(f"{_name(function)} takes no argument(s) {unknown}; valid names: "
+                        f"{valid}")
+
+
+def _open_executor(executor: Any, n_todo: int) -> tuple[Executor, bool]:
+    if executor is None:
+        return ProcessPoolExecutor(max(1, min(n_todo, os.cpu_count() or 1))), True
+    if isinstance(executor, str) and executor == "serial":
+        return SerialExecutor(), True
+    if isinstance(executor, Executor):
+        return executor, False
+    if callable(getattr(executor, "get_executor", None)):  # a dask.distributed Client
+        return executor.get_executor(pure=False), False
+    raise TypeError("executor must be None (a local process pool), 'serial', a "
+                    "concurrent.futures.Executor or a dask.distributed Client; got "
+                    f"{type(executor).__name__}")
+
+
+def sweep(function: Callable[..., Any], grid: Mapping[str, Any], *,
+          store: str | Path | None = None, executor: Any = None, progress: bool = False,
+          **fixed: Any) -> Any:
+    """Evaluate ``function(**point, **fixed)`` on the outer product of ``grid``.
+
+    Parameters
+    ----------
+    function : callable
+        Returns a :class:`~kinetic_fem.distribution.VelocityDistribution` (e.g.
+        :func:`kinetic_fem.solve_heated`) or a particle run (e.g.
+        ``particles.dsmc.simulate_heated``).  For a process pool it must be importable
+        (a module-level function, not a lambda).
+    grid : dict of str to sequence
+        Parameter name -> values (numbers, booleans or strings); the dims of the result.
+    store : str or Path, optional
+        Directory where each finished point is written at once (one netCDF file per
+        point, atomically; :mod:`kinetic_fem.sweep.store`).  A rerun computes only the
+        missing points; damaged files are recomputed.
+    executor : None, "serial", Executor or dask.distributed.Client
+        None: a local process pool of ``min(points, cores)`` workers; "serial": in this
+        process; any ``concurrent.futures.Executor``; a dask Client (``executor=client``).
+    progress : bool
+        tqdm progress bar over the points (stderr).
+    **fixed
+        Keyword arguments passed to every call.  If ``function`` takes ``seed`` and the
+        grid has none, each point gets ``seed = point_seed(point, root=fixed["seed"])``
+        (:func:`kinetic_fem.sweep.grid.point_seed`), so results are identical whatever
+        the executor and the number of workers.
+
+    Returns
+    -------
+    xarray.Dataset
+        Data variables ``T, T_error, a2, a2_error, zeta, wall_time, n_collisions`` (float,
+        NaN where the method gives none), ``converged`` (bool), ``sonine`` (dim ``p`` =
+        2..6, the Sonine coefficients :math:`a_p`), ``f`` and ``f_error`` (dim ``c``,
+        :data:`C_GRID`) and ``seed`` (derived seeds), all over the grid dims; attributes
+        ``function``, ``method`` and the fixed options.
+
+    Raises
+    ------
+    TypeError, ValueError
+        For an invalid grid, names ``function`` does not take, or a store of another
+        sweep.  An exception raised at a point is re-raised (noting the point) after the
+        points finished so far are stored.
+
+    Examples
+    --------
+    >>> import kinetic_fem as kf
+    >>> ds = kf.sweep(kf.solve_heated, {"alpha": [0.5, 0.9]}, method="spectral",
+    ...               executor="serial")
+    >>> ds.a2.dims, bool(ds.a2.sel(alpha=0.5) > ds.a2.sel(alpha=0.9))
+    (('alpha',), True)
+    """
+    if not callable(function):
+        raise TypeError(f"function must be callable, got {function!r}")
+    coords, points = grid_points(grid)
+    both = sorted(set(coords) & set(fixed))
+    if both:
+        raise ValueError(f"{both} given both in the grid and as fixed options")
+    root = fixed.pop("seed", None) if "seed" not in coords else None
+    derive = "seed" not in coords and _takes(function, "seed")
+    if root is not None and not derive:
+        fixed["seed"] = root
+    _check_call(function, [*coords, *fixed, *(["seed"] if derive else [])])
+    c = C_GRID
+    manifest = {"function": _name(function),
+                "fixed": {k: _text(v) for k, v in sorted(fixed.items())},
+                "seed_root": None if root is None or not derive else _text(root),
+                "c": [float(c[0]), float(c[-1]), int(c.size)]}
+    db = None if store is None else PointStore(store, manifest)
+
+    keys = [point_key(p) for p in points]
+    records: dict[int, tuple[dict[str, Any], dict[str, str]]] = {}
+    if db is not None:
+        for i, key in enumerate(keys):
+            got = db.load(key)
+            if got is not None:
+                records[i] = got
+    seeds = [point_seed(p, root) if derive else None for p in points]
+    todo = [i for i in range(len(points)) if i not in records]
+    logger.info("sweep of %s: %d point(s), %d stored, %d to compute", manifest["function"],
+                len(points), len(records), len(todo))
+    if todo:
+        _compute(function, points, seeds, fixed, todo, keys, records, db, executor, progress)
+    return _dataset(coords, points, records, seeds, manifest, store, derive)
+
+
+def _compute(function, points, seeds, fixed, todo, keys, records, db, executor, progress):
+    pool, owned = _open_executor(executor, len(todo))
+    if isinstance(pool, ProcessPoolExecutor):
+        try:
+            pickle.dumps(function)
+        except Exception as exc:
+            if owned:
+                pool.shutdown()
+            raise TypeError(f"{_name(function)} cannot be sent to a process pool ({exc}); "
+                            "use a module-level function or executor='serial'") from exc
+    bar = tqdm(total=len(points), initial=len(points) - len(todo), disable=not progress,
+               desc="sweep", unit="point")
+    pending: dict[Future, int] = {}
+    queue = list(todo)
+    window = 1 if isinstance(pool, SerialExecutor) else len(todo)  # serial: one at a time
+
+    def submit_next() -> None:
+        while queue and len(pending) < window:
+            i = queue.pop(0)
+            kwargs = {**points[i], **fixed}
+            if seeds[i] is not None:
+                kwargs["seed"] = seeds[i]
+            pending[pool.submit(evaluate_point, function, kwargs, C_GRID)] = i
+
+    try:
+        submit_next()
+        while pending:
+            done, _ = wait(pending, return_when=FIRST_COMPLETED)
+            for fut in done:
+                i = pending.pop(fut)
+                try:
+                    rec, attrs = fut.result()
+                except Exception as exc:
+                    if hasattr(exc, "add_note"):
+                        exc.add_note(f"in sweep point {points[i]}")
+                    logger.error("sweep point %s failed: %s", points[i], exc)
+                    raise
+                if db is not None:
+                    db.save(keys[i], rec, attrs)
+                records[i] = (rec, attrs)
+                logger.info("sweep point %s done (%.3g s)", points[i], float(rec["wall_time"]))
+                bar.update(1)
+            submit_next()
+    finally:
+        bar.close()
+        for fut in pending:
+            fut.cancel()
+        if owned:
+            pool.shutdown(wait=True, cancel_futures=True)
+
+
+def _dataset(coords, points, records, seeds, manifest, store, derive):
+    import xarray as xr
+
+    dims = list(coords)
+    shape = tuple(v.size for v in coords.values())
+    n_c = C_GRID.size
+    arrays = {name: np.full(shape, np.nan) for name in SCALARS}
+    arrays["sonine"] = np.full((*shape, SONINE_ORDERS.size), np.nan)
+    arrays["f"] = np.full((*shape, n_c), np.nan)
+    arrays["f_error"] = np.full((*shape, n_c), np.nan)
+    methods = set()
+    for i, (rec, attrs) in records.items():
+        idx = np.unravel_index(i, shape)
+        for name, a in arrays.items():
+            a[idx] = rec[name]
+        methods.add(attrs.get("method", ""))
+    data = {name: (dims, a) for name, a in arrays.items() if a.ndim == len(dims)}
+    data["converged"] = (dims, arrays["converged"] == 1.0)
+    data["sonine"] = ([*dims, "p"], arrays["sonine"])
+    data["f"] = ([*dims, "c"], arrays["f"])
+    data["f_error"] = ([*dims, "c"], arrays["f_error"])
+    if derive:
+        data["seed"] = (dims, np.array(seeds, dtype=np.int64).reshape(shape))
+    ds = xr.Dataset(data, coords={**coords, "p": SONINE_ORDERS, "c": C_GRID})
+    ds.attrs.update({"function": manifest["function"],
+                     "method": ",".join(sorted(m for m in methods if m)),
+                     "fixed": json.dumps(manifest["fixed"], sort_keys=True),
+                     "points": len(points)})
+    ds.attrs.update({f"fixed_{k}": v for k, v in manifest["fixed"].items()})
+    if store is not None:
+        ds.attrs["store"] = str(store)
+    ds["f"].attrs["long_name"] = "f(c) = sqrt(T) P(u + c sqrt(T))"
+    ds["sonine"].attrs["long_name"] = "Sonine coefficient a_p"
+    ds["T"].attrs["long_name"] = "temperature <(v-u)^2>"
+    return ds
