@@ -27,26 +27,26 @@ import time
 
 import numpy as np
 
+from kinetic_fem.model import ConstantRestitution
 from kinetic_fem.sonine import a2_first_order, steady_temperature
 from particles import _md_kernels as K
 from particles import md
-from particles._md_engine import _Engine
 
 N_FREE = 2.0  # density on the reduced ring at n = 1, n sigma = 0.5
 
 
 def _engine(alpha: float, n: int, seed: int, threshold: float | None,
-            kick_fraction: float | None) -> _Engine:
-    temp, kick_dt, kick_amp = 1.0, np.inf, 0.0
+            kick_fraction: float | None) -> md.MDEngine:
+    temp, kicks = 1.0, md.Kicks()
     if kick_fraction is not None:
         temp = steady_temperature(alpha, N_FREE)
         kick_dt = kick_fraction * md.mean_free_time(temp, 1.0, 0.5)
-        kick_amp = math.sqrt(2.0 * kick_dt)
+        kicks = md.Kicks(kick_dt, 1.0, math.sqrt(2.0 * kick_dt))
     rng = np.random.default_rng(seed)
     y, v = md.initial_state(n, density=1.0, sigma=0.5, temperature=temp, rng=rng)
-    return _Engine(y, v, free_length=n - 0.5 * n, sigma=0.5, alpha=alpha,
-                   threshold=threshold or 0.0, kick_dt=kick_dt, kick_amp=kick_amp, rng=rng,
-                   collapse_tol=1e-12, max_stall=100 * n)
+    opts = md.EngineOptions(n - 0.5 * n, 0.5, ConstantRestitution(alpha), threshold or 0.0,
+                            kicks, 1e-12, 100 * n)
+    return md.MDEngine(y, v, opts, rng)
 
 
 def _event_rate(alpha: float, n: int, cpp: float, threshold: float | None, repeats: int,
@@ -90,7 +90,7 @@ def _kick_cost(alpha: float, n: int, kick_fraction: float, repeats: int = 200) -
         start = time.process_time()
         for _ in range(repeats):
             K.fill_normals(eng.xi, eng.rng_state, ki, wi, fi)
-            K.kick_sweep(tk, tk + dt, 0.0, eng.xi, eng.x, eng.v, eng.tl, eng.free_length,
+            K.kick_sweep(tk, tk + dt, 1.0, 0.0, eng.xi, eng.x, eng.v, eng.tl, eng.free_length,
                          eng.heap, eng.hkey, eng.where, eng.istate)
         best = min(best, (time.process_time() - start) / repeats)
     return best

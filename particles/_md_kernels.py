@@ -40,10 +40,15 @@ Collision rule (relative speed :math:`g = v_i - v_j > 0`):
     v_i' = v_i - \\tfrac{1+a}{2} g, \\quad v_j' = v_j + \\tfrac{1+a}{2} g, \\quad
     \\Delta E = -\\tfrac{1 - a^2}{4} g^2,
 
-with :math:`a = \\alpha`, or :math:`a = 1` if :math:`g` is below the threshold
-(Ben-Naim et al. regularisation of inelastic collapse).  Elastic collisions exchange
-the two velocities exactly.  Kicks:
-:math:`v_i \\to v_i + \\sqrt{2 D \\Delta t_k}\\,\\xi_i`, the standard normals ``xi``
+with :math:`a = 1` if :math:`g` is below the threshold (Ben-Naim et al.
+regularisation of inelastic collapse), else :math:`a = \\alpha(g)` of the restitution
+law, evaluated by :func:`kinetic_fem.model.restitution_value` (its integer code and two
+parameters; a collision faster than the law's range stops the run with
+``STATUS_LAW_RANGE``).  Elastic collisions exchange the two velocities exactly.
+Kicks: :math:`v_i \\to d\\,v_i + b\\,\\xi_i`, white noise with :math:`d = 1`,
+:math:`b = \\sqrt{2 D \\Delta t_k}`, or the exact Ornstein-Uhlenbeck update of a
+Fokker-Planck bath over the kick interval, :math:`d = e^{-\\xi \\Delta t_k}`,
+:math:`b = \\sqrt{T_b (1 - e^{-2\\xi\\Delta t_k})}`; the standard normals ``xi``
 drawn inside the kernel by the ziggurat of :mod:`particles._dsmc_kernels` (its
 tables and rare paths; the fast path is inlined) from an explicit-state
 xoshiro256** generator (``rng``, ``uint64[4]``, seeded by the driver
@@ -55,12 +60,17 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._dsmc_kernels import _normal_slow, _xoshiro, ziggurat_tables
+from kinetic_fem.model import restitution_value
+
 from ._jit import jit, prefetch
+from .rng import normal_slow as _normal_slow
+from .rng import xoshiro as _xoshiro
+from .rng import ziggurat_tables
 
 __all__ = ["F_T", "F_T_KICK", "F_DISS", "F_INJ", "I_NCOLL", "I_HSIZE", "I_STALL",
            "I_NKICK", "I_NELASTIC", "I_BAD_PAIR", "STATUS_COLLISIONS", "STATUS_TIME",
-           "STATUS_COLLAPSE_SPEED", "STATUS_COLLAPSE_STALL", "STATUS_NO_EVENTS", "N_FSTATE",
+           "STATUS_COLLAPSE_SPEED", "STATUS_COLLAPSE_STALL", "STATUS_NO_EVENTS",
+           "STATUS_LAW_RANGE", "N_FSTATE",
            "N_ISTATE", "HEAP_PAD", "ZIGGURAT", "PREFETCH_MIN_N", "build_heap", "fill_normals",
            "kick_sweep", "run_events"]
 
@@ -78,6 +88,7 @@ STATUS_TIME = 1  # reached the requested time
 STATUS_COLLAPSE_SPEED = 3  # an inelastic collision below the collapse speed floor
 STATUS_COLLAPSE_STALL = 4  # too many consecutive collisions without time advancing
 STATUS_NO_EVENTS = 5  # no approaching pair and no kicks: free streaming forever
+STATUS_LAW_RANGE = 6  # a collision faster than the restitution law's range (I_BAD_PAIR)
 
 ZIGGURAT = ziggurat_tables()
 """``(ki, wi, fi)`` of the 256-layer normal ziggurat, passed to the kernels."""
@@ -241,17 +252,19 @@ def fill_normals(out, rng, ki, wi, fi):  # pragma: no cover - compiled
 
 
 @jit
-def kick_sweep(tk, t_cut, amp, xi, x, v, tl, free_length, heap, hkey, where,
+def kick_sweep(tk, t_cut, decay, amp, xi, x, v, tl, free_length, heap, hkey, where,
                istate):  # pragma: no cover - compiled
     """Kick every rod at ``tk``, recompute all pair times, heap those before ``t_cut``.
 
-    Rod ``i`` moves to ``tk`` and gets ``v[i] += amp * xi[i]``; pair ``i - 1`` is then
+    Rod ``i`` moves to ``tk`` and gets ``v[i] = decay * v[i] + amp * xi[i]`` (``decay``
+    1 for white noise: exactly ``v[i] + amp * xi[i]``); pair ``i - 1`` is then
     screened at once by the conservative test
     ``gap < dv ((t_cut - tk)(1 + 1e-12) + 1e-14 t_cut)`` (rounding of the exact test
     is ~1e-16 relative), written without a branch: every pair is stored in ``heap``
     and the count advances only for those passing.  A second pass over these few
     candidates applies the exact rule of :func:`build_heap` (approaching and
-    ``tk + gap/dv < t_cut``) and divides.  Returns the energy injected.
+    ``tk + gap/dv < t_cut``) and divides.  Returns the energy injected (net: a bath's
+    friction can take energy out).
     """
     n = x.shape[0]
     old = istate[I_HSIZE]
@@ -263,7 +276,7 @@ def kick_sweep(tk, t_cut, amp, xi, x, v, tl, free_length, heap, hkey, where,
     x[0] = x_prev
     tl[0] = tk
     vo = v[0]
-    v_prev = vo + amp * xi[0]
+    v_prev = vo * decay + amp * xi[0]
     v[0] = v_prev
     inj += 0.5 * (v_prev * v_prev - vo * vo)
     cand = 0
@@ -272,7 +285,7 @@ def kick_sweep(tk, t_cut, amp, xi, x, v, tl, free_length, heap, hkey, where,
         x[i] = xn
         tl[i] = tk
         vo = v[i]
-        vn = vo + amp * xi[i]
+        vn = vo * decay + amp * xi[i]
         v[i] = vn
         inj += 0.5 * (vn * vn - vo * vo)
         heap[cand] = i - 1
@@ -307,8 +320,8 @@ def kick_sweep(tk, t_cut, amp, xi, x, v, tl, free_length, heap, hkey, where,
 
 @jit
 def run_events(x, v, tl, heap, hkey, where, fstate, istate, rng, ki, wi, fi, normals, free_length,
-               alpha, threshold, kick_dt, kick_amp, speed_floor, max_stall, t_stop,
-               coll_stop):  # pragma: no cover - compiled
+               law, p0, p1, max_speed, threshold, kick_dt, kick_decay, kick_amp, speed_floor,
+               max_stall, t_stop, coll_stop):  # pragma: no cover - compiled
     """Advance the event-driven dynamics until a stop condition; return a status code.
 
     Parameters
@@ -333,12 +346,15 @@ def run_events(x, v, tl, heap, hkey, where, fstate, istate, rng, ki, wi, fi, nor
         Scratch space for the normals of a kick.
     free_length : float
         Length of the reduced ring :math:`L - N\\sigma`.
-    alpha, threshold : float
-        Restitution coefficient; collisions with relative speed below ``threshold``
-        are elastic (0 disables the regularisation).
-    kick_dt, kick_amp : float
-        Interval between kicks (inf: free cooling) and the kick amplitude
-        :math:`\\sqrt{2 D \\Delta t_k}`.
+    law, p0, p1, max_speed : int, float, float, float
+        Restitution law (:attr:`kinetic_fem.model.RestitutionLaw.code` and
+        ``parameters``) and the largest relative speed it is defined for.
+    threshold : float
+        Collisions with relative speed below it are elastic (0 disables the
+        regularisation); counted in ``istate[I_NELASTIC]``.
+    kick_dt, kick_decay, kick_amp : float
+        Interval between kicks (inf: free cooling) and the kick
+        ``v -> kick_decay * v + kick_amp * xi``.
     speed_floor : float
         An inelastic collision slower than this signals inelastic collapse.
     max_stall : int
@@ -375,8 +391,8 @@ def run_events(x, v, tl, heap, hkey, where, fstate, istate, rng, ki, wi, fi, nor
             t = t_kick
             t_kick = (nk + 1) * kick_dt
             fill_normals(normals, rng, ki, wi, fi)
-            fstate[F_INJ] += kick_sweep(t, t_kick, kick_amp, normals, x, v, tl, free_length, heap,
-                                        hkey, where, istate)
+            fstate[F_INJ] += kick_sweep(t, t_kick, kick_decay, kick_amp, normals, x, v, tl,
+                                        free_length, heap, hkey, where, istate)
             istate[I_NKICK] = nk
             continue
         if tc > t_stop or tc == np.inf:
@@ -400,7 +416,6 @@ def run_events(x, v, tl, heap, hkey, where, fstate, istate, rng, ki, wi, fi, nor
             j = 0
             shift = free_length
         g = v[i] - v[j]
-        a = alpha
         if g < threshold:
             a = 1.0
             n_elastic += 1
@@ -408,6 +423,12 @@ def run_events(x, v, tl, heap, hkey, where, fstate, istate, rng, ki, wi, fi, nor
             istate[I_BAD_PAIR] = p
             status = STATUS_COLLAPSE_SPEED
             break
+        elif g > max_speed:
+            istate[I_BAD_PAIR] = p
+            status = STATUS_LAW_RANGE
+            break
+        else:
+            a = restitution_value(law, p0, p1, g)
         if tc - t <= 1e-13 * abs(tc):
             stall += 1
             if stall > max_stall:

@@ -7,43 +7,71 @@
 
     v_1' + v_2' = v_1 + v_2, \\qquad v_1' - v_2' = -a\\,(v_1 - v_2),
 
-with :math:`a = \\alpha`, or :math:`a = 1` (elastic) when the relative speed is below
-``threshold`` (the regularisation of inelastic collapse of Ben-Naim et al., PRL 83,
-4069 (1999)).  Heated runs add independent kicks
-:math:`v_i \\to v_i + \\sqrt{2 D \\Delta t_k}\\,\\xi_i` every ``kick_interval``, a
-discretisation of the white noise of strength :math:`D` that converges as
-:math:`\\Delta t_k \\to 0`.
+with :math:`a = \\alpha(|v_1 - v_2|)` of the restitution law (a constant
+:math:`\\alpha`, or a :mod:`kinetic_fem.model` law:
+:class:`~kinetic_fem.model.ThresholdRestitution`,
+:class:`~kinetic_fem.model.ViscoelasticRestitution`; evaluated in the kernel by
+:func:`kinetic_fem.model.restitution_value`, the one implementation every method
+uses), or :math:`a = 1` (elastic) when the relative speed is below ``threshold`` (the
+regularisation of inelastic collapse of Ben-Naim et al., PRL 83, 4069 (1999)).  The
+regularisation composes with a law: below ``threshold`` a collision is elastic, above
+it the law applies; a :class:`~kinetic_fem.model.ThresholdRestitution` law with its
+own threshold ``s`` is thus elastic below ``max(threshold, s)`` (both counted in
+``n_elastic``).  MD is hard rods by physics: the collision rate of a pair is its
+relative speed, kernel :math:`\\gamma = 1`; other kernels raise
+:class:`~kinetic_fem.model.UnsupportedModelError` (use :mod:`particles.dsmc`).
+
+Heated runs kick every rod every ``kick_interval`` :math:`\\Delta t_k`:
+
+* white noise of strength :math:`D` (``friction=0``, the paper):
+  :math:`v_i \\to v_i + \\sqrt{2 D \\Delta t_k}\\,\\xi_i`, a discretisation that
+  converges as :math:`\\Delta t_k \\to 0`;
+* a Fokker-Planck (Langevin) bath with friction :math:`\\xi` (``friction > 0``) and
+  bath temperature :math:`T_b = D/\\xi`: the exact Ornstein-Uhlenbeck transition over
+  the interval, :math:`v_i \\to v_i e^{-\\xi\\Delta t_k} + \\sqrt{T_b(1 -
+  e^{-2\\xi\\Delta t_k})}\\,\\xi_i`, so only the splitting of collisions and bath is
+  approximate.  Elastic rods (``alpha=1``) in a bath relax to the Gaussian at
+  :math:`T_b` exactly.
+
+Both act on each rod independently in the lab frame: under white noise the total
+momentum performs a random walk (variance :math:`2 D N t`), in a bath it is an
+Ornstein-Uhlenbeck process around 0.  Velocities are sampled relative to the
+instantaneous mean velocity and moments are central, so neither enters the
+distribution; ``series["momentum"]`` records it.
 
 In one dimension a rod of length :math:`\\sigma` is a point on the *reduced ring* of
 length :math:`L - N\\sigma` (subtract :math:`i\\sigma` from the ``i``-th rod's
 position): the dynamics is event-driven and exact on that ring, with one predicted
 collision time per neighbour pair in an indexed heap (:mod:`particles._md_kernels`).
 The collision frequency is therefore that of points at the density
-:math:`n/(1 - n\\sigma)` (the exact 1D Enskog factor).
+:math:`n/(1 - n\\sigma)` (the exact 1D Enskog factor); the model's scales
+(:meth:`kinetic_fem.model.HeatedProblem.temperature_estimate`, the Gaussian closure of
+the energy balance) are taken at that density.
 
 Time unit of a run: *collisions per particle*, ``2 * n_collisions / N`` (the mean
-number of collisions each rod has suffered).  Velocities are sampled relative to the
-instantaneous mean velocity; moments are central.  Heated runs are sampled uniformly
+number of collisions each rod has suffered).  Heated runs are sampled uniformly
 in time after the warm-up (inside clusters bursts of collisions happen in very little
 time); cooling runs at evenly spaced collision counts of the requested window.
+Checkpoints: ``checkpoint``, ``checkpoint_every`` (seconds), ``resume``,
+``max_wall_time``, as in :mod:`particles.dsmc`.
 
 Defaults and their checks (``benchmarks/bench_md.py``): kicks every 0.1 mean free
-times.  The kick-interval study (``--part kicks``: N = 5000, n sigma = 0.5, 2000
-collisions per particle per run, 12-48 seeds per interval, dt_k/tau = 0.025 ... 0.4)
-resolves no dependence at alpha = 0.99 and 0.9 (linear slopes of T/T_Sonine and a2
-within 0.9 and 1.8 standard errors; at 0.1 tau the bias is at most 0.0008 in
-T/T_Sonine and 0.0006 in a2 at alpha = 0.99, 0.006 and 0.009 at alpha = 0.9, two-sigma
-bounds, against standard deviations of one run of 0.006, 0.007 and 0.044, 0.035).
-At alpha = 0.6 and 0.3, where clusters collapse between kicks and the threshold
-makes half the collisions elastic, T decreases linearly in dt_k (slopes -0.25 +- 0.07
-and -0.38 +- 0.07 in T/T_Sonine per mean free time, first order): at 0.1 tau T is
-low by 1.5% and 2% (a third and a half of the standard deviation of one such run),
-a2 unchanged within errors.  0.2 tau would reach one standard deviation at alpha =
-0.3; take a shorter ``kick_interval`` (or extrapolate) for precision studies of T at
-strong inelasticity.  Heated threshold 0.01 thermal speeds (it never acts at
-alpha >= 0.9; at alpha = 0.6, 0.01 ... 0.1 give a2 equal within errors).  Plain
-inelastic dynamics collapses for large N (1 - alpha); the collapse is detected and
-raised as :class:`InelasticCollapseError`.
+times (and at most 0.1/xi in a bath).  The kick-interval study (``--part kicks``:
+N = 5000, n sigma = 0.5, 2000 collisions per particle per run, 12-48 seeds per
+interval, dt_k/tau = 0.025 ... 0.4; white noise) resolves no dependence at alpha =
+0.99 and 0.9 (linear slopes of T/T_Sonine and a2 within 0.9 and 1.8 standard errors;
+at 0.1 tau the bias is at most 0.0008 in T/T_Sonine and 0.0006 in a2 at alpha = 0.99,
+0.006 and 0.009 at alpha = 0.9, two-sigma bounds, against standard deviations of one
+run of 0.006, 0.007 and 0.044, 0.035).  At alpha = 0.6 and 0.3, where clusters
+collapse between kicks and the threshold makes half the collisions elastic, T
+decreases linearly in dt_k (slopes -0.25 +- 0.07 and -0.38 +- 0.07 in T/T_Sonine per
+mean free time, first order): at 0.1 tau T is low by 1.5% and 2% (a third and a half
+of the standard deviation of one such run), a2 unchanged within errors.  0.2 tau
+would reach one standard deviation at alpha = 0.3; take a shorter ``kick_interval``
+(or extrapolate) for precision studies of T at strong inelasticity.  Heated threshold
+0.01 thermal speeds (it never acts at alpha >= 0.9; at alpha = 0.6, 0.01 ... 0.1 give
+a2 equal within errors).  Plain inelastic dynamics collapses for large N (1 - alpha);
+the collapse is detected and raised as :class:`InelasticCollapseError`.
 """
 
 from __future__ import annotations
@@ -56,13 +84,23 @@ from typing import Any, Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from kinetic_fem.gas import check_alpha, check_finite_array, check_positive
-from kinetic_fem.sonine import steady_temperature
+from kinetic_fem.model import (
+    HeatedProblem,
+    InelasticGas,
+    PowerLawKernel,
+    RestitutionLaw,
+    UnsupportedModelError,
+    as_kernel,
+    check_finite_array,
+    check_positive,
+)
 
-from ._md_engine import (
+from ._md_engine import EngineOptions, InelasticCollapseError, Kicks, MDEngine
+from ._md_run import (
+    Checkpointing,
     DensityFluctuations,
-    InelasticCollapseError,
     MDRun,
+    RunPlan,
     Snapshot,
     density_fluctuations,
     run_md,
@@ -70,14 +108,18 @@ from ._md_engine import (
 
 __all__ = ["simulate_heated", "simulate_cooling", "MDRun", "Snapshot", "DensityFluctuations",
            "InelasticCollapseError", "initial_state", "density_fluctuations",
-           "mean_free_time"]
+           "mean_free_time", "hard_rods", "MDEngine", "EngineOptions", "Kicks",
+           "KICK_FRACTION", "HEATED_THRESHOLD", "LAW_SPEED_SPAN"]
 
 logger = logging.getLogger(__name__)
 
 KICK_FRACTION = 0.1
-"""Default kick interval, in estimated mean free times."""
+"""Default kick interval, in estimated mean free times (and in 1/xi in a bath)."""
 HEATED_THRESHOLD = 1e-2
 """Default threshold of heated runs, in units of the estimated thermal speed."""
+LAW_SPEED_SPAN = 10.0
+"""Relative speeds a heated run's restitution law must cover, in units of
+:math:`\\sqrt{2T_{est}}` (the spread of :math:`g` between Gaussian velocities)."""
 
 
 def mean_free_time(temperature: float, density: float, sigma: float) -> float:
@@ -90,19 +132,42 @@ def mean_free_time(temperature: float, density: float, sigma: float) -> float:
     return 1.0 / (n_free * 2.0 * math.sqrt(temperature / math.pi))
 
 
-def _check_geometry(n_particles: object, density: object, sigma: object | None) -> tuple:
+def hard_rods(kernel: float | PowerLawKernel) -> PowerLawKernel:
+    """The kernel of MD, which simulates hard rods only (:math:`\\gamma = 1`).
+
+    Raises
+    ------
+    UnsupportedModelError
+        For any other kernel (with a pointer to the methods that support it).
+
+    Examples
+    --------
+    >>> hard_rods(1.0).is_hard_rods
+    True
+    """
+    k = as_kernel(kernel)
+    if not k.is_hard_rods:
+        raise UnsupportedModelError(
+            f"MD simulates hard rods only (kernel gamma = 1: rods on a line meet at the rate "
+            f"of their relative speed), got gamma={k.gamma:g}; for other kernels use "
+            f"particles.dsmc (every 0 <= gamma <= 2) or kinetic_fem's solve_heated/"
+            f"solve_cooling with method='fem'")
+    return k
+
+
+def _check_geometry(n_particles: object, density: float, sigma: object | None) -> tuple:
     if isinstance(n_particles, bool) or not isinstance(n_particles, (int, np.integer)):
         raise TypeError(f"n_particles must be an int, got {n_particles!r}")
     if n_particles < 2:
         raise ValueError(f"n_particles={n_particles} is not allowed; need at least 2 rods")
-    n = check_positive("density", density)
+    n = density
     sig = 0.5 / n if sigma is None else float(sigma)
     if not (math.isfinite(sig) and sig >= 0.0):
         raise ValueError(f"sigma={sigma!r} is not allowed; the rod length must be >= 0")
     if not n * sig < 1.0:
         raise ValueError(f"density * sigma = {n * sig!r} is not allowed; rods of length "
                          f"sigma={sig} at density {n} must fill less than the ring (n sigma < 1)")
-    return int(n_particles), n, sig
+    return int(n_particles), sig
 
 
 def initial_state(n_particles: int, *, density: float, sigma: float, temperature: float,
@@ -143,8 +208,8 @@ def initial_state(n_particles: int, *, density: float, sigma: float, temperature
 
 
 def _common(n_particles, density, sigma, collisions_per_particle, n_samples, n_batches,
-            n_bins, box_counts, checkpoint, checkpoint_every, collapse_tol, max_stall):
-    n, dens, sig = _check_geometry(n_particles, density, sigma)
+            n_bins, box_counts, collapse_tol, max_stall):
+    n, sig = _check_geometry(n_particles, density, sigma)
     cpp = check_positive("collisions_per_particle", collisions_per_particle)
     for name, val in (("n_samples", n_samples), ("n_batches", n_batches), ("n_bins", n_bins)):
         if isinstance(val, bool) or not isinstance(val, (int, np.integer)) or val < 1:
@@ -153,13 +218,9 @@ def _common(n_particles, density, sigma, collisions_per_particle, n_samples, n_b
         raise ValueError(f"n_samples={n_samples} must be >= n_batches={n_batches}")
     if box_counts is None:
         box_counts = [2**k for k in range(1, int(math.log2(max(n // 4, 2))) + 1)]
-    if checkpoint_every is not None:
-        check_positive("checkpoint_every", checkpoint_every)
-        if checkpoint is None:
-            raise ValueError("checkpoint_every needs checkpoint=<path>")
     check_positive("collapse_tol", collapse_tol)
     stall = 100 * n + 100_000 if max_stall is None else int(max_stall)
-    return n, dens, sig, cpp, [int(m) for m in box_counts], stall
+    return n, sig, cpp, tuple(int(m) for m in box_counts), stall
 
 
 def _seeded(seed: Any) -> np.random.Generator:
@@ -167,30 +228,36 @@ def _seeded(seed: Any) -> np.random.Generator:
     return np.random.default_rng(ss)
 
 
-def simulate_heated(alpha: float, n_particles: int, *, density: float = 1.0,
-                    sigma: float | None = None, diffusion: float = 1.0, seed: Any = None,
+def simulate_heated(alpha: float | RestitutionLaw, n_particles: int, *, density: float = 1.0,
+                    sigma: float | None = None, diffusion: float = 1.0, friction: float = 0.0,
+                    kernel: float | PowerLawKernel = 1.0, seed: Any = None,
                     collisions_per_particle: float = 200.0, warmup: float | None = None,
                     kick_interval: float | None = None, threshold: float | None = None,
                     sample_interval: float = 1.0, n_batches: int = 10, n_bins: int = 240,
                     snapshots_at: Sequence[float] = (), n_records: int = 200,
                     box_counts: Sequence[int] | None = None, positions: ArrayLike | None = None,
                     velocities: ArrayLike | None = None, progress: bool = False,
-                    checkpoint: str | Path | None = None, checkpoint_every: float | None = None,
-                    resume: str | Path | None = None, collapse_tol: float = 1e-12,
-                    max_stall: int | None = None) -> MDRun:
+                    checkpoint: str | Path | None = None, checkpoint_every: float = 300.0,
+                    resume: bool = False, max_wall_time: float | None = None,
+                    collapse_tol: float = 1e-12, max_stall: int | None = None) -> MDRun:
     """Heated inelastic rods: random kicks every ``kick_interval``, sampled steady state.
 
     Parameters
     ----------
-    alpha : float
-        Restitution coefficient, ``0 <= alpha < 1``.
+    alpha : float or RestitutionLaw
+        Restitution coefficient in ``[0, 1]`` (1 only with ``friction > 0``) or a law
+        of :mod:`kinetic_fem.model`.
     n_particles : int
         Number of rods N >= 2.
     density, sigma : float
         n = N/L and rod length (default ``0.5/density``, i.e. n sigma = 0.5 as in the
         paper); n sigma < 1.
-    diffusion : float
-        Noise strength D: each kick adds :math:`\\sqrt{2 D \\Delta t_k}\\,\\xi`.
+    diffusion, friction : float
+        Noise strength D > 0 and friction xi >= 0: white noise (each kick adds
+        :math:`\\sqrt{2 D \\Delta t_k}\\,\\xi`) for ``friction=0``, else the
+        Fokker-Planck bath at :math:`T_b = D/\\xi` (exact Ornstein-Uhlenbeck kicks).
+    kernel : float or PowerLawKernel
+        Must be hard rods (1): MD has no other collision rate.
     seed : int or SeedSequence, optional
         Root of every random stream (initial state, kicks).
     collisions_per_particle : float
@@ -199,9 +266,10 @@ def simulate_heated(alpha: float, n_particles: int, *, density: float = 1.0,
         Collisions per particle before sampling starts (default half the run).
     kick_interval : float, optional
         :math:`\\Delta t_k`; default ``KICK_FRACTION`` (0.1) estimated mean free times
-        (:func:`mean_free_time` at the Sonine steady temperature for the density
-        :math:`n/(1-n\\sigma)`).  Its bias is below the statistical error of a run
-        of 2000 collisions per particle at N = 5000 (module docstring).
+        (:func:`mean_free_time` at the model's temperature estimate for the density
+        :math:`n/(1-n\\sigma)`), and at most ``KICK_FRACTION / friction``.  Its bias
+        is below the statistical error of a run of 2000 collisions per particle at
+        N = 5000 (module docstring).
     threshold : float, optional
         Collisions with relative speed below it are elastic; default
         ``HEATED_THRESHOLD`` (1e-2) times the estimated thermal speed.  Between kicks
@@ -209,7 +277,8 @@ def simulate_heated(alpha: float, n_particles: int, *, density: float = 1.0,
         strong inelasticity (no elastic collision at alpha >= 0.9); at alpha = 0.6
         thresholds 1e-2 ... 1e-1 give the same T and a2, while below ~3e-3 collapsing
         clusters eat most collisions with time hardly advancing
-        (``benchmarks/bench_md.py --part threshold``).
+        (``benchmarks/bench_md.py --part threshold``).  Composes with a law (module
+        docstring).
     sample_interval : float
         Time between samples (all N velocities and positions each), in estimated mean
         free times; sampling is uniform in time after the warm-up.
@@ -223,13 +292,16 @@ def simulate_heated(alpha: float, n_particles: int, *, density: float = 1.0,
     box_counts : sequence of int, optional
         Numbers of boxes for the density fluctuations (default 2, 4, ..., N/4).
     positions, velocities : array_like, optional
-        Initial rod left ends and velocities (default random, Gaussian).
+        Initial rod left ends and velocities (default random, Gaussian at the
+        temperature estimate).
     progress : bool
         tqdm progress bar.
-    checkpoint, checkpoint_every : path, float
-        Write a checkpoint every ``checkpoint_every`` collisions per particle.
-    resume : path, optional
-        Continue bit-identically from a checkpoint of a run with the same arguments.
+    checkpoint, checkpoint_every, resume : path, float, bool
+        Write the state every ``checkpoint_every`` seconds (at the next record or
+        sample) and at the end; with ``resume=True`` continue from the file if it
+        exists (bit-identical).  As in :func:`particles.dsmc.simulate_heated`.
+    max_wall_time : float, optional
+        Stop after this many seconds (checkpoint written; ``info.message`` says so).
     collapse_tol, max_stall : float, int
         Inelastic collapse is reported when a collision slower than
         ``collapse_tol * sqrt(T)`` is inelastic, or after ``max_stall`` (default
@@ -238,9 +310,16 @@ def simulate_heated(alpha: float, n_particles: int, *, density: float = 1.0,
     Returns
     -------
     MDRun
+        ``series["energy_injected"]`` is the net energy the thermostat gave (a bath's
+        friction also takes energy out).
 
     Raises
     ------
+    UnsupportedModelError
+        For a kernel other than hard rods.
+    ValueError
+        For invalid parameters, alpha = 1 under white noise (no steady state), or a
+        restitution law whose range does not cover the run's relative speeds.
     InelasticCollapseError
         With advice on the regularisation.
 
@@ -249,22 +328,32 @@ def simulate_heated(alpha: float, n_particles: int, *, density: float = 1.0,
     >>> run = simulate_heated(0.9, 200, seed=1, collisions_per_particle=20.0)
     >>> bool(run.energy_balance_error < 1e-10)
     True
+    >>> bath = simulate_heated(1.0, 200, friction=1.0, seed=1, collisions_per_particle=20.0)
+    >>> bath.params["friction"], bool(abs(bath.temperature - 1.0) < 0.2)  # T_b = D/xi = 1
+    (1.0, True)
     """
-    alpha = check_alpha(alpha)
-    d = check_positive("diffusion", diffusion)
-    n, dens, sig, cpp, boxes, stall = _common(
-        n_particles, density, sigma, collisions_per_particle, n_batches, n_batches, n_bins,
-        box_counts, checkpoint, checkpoint_every, collapse_tol, max_stall)
-    n_free = dens / (1.0 - dens * sig)
-    t_est = steady_temperature(alpha, n_free, d)
+    problem = HeatedProblem.from_parameters(alpha, density=density, diffusion=diffusion,
+                                            friction=friction, kernel=hard_rods(kernel))
+    gas, law = problem.gas, problem.gas.restitution
+    n, sig, cpp, boxes, stall = _common(
+        n_particles, gas.density, sigma, collisions_per_particle, n_batches, n_batches,
+        n_bins, box_counts, collapse_tol, max_stall)
+    ck = Checkpointing.from_arguments(checkpoint, checkpoint_every, resume, max_wall_time)
+    dens = gas.density
+    # the model's scales at the collision density of the reduced ring (Enskog factor)
+    free_gas = InelasticGas(law, dens / (1.0 - dens * sig), gas.kernel)
+    t_est = HeatedProblem(free_gas, problem.thermostat).temperature_estimate()
     tau = mean_free_time(t_est, dens, sig)
-    dt_k = (KICK_FRACTION * tau if kick_interval is None
-            else check_positive("kick_interval", kick_interval))
+    if kick_interval is None:
+        dt_k = KICK_FRACTION * (min(tau, 1.0 / problem.friction) if problem.friction > 0
+                                else tau)
+    else:
+        dt_k = check_positive("kick_interval", kick_interval)
     sample_dt = check_positive("sample_interval", sample_interval) * tau
     thr = (HEATED_THRESHOLD * math.sqrt(t_est) if threshold is None
            else check_positive("threshold", threshold))
-    logger.info("heated MD alpha=%g N=%d: kick interval %.4g (%.3g mean free times), "
-                "threshold %.3g (%.2g thermal speeds)", alpha, n, dt_k, dt_k / tau, thr,
+    logger.info("heated MD %r N=%d: T_est %.4g, kick interval %.4g (%.3g mean free times), "
+                "threshold %.3g (%.2g thermal speeds)", law, n, t_est, dt_k, dt_k / tau, thr,
                 thr / math.sqrt(t_est))
     warm = 0.5 * cpp if warmup is None else float(warmup)
     if not 0.0 <= warm < cpp:
@@ -272,41 +361,49 @@ def simulate_heated(alpha: float, n_particles: int, *, density: float = 1.0,
     rng = _seeded(seed)
     y, v = initial_state(n, density=dens, sigma=sig, temperature=t_est, rng=rng,
                          positions=positions, velocities=velocities)
-    params = {"problem": "heated", "alpha": alpha, "n_particles": n, "density": dens,
-              "sigma": sig, "diffusion": d, "kick_interval": dt_k, "threshold": thr,
-              "collisions_per_particle": cpp, "warmup": warm,
+    law.check_speed(max(LAW_SPEED_SPAN * math.sqrt(2.0 * t_est), float(np.ptp(v))),
+                    where=f"the heated run (relative speeds up to {LAW_SPEED_SPAN:g} "
+                          f"sqrt(2 T) at the estimated T = {t_est:.4g}, or the initial state)")
+    params = {**problem.as_dict(), "n_particles": n, "sigma": sig, "kick_interval": dt_k,
+              "threshold": thr, "collisions_per_particle": cpp, "warmup": warm,
               "seed": None if seed is None else str(seed)}
-    opts = {"free_length": n / dens - n * sig, "sigma": sig, "alpha": alpha, "threshold": thr,
-            "kick_dt": dt_k, "kick_amp": math.sqrt(2.0 * d * dt_k), "collapse_tol": collapse_tol,
-            "max_stall": stall}
-    return run_md("heated", params, seed=seed, y=y, v=v, rng=rng, engine_options=opts,
-                total=int(round(cpp * n / 2)), sample_from=int(round(warm * n / 2)),
-                n_samples=n_batches, n_batches=n_batches, hist_range=12.0 * math.sqrt(t_est),
-                n_bins=n_bins, snapshots_at=snapshots_at, n_records=n_records, box_counts=boxes,
-                progress=progress, checkpoint=checkpoint, checkpoint_every=checkpoint_every,
-                resume=resume, sample_dt=sample_dt)
+    options = EngineOptions(n / dens - n * sig, sig, law, thr,
+                            Kicks.from_thermostat(problem.thermostat, dt_k), collapse_tol, stall)
+    plan = RunPlan(scaled=False, total=int(round(cpp * n / 2)),
+                   sample_from=int(round(warm * n / 2)), n_samples=n_batches,
+                   n_batches=n_batches, hist_range=12.0 * math.sqrt(t_est), n_bins=n_bins,
+                   snapshots_at=tuple(float(s) for s in snapshots_at), n_records=n_records,
+                   box_counts=boxes, sample_dt=sample_dt)
+    return run_md(params, seed=seed, y=y, v=v, rng=rng, options=options, plan=plan,
+                  checkpointing=ck, progress=progress)
 
 
-def simulate_cooling(alpha: float, n_particles: int, *, density: float = 1.0,
-                     sigma: float | None = None, seed: Any = None,
-                     collisions_per_particle: float = 100.0, threshold: float | None = None,
+def simulate_cooling(alpha: float | RestitutionLaw, n_particles: int, *, density: float = 1.0,
+                     sigma: float | None = None, threshold: float | None = None,
+                     kernel: float | PowerLawKernel = 1.0, seed: Any = None,
+                     collisions_per_particle: float = 100.0,
                      snapshots_at: Sequence[float] = (), sample_from: float | None = None,
                      n_samples: int = 50, n_batches: int = 10, n_bins: int = 160,
                      c_max: float = 8.0, n_records: int = 200,
                      box_counts: Sequence[int] | None = None, temperature0: float = 1.0,
                      positions: ArrayLike | None = None, velocities: ArrayLike | None = None,
                      progress: bool = False, checkpoint: str | Path | None = None,
-                     checkpoint_every: float | None = None, resume: str | Path | None = None,
-                     collapse_tol: float = 1e-12, max_stall: int | None = None) -> MDRun:
+                     checkpoint_every: float = 300.0, resume: bool = False,
+                     max_wall_time: float | None = None, collapse_tol: float = 1e-12,
+                     max_stall: int | None = None) -> MDRun:
     """Freely cooling inelastic rods, plain or threshold-regularised.
 
     Parameters
     ----------
-    alpha : float
-        Restitution coefficient, ``0 <= alpha <= 1`` (1: elastic, P(v) frozen, C17).
+    alpha : float or RestitutionLaw
+        Restitution coefficient, ``0 <= alpha <= 1`` (1: elastic, P(v) frozen, C17),
+        or a law of :mod:`kinetic_fem.model`.
     threshold : float, optional
         None: plain inelastic dynamics (collapse is detected and raised).  A float:
-        collisions with relative speed below it are elastic (Ben-Naim et al.).
+        collisions with relative speed below it are elastic (Ben-Naim et al.);
+        composes with a law (module docstring).
+    kernel : float or PowerLawKernel
+        Must be hard rods (1).
     sample_from : float, optional
         Collisions per particle from which scaled velocities
         :math:`c = (v - u)/\\sqrt{T}` are sampled (default half the run).
@@ -316,7 +413,10 @@ def simulate_cooling(alpha: float, n_particles: int, *, density: float = 1.0,
         Initial temperature (Gaussian velocities, zero momentum).
 
     The other parameters are those of :func:`simulate_heated`; records are spaced
-    geometrically in collisions.  The distribution is that of ``c``.
+    geometrically in collisions.  The distribution is that of ``c``.  Free cooling
+    never widens the range of velocities (every collision maps the pair into the
+    interval between them), so a restitution law is checked once, on the initial
+    velocities.
 
     Examples
     --------
@@ -324,10 +424,12 @@ def simulate_cooling(alpha: float, n_particles: int, *, density: float = 1.0,
     >>> bool(run.temperature < 1.0 and abs(run.series["momentum"][-1]) < 1e-10)
     True
     """
-    alpha = check_alpha(alpha, allow_elastic=True)
-    n, dens, sig, cpp, boxes, stall = _common(
-        n_particles, density, sigma, collisions_per_particle, n_samples, n_batches, n_bins,
-        box_counts, checkpoint, checkpoint_every, collapse_tol, max_stall)
+    gas = InelasticGas(alpha, density, hard_rods(kernel))
+    law = gas.restitution
+    n, sig, cpp, boxes, stall = _common(
+        n_particles, gas.density, sigma, collisions_per_particle, n_samples, n_batches,
+        n_bins, box_counts, collapse_tol, max_stall)
+    ck = Checkpointing.from_arguments(checkpoint, checkpoint_every, resume, max_wall_time)
     thr = 0.0 if threshold is None else check_positive("threshold", threshold)
     start = 0.5 * cpp if sample_from is None else float(sample_from)
     if not 0.0 <= start <= cpp:
@@ -336,18 +438,19 @@ def simulate_cooling(alpha: float, n_particles: int, *, density: float = 1.0,
         if not 0.0 <= s <= cpp:
             raise ValueError(f"snapshot at {s!r} collisions per particle is outside the run")
     rng = _seeded(seed)
+    dens = gas.density
     y, v = initial_state(n, density=dens, sigma=sig, rng=rng, positions=positions,
                          temperature=check_positive("temperature0", temperature0),
                          velocities=velocities)
-    params = {"problem": "cooling", "alpha": alpha, "n_particles": n, "density": dens,
-              "sigma": sig, "threshold": threshold, "collisions_per_particle": cpp,
-              "sample_from": start, "seed": None if seed is None else str(seed)}
-    opts = {"free_length": n / dens - n * sig, "sigma": sig, "alpha": alpha, "threshold": thr,
-            "kick_dt": np.inf, "kick_amp": 0.0, "collapse_tol": collapse_tol,
-            "max_stall": stall}
-    return run_md("cooling", params, seed=seed, y=y, v=v, rng=rng, engine_options=opts,
-                total=int(round(cpp * n / 2)), sample_from=int(round(start * n / 2)),
-                n_samples=n_samples, n_batches=n_batches, hist_range=c_max, n_bins=n_bins,
-                snapshots_at=snapshots_at, n_records=n_records, box_counts=boxes,
-                progress=progress, checkpoint=checkpoint, checkpoint_every=checkpoint_every,
-                resume=resume)
+    law.check_speed(float(np.ptp(v)), where="the initial velocities (max - min)")
+    params = {"problem": "cooling", **gas.as_dict(), "n_particles": n, "sigma": sig,
+              "threshold": threshold, "collisions_per_particle": cpp, "sample_from": start,
+              "seed": None if seed is None else str(seed)}
+    options = EngineOptions(n / dens - n * sig, sig, law, thr, Kicks(), collapse_tol, stall)
+    plan = RunPlan(scaled=True, total=int(round(cpp * n / 2)),
+                   sample_from=int(round(start * n / 2)), n_samples=n_samples,
+                   n_batches=n_batches, hist_range=c_max, n_bins=n_bins,
+                   snapshots_at=tuple(float(s) for s in snapshots_at), n_records=n_records,
+                   box_counts=boxes)
+    return run_md(params, seed=seed, y=y, v=v, rng=rng, options=options, plan=plan,
+                  checkpointing=ck, progress=progress)

@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 from scipy import stats
 
+from kinetic_fem.model import ConstantRestitution
 from kinetic_fem.sonine import a2_first_order, haff_temperature, steady_temperature
 from particles import _md_kernels as K
 from particles import md
@@ -174,23 +175,53 @@ def test_same_seed_same_run_and_snapshots():
     assert np.array_equal(a.snapshots[1].c, b.snapshots[1].c)
 
 
-@pytest.mark.parametrize("problem", ["heated", "cooling"])
+@pytest.mark.parametrize("problem", ["heated", "bath", "cooling"])
 def test_checkpoint_resume_is_bit_identical(tmp_path, problem):
-    sim = md.simulate_heated if problem == "heated" else md.simulate_cooling
+    """Interrupted after the first stop point (max_wall_time), then resumed (as DSMC).
+
+    The interrupted heated runs have no sample yet and say so; the cooling run
+    samples from its first record on and returns a partial, unconverged result.
+    """
+    sim = md.simulate_cooling if problem == "cooling" else md.simulate_heated
     kw = {"seed": 4, "collisions_per_particle": 60.0, "snapshots_at": (20.0, 50.0)}
     if problem == "cooling":
-        kw["threshold"] = 1e-4
+        kw.update(threshold=1e-4, sample_from=0.0)
+    if problem == "bath":
+        kw.update(friction=0.5)
+    whole = sim(0.9, 150, **kw)
     path = tmp_path / "md.npz"
-    full = sim(0.9, 150, checkpoint=path, checkpoint_every=25.0, **kw)
-    resumed = sim(0.9, 150, resume=path, **kw)  # from the last checkpoint (50 cpp)
-    assert np.array_equal(full.velocities, resumed.velocities)
-    assert np.array_equal(full.distribution.values, resumed.distribution.values)
-    assert full.n_collisions == resumed.n_collisions
-    for name in full.series:
-        assert np.array_equal(full.series[name], resumed.series[name])
-    assert np.array_equal(full.snapshots[1].x, resumed.snapshots[1].x)
-    with pytest.raises(ValueError, match="other parameters"):
-        sim(0.8, 150, resume=path, **kw)
+    if problem == "cooling":
+        part = sim(0.9, 150, checkpoint=path, max_wall_time=1e-9, **kw)
+        assert "interrupted" in part.info.message and not part.info.converged
+        assert part.n_collisions < whole.n_collisions
+    else:
+        with pytest.raises(RuntimeError, match="resume"):
+            sim(0.9, 150, checkpoint=path, max_wall_time=1e-9, **kw)
+    resumed = sim(0.9, 150, checkpoint=path, resume=True, **kw)
+    assert resumed.info.converged
+    assert np.array_equal(whole.velocities, resumed.velocities)
+    assert np.array_equal(whole.distribution.values, resumed.distribution.values)
+    assert whole.n_collisions == resumed.n_collisions
+    for name in whole.series:
+        assert np.array_equal(whole.series[name], resumed.series[name])
+    assert np.array_equal(whole.snapshots[1].x, resumed.snapshots[1].x)
+    assert np.array_equal(whole.density_fluctuations.variance_ratio,
+                          resumed.density_fluctuations.variance_ratio)
+    again = sim(0.9, 150, checkpoint=path, resume=True, **kw)  # finished: the same result
+    assert np.array_equal(again.distribution.values, whole.distribution.values)
+    with pytest.raises(ValueError, match="different run"):
+        sim(0.8, 150, checkpoint=path, resume=True, **kw)
+
+
+def test_checkpoint_arguments_are_those_of_dsmc(tmp_path):
+    with pytest.raises(ValueError, match="needs a checkpoint path"):
+        md.simulate_cooling(0.9, 10, resume=True)
+    with pytest.raises(TypeError, match="resume=True"):  # the old spelling resume=<path>
+        md.simulate_cooling(0.9, 10, resume=tmp_path / "md.npz")
+    with pytest.raises(ValueError, match="checkpoint_every"):
+        md.simulate_heated(0.9, 10, checkpoint=tmp_path / "md", checkpoint_every=-1.0)
+    md.simulate_cooling(0.9, 10, seed=1, collisions_per_particle=4.0, checkpoint=tmp_path / "c")
+    assert (tmp_path / "c.npz").exists()  # written at the end, suffix added as by DSMC
 
 
 def test_kernels_run_without_jit():
@@ -241,7 +272,7 @@ def test_kick_sweep_heap_equals_full_rebuild():
     with np.errstate(over="ignore"):  # uint64 generator arithmetic without JIT
         xi = np.empty(n)
         K.fill_normals(xi, state, *K.ZIGGURAT)
-        K.kick_sweep(tk, t_cut, 0.0, xi, a[0], a[1], a[2], free, *a[3:])
+        K.kick_sweep(tk, t_cut, 1.0, 0.0, xi, a[0], a[1], a[2], free, *a[3:])
     K.build_heap(tk, t_cut, b[0], b[1], b[2], free, *b[3:])
     size = int(a[6][K.I_HSIZE])
     assert 20 < size == b[6][K.I_HSIZE] < n
@@ -267,14 +298,11 @@ def test_heap_invariants_after_many_events(kick, n):
     Cooling queues every approaching pair; heated runs those meeting before the kick.
     (``n = PREFETCH_MIN_N``: the loop that prefetches the next pair's rods.)
     """
-    from particles._md_engine import _Engine
-
     rng = np.random.default_rng(8)
     y, v = md.initial_state(n, density=1.0, sigma=0.5, temperature=1.0, rng=rng)
-    dt = 0.1 if kick else np.inf
-    eng = _Engine(y, v, free_length=0.5 * n, sigma=0.5, alpha=0.9, threshold=1e-3,
-                  kick_dt=dt, kick_amp=0.2 if kick else 0.0, rng=rng, collapse_tol=1e-12,
-                  max_stall=10**6)
+    kicks = md.Kicks(0.1, 1.0, 0.2) if kick else md.Kicks()
+    opts = md.EngineOptions(0.5 * n, 0.5, ConstantRestitution(0.9), 1e-3, kicks)
+    eng = md.MDEngine(y, v, opts, rng)
     eng.advance(20_000)
     size = int(eng.istate[K.I_HSIZE])
     heap, hkey, where = eng.heap, eng.hkey, eng.where
