@@ -2,7 +2,8 @@
 
 See :mod:`particles.dsmc` for the method; this module holds the state of one run
 (velocities, the kernel's random-stream state, counters, time series, batch
-histograms) and the loop shared by the heated and the cooling gas.
+histograms) and the loop shared by the heated and the cooling gas; the run is
+configured by one frozen :class:`DSMCOptions`.
 """
 
 from __future__ import annotations
@@ -20,10 +21,11 @@ from tqdm.auto import tqdm
 
 from kinetic_fem.distribution import MAX_MOMENT, RunInfo, VelocityDistribution
 
-from . import _dsmc_kernels as kern
+from . import _dsmc_segments as seg
+from .rng import ziggurat_tables
 from .sampling import accumulate_kernel, load_checkpoint, save_checkpoint
 
-__all__ = ["DSMCRun", "Engine"]
+__all__ = ["DSMCRun", "DSMCOptions", "Engine"]
 
 logger = logging.getLogger("particles.dsmc")
 
@@ -54,10 +56,12 @@ class DSMCRun:
         ``a2`` and ``a3`` (Sonine coefficients of the central moments).
     dissipation_rate, dissipation_error : float
         Heated: energy dissipated per particle and unit time during averaging,
-        :math:`\\tfrac{1-\\alpha^2}{2N t}\\sum g^2` over the collisions, with its batch
-        error.  Cooling: NaN.
+        :math:`\\tfrac{1}{2N t}\\sum (1-\\alpha(g)^2) g^2` over the collisions, with
+        its batch error.  Cooling: NaN.
     injection_rate : float
-        Heated: :math:`2D(1-1/N)`, the kicks' input into the internal energy.
+        Heated: the thermostat's input into the internal energy per particle,
+        :math:`2D(1-1/N) - 2\\xi T` (``T`` the averaged temperature; ``xi = 0`` for
+        white noise).
     edges, counts, power_sums : ndarray
         Raw batch histograms and power sums (:func:`combine_runs` merges replicas).
     info : RunInfo
@@ -100,28 +104,131 @@ class DSMCRun:
         """Total collisions per particle, ``2 n_collisions / N``."""
         return 2.0 * self.n_collisions / self.n_particles
 
+    def cooling_rate(self, n_batches: int = 20) -> tuple[float, float]:
+        """Cooling rate :math:`\\zeta` of :math:`dT/dt = -2\\zeta n T^{1+\\gamma/2}`, error.
+
+        :math:`\\gamma > 0`: :math:`T^{-\\gamma/2} = \\gamma\\zeta n t + T_0^{-\\gamma/2}`;
+        after relaxation (many e-folds of T) the constant is negligible, so every sample
+        gives :math:`T^{-\\gamma/2}/(\\gamma n t)` (computed in logarithms: T and t leave
+        the float range).  :math:`\\gamma = 0`: :math:`\\ln T` falls linearly in t, and
+        each sample after the start of averaging gives
+        :math:`-\\ln(T/T_r)/(2n(t - t_r))`.  The error is from ``n_batches`` consecutive
+        batches of samples (each batch: its first-to-last slope for :math:`\\gamma = 0`).
+
+        Returns
+        -------
+        (zeta, error) : (float, float)
+
+        Raises
+        ------
+        ValueError
+            For a heated run.
+        """
+        if self.problem != "cooling":
+            raise ValueError("cooling_rate needs a free-cooling run (simulate_cooling)")
+        s = self.series
+        params = self.distribution.params
+        gamma, density = float(params.get("gamma", 1.0)), float(params.get("density", 1.0))
+        late = s["collisions_per_particle"] >= self.relaxed_at
+        log_temp, log_t = s["log_temperature"][late], s["log_t"][late]
+        if gamma > 0.0:
+            z = np.exp(-0.5 * gamma * log_temp - log_t) / (gamma * density)
+            means = np.array([b.mean() for b in np.array_split(z, n_batches)])
+        else:
+            t = np.exp(log_t - log_t[-1])  # relative times (Maxwell: t grows linearly)
+            means = np.array([-(b_lt[-1] - b_lt[0]) / (2.0 * density * (b_t[-1] - b_t[0]))
+                              for b_lt, b_t in zip(np.array_split(log_temp, n_batches),
+                                                   np.array_split(t, n_batches), strict=True)])
+            means *= math.exp(-log_t[-1])
+        return float(means.mean()), float(means.std(ddof=1) / math.sqrt(means.size))
+
+
+@dataclass(frozen=True)
+class DSMCOptions:
+    """Everything a run needs besides the problem and the initial state (validated).
+
+    Attributes
+    ----------
+    kind : str
+        ``"heated"`` or ``"cooling"``.
+    n : int
+        Particles.
+    relax : str or float
+        ``"auto"`` or collisions per particle before averaging.
+    sample_every : float
+        Collisions per particle between measurements (cooling; heated: ``steps``).
+    n_batches, n_samples, bins, window : int
+        Batches, averaging samples, histogram bins, relaxation window (samples).
+    lo, hi : float
+        Histogram range (of ``v`` heated, of ``c`` cooling).
+    entropy : str
+        The root seed, recorded in results and checkpoints.
+    key : dict
+        What a checkpoint must match to be resumed.
+    kcode, gamma, lcode, p0, p1, g_limit : int, float, int, float, float, float
+        The model in kernel form: kernel code and exponent, restitution law code and
+        parameters, largest relative speed the law allows.
+    dt, steps : float, int
+        Heated: time step and steps per measurement.
+    decay, amp, half_decay, half_amp : float
+        Heated: kick of a full and of a half step, :math:`v \\to d v + b \\xi`.
+    checkpoint, checkpoint_every, resume, max_wall_time, progress
+        As in :func:`particles.dsmc.simulate_heated`.
+    """
+
+    kind: str
+    n: int
+    relax: str | float
+    sample_every: float
+    n_batches: int
+    n_samples: int
+    bins: int
+    window: int
+    lo: float
+    hi: float
+    entropy: str
+    key: Mapping[str, Any]
+    kcode: int
+    gamma: float
+    lcode: int
+    p0: float
+    p1: float
+    g_limit: float = math.inf
+    dt: float = math.nan
+    steps: int = 0
+    decay: float = 1.0
+    amp: float = 0.0
+    half_decay: float = 1.0
+    half_amp: float = 0.0
+    checkpoint: str | Path | None = None
+    checkpoint_every: float = 300.0
+    resume: bool = False
+    max_wall_time: float | None = None
+    progress: bool = False
+
+
 
 class Engine:
     """Shared loop: advance a segment, measure, detect relaxation, accumulate, checkpoint."""
 
-    def __init__(self, kind: str, problem: Any, v: NDArray[np.float64], seed_seq: Any,
-                 opts: dict[str, Any]) -> None:
-        self.kind, self.problem, self.opts = kind, problem, opts
+    def __init__(self, problem: Any, v: NDArray[np.float64], seed_seq: Any,
+                 opts: DSMCOptions) -> None:
+        self.kind, self.problem, self.opts = opts.kind, problem, opts
         self.gas = problem.gas
         self.v = v
         self.n = v.size
         self.state = seed_seq.generate_state(4, dtype=np.uint64)
-        self.tables = kern.ziggurat_tables()
+        self.tables = ziggurat_tables()
         self.c = {"accepted": 0, "candidates": 0, "debt": 0.0, "log_t": -math.inf,
                   "log_scale": 0.0, "relaxed_at": -1.0, "avg_start_acc": 0,
                   "n_samples": 0, "windows": 0, "converged": False}
         self.series: dict[str, list[float]] = {k: [] for k in _SERIES}
-        nb = opts["n_batches"]
-        self.counts = np.zeros((nb, opts["bins"]))
+        nb = opts.n_batches
+        self.counts = np.zeros((nb, opts.bins))
         self.sums = np.zeros((nb, MAX_MOMENT + 1))
-        self.batch_g2 = np.zeros(nb)
+        self.batch_loss = np.zeros(nb)
         self.batch_time = np.zeros(nb)
-        self.seg_g2 = 0.0
+        self.seg_loss = 0.0
         self.seg_time = 0.0
 
     # ----------------------------------------------------------------- dynamics
@@ -130,31 +237,37 @@ class Engine:
             self._segment_kernels()
 
     def _segment_kernels(self) -> None:
-        o, alpha = self.opts, self.gas.alpha
+        o = self.opts
+        model = (o.kcode, o.gamma, o.lcode, o.p0, o.p1)
         if self.kind == "heated":
-            acc, g2, debt = kern.heated_segment(
-                self.v, o["steps"], o["dt"], o["amp"], 0.5 * self.n * self.gas.density,
-                alpha, self.c["debt"], self.state, *self.tables)
+            acc, loss, debt, done, g_max = seg.heated_segment(
+                self.v, o.steps, o.dt, o.decay, o.amp, o.half_decay, o.half_amp,
+                0.5 * self.n * self.gas.density, *model, o.g_limit, self.c["debt"],
+                self.state, *self.tables)
+            if done < o.steps:
+                self.gas.restitution.check_speed(
+                    g_max, where="the DSMC velocities (max - min after a thermostat kick)")
             self.c["debt"] = debt
-            t = o["steps"] * o["dt"]
+            t = o.steps * o.dt
             self.c["log_t"] = float(np.logaddexp(self.c["log_t"], math.log(t)))
             self.c["accepted"] += int(acc)
-            self.seg_g2, self.seg_time = g2, t
+            self.seg_loss, self.seg_time = loss, t
             return
-        target = self.c["accepted"] + max(1, int(round(0.5 * o["sample_every"] * self.n)))
+        target = self.c["accepted"] + max(1, int(round(0.5 * o.sample_every * self.n)))
         while self.c["accepted"] < target:
             ratio = self.c["accepted"] / self.c["candidates"] if self.c["candidates"] else 0.1
             need = int((target - self.c["accepted"]) / max(ratio, 1e-3)) + 1
             m = min(need, max(4 * self.n, 1 << 16))
-            acc, d_log_scale, elapsed = kern.cooling_block(self.v, m, self.n, alpha, self.state)
+            acc, d_log_scale, elapsed = seg.cooling_block(self.v, m, self.n, *model,
+                                                          self.c["log_scale"], self.state)
             self.c["accepted"] += int(acc)
             self.c["candidates"] += m
             if elapsed > 0:
                 log_dt = (math.log(2.0 * elapsed / (self.n * self.gas.density))
-                          - self.c["log_scale"])
+                          - o.gamma * self.c["log_scale"])
                 self.c["log_t"] = float(np.logaddexp(self.c["log_t"], log_dt))
             self.c["log_scale"] += d_log_scale
-            mean, cm = kern.central_sums(self.v, 2)
+            mean, cm = seg.central_sums(self.v, 2)
             if not cm[2] > 0:
                 raise FloatingPointError("all velocities became equal; no collision can occur")
             s = math.sqrt(cm[2])
@@ -163,7 +276,7 @@ class Engine:
             self.c["log_scale"] += math.log(s)
 
     def _measure(self) -> tuple[float, float, float]:
-        mean, cm = kern.central_sums(self.v, 6)
+        mean, cm = seg.central_sums(self.v, 6)
         self.v -= mean
         temp = cm[2]
         a2 = cm[4] / (3 * temp**2) - 1.0
@@ -177,9 +290,9 @@ class Engine:
 
     def _relaxed(self) -> bool:
         o = self.opts
-        if o["relax"] != "auto":
-            return 2.0 * self.c["accepted"] / self.n >= o["relax"]
-        w = o["window"]
+        if o.relax != "auto":
+            return 2.0 * self.c["accepted"] / self.n >= o.relax
+        w = o.window
         k = len(self.series["a2"])
         if k < 2 * w or k % w:
             return False
@@ -203,29 +316,31 @@ class Engine:
     def _accumulate(self) -> None:
         o = self.opts
         k = self.c["n_samples"]
-        b = k * o["n_batches"] // o["n_samples"]
+        b = k * o.n_batches // o.n_samples
         x = self.v if self.kind == "heated" else self.v / math.sqrt(np.mean(self.v**2))
-        accumulate_kernel(x, o["lo"], o["hi"], self.counts[b], self.sums[b])
+        accumulate_kernel(x, o.lo, o.hi, self.counts[b], self.sums[b])
         if k > 0:  # energy of the segment that led to this sample
-            self.batch_g2[b] += self.seg_g2
+            self.batch_loss[b] += self.seg_loss
             self.batch_time[b] += self.seg_time
         self.c["n_samples"] = k + 1
 
     # ----------------------------------------------------------------- checkpoints
     def save(self, path: Path) -> None:
         arrays = {"v": self.v, "state": self.state, "counts": self.counts, "sums": self.sums,
-                  "batch_g2": self.batch_g2, "batch_time": self.batch_time}
+                  "batch_loss": self.batch_loss, "batch_time": self.batch_time}
         arrays.update({f"series__{k}": np.asarray(s) for k, s in self.series.items()})
-        meta = {"counters": self.c, "key": self.opts["key"]}
+        meta = {"counters": self.c, "key": self.opts.key}
         save_checkpoint(path, arrays, meta)
 
     def load(self, path: Path) -> None:
         arrays, meta = load_checkpoint(path)
-        if meta["key"] != self.opts["key"]:
+        if meta["key"] != self.opts.key:
             raise ValueError(f"checkpoint {path} belongs to a different run: {meta['key']} "
-                             f"!= {self.opts['key']}")
+                             f"!= {self.opts.key}")
         self.c.update(meta["counters"])
-        for name in ("v", "state", "counts", "sums", "batch_g2", "batch_time"):
+        if "batch_g2" in arrays:  # checkpoints before restitution laws: hard rods, constant
+            arrays["batch_loss"] = (1.0 - self.gas.alpha**2) * arrays["batch_g2"]
+        for name in ("v", "state", "counts", "sums", "batch_loss", "batch_time"):
             setattr(self, name, arrays[name].copy())
         self.series = {k: list(arrays[f"series__{k}"]) for k in _SERIES}
 
@@ -233,16 +348,16 @@ class Engine:
     def run(self) -> DSMCRun:
         o = self.opts
         t_start = last_ckpt = time.perf_counter()
-        path = o["checkpoint"]
-        if path is not None and o["resume"] and Path(path).with_suffix(".npz").exists():
+        path = o.checkpoint
+        if path is not None and o.resume and Path(path).with_suffix(".npz").exists():
             self.load(Path(path).with_suffix(".npz"))
             logger.info("resumed from %s at %d collisions", path, self.c["accepted"])
         if not self.series["a2"]:
             self._measure()
         interrupted = False
-        with tqdm(total=o["n_samples"], disable=not o["progress"], desc=f"DSMC {self.kind}",
+        with tqdm(total=o.n_samples, disable=not o.progress, desc=f"DSMC {self.kind}",
                   initial=self.c["n_samples"]) as bar:
-            while self.c["n_samples"] < o["n_samples"]:
+            while self.c["n_samples"] < o.n_samples:
                 self._segment()
                 self._measure()
                 if self.c["relaxed_at"] < 0 and self._relaxed():
@@ -252,11 +367,11 @@ class Engine:
                     self._accumulate()
                     bar.update(1)
                 now = time.perf_counter()
-                if path is not None and now - last_ckpt >= o["checkpoint_every"]:
+                if path is not None and now - last_ckpt >= o.checkpoint_every:
                     self.save(Path(path))
                     last_ckpt = now
-                if o["max_wall_time"] is not None and now - t_start >= o["max_wall_time"]:
-                    interrupted = self.c["n_samples"] < o["n_samples"]
+                if o.max_wall_time is not None and now - t_start >= o.max_wall_time:
+                    interrupted = self.c["n_samples"] < o.n_samples
                     break
         if path is not None:
             self.save(Path(path))
@@ -268,26 +383,31 @@ class Engine:
         params = {**self.problem.as_dict(), "n_particles": self.n}
         diss = diss_err = inj = float("nan")
         if self.kind == "heated":
-            params.update(dt=o["dt"], diffusion=self.problem.diffusion)
+            params.update(dt=o.dt, diffusion=self.problem.diffusion)
+            if self.problem.friction > 0.0:
+                params.update(friction=self.problem.friction)
             inj = 2.0 * self.problem.diffusion * (1.0 - 1.0 / self.n)
-            k = 0.5 * (1.0 - self.gas.alpha**2) / self.n
+            if self.problem.friction > 0.0 and keep.any():
+                m0, m1, m2 = self.sums[keep, :3].sum(axis=0)
+                inj -= 2.0 * self.problem.friction * (m2 / m0 - (m1 / m0) ** 2)
+            k = 0.5 / self.n
             ok = self.batch_time > 0
             if ok.any():
-                rates = k * self.batch_g2[ok] / self.batch_time[ok]
-                diss = k * self.batch_g2[ok].sum() / self.batch_time[ok].sum()
+                rates = k * self.batch_loss[ok] / self.batch_time[ok]
+                diss = k * self.batch_loss[ok].sum() / self.batch_time[ok].sum()
                 diss_err = (float(rates.std(ddof=1) / math.sqrt(rates.size))
                             if rates.size > 1 else float("nan"))
         msg = ("interrupted (resume from the checkpoint)" if interrupted else
                "relaxation detected" if c["converged"] else
-               "fixed relaxation" if o["relax"] != "auto" else "relaxation not detected")
+               "fixed relaxation" if o.relax != "auto" else "relaxation not detected")
         info = RunInfo(converged=bool(c["converged"] and not interrupted),
                        iterations=int(round(2.0 * c["accepted"] / self.n)),
                        residual=abs(diss / inj - 1.0) if self.kind == "heated" else float("nan"),
                        wall_time=wall, message=msg,
-                       extra={"seed_entropy": str(o["entropy"]), "n_collisions": c["accepted"],
+                       extra={"seed_entropy": str(o.entropy), "n_collisions": c["accepted"],
                               "relaxed_at": c["relaxed_at"], "samples": c["n_samples"]})
         series = {k: np.asarray(s, dtype=float) for k, s in self.series.items()}
-        edges = np.linspace(o["lo"], o["hi"], o["bins"] + 1)
+        edges = np.linspace(o.lo, o.hi, o.bins + 1)
         if not keep.any():
             raise RuntimeError("run stopped before any sample was averaged; resume it from the "
                                "checkpoint or allow more wall time")

@@ -81,10 +81,19 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from kinetic_fem.distribution import VelocityDistribution
-from kinetic_fem.gas import CoolingProblem, HeatedProblem, check_finite_array, check_positive
-from kinetic_fem.sonine import a2_first_order, steady_temperature
+from kinetic_fem.model import (
+    CoolingProblem,
+    HeatedProblem,
+    InelasticGas,
+    PowerLawKernel,
+    RestitutionLaw,
+    check_finite_array,
+    check_positive,
+)
+from kinetic_fem.sonine import a2_first_order
 
-from ._dsmc_engine import DSMCRun, Engine
+from ._dsmc_engine import DSMCOptions, DSMCRun, Engine
+from ._dsmc_kernels import kernel_code
 
 __all__ = ["DSMCRun", "simulate_heated", "simulate_cooling", "combine_runs",
            "MAX_COLLISIONS_PER_STEP"]
@@ -141,7 +150,13 @@ def _seeds(seed: int | np.random.SeedSequence | None) -> tuple[Any, Any, str]:
 def _common(n_particles: int, collisions_per_particle: float, relax: str | float,
             sample_every: float, n_batches: int, bins: int, c_max: float,
             checkpoint: str | Path | None, checkpoint_every: float, resume: bool,
-            max_wall_time: float | None, progress: bool, alpha: float) -> dict[str, Any]:
+            max_wall_time: float | None, progress: bool,
+            dissipation: float) -> dict[str, Any]:
+    """Validate the run options shared by both problems.
+
+    ``dissipation``: :math:`1-\\alpha^2` (its Gaussian average for a restitution law),
+    which sets the relaxation window :math:`W = \\max(2, 2/(1-\\alpha^2))`.
+    """
     n = _check_int("n_particles", n_particles, 2, 2**32 - 1)
     cpp = check_positive("collisions_per_particle", collisions_per_particle)
     every = check_positive("sample_every", sample_every)
@@ -158,7 +173,7 @@ def _common(n_particles: int, collisions_per_particle: float, relax: str | float
         raise ValueError("resume=True needs a checkpoint path")
     if max_wall_time is not None:
         check_positive("max_wall_time", max_wall_time)
-    w = max(2.0, 2.0 / (1.0 - alpha**2))
+    w = max(2.0, 2.0 / dissipation) if dissipation > 0.0 else 1e4
     if cpp / nb < w:
         logger.warning("batches of %.3g collisions per particle are shorter than the "
                        "relaxation window %.3g (2/(1-alpha^2)): consecutive batches are "
@@ -166,14 +181,47 @@ def _common(n_particles: int, collisions_per_particle: float, relax: str | float
                        "batches", cpp / nb, w)
     return {"n": n, "relax": relax if relax == "auto" else float(relax),
             "sample_every": every, "n_batches": nb, "n_samples": n_samples,
-            "bins": _check_int("bins", bins, 1), "c_max": check_positive("c_max", c_max),
+            "bins": _check_int("bins", bins, 1),
             "window": max(10, int(math.ceil(w / every))), "checkpoint": checkpoint,
             "checkpoint_every": float(checkpoint_every), "resume": bool(resume),
             "max_wall_time": max_wall_time, "progress": bool(progress)}
 
 
-def simulate_heated(alpha: float, n_particles: int, *, density: float = 1.0,
-                    diffusion: float = 1.0, seed: int | np.random.SeedSequence | None = None,
+def _dissipation(gas: InelasticGas, temperature: float) -> float:
+    """:math:`1-\\alpha^2`, or for a law its average weighted by :math:`|g|^{\\gamma+2}`."""
+    law = gas.restitution
+    if law.constant is not None:
+        return 1.0 - law.constant**2
+    return gas.loss_rate(temperature) / (0.25 * gas.density
+                                         * gas.kernel.gaussian_mean(temperature, 2.0))
+
+
+def _model(gas: InelasticGas) -> dict[str, Any]:
+    """The model in kernel form (codes and parameters) and the key entries beyond hard rods."""
+    law = gas.restitution
+    p0, p1 = law.parameters
+    return {"kcode": kernel_code(gas.gamma), "gamma": gas.gamma, "lcode": law.code,
+            "p0": float(p0), "p1": float(p1), "g_limit": float(law.max_speed)}
+
+
+def _key_model(gas: InelasticGas, friction: float = 0.0) -> dict[str, Any]:
+    """Checkpoint-key entries of the model; the paper's model keeps its old entries only."""
+    out = {k: val for k, val in gas.as_dict().items() if not (k == "gamma" and val == 1.0)}
+    if friction > 0.0:
+        out["friction"] = friction
+    return out
+
+
+def _check_range(gas: InelasticGas, v: NDArray[np.float64], where: str) -> None:
+    """A restitution law must cover the initial relative speeds."""
+    if math.isfinite(gas.restitution.max_speed):
+        gas.restitution.check_speed(float(np.ptp(v)), where=where)
+
+
+def simulate_heated(alpha: float | RestitutionLaw, n_particles: int, *, density: float = 1.0,
+                    diffusion: float = 1.0, friction: float = 0.0,
+                    kernel: float | PowerLawKernel = 1.0,
+                    seed: int | np.random.SeedSequence | None = None,
                     collisions_per_particle: float = 100.0, dt: float | None = None,
                     relax: str | float = "auto", sample_every: float = 1.0,
                     n_batches: int = 20, bins: int = 200, c_max: float = 10.0,
@@ -181,16 +229,20 @@ def simulate_heated(alpha: float, n_particles: int, *, density: float = 1.0,
                     checkpoint: str | Path | None = None, checkpoint_every: float = 300.0,
                     resume: bool = False, max_wall_time: float | None = None,
                     progress: bool = False) -> DSMCRun:
-    """DSMC steady state of the randomly heated gas.
+    """DSMC steady state of the gas driven by white noise or a Fokker-Planck bath.
 
     Parameters
     ----------
-    alpha : float
-        Restitution coefficient, ``0 <= alpha < 1``.
+    alpha : float or RestitutionLaw
+        Restitution coefficient in ``[0, 1]`` (``1`` only with ``friction > 0``) or a
+        law of :mod:`kinetic_fem.model`.
     n_particles : int
         Number of particles ``N``, ``2 <= N < 2^32``.
-    density, diffusion : float
-        :math:`n` and the noise strength :math:`D`.
+    density, diffusion, friction : float
+        :math:`n`, the noise strength :math:`D` and the bath friction :math:`\\xi \\ge 0`
+        (``0``: white noise; ``> 0``: Fokker-Planck bath at :math:`T_b = D/\\xi`).
+    kernel : float or PowerLawKernel
+        Collision kernel :math:`|g|^\\gamma`, ``gamma`` in ``[0, 2]`` (1: hard rods).
     seed : int or SeedSequence, optional
         Root seed; the same seed gives the same run (``None``: fresh entropy, recorded
         in ``info.extra["seed_entropy"]``).
@@ -198,8 +250,10 @@ def simulate_heated(alpha: float, n_particles: int, *, density: float = 1.0,
         Length of the averaging after relaxation, in collisions per particle.
     dt : float, optional
         Time step of the splitting (physical time).  Default: 0.05 mean free times
-        :math:`1/(n\\langle g\\rangle)` at the first-order Sonine steady temperature.
-        The expected number of collisions per particle per step must not exceed
+        :math:`1/(n\\langle |g|^\\gamma\\rangle)` at ``T_ref`` (and at most
+        :math:`0.05/\\xi`), ``T_ref`` the model's Gaussian-closure steady temperature
+        (:meth:`kinetic_fem.model.HeatedProblem.temperature_estimate`).  The expected
+        number of collisions per particle per step must not exceed
         :data:`MAX_COLLISIONS_PER_STEP`.
     relax : "auto" or float
         Start of averaging: the detector of the module docstring, or a fixed number
@@ -210,14 +264,14 @@ def simulate_heated(alpha: float, n_particles: int, *, density: float = 1.0,
         Consecutive batches for error bars (each should be longer than the correlation
         time, about ``2/(1-alpha^2)`` collisions per particle near ``alpha = 1``, where
         the shape changes slowly; a warning is logged otherwise); histogram of ``v``
-        with ``bins`` bins on
-        :math:`|v| \\le c_{max}\\sqrt{T_{ref}}` (first-order Sonine ``T_ref``; the same
-        edges for every seed, so replicas merge).  Moments use every sample.
+        with ``bins`` bins on :math:`|v| \\le c_{max}\\sqrt{T_{ref}}` (the same edges
+        for every seed, so replicas merge).  Moments use every sample.
     initial_velocities : array_like, shape (N,), optional
-        Initial state (finite); default the first-order Sonine distribution
-        :math:`\\Phi(c)(1 + a_2 S_2)` at ``T_ref`` (close to the steady state, so that
-        the slow shape relaxation near ``alpha = 1``, ~``1/(1-alpha)`` collisions per
-        particle, starts near its end).
+        Initial state (finite); default a Gaussian at ``T_ref`` (for hard rods with
+        constant ``alpha`` under white noise the first-order Sonine distribution
+        :math:`\\Phi(c)(1 + a_2 S_2)`, close to the steady state, so that the slow shape
+        relaxation near ``alpha = 1``, ~``1/(1-alpha)`` collisions per particle, starts
+        near its end).
     checkpoint, checkpoint_every, resume : path, float, bool
         Write the state every ``checkpoint_every`` seconds and at the end; with
         ``resume=True`` continue from the file if it exists (bit-identical).
@@ -234,7 +288,9 @@ def simulate_heated(alpha: float, n_particles: int, *, density: float = 1.0,
     Raises
     ------
     TypeError, ValueError
-        For invalid parameters (``N < 2``, too large ``dt``, non-finite initial state).
+        For invalid parameters (``N < 2``, gamma outside [0, 2], ``friction < 0``,
+        too large ``dt``, non-finite initial state, relative speeds beyond the range
+        of a restitution law).
 
     Examples
     --------
@@ -243,33 +299,53 @@ def simulate_heated(alpha: float, n_particles: int, *, density: float = 1.0,
     (True, True)
     >>> abs(run.dissipation_rate / run.injection_rate - 1) < 0.03
     True
+    >>> maxwell = simulate_heated(0.6, 2000, kernel=0.0, seed=1, collisions_per_particle=40)
+    >>> abs(maxwell.temperature / (4 / (1 - 0.6**2)) - 1) < 0.05  # T = 4D/(n(1-alpha^2))
+    True
     """
-    problem = HeatedProblem.from_parameters(alpha, density=density, diffusion=diffusion)
+    problem = HeatedProblem.from_parameters(alpha, density=density, diffusion=diffusion,
+                                            friction=friction, kernel=kernel)
     gas = problem.gas
+    t_ref = problem.temperature_estimate()
     o = _common(n_particles, collisions_per_particle, relax, sample_every, n_batches, bins,
-                c_max, checkpoint, checkpoint_every, resume, max_wall_time, progress, gas.alpha)
-    t_ref = steady_temperature(gas.alpha, gas.density, problem.diffusion)
+                c_max, checkpoint, checkpoint_every, resume, max_wall_time, progress,
+                _dissipation(gas, t_ref))
+    c_max = check_positive("c_max", c_max)
     init_seq, run_seq, entropy = _seeds(seed)
-    v = _initial(initial_velocities, o["n"], t_ref, init_seq, a2=a2_first_order(gas.alpha))
+    paper = gas.gamma == 1.0 and gas.restitution.constant is not None and friction == 0.0
+    a2 = a2_first_order(gas.alpha) if paper else 0.0
+    v = _initial(initial_velocities, o["n"], t_ref, init_seq, a2=a2)
+    _check_range(gas, v, "the initial velocities")
     t_max = max(t_ref, float(np.mean(v**2)))
-    rate = gas.density * 2.0 * math.sqrt(t_ref / math.pi)  # collisions per particle per time
-    dt = 0.05 / rate if dt is None else check_positive("dt", dt)
-    per_step = dt * gas.density * 2.0 * math.sqrt(t_max / math.pi)
+    rate = gas.density * gas.kernel.gaussian_mean(t_ref)  # collisions per particle and time
+    xi = problem.friction
+    dt = 0.05 / max(rate, xi) if dt is None else check_positive("dt", dt)
+    per_step = dt * gas.density * gas.kernel.gaussian_mean(t_max)
     if per_step > MAX_COLLISIONS_PER_STEP:
         raise ValueError(f"dt={dt!r} gives {per_step:.3g} expected collisions per particle per "
                          f"step; at most {MAX_COLLISIONS_PER_STEP} are allowed (dt <= "
                          f"{MAX_COLLISIONS_PER_STEP / per_step * dt:.3g})")
-    half = o["c_max"] * math.sqrt(t_ref)
-    o.update(dt=dt, amp=math.sqrt(2.0 * problem.diffusion * dt), lo=-half, hi=half,
-             steps=max(1, int(round(o["sample_every"] / (dt * rate)))), entropy=entropy)
-    o["key"] = {"kind": "heated", "alpha": gas.alpha, "density": gas.density,
-                "diffusion": problem.diffusion, "n": o["n"], "dt": dt, "steps": o["steps"],
-                "samples": o["n_samples"], "batches": o["n_batches"], "bins": o["bins"],
-                "lo": -half, "relax": o["relax"], "seed": entropy}
-    return Engine("heated", problem, v, run_seq, o).run()
+    if xi > 0.0:  # exact Ornstein-Uhlenbeck flow over dt and dt/2
+        t_bath = problem.thermostat.bath_temperature
+        kicks = {"decay": math.exp(-xi * dt), "amp": math.sqrt(-t_bath * math.expm1(-2 * xi * dt)),
+                 "half_decay": math.exp(-0.5 * xi * dt),
+                 "half_amp": math.sqrt(-t_bath * math.expm1(-xi * dt))}
+    else:
+        amp = math.sqrt(2.0 * problem.diffusion * dt)
+        kicks = {"decay": 1.0, "amp": amp, "half_decay": 1.0, "half_amp": amp / math.sqrt(2.0)}
+    half = c_max * math.sqrt(t_ref)
+    steps = max(1, int(round(o["sample_every"] / (dt * rate))))
+    key = {"kind": "heated", **_key_model(gas, xi), "diffusion": problem.diffusion,
+           "n": o["n"], "dt": dt, "steps": steps, "samples": o["n_samples"],
+           "batches": o["n_batches"], "bins": o["bins"], "lo": -half, "relax": o["relax"],
+           "seed": entropy}
+    opts = DSMCOptions(kind="heated", lo=-half, hi=half, entropy=entropy, key=key, dt=dt,
+                       steps=steps, **kicks, **_model(gas), **o)
+    return Engine(problem, v, run_seq, opts).run()
 
 
-def simulate_cooling(alpha: float, n_particles: int, *, density: float = 1.0,
+def simulate_cooling(alpha: float | RestitutionLaw, n_particles: int, *, density: float = 1.0,
+                     kernel: float | PowerLawKernel = 1.0,
                      seed: int | np.random.SeedSequence | None = None,
                      collisions_per_particle: float = 100.0, relax: str | float = "auto",
                      sample_every: float = 1.0, n_batches: int = 20, bins: int = 240,
@@ -279,11 +355,16 @@ def simulate_cooling(alpha: float, n_particles: int, *, density: float = 1.0,
                      progress: bool = False) -> DSMCRun:
     """DSMC of the freely cooling gas: Haff's law and the homogeneous cooling state.
 
-    Parameters are those of :func:`simulate_heated` without ``diffusion`` and ``dt``;
-    the histogram is of the scaled velocity ``c = v/sqrt(T)`` on ``|c| <= c_max``, and
-    the default initial state is a unit Gaussian.  ``series["log_temperature"]`` and
-    ``series["log_t"]`` give the physical :math:`T(t)` (Haff: :math:`T \\sim t^{-2}`,
-    compare :func:`kinetic_fem.sonine.haff_temperature`) without under- or overflow.
+    Parameters are those of :func:`simulate_heated` without ``diffusion``, ``friction``
+    and ``dt``; the histogram is of the scaled velocity ``c = v/sqrt(T)`` on
+    ``|c| <= c_max``, and the default initial state is a unit Gaussian (physical
+    units: a restitution law is evaluated at the physical relative speed, and the
+    initial extent of the velocities must lie within its range).
+    ``series["log_temperature"]`` and ``series["log_t"]`` give the physical
+    :math:`T(t)` without under- or overflow; :math:`dT/dt = -2\\zeta n T^{1+\\gamma/2}`
+    (Haff for hard rods: :math:`T \\sim t^{-2}`, compare
+    :func:`kinetic_fem.sonine.haff_temperature`; Maxwell: exponential decay), with
+    :math:`\\zeta` measured by :meth:`DSMCRun.cooling_rate`.
 
     Returns
     -------
@@ -301,20 +382,23 @@ def simulate_cooling(alpha: float, n_particles: int, *, density: float = 1.0,
     >>> bool(abs(slope + 2) < 0.05)  # Haff law T ~ t^-2
     True
     """
-    problem = CoolingProblem.from_parameters(alpha, density=density)
+    problem = CoolingProblem.from_parameters(alpha, density=density, kernel=kernel)
+    gas = problem.gas
     o = _common(n_particles, collisions_per_particle, relax, sample_every, n_batches, bins,
                 c_max, checkpoint, checkpoint_every, resume, max_wall_time, progress,
-                problem.gas.alpha)
+                _dissipation(gas, 1.0))
+    c_max = check_positive("c_max", c_max)
     init_seq, run_seq, entropy = _seeds(seed)
     v = _initial(initial_velocities, o["n"], 1.0, init_seq)
     if not np.ptp(v) > 0:
         raise ValueError("initial_velocities are all equal: no collision can ever happen")
-    o.update(lo=-o["c_max"], hi=o["c_max"], entropy=entropy)
-    o["key"] = {"kind": "cooling", "alpha": problem.gas.alpha, "density": problem.gas.density,
-                "n": o["n"], "every": o["sample_every"], "samples": o["n_samples"],
-                "batches": o["n_batches"], "bins": o["bins"], "lo": -o["c_max"],
-                "relax": o["relax"], "seed": entropy}
-    return Engine("cooling", problem, v, run_seq, o).run()
+    _check_range(gas, v, "the initial velocities")
+    key = {"kind": "cooling", **_key_model(gas), "n": o["n"], "every": o["sample_every"],
+           "samples": o["n_samples"], "batches": o["n_batches"], "bins": o["bins"],
+           "lo": -c_max, "relax": o["relax"], "seed": entropy}
+    opts = DSMCOptions(kind="cooling", lo=-c_max, hi=c_max, entropy=entropy, key=key,
+                       **_model(gas), **o)
+    return Engine(problem, v, run_seq, opts).run()
 
 
 def combine_runs(runs: Sequence[DSMCRun]) -> VelocityDistribution:

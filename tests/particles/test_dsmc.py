@@ -17,11 +17,16 @@ from scipy import stats
 import kinetic_fem as kf
 from kinetic_fem import sonine
 from particles import _dsmc_kernels as kern
-from particles import dsmc
+from particles import _dsmc_segments as seg
+from particles import dsmc, rng
 from particles.sampling import run_replicas, spawn_seeds
 
 DETERMINISTIC = [m for m in ("fem", "fd") if m in kf.HEATED_SOLVERS]
-TABLES = kern.ziggurat_tables()
+TABLES = rng.ziggurat_tables()
+
+
+def HARD_RODS(alpha):  # noqa: N802 - the model tuple (kcode, gamma, lcode, p0, p1)
+    return (kern.KERNEL_HARD_RODS, 1.0, 0, alpha, 0.0)
 
 
 def _state(seed=0):
@@ -87,30 +92,30 @@ def test_xoshiro_matches_reference_recurrence(wrapping):
     s = [int(x) for x in _state(5)]
     expected = [_xoshiro_reference(s) for _ in range(20)]
     state = _state(5)
-    got = [int(kern.next_u64(state)) for _ in range(20)]
+    got = [int(rng.next_u64(state)) for _ in range(20)]
     assert got == expected
     assert [int(x) for x in state] == s
 
 
 def test_mul128_is_the_full_product():
-    rng = np.random.default_rng(1)
-    for r in rng.integers(0, 2**64, size=200, dtype=np.uint64):
+    gen = np.random.default_rng(1)
+    for r in gen.integers(0, 2**64, size=200, dtype=np.uint64):
         for n in (2, 3, 25_000, 10**7, 2**32 - 1, 2**64 - 1):
-            hi, lo = kern._mul128_pair(r, np.uint64(n))
+            hi, lo = rng.mul128_pair(r, np.uint64(n))
             assert (int(hi) << 64) + int(lo) == int(r) * n
-            assert int(kern._mulhi(r, np.uint64(n))) == (int(r) * n) >> 64
+            assert int(rng.mulhi(r, np.uint64(n))) == (int(r) * n) >> 64
 
 
 def test_ziggurat_normals_are_standard_normal():
     out = np.empty(1_000_000)
-    kern.fill_normal(out, _state(2), *TABLES)
+    rng.fill_normal(out, _state(2), *TABLES)
     assert stats.kstest(out, "norm").pvalue > 1e-3
     se = 1 / math.sqrt(out.size)
     assert abs(out.mean()) < 4 * se
     assert abs(out.var() - 1) < 4 * math.sqrt(2) * se
     assert abs(np.mean(out**4) - 3) < 4 * math.sqrt(96) * se
-    tail = np.mean(np.abs(out) > kern._R)  # the tail sampler's share
-    p = math.erfc(kern._R / math.sqrt(2))
+    tail = np.mean(np.abs(out) > rng.ZIGGURAT_R)  # the tail sampler's share
+    p = math.erfc(rng.ZIGGURAT_R / math.sqrt(2))
     assert abs(tail - p) < 4 * math.sqrt(p / out.size)
 
 
@@ -138,12 +143,12 @@ def test_pairs_are_uniform_and_distinct():
 def test_collisions_conserve_momentum_dissipate_exactly_and_keep_majorant(alpha, wrapping):
     v = np.random.default_rng(4).normal(size=1000)
     p0, e0 = v.sum(), np.sum(v**2)
-    lo, hi = kern.extent(v)
+    lo, hi = seg.extent(v)
     acc, g2 = kern.collide(v, 20_000, alpha, hi - lo, _state(4))
     assert acc > 1000
     assert abs(v.sum() - p0) < 1e-10
     assert np.sum(v**2) == pytest.approx(e0 - 0.5 * (1 - alpha**2) * g2, rel=1e-10)
-    lo2, hi2 = kern.extent(v)
+    lo2, hi2 = seg.extent(v)
     assert lo2 >= lo and hi2 <= hi
 
 
@@ -152,7 +157,7 @@ def test_collide_plain_and_batched_are_the_sequential_algorithm(n, wrapping):
     """Every batch size gives bit for bit the plain-Python sequential loop, also when the
     candidates of one batch share particles (N = 2, 3)."""
     v0 = np.random.default_rng(n).normal(size=n)
-    lo, hi = kern.extent(v0)
+    lo, hi = seg.extent(v0)
     ref_v = list(v0)
     ref, ref_state = _collide_reference(ref_v, 300, 0.4, hi - lo, _state(8))
     for batch in (-1, 0, 1, 7, 64, 1000):
@@ -166,17 +171,17 @@ def test_collide_plain_and_batched_are_the_sequential_algorithm(n, wrapping):
 
 def test_sums_extent_and_variance(wrapping):
     v = np.random.default_rng(9).normal(3.0, 2.0, size=1003)  # not a multiple of 4
-    s1, s2, lo, hi = kern._sums_extent(v)
+    s1, s2, lo, hi = seg.sums_extent(v)
     assert s1 == pytest.approx(v.sum(), rel=1e-14)
     assert s2 == pytest.approx(np.sum(v**2), rel=1e-14)
     assert (lo, hi) == (v.min(), v.max())
-    assert kern._central_variance(v, v.mean()) == pytest.approx(v.var(), rel=1e-13)
+    assert seg.central_variance(v, v.mean()) == pytest.approx(v.var(), rel=1e-13)
 
 
 @pytest.mark.parametrize("n", [1, 5, 1003])
 def test_central_sums_against_numpy(n, wrapping):
     v = np.random.default_rng(n).normal(2.0, 3.0, size=n)
-    mean, cm = kern.central_sums(v, 6)
+    mean, cm = seg.central_sums(v, 6)
     assert mean == pytest.approx(v.mean(), rel=1e-14)
     ref = np.array([np.mean((v - v.mean()) ** k) for k in range(7)])
     scale = max(v.std(), 1.0) ** np.arange(7)
@@ -188,13 +193,13 @@ def test_cooling_block_rescales_to_unit_temperature(offset, wrapping):
     """One refresh: centred, unit variance, and the majorant re-measured exactly."""
     v = np.random.default_rng(10).normal(offset, 3.0, size=1001)
     sd = v.std()
-    acc, log_scale, elapsed = kern.cooling_block(v, 0, 1001, 0.5, _state(1))
+    acc, log_scale, elapsed = seg.cooling_block(v, 0, 1001, *HARD_RODS(0.5), 0.0, _state(1))
     assert (acc, log_scale, elapsed) == (0, 0.0, 0.0)  # no candidate: untouched
     u = v.copy()
-    acc, log_scale, elapsed = kern.cooling_block(u, 1, 1001, 0.5, _state(1))
+    acc, log_scale, elapsed = seg.cooling_block(u, 1, 1001, *HARD_RODS(0.5), 0.0, _state(1))
     assert log_scale == pytest.approx(math.log(sd), rel=1e-12)
     w = (v - v.mean()) / sd
-    lo, hi = kern.extent(w)
+    lo, hi = seg.extent(w)
     assert elapsed == pytest.approx(1.0 / ((hi - lo) * sd), rel=1e-12)
     assert abs(u.mean()) < 1e-12 and u.var() == pytest.approx(1.0, rel=1e-12)
 
@@ -203,15 +208,16 @@ def test_kernels_agree_with_their_python_versions(wrapping):
     """The kernels run as plain Python (as with NUMBA_DISABLE_JIT=1) give the same numbers."""
     v0 = np.random.default_rng(5).normal(size=50)
     outs = []
-    for func in (kern.heated_segment, _py(kern.heated_segment)):
+    for func in (seg.heated_segment, _py(seg.heated_segment)):
         v = v0.copy()
-        r = func(v, 3, 0.1, 0.3, 25.0, 0.7, 0.0, _state(6), *TABLES)
+        r = func(v, 3, 0.1, 1.0, 0.3, 1.0, 0.3 / math.sqrt(2), 25.0, *HARD_RODS(0.7), math.inf,
+                 0.0, _state(6), *TABLES)
         outs.append((v, r))
     np.testing.assert_array_equal(outs[0][0], outs[1][0])
     assert outs[0][1] == pytest.approx(outs[1][1], rel=1e-12)
     v1, v2 = v0.copy(), v0.copy()
-    r1 = kern.cooling_block(v1, 500, 50, 0.6, _state(7))
-    r2 = _py(kern.cooling_block)(v2, 500, 50, 0.6, _state(7))
+    r1 = seg.cooling_block(v1, 500, 50, *HARD_RODS(0.6), 0.0, _state(7))
+    r2 = _py(seg.cooling_block)(v2, 500, 50, *HARD_RODS(0.6), 0.0, _state(7))
     np.testing.assert_array_equal(v1, v2)
     assert r1 == pytest.approx(r2, rel=1e-12)
 
