@@ -58,6 +58,7 @@ from .fem_defaults import (
     default_cutoff,
     default_spacing,
     graded_vertices,
+    initial_log_density,
     model_cutoff,
     model_spacing,
     scaled_model,
@@ -499,7 +500,8 @@ def steady_state(model: float | HeatedProblem, *, order: int = 2,
     verts = _mesh(alpha, cutoff=c_max, spacing=spacing, vertices=vertices, model=scaled)
     scaled.law.check_speed(2.0 * verts[-1] * scaled.speed_scale, "the FEM velocity interval")
     disc = discretisation(scaled, verts, order, intorder, symmetric)
-    u0 = disc.gaussian(scaled.temperature)
+    u0 = disc.gaussian(scaled.temperature) if paper else \
+        initial_log_density(disc.dof_locations, scaled)
     if alpha_eff > CONTINUATION_ALPHA and vertices is None and scaled.law.constant is not None:
         # start from the solution at eps' = 10 eps, rescaled to f(c) (quasi-elastic
         # limits are approached smoothly in c; Newton from a Gaussian is not robust there)

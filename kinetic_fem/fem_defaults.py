@@ -41,8 +41,8 @@ from .grid import symmetric_grid, uniform_grid
 from .model import HeatedProblem, RestitutionLaw
 
 __all__ = ["default_cutoff", "default_spacing", "ScaledModel", "scaled_model",
-           "tail_action", "tail_exponent", "model_cutoff", "model_spacing", "graded_vertices",
-           "DECADES"]
+           "tail_action", "tail_exponent", "initial_log_density", "model_cutoff",
+           "model_spacing", "graded_vertices", "DECADES"]
 
 DECADES = 33.0
 """Decades of f(c) covered by the default cut-off."""
@@ -152,6 +152,27 @@ def tail_action(v: float, gamma: float, friction: float) -> float:
         return 0.5 * (friction * w + math.sqrt((friction * w) ** 2 + 4.0 * w**gamma))
 
     return quad(rate, 0.0, v, limit=200)[0]
+
+
+def initial_log_density(v: NDArray[np.float64], model: ScaledModel) -> NDArray[np.float64]:
+    """A starting :math:`\\ln P`: the Gaussian at the model's temperature in the bulk,
+    the tail :math:`-S(|v|)` where that decays more slowly (exponential tails of soft
+    kernels lie far above the Gaussian), normalised on a fine trapezoid grid."""
+    v = np.abs(np.asarray(v, dtype=float))
+    top = max(float(v.max()), 1e-12)
+    fine = np.linspace(0.0, top, 20001)
+    if model.friction == 0.0:
+        action = 2.0 / (2.0 + model.gamma) * fine ** (1.0 + 0.5 * model.gamma)
+    else:
+        xi = model.friction
+        rate = 0.5 * (xi * fine + np.sqrt((xi * fine) ** 2 + 4.0 * fine**model.gamma))
+        action = np.concatenate([[0.0], np.cumsum(0.5 * (rate[1:] + rate[:-1])
+                                                  * np.diff(fine))])
+    log_p = -np.minimum(0.5 * fine**2 / model.temperature, action)
+    weights = np.full(fine.size, fine[1] - fine[0])
+    weights[[0, -1]] *= 0.5
+    norm = 2.0 * float(np.sum(weights * np.exp(log_p)))
+    return np.interp(v, fine, log_p) - math.log(norm)
 
 
 def model_cutoff(model: ScaledModel) -> float:
