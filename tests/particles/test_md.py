@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from kinetic_fem.model import ConstantRestitution
+from kinetic_fem.model import ConstantRestitution, ViscoelasticRestitution
 from kinetic_fem.sonine import a2_first_order, haff_temperature, steady_temperature
 from particles import _md_kernels as K
 from particles import md
@@ -227,19 +227,25 @@ def test_checkpoint_arguments_are_those_of_dsmc(tmp_path):
 def test_kernels_run_without_jit():
     """The kernels are plain Python under NUMBA_DISABLE_JIT=1 (tiny runs).
 
-    The heated run (kicks: uint64 generator arithmetic, ziggurat) is bit-identical to
-    the compiled one.
+    The heated runs (kicks: uint64 generator arithmetic, ziggurat; a viscoelastic law
+    in a bath) are bit-identical to the compiled ones.
     """
     heated = md.simulate_heated(0.9, 20, seed=1, collisions_per_particle=20.0)
+    bath = md.simulate_heated(ViscoelasticRestitution(0.1), 20, friction=0.5, seed=1,
+                              collisions_per_particle=20.0)
     code = ("from particles import md; r = md.simulate_cooling(0.9, 20, seed=1, "
             "collisions_per_particle=20.0, threshold=1e-3, n_samples=10, n_batches=2); "
             "assert r.n_collisions == 200 and r.energy_balance_error < 1e-12; "
             "h = md.simulate_heated(0.9, 20, seed=1, collisions_per_particle=20.0); "
-            "print(h.n_kicks, h.velocities.tobytes().hex())")
+            "print(h.n_kicks, h.velocities.tobytes().hex()); "
+            "from kinetic_fem.model import ViscoelasticRestitution as V; "
+            "b = md.simulate_heated(V(0.1), 20, friction=0.5, seed=1, "
+            "collisions_per_particle=20.0); print(b.velocities.tobytes().hex())")
     env = {**os.environ, "NUMBA_DISABLE_JIT": "1"}
     out = subprocess.run([sys.executable, "-W", "error::RuntimeWarning", "-c", code],
                          check=True, env=env, timeout=120, capture_output=True, text=True)
-    assert out.stdout.split() == [str(heated.n_kicks), heated.velocities.tobytes().hex()]
+    assert out.stdout.split() == [str(heated.n_kicks), heated.velocities.tobytes().hex(),
+                                  bath.velocities.tobytes().hex()]
 
 
 # --------------------------------------------------------------------------- kernels
