@@ -48,7 +48,8 @@ import time
 
 import numpy as np
 
-from kinetic_fem.figures.heated import peak_sweep, power_law_exponent
+from kinetic_fem.analysis import power_law_exponent
+from kinetic_fem.figures.heated import peak_sweep
 
 EPS = (0.1, 0.03, 0.01, 3e-3, 1e-3, 3e-4, 1e-4)
 

@@ -22,7 +22,7 @@ from ..cooling import HCSSolution, solve_hcs
 from ..reproduce import ClaimRow, Context, register
 from ..scaling import solve_psi
 from ..spectral import solve_sonine_cooling
-from .scaling import _pyplot, _save
+from .plotting import save, subplots
 
 
 @lru_cache(maxsize=16)
@@ -60,8 +60,7 @@ def hcs_figure(ctx: Context) -> list[ClaimRow]:
     """HCS f(c) at several alpha; zeta/eps, the bimodality threshold, Sonine vs HCS."""
     alphas = (0.0, 0.5, 0.8, 0.85, 0.9, 0.99)
     sols = {a: _hcs(a) for a in alphas}
-    plt = _pyplot()
-    fig, (ax, axl) = plt.subplots(1, 2, figsize=(10, 4))
+    fig, (ax, axl) = subplots(1, 2, figsize=(10, 4))
     c = np.linspace(-3.0, 3.0, 601)
     gauss = np.exp(-0.5 * c**2) / math.sqrt(2.0 * math.pi)
     for a, s in sols.items():
@@ -74,7 +73,7 @@ def hcs_figure(ctx: Context) -> list[ClaimRow]:
     ax.set(xlabel="c", ylabel="f(c)", title="homogeneous cooling state (fd)")
     axl.set(xlabel="c", ylabel="f(c)", ylim=(1e-30, 10), title="tails: exp(-c/zeta)/c")
     ax.legend(fontsize=7)
-    _save(fig, ctx.out / "F9-HCS_cooling_state.png")
+    save(fig, ctx.out / "F9-HCS_cooling_state.png")
 
     rows = []
     z99 = sols[0.99].zeta
@@ -127,8 +126,7 @@ def hcs_psi_figure(ctx: Context) -> list[ClaimRow]:
     psi = solve_psi(estimate_errors=False)
     yy = np.linspace(-3.0, 5.0, 801)
     widths, dists = [], []
-    plt = _pyplot()
-    fig, (ax, axl) = plt.subplots(1, 2, figsize=(10, 4))
+    fig, (ax, axl) = subplots(1, 2, figsize=(10, 4))
     for eps in epss:
         sol = _hcs(1.0 - eps)
         y, p, mean_abs = _psi_profile(sol, eps)
@@ -144,7 +142,7 @@ def hcs_psi_figure(ctx: Context) -> list[ClaimRow]:
     ax.set(xlabel="y = (1 - |c|/<|c|>)/eps^(1/3)", ylabel="psi(y)")
     axl.set(xlabel="y", ylabel="psi(y)", ylim=(1e-12, 2))
     ax.legend(fontsize=8)
-    _save(fig, ctx.out / "F11-HCS_psi.png")
+    save(fig, ctx.out / "F11-HCS_psi.png")
     nu = float(np.polyfit(np.log(epss), np.log(widths), 1)[0])
     rate = float(np.polyfit(np.log(epss), np.log(dists), 1)[0])
     mode = "quick: eps = 1e-2, 3e-3" if ctx.quick else "eps = 1e-2, 1e-3, 1e-4"

@@ -29,23 +29,26 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from ..analysis import (
+    ExponentPeak,
+    exponent_peak,
+    local_exponents,
+    power_law_exponent,
+    relaxation_fit,
+    richardson,
+    tail_fit,
+)
 from ..collision import energy_balance
 from ..distribution import VelocityDistribution
 from ..finite_difference import ConvergenceWarning, default_cutoff
 from ..grid import simpson_weights
 from ..reproduce import ClaimRow, Context, register
 from ..solve import solve_heated
-from ..sonine import crossover_velocities, relaxation_time, tail_exponent_amplitude
+from ..sonine import crossover_velocities, relaxation_time
 from ..sonine import steady_temperature as sonine_temperature
+from .plotting import save, subplots
 
-__all__ = ["solve_steady", "fem_steady", "ExponentPeak", "exponent_peak", "peak_sweep",
-           "PeakSweep", "TailFit", "tail_fit", "relaxation_run", "relaxation_fit", "richardson",
-           "power_law_exponent", "local_exponents", "F_ANALYSIS_FLOOR"]
-
-F_ANALYSIS_FLOOR = 1e-60
-"""Smallest f(c) used in fits; with the cut-off moved out (f below 1e-89 there) the
-Dirichlet condition changes ln f by less than (1e-89/1e-60)^2 over the fitted range."""
-
+__all__ = ["solve_steady", "fem_steady", "peak_sweep", "PeakSweep", "relaxation_run"]
 
 def solve_steady(alpha: float, *, spacing: float = 0.04, cutoff_factor: float = 1.3,
                  nest: float | None = None) -> VelocityDistribution:
@@ -134,101 +137,6 @@ def _cubic_continuation(state, v: NDArray[np.float64]) -> NDArray[np.float64]:
     return out
 
 
-def power_law_exponent(x: NDArray[np.float64], y: NDArray[np.float64]) -> float:
-    """Slope of the least-squares line of ``log y`` against ``log x``."""
-    return float(np.polyfit(np.log(x), np.log(y), 1)[0])
-
-
-@dataclass(frozen=True)
-class ExponentPeak:
-    """Maximum of the effective exponent: position in c, v and x, height ``n``.
-
-    ``interior`` is False when the largest n(c) sits at the end of the searched range
-    (no maximum resolved).
-    """
-
-    eps: float
-    c: float
-    v: float
-    x: float
-    n: float
-    interior: bool = True
-
-
-def _resolved_c_max(dist: VelocityDistribution, floor: float) -> float:
-    keep = (dist.c > 0) & (dist.f_values > floor)
-    return float(dist.c[keep].max())
-
-
-def exponent_peak(dist: VelocityDistribution, *, floor: float = F_ANALYSIS_FLOOR,
-                  c_min: float = 0.3, n_points: int = 4000,
-                  c_max: float | None = None, drop: float | None = None) -> ExponentPeak:
-    """Largest :math:`n(c)` for ``c_min <= c <= c_max`` and ``f(c) > floor`` (parabolic
-    refinement); ``c_max`` keeps the search away from the cut-off's boundary layer.
-
-    With ``drop``, the search ends where n(c) first falls ``drop`` below its running
-    maximum: the first maximum, not a later wiggle of an under-resolved deep tail.
-    """
-    top = _resolved_c_max(dist, floor)
-    c = np.linspace(c_min, top if c_max is None else min(top, c_max), n_points)
-    n = dist.effective_exponent(c)
-    if drop is not None:
-        running = np.fmax.accumulate(np.nan_to_num(n, nan=-np.inf))
-        below = np.flatnonzero(n < running - drop)
-        if below.size:
-            c, n = c[:below[0] + 1], n[:below[0] + 1]
-    i = int(np.nanargmax(n))
-    interior = 0 < i < c.size - 1
-    if interior:
-        y0, y1, y2 = n[i - 1], n[i], n[i + 1]
-        shift = 0.5 * (y0 - y2) / (y0 - 2 * y1 + y2)
-        c_star = c[i] + shift * (c[1] - c[0])
-        n_star = y1 - 0.25 * (y0 - y2) * shift
-    else:
-        c_star, n_star = c[i], n[i]
-    eps = 1.0 - float(dist.params["alpha"])
-    v = c_star * math.sqrt(dist.temperature)
-    return ExponentPeak(eps, float(c_star), float(v), float(v * eps ** (1 / 3)), float(n_star),
-                        interior)
-
-
-@dataclass(frozen=True)
-class TailFit:
-    """Fit of :math:`\\ln f = -A c^{3/2} + \\beta \\ln c + \\gamma` over ``c_range``."""
-
-    amplitude: float
-    predicted: float
-    beta: float
-    c_range: tuple[float, float]
-
-
-def tail_fit(dist: VelocityDistribution, *, f_range: tuple[float, float] = (1e-60, 1e-30)
-             ) -> TailFit:
-    """Far-tail amplitude (C4) in units of c, from nodes with f in ``f_range``."""
-    c, f = dist.c, dist.f_values
-    sel = (c > 0) & (f > f_range[0]) & (f < f_range[1])
-    basis = np.stack([-c[sel] ** 1.5, np.log(c[sel]), np.ones(sel.sum())], axis=1)
-    coef = np.linalg.lstsq(basis, np.log(f[sel]), rcond=None)[0]
-    predicted = tail_exponent_amplitude(temperature=dist.temperature)
-    return TailFit(float(coef[0]), predicted, float(coef[1]),
-                   (float(c[sel].min()), float(c[sel].max())))
-
-
-def relaxation_fit(dist: VelocityDistribution, *, window: tuple[float, float] = (1e-2, 1e-5)
-                   ) -> float:
-    """Relaxation time of T(t) in ``dist.series``: exponential fit of :math:`|T - T_\\infty|`.
-
-    The fit uses the times where the deviation lies between ``window`` times its initial
-    value, i.e. the late, linear approach to the steady state.
-    """
-    t, temp = dist.series["t"], dist.series["temperature"]
-    dev = np.abs(temp - dist.temperature)
-    sel = (dev < window[0] * dev[0]) & (dev > window[1] * dev[0])
-    if sel.sum() < 3:
-        raise ValueError("too few points of the transient in the fit window")
-    return float(-1.0 / np.polyfit(t[sel], np.log(dev[sel]), 1)[0])
-
-
 def relaxation_run(alpha: float, *, spacing: float = 0.2, initial_temperature: float = 0.5
                    ) -> VelocityDistribution:
     """Time marching (the paper's iteration) from a Gaussian at a fraction of T."""
@@ -238,41 +146,10 @@ def relaxation_run(alpha: float, *, spacing: float = 0.2, initial_temperature: f
                             initial_temperature=initial_temperature, tol=1e-9)
 
 
-def _pyplot():
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
-
-
-def _save(fig, path) -> None:
-    """Lay out, write and close a figure."""
-    import matplotlib.pyplot as plt
-
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-
-
 def _c1_residual(dist: VelocityDistribution) -> float:
     alpha = float(dist.params["alpha"])
     return energy_balance(dist.v, dist.values, simpson_weights(dist.v), alpha=alpha,
                           density=1.0, diffusion=1.0).relative_residual
-
-
-def richardson(coarse: VelocityDistribution, fine: VelocityDistribution
-               ) -> VelocityDistribution:
-    """:math:`(4\\ln P_{h/2} - \\ln P_h)/3` on the nodes of ``coarse`` (nested grids)."""
-    pf, pc = fine.values[::2], coarse.values
-    if pf.size != pc.size:
-        raise ValueError("Richardson extrapolation needs nested grids (same cut-off)")
-    out = pf.copy()
-    ok = (pf > 0) & (pc > 0)
-    out[ok] = np.exp((4.0 * np.log(pf[ok]) - np.log(pc[ok])) / 3.0)
-    return VelocityDistribution.from_values(coarse.v, out, method="fd",
-                                            params={**coarse.params, "richardson": True})
 
 
 @register("F2-FD", "heated f(c) of the deterministic iteration (lines of F2), 30 decades",
@@ -283,10 +160,9 @@ def figure_f2(ctx: Context) -> list[ClaimRow]:
     C16: Richardson extrapolations from spacings (h, h/2) and (h/2, h/4) are compared
     wherever f > 1e-30; their difference bounds the error of the coarser one.
     """
-    plt = _pyplot()
     alphas = (0.1, 0.6, 0.9, 0.99)
     rows = []
-    fig, ax = plt.subplots(figsize=(6, 4.5))
+    fig, ax = subplots(figsize=(6, 4.5))
     inset = ax.inset_axes([0.12, 0.08, 0.35, 0.35])
     for alpha in alphas:
         # quick: the coarsest grids whose Richardson values are within 5 % (convergence_fd)
@@ -323,7 +199,7 @@ def figure_f2(ctx: Context) -> list[ClaimRow]:
     ax.set_xlabel("c")
     ax.set_ylabel("f(c)")
     ax.legend(loc="upper right", fontsize=8)
-    _save(fig, ctx.out / "F2_fd_lines.png")
+    save(fig, ctx.out / "F2_fd_lines.png")
     return rows
 
 
@@ -361,16 +237,6 @@ class PeakSweep:
         """``(eps_1, eps_2, exponent of v*, exponent of 3 - n*)`` between successive
         converged peaks."""
         return local_exponents(self.selected())
-
-
-def local_exponents(peaks) -> list[tuple[float, float, float, float]]:
-    """Two-point exponents of v* and 3 - n* between successive peaks."""
-    out = []
-    for a, b in zip(peaks[:-1], peaks[1:], strict=True):
-        le = math.log(b.eps / a.eps)
-        out.append((a.eps, b.eps, math.log(b.v / a.v) / le,
-                    math.log((3.0 - b.n) / (3.0 - a.n)) / le))
-    return out
 
 
 FEM_PEAK_SPACINGS = (0.05, 0.035)
@@ -460,8 +326,7 @@ def figure_f6(ctx: Context) -> list[ClaimRow]:
     """
     from ..scaling import solve_phi
 
-    plt = _pyplot()
-    fig, (ax, bx) = plt.subplots(1, 2, figsize=(10, 4.2))
+    fig, (ax, bx) = subplots(1, 2, figsize=(10, 4.2))
     for alpha in (0.6, 0.9, 0.99, 0.999):
         if ctx.quick:
             d = fem_steady(alpha, spacing=0.1, cutoff_factor=1.0, intorder=9)
@@ -496,7 +361,7 @@ def figure_f6(ctx: Context) -> list[ClaimRow]:
                       label=f"eps^({slope:+.2f})")
     bx.set_xlabel("eps")
     bx.legend(fontsize=7)
-    _save(fig, ctx.out / "F6_effective_exponent.png")
+    save(fig, ctx.out / "F6_effective_exponent.png")
     table = "; ".join(f"eps={p.eps:.0e}: v*={p.v:.2f} x*={p.x:.3f} n*={p.n:.4f}"
                       + ("" if ok else " (not converged)")
                       for p, ok in zip(sweep.peaks, sweep.converged, strict=True))
@@ -568,13 +433,12 @@ def claim_c4(ctx: Context) -> list[ClaimRow]:
           claims=("C2",))
 def claim_c2(ctx: Context) -> list[ClaimRow]:
     """tau from the paper's time marching at several alpha; fitted exponent against eps."""
-    plt = _pyplot()
     alphas = (0.8, 0.9, 0.95, 0.98) if ctx.quick else (0.8, 0.9, 0.95, 0.98, 0.99, 0.995)
     h = 0.2 if ctx.quick else 0.1
     runs = [relaxation_run(a, spacing=h) for a in alphas]
     tau = np.array([relaxation_fit(d) for d in runs])
     eps = 1.0 - np.array(alphas)
-    fig, (ax, bx) = plt.subplots(1, 2, figsize=(9, 3.8))
+    fig, (ax, bx) = subplots(1, 2, figsize=(9, 3.8))
     for a, d in zip(alphas, runs, strict=True):
         ax.plot(d.series["t"] / relaxation_time(a), d.series["temperature"] / d.temperature,
                 label=f"alpha={a}")
@@ -586,7 +450,7 @@ def claim_c2(ctx: Context) -> list[ClaimRow]:
     bx.set_xlabel("eps")
     bx.set_ylabel("tau")
     bx.legend(fontsize=8)
-    _save(fig, ctx.out / "C2_relaxation.png")
+    save(fig, ctx.out / "C2_relaxation.png")
     slope = power_law_exponent(eps, tau)
     slope_a = power_law_exponent(1.0 - np.array(alphas) ** 2, tau)
     table = ", ".join(f"{a}: {t:.3f}" for a, t in zip(alphas, tau, strict=True))

@@ -12,23 +12,7 @@ import numpy as np
 
 from ..reproduce import ClaimRow, Context, register
 from ..scaling import LAMBDA_PAPER, solve_phi, solve_psi
-
-
-def _pyplot():  # type: ignore[no-untyped-def]
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
-
-
-def _save(fig, path) -> None:  # type: ignore[no-untyped-def]
-    import matplotlib.pyplot as plt
-
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+from .plotting import save, subplots
 
 
 def _pm(value: float, error: float, digits: int = 10) -> str:
@@ -93,9 +77,8 @@ def phi_claims(ctx: Context) -> list[ClaimRow]:
     ]
     rows += _fem_rows(sol, ctx.quick)
 
-    plt = _pyplot()
     x = np.linspace(0.0, 6.5, 400)
-    fig, ax = plt.subplots(figsize=(5.5, 4))
+    fig, ax = subplots(figsize=(5.5, 4))
     ax.semilogy(x, sol(x), "k-", lw=2, label=r"$\phi(x)$")
     ax.semilogy(x, sol.C * np.exp(-x**3 / 6), "b--", label=r"$C e^{-x^3/6}$ (paper)")
     ax.semilogy(x, sol.C * np.exp(-x**3 / 6 - sol.x2 * x / 2), "c:", lw=2,
@@ -109,7 +92,7 @@ def phi_claims(ctx: Context) -> list[ClaimRow]:
     ax.set_ylabel(r"$\phi$")
     ax.set_title(rf"$\lambda$ = {sol.lam:.6f}, C = {sol.C:.6f}")
     ax.legend(fontsize=8)
-    _save(fig, ctx.out / "C5_phi_asymptotes.png")
+    save(fig, ctx.out / "C5_phi_asymptotes.png")
     return rows
 
 
@@ -120,15 +103,14 @@ def phi_exponent(ctx: Context) -> list[ClaimRow]:
     d = sol.distribution
     c = np.linspace(0.02, 6.5 / np.sqrt(sol.x2), 400)
     n = d.effective_exponent(c)
-    plt = _pyplot()
-    fig, ax = plt.subplots(figsize=(5, 3.5))
+    fig, ax = subplots(figsize=(5, 3.5))
     ax.plot(c, n, "k:", lw=2, label=r"$\alpha \to 1$: $\phi$")
     ax.axhline(3.0, color="gray", lw=0.6)
     ax.axhline(2.0, color="gray", lw=0.6)
     ax.set_xlabel(r"$c = x/\langle x^2\rangle^{1/2}$")
     ax.set_ylabel("n(c)")
     ax.legend()
-    _save(fig, ctx.out / "F6_phi_effective_exponent.png")
+    save(fig, ctx.out / "F6_phi_effective_exponent.png")
     ok = bool(abs(n[0] - 2.0) < 0.01 and np.all(np.diff(n) > 0) and n[-1] < 3.0)
     return [ClaimRow("C7", "phi effective exponent n(c) at c = 0.02 and c = 6.7",
                      f"{n[0]:.4f} -> {n[-1]:.4f}, increasing", "starts at 2; alpha -> 1 "
@@ -172,9 +154,8 @@ def psi_claims(ctx: Context) -> list[ClaimRow]:
                  bool(a.differential_residual < 1e-6), "psi",
                  "solution of the log form with -1/6 (the paper prints +1/6: a misprint)"),
     ]
-    plt = _pyplot()
     y = np.linspace(-5.0, 25.0, 600)
-    fig, ax = plt.subplots(figsize=(5.5, 4))
+    fig, ax = subplots(figsize=(5.5, 4))
     ax.semilogy(y, sol(y), "k-", lw=2, label=r"$\psi(y)$")
     left = y < 2.0
     ax.semilogy(y[left], sol.C * np.exp(y[left] ** 3 / 3), "b--", label=r"$C e^{y^3/3}$")
@@ -186,7 +167,7 @@ def psi_claims(ctx: Context) -> list[ClaimRow]:
     ax.set_xlabel("y")
     ax.set_ylabel(r"$\psi$")
     ax.legend(fontsize=8)
-    _save(fig, ctx.out / "C12_psi_tails.png")
+    save(fig, ctx.out / "C12_psi_tails.png")
     return rows
 
 
@@ -194,8 +175,7 @@ def psi_claims(ctx: Context) -> list[ClaimRow]:
 def psi_figure(ctx: Context) -> list[ClaimRow]:
     """psi on a log scale; Phi(x) = [psi((x+1)/d) + psi((1-x)/d)]/(2d), d = eps^(1/3)."""
     sol = solve_psi(estimate_errors=False)
-    plt = _pyplot()
-    fig, (ax, bx) = plt.subplots(1, 2, figsize=(9, 3.5))
+    fig, (ax, bx) = subplots(1, 2, figsize=(9, 3.5))
     y = np.linspace(-4.0, 15.0, 500)
     ax.semilogy(y, sol(y), "k-")
     ax.set_xlabel("y")
@@ -207,5 +187,5 @@ def psi_figure(ctx: Context) -> list[ClaimRow]:
     bx.set_xlabel(r"$x = n\epsilon t v$")
     bx.set_ylabel(r"$\Phi(x)$ (leading order)")
     bx.legend(fontsize=8)
-    _save(fig, ctx.out / "F11_psi.png")
+    save(fig, ctx.out / "F11_psi.png")
     return []

@@ -13,6 +13,7 @@ from functools import lru_cache
 import numpy as np
 
 import kinetic_fem as kf
+from kinetic_fem.figures.plotting import save, subplots
 from kinetic_fem.reproduce import ClaimRow, Context, register
 from kinetic_fem.sonine import A2_ELASTIC_LIMIT, a2_first_order, steady_temperature
 
@@ -23,13 +24,6 @@ F4_ALPHAS = (0.0, 0.1, 0.6, 0.707, 0.9, 0.99, 0.999)
 F9_EPS = (1e-2, 1e-3, 1e-4)
 
 
-def _plt():
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
 
 
 def _note(ctx: Context, text: str) -> str:
@@ -69,9 +63,8 @@ def _errorbar(ax, c, f, err, label, **kw) -> None:
 @register("F2", "heated: DSMC symbols on the deterministic solution", claims=("C1",))
 def heated_vs_deterministic(ctx: Context) -> list[ClaimRow]:
     """F2: alpha = 0.1, 0.6, 0.9, 0.99; C1 energy balance measured from the collisions."""
-    plt = _plt()
     n, cpp = _heated_size(ctx)
-    fig, (ax, inset) = plt.subplots(1, 2, figsize=(10, 4))
+    fig, (ax, inset) = subplots(1, 2, figsize=(10, 4))
     rows = []
     c = np.linspace(-7, 7, 281)
     for k, alpha in enumerate(F2_ALPHAS):
@@ -106,32 +99,27 @@ def heated_vs_deterministic(ctx: Context) -> list[ClaimRow]:
     ax.legend(fontsize=7)
     inset.set(xlabel="c", ylabel="f(c)", xlim=(-3, 3), title="linear scale")
     inset.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(ctx.out / "F2_dsmc_heated.png", dpi=120)
-    plt.close(fig)
+    save(fig, ctx.out / "F2_dsmc_heated.png")
     return rows
 
 
 @register("F3", "a2 against alpha: DSMC and first-order Sonine", claims=("C3",))
 def a2_over_alpha(ctx: Context) -> list[ClaimRow]:
     """F3: a2 over the whole alpha range; DSMC agrees with Sonine, a2 -> -16/159."""
-    plt = _plt()
     alphas = (0.0, 0.3, 0.6, 0.9, 0.99) if ctx.quick else (
         0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.707, 0.8, 0.9, 0.95, 0.99, 0.999)
     n, cpp = _heated_size(ctx)
     runs = [_heated(a, n, cpp, ctx.seed + 20 + k) for k, a in enumerate(alphas)]
     a2 = np.array([r.a2 for r in runs])
     err = np.array([r.a2_error for r in runs])
-    fig, ax = plt.subplots(figsize=(5, 4))
+    fig, ax = subplots(figsize=(5, 4))
     line = np.linspace(0, 1, 201)
     ax.plot(line, a2_first_order(line), "k-", label="first-order Sonine")
     ax.errorbar(alphas, a2, yerr=err, fmt="o", label=f"DSMC N={n}")
     ax.axhline(A2_ELASTIC_LIMIT, color="gray", ls=":", label="-16/159")
     ax.set(xlabel="alpha", ylabel="a2")
     ax.legend()
-    fig.tight_layout()
-    fig.savefig(ctx.out / "F3_dsmc_a2.png", dpi=120)
-    plt.close(fig)
+    save(fig, ctx.out / "F3_dsmc_a2.png")
     gap = np.abs(a2 - a2_first_order(np.array(alphas)))
     table = ", ".join(f"{a}: {x:+.4f}({e:.4f})" for a, x, e in zip(alphas, a2, err, strict=True))
     return [
@@ -158,10 +146,9 @@ def _tail_exponent(run: dsmc.DSMCRun, f_lo: float = 1e-5, f_hi: float = 1e-2) ->
 @register("F4", "heated DSMC f(c) against c^3 and c^(3/2)", claims=("C4",))
 def tails(ctx: Context) -> list[ClaimRow]:
     """F4: tails go from exp(-A c^(3/2)) at strong to exp(-A c^3) at weak inelasticity."""
-    plt = _plt()
     alphas = (0.0, 0.6, 0.99) if ctx.quick else F4_ALPHAS
     n, cpp = _heated_size(ctx)
-    fig, (ax3, ax32) = plt.subplots(1, 2, figsize=(10, 4))
+    fig, (ax3, ax32) = subplots(1, 2, figsize=(10, 4))
     exps = {}
     for k, alpha in enumerate(alphas):
         run = _heated(alpha, n, cpp, ctx.seed + 40 + k)
@@ -175,9 +162,7 @@ def tails(ctx: Context) -> list[ClaimRow]:
     ax3.set(yscale="log", xlabel="c^3", ylabel="f(c)", xlim=(0, 60), ylim=(1e-7, 1))
     ax32.set(yscale="log", xlabel="c^(3/2)", ylabel="f(c)", xlim=(0, 25), ylim=(1e-7, 1))
     ax3.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(ctx.out / "F4_dsmc_tails.png", dpi=120)
-    plt.close(fig)
+    save(fig, ctx.out / "F4_dsmc_tails.png")
     lo, hi = alphas[0], alphas[-1]
     return [ClaimRow("C4", "fitted tail exponent B of exp(-A c^B), 1e-5 < f < 1e-2",
                      f"alpha={lo}: {exps[lo]:.2f}; alpha={hi}: {exps[hi]:.2f}",
@@ -278,8 +263,7 @@ def _hump(run: dsmc.DSMCRun) -> tuple[float, float]:
           claims=("C9", "C10"))
 def cooling_humps(ctx: Context) -> list[ClaimRow]:
     """F9 and C9 (quasi-elastic ``T = 4/(n (1-alpha^2) t)^2`` from ``<|c-c'|^3> -> 4``)."""
-    plt = _plt()
-    fig, ax = plt.subplots(figsize=(5, 4))
+    fig, ax = subplots(figsize=(5, 4))
     rows = []
     for eps in F9_EPS:
         run = _cooling(eps, ctx.quick, ctx.seed)
@@ -300,9 +284,7 @@ def cooling_humps(ctx: Context) -> list[ClaimRow]:
                                         "per particle")))
     ax.set(xlabel="c", ylabel="f(c)", xlim=(-1.8, 1.8), title="free cooling DSMC")
     ax.legend()
-    fig.tight_layout()
-    fig.savefig(ctx.out / "F9_dsmc_humps.png", dpi=120)
-    plt.close(fig)
+    save(fig, ctx.out / "F9_dsmc_humps.png")
     # Haff's law T ~ t^-2 at alpha = 0.9
     run = dsmc.simulate_cooling(0.9, 2000 if ctx.quick else 25_000, seed=ctx.seed,
                                 collisions_per_particle=200 if ctx.quick else 2000)
@@ -341,11 +323,10 @@ def _bimodality(ctx: Context) -> list[ClaimRow]:
 @register("F10", "F9 rescaled with eps^nu collapses (nu fitted)", claims=("C11",))
 def cooling_collapse(ctx: Context) -> list[ClaimRow]:
     """F10 and C11: hump width ~ eps^nu with nu fitted (paper: 1/3)."""
-    plt = _plt()
     humps = [_hump(_cooling(eps, ctx.quick, ctx.seed)) for eps in F9_EPS]
     widths = np.array([w for _, w in humps])
     nu = float(np.polyfit(np.log(F9_EPS), np.log(widths), 1)[0])
-    fig, ax = plt.subplots(figsize=(5, 4))
+    fig, ax = subplots(figsize=(5, 4))
     for eps, (m, _) in zip(F9_EPS, humps, strict=True):
         d = _cooling(eps, ctx.quick, ctx.seed).distribution
         pos = d.c > 0
@@ -354,9 +335,7 @@ def cooling_collapse(ctx: Context) -> list[ClaimRow]:
     ax.set(xlabel="(c - <c>_+) / eps^nu", ylabel="f eps^nu", xlim=(-4, 4),
            title=f"collapse with fitted nu = {nu:.3f}")
     ax.legend()
-    fig.tight_layout()
-    fig.savefig(ctx.out / "F10_dsmc_collapse.png", dpi=120)
-    plt.close(fig)
+    save(fig, ctx.out / "F10_dsmc_collapse.png")
     sizes = ", ".join(f"eps={e:g}: N={_cooling_size(e, ctx.quick)[0]}, width {w:.4f}"
                       for e, w in zip(F9_EPS, widths, strict=True))
     return [ClaimRow("C11", "fitted exponent nu of the hump width", f"{nu:.3f}", "1/3",
@@ -438,11 +417,10 @@ def psi_from_dsmc(ctx: Context) -> list[ClaimRow]:
     with the counting-noise floor ``sqrt(2/pi) sum sigma dy`` it would have if DSMC
     and psi agreed exactly.
     """
-    plt = _plt()
     solve_psi = getattr(kf.scaling, "solve_psi", None)
     psi = solve_psi() if solve_psi is not None else None
     epss = PSI_EPS_QUICK if ctx.quick else PSI_EPS_FULL
-    fig, ax = plt.subplots(figsize=(5, 4))
+    fig, ax = subplots(figsize=(5, 4))
     dev, floor, var, widths = [], [], [], []
     x, w = np.polynomial.legendre.leggauss(8)
     for eps in epss:
@@ -467,9 +445,7 @@ def psi_from_dsmc(ctx: Context) -> list[ClaimRow]:
     ax.set(yscale="log", ylim=(1e-4, 2), xlabel="y = (1 - |c|/<|c|>)/eps^(1/3)",
            ylabel="psi(y)")
     ax.legend()
-    fig.tight_layout()
-    fig.savefig(ctx.out / "F11_dsmc_psi.png", dpi=120)
-    plt.close(fig)
+    save(fig, ctx.out / "F11_dsmc_psi.png")
     sizes = ", ".join(f"eps={e:g}: N={_psi_size(e, ctx.quick)[0]}, relax "
                       f"{_psi_size(e, ctx.quick)[1]:.0e}, width/eps^(1/3) {wd:.3f}"
                       for e, wd in zip(epss, widths, strict=True))

@@ -12,6 +12,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from kinetic_fem.figures.plotting import save, subplots
 from kinetic_fem.reproduce import ClaimRow, Context, register
 from kinetic_fem.sonine import a2_first_order
 
@@ -21,13 +22,6 @@ F1_ALPHAS = (0.6, 0.9, 0.95, 0.99, 0.999)
 F3_ALPHAS = (0.3, 0.5, 0.6, 0.7, 0.8, 0.9, 0.95, 0.99, 0.999)
 
 
-def _plt():
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
 
 
 def _size(ctx: Context, quick: tuple, full: tuple) -> tuple:
@@ -66,8 +60,7 @@ def _note(ctx: Context, text: str) -> str:
 @register("F1", "heated MD f(c) against the Gaussian; density fluctuations", claims=("C8",))
 def heated_md(ctx: Context) -> list[ClaimRow]:
     """F1: N = 5000 rods, n sigma = 0.5, alpha = 0.6 ... 0.999 (quick: N = 1000)."""
-    plt = _plt()
-    fig, (ax, inset) = plt.subplots(1, 2, figsize=(10, 4))
+    fig, (ax, inset) = subplots(1, 2, figsize=(10, 4))
     runs = {}
     for k, alpha in enumerate(F1_ALPHAS):
         n, cpp = _heated_size(ctx, alpha)
@@ -83,9 +76,7 @@ def heated_md(ctx: Context) -> list[ClaimRow]:
     inset.set(xscale="log", xlabel="box size", ylabel="Var N / <N>",
               title="density fluctuations")
     inset.legend()
-    fig.tight_layout()
-    fig.savefig(ctx.out / "F1_md_heated.png", dpi=120)
-    plt.close(fig)
+    save(fig, ctx.out / "F1_md_heated.png")
     box = 16  # boxes of 16 rods on average
     ratio = {a: float(np.interp(box, runs[a].density_fluctuations.mean_count[::-1],
                                 runs[a].density_fluctuations.variance_ratio[::-1]))
@@ -111,7 +102,6 @@ def _dsmc_a2(ctx: Context, alpha: float, seed: int):
           claims=("C3",))
 def md_a2(ctx: Context) -> list[ClaimRow]:
     """MD agrees with the Boltzmann a2 as alpha -> 1 and deviates at lower alpha."""
-    plt = _plt()
     rows, table = [], []
     for k, alpha in enumerate(F3_ALPHAS):
         n, cpp = _heated_size(ctx, alpha)
@@ -121,7 +111,7 @@ def md_a2(ctx: Context) -> list[ClaimRow]:
         table.append((alpha, run.a2, run.a2_error, np.nan if ds is None else ds.a2,
                       np.nan if ds is None else ds.a2_error, a2_first_order(alpha)))
     t = np.array(table)
-    fig, ax = plt.subplots(figsize=(5, 4))
+    fig, ax = subplots(figsize=(5, 4))
     ax.errorbar(t[:, 0], t[:, 1], yerr=t[:, 2], fmt="s", label="MD")
     ax.errorbar(t[:, 0], t[:, 3], yerr=t[:, 4], fmt="o", mfc="none", label="DSMC")
     a = np.linspace(0, 1, 101)
@@ -129,7 +119,6 @@ def md_a2(ctx: Context) -> list[ClaimRow]:
     ax.set(xlabel="alpha", ylabel="a2")
     ax.legend()
     fig.savefig(ctx.out / "F3_md_a2.png", dpi=120)
-    plt.close(fig)
     np.savetxt(ctx.out / "F3_md_a2.txt", t, header="alpha a2_md err a2_dsmc err a2_sonine")
     n, cpp = _heated_size(ctx, 0.9)
     note = _note(ctx, f"MD N={n}, >= {cpp:g} cpp")
@@ -154,12 +143,11 @@ def md_a2(ctx: Context) -> list[ClaimRow]:
 def md_quasi_elastic(ctx: Context) -> list[ClaimRow]:
     from kinetic_fem.scaling import solve_phi
 
-    plt = _plt()
     n, cpp = _heated_size(ctx, 0.999)
     run = _heated(0.999, n, cpp, ctx.seed + F1_ALPHAS.index(0.999))
     ds = _dsmc_a2(ctx, 0.999, ctx.seed + 200)
     phi = solve_phi(estimate_errors=False).distribution
-    fig, ax = plt.subplots(figsize=(5, 4))
+    fig, ax = subplots(figsize=(5, 4))
     _errorbar(ax, run.distribution, "MD")
     if ds is not None:
         _errorbar(ax, ds.distribution, "DSMC")
@@ -169,7 +157,6 @@ def md_quasi_elastic(ctx: Context) -> list[ClaimRow]:
     ax.set(yscale="log", ylim=(1e-6, 1), xlabel="c", ylabel="f(c)", title="alpha = 0.999")
     ax.legend()
     fig.savefig(ctx.out / "F5_md.png", dpi=120)
-    plt.close(fig)
     cmp = run.distribution.compare(phi, c_max=3.0)
     return [ClaimRow("C5", "MD a2 vs phi a2 at alpha=0.999",
                      f"{run.a2:.4f} +- {run.a2_error:.4f} vs {phi.a2:.4f}",
@@ -224,7 +211,6 @@ def cooling_regularised(ctx: Context) -> list[ClaimRow]:
     for thresholds 1e-3, 3e-3 and 1e-2 at common times (local slopes per quarter decade
     equal to 0.01, N = 5000), and the threshold stays below 1.5% of the thermal speed.
     """
-    plt = _plt()
     n, cpp = _size(ctx, (5000, 10000.0), (25000, 10000.0))
     threshold = 1e-3  # initial thermal speed 1
     run = md.simulate_cooling(0.85, n, seed=ctx.seed + 7, collisions_per_particle=cpp,
@@ -239,7 +225,7 @@ def cooling_regularised(ctx: Context) -> list[ClaimRow]:
     exponent = _fit_exponent(s["t"][clustered], s["temperature"][clustered])
     t_lo, t_hi = s["t"][clustered][[0, -1]]
     thr_rel = threshold / math.sqrt(s["temperature"][-1])
-    fig, (ax, ax2) = plt.subplots(1, 2, figsize=(10, 4))
+    fig, (ax, ax2) = subplots(1, 2, figsize=(10, 4))
     _errorbar(ax, run.distribution, "MD (regularised)")
     if ds is not None:
         _errorbar(ax, ds.distribution, "DSMC")
@@ -253,9 +239,7 @@ def cooling_regularised(ctx: Context) -> list[ClaimRow]:
                label=f"fit t^{exponent:.2f}")
     ax2.set(xlabel="t", ylabel="T")
     ax2.legend()
-    fig.tight_layout()
-    fig.savefig(ctx.out / "F7_md_cooling.png", dpi=120)
-    plt.close(fig)
+    save(fig, ctx.out / "F7_md_cooling.png")
     note = _note(ctx, f"N={n}, threshold {threshold:g} ({thr_rel:.3f} thermal speeds at the "
                       f"end), {cpp:g} cpp, fit over t in [{t_lo:.3g}, {t_hi:.3g}] (clustered "
                       f"stage: > 30% of the collisions elastic)")
@@ -291,14 +275,13 @@ def cooling_small_n(ctx: Context) -> list[ClaimRow]:
     1e4-1.2e4, 1.2e4-1.5e4, 1.5e4-2e4): plateaus come with the two compact clusters,
     beyond the run of the figure.  Energies are those of the centre-of-mass frame.
     """
-    plt = _plt()
     n, alpha, scale = (100, 0.995, 0.1) if ctx.quick else (1000, 0.9995, 1.0)
     snaps = tuple(scale * s for s in (4e3, 2e4, 4e4, 6e4))
     run = md.simulate_cooling(alpha, n, seed=ctx.seed + 8, collisions_per_particle=snaps[-1],
                               snapshots_at=snaps, sample_from=snaps[2], n_samples=400,
                               n_records=20000, progress=ctx.progress)
     ds = _dsmc_cooling(ctx, alpha, ctx.seed + 208)
-    fig, axes = plt.subplots(2, 3, figsize=(12, 6))
+    fig, axes = subplots(2, 3, figsize=(12, 6))
     for ax, sn in zip(axes[:, :2].ravel(), run.snapshots, strict=True):
         ax.plot(sn.x, sn.c, ".", ms=1.5)
         ax.set(title=f"{sn.collisions_per_particle:g} coll/particle", xlabel="x", ylabel="c")
@@ -314,9 +297,7 @@ def cooling_small_n(ctx: Context) -> list[ClaimRow]:
     energy = 0.5 * n * s["temperature"]
     axes[1, 2].loglog(s["t"][1:], energy[1:])
     axes[1, 2].set(xlabel="t", ylabel="E (centre-of-mass frame)")
-    fig.tight_layout()
-    fig.savefig(ctx.out / "F8_md_small_n.png", dpi=120)
-    plt.close(fig)
+    save(fig, ctx.out / "F8_md_small_n.png")
     last = run.snapshots[-1].c
     plus, minus = float(np.mean(last > 0.8)), float(np.mean(last < -0.8))
     dist = run.distribution
@@ -355,7 +336,6 @@ def cooling_small_n(ctx: Context) -> list[ClaimRow]:
 @register("C8-MD", "heated MD density fluctuations against n sigma at fixed alpha",
           claims=("C8",))
 def density_vs_packing(ctx: Context) -> list[ClaimRow]:
-    plt = _plt()
     n, cpp = _size(ctx, (1000, 300.0), (5000, 1500.0))
     packing = (0.1, 0.25, 0.5, 0.75)
     ratio = []
@@ -368,7 +348,7 @@ def density_vs_packing(ctx: Context) -> list[ClaimRow]:
     # equilibrium hard rods have (1 - n sigma)^2: the excess over it measures clustering
     excess = ratio / (1 - np.array(packing)) ** 2
     slope_ex = float(np.polyfit(np.log(packing), np.log(excess), 1)[0])
-    fig, ax = plt.subplots(figsize=(5, 4))
+    fig, ax = subplots(figsize=(5, 4))
     ax.loglog(packing, ratio, "o-", label="Var N/<N>")
     ax.loglog(packing, excess, "s-", label="Var N/<N>/(1 - n sigma)^2")
     ax.loglog(packing, ratio[0] * packing[0] / np.array(packing), "k--", label="1/(n sigma)")
@@ -376,7 +356,6 @@ def density_vs_packing(ctx: Context) -> list[ClaimRow]:
            title="heated MD, alpha = 0.9")
     ax.legend()
     fig.savefig(ctx.out / "C8_md_density.png", dpi=120)
-    plt.close(fig)
     return [ClaimRow("C8", "Var N/<N> (boxes of 16 rods) at n sigma = "
                      + ", ".join(map(str, packing)) + "; fitted power of n sigma",
                      ", ".join(f"{x:.3f}" for x in ratio) + f"; {slope:.2f}",

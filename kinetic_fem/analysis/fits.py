@@ -1,0 +1,49 @@
+"""Fits to solutions: the far-tail amplitude (claim C4) and relaxation times (claim C2)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..distribution import VelocityDistribution
+from ..sonine import tail_exponent_amplitude
+
+__all__ = ["TailFit", "tail_fit", "relaxation_fit"]
+
+
+@dataclass(frozen=True)
+class TailFit:
+    """Fit of :math:`\\ln f = -A c^{3/2} + \\beta \\ln c + \\gamma` over ``c_range``."""
+
+    amplitude: float
+    predicted: float
+    beta: float
+    c_range: tuple[float, float]
+
+
+def tail_fit(dist: VelocityDistribution, *, f_range: tuple[float, float] = (1e-60, 1e-30)
+             ) -> TailFit:
+    """Far-tail amplitude (C4) in units of c, from nodes with f in ``f_range``."""
+    c, f = dist.c, dist.f_values
+    sel = (c > 0) & (f > f_range[0]) & (f < f_range[1])
+    basis = np.stack([-c[sel] ** 1.5, np.log(c[sel]), np.ones(sel.sum())], axis=1)
+    coef = np.linalg.lstsq(basis, np.log(f[sel]), rcond=None)[0]
+    predicted = tail_exponent_amplitude(temperature=dist.temperature)
+    return TailFit(float(coef[0]), predicted, float(coef[1]),
+                   (float(c[sel].min()), float(c[sel].max())))
+
+
+def relaxation_fit(dist: VelocityDistribution, *, window: tuple[float, float] = (1e-2, 1e-5)
+                   ) -> float:
+    """Relaxation time of T(t) in ``dist.series``: exponential fit of :math:`|T - T_\\infty|`.
+
+    The fit uses the times where the deviation lies between ``window`` times its initial
+    value, i.e. the late, linear approach to the steady state.
+    """
+    t, temp = dist.series["t"], dist.series["temperature"]
+    dev = np.abs(temp - dist.temperature)
+    sel = (dev < window[0] * dev[0]) & (dev > window[1] * dev[0])
+    if sel.sum() < 3:
+        raise ValueError("too few points of the transient in the fit window")
+    return float(-1.0 / np.polyfit(t[sel], np.log(dev[sel]), 1)[0])
