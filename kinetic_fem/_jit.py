@@ -16,7 +16,7 @@ __all__ = ["jit"]
 
 def jit(func: Callable[..., Any] | None = None, **options: Any) -> Any:
     """``numba.njit`` with the package's options (``cache=True``, no fastmath)."""
-    opts = {"cache": True, "fastmath": False, "nogil": True}
+    opts: dict[str, Any] = {"cache": True, "fastmath": False, "nogil": True}
     opts.update(options)
     if func is None:
         return lambda f: numba.njit(**opts)(f)

@@ -101,13 +101,13 @@ class RestitutionLaw:
 
     def __call__(self, g: ArrayLike) -> NDArray[np.float64]:
         """:math:`\\alpha(|g|)`, elementwise."""
-        g = np.abs(np.asarray(g, dtype=float))
+        speed = np.abs(np.asarray(g, dtype=float))
         p0, p1 = self.parameters
         if self.code == CONSTANT:
-            return np.full_like(g, p0)
+            return np.full_like(speed, p0)
         if self.code == THRESHOLD:
-            return np.where(g < p1, 1.0, p0)
-        x = p0 * g ** 0.2
+            return np.where(speed < p1, 1.0, p0)
+        x = p0 * speed**0.2
         return 1.0 - C1 * x + C2 * x * x
 
     def check_speed(self, g_max: float, where: str = "") -> None:
