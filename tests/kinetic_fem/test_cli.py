@@ -7,7 +7,7 @@ import sys
 import numpy as np
 import pytest
 
-from kinetic_fem import VelocityDistribution, reproduce
+from kinetic_fem import VelocityDistribution, reproduce, solve_heated
 from kinetic_fem.cli import build_parser, main, select_items
 from kinetic_fem.io import read_distribution
 from kinetic_fem.solve import HEATED_SOLVERS, register_solver
@@ -100,7 +100,8 @@ def test_bad_input_exits_with_a_message(capsys):
         main(["reproduce", "--quick", "--full"])
     with pytest.raises(SystemExit):
         main(["solve-heated", "0.5", "--method", "no-such-method"])
-    assert "available:" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert "invalid choice: 'no-such-method'" in err and "'fem'" in err
 
 
 @pytest.fixture
@@ -157,7 +158,8 @@ def test_solve_heated_passes_solver_options(tmp_path, capsys, toy_solver):
     with pytest.raises(SystemExit) as exit_:
         main(["solve-heated", "0.5", "--method", "cli-toy", "-o", "n_vv=41"])
     assert exit_.value.code == 2
-    assert "n_vv" in capsys.readouterr().err
+    assert "unknown option(s) ['n_vv'] for method 'cli-toy'; valid -o names: ['label', 'n_v']" \
+        in capsys.readouterr().err
     with pytest.raises(SystemExit):
         main(["solve-heated", "0.5", "-o", "no-equals-sign"])
     assert "expected KEY=VALUE" in capsys.readouterr().err
@@ -180,3 +182,155 @@ def test_solve_cooling_errors_without_traceback(capsys):
         main(["solve-cooling", "0.5", "--method", "spectral", "-o", "order=8", "--quiet"])
     assert exc.value.code == 1
     assert "solver failed" in capsys.readouterr().err
+
+
+def test_option_typo_prints_the_subcommand_usage_and_valid_options(capsys):
+    with pytest.raises(SystemExit) as exit_:
+        main(["solve-heated", "0.5", "--methd", "fem"])
+    assert exit_.value.code == 2
+    err = capsys.readouterr().err
+    assert "usage: kinetic-fem solve-heated" in err
+    assert "--methd -> did you mean --method?" in err
+    assert "valid options of 'kinetic-fem solve-heated': --help, --restitution" in err
+    for cmd in (["dsmc", "0.5", "-N", "10"], ["md", "0.5", "-N", "10"], ["sweep"],
+                ["solve-cooling", "0.5"], ["reproduce"]):
+        with pytest.raises(SystemExit):
+            main([*cmd, "--no-such-option"])
+        err = capsys.readouterr().err
+        assert f"usage: kinetic-fem {cmd[0]}" in err
+        assert f"valid options of 'kinetic-fem {cmd[0]}'" in err
+
+
+def test_method_help_lists_the_choices(capsys):
+    for cmd in ("solve-heated", "solve-cooling", "sweep"):
+        with pytest.raises(SystemExit):
+            main([cmd, "--help"])
+        out = capsys.readouterr().out
+        assert "one of: " in out and "spectral" in out and "examples:" in out
+    with pytest.raises(SystemExit):
+        main(["sweep", "--help"])
+    assert "dsmc, fd, fem, md, spectral" in capsys.readouterr().out
+
+
+def test_solve_heated_model_options(capsys, toy_solver):
+    assert main(["solve-heated", "0.5", "--method", "cli-toy", "--kernel", "0", "--friction",
+                 "0.5", "--quiet"]) == 0
+    assert "friction=0.5 kernel=0.0" in capsys.readouterr().out
+    assert main(["solve-heated", "0.5", "--method", "cli-toy", "--restitution",
+                 "threshold:0.1", "--quiet"]) == 0
+    assert "ThresholdRestitution(alpha=0.5, threshold=0.1)" in capsys.readouterr().out
+    assert main(["solve-heated", "--method", "cli-toy", "--restitution", "viscoelastic:0.05",
+                 "--quiet"]) == 0
+    assert "ViscoelasticRestitution(delta=0.05)" in capsys.readouterr().out
+    for argv, message in [([], "alpha is required"),
+                          (["0.5", "--restitution", "viscoelastic:0.1"], "not both"),
+                          (["0.5", "--kernel", "3"], "gamma"),
+                          (["0.5", "--restitution", "elastic"], "expected constant")]:
+        with pytest.raises(SystemExit) as exit_:
+            main(["solve-heated", *argv, "--method", "cli-toy", "--quiet"])
+        assert exit_.value.code == 2
+        assert message in capsys.readouterr().err
+
+
+def _summary_without_time(text):
+    return text.split(" collisions in")[0]
+
+
+def test_dsmc_command_checkpoint_resume_and_output(tmp_path, capsys):
+    ckpt, out = tmp_path / "run.ckpt", tmp_path / "dist.npz"
+    argv = ["dsmc", "0.6", "-N", "400", "--collisions", "10", "--seed", "3", "-o",
+            "n_batches=5", "--checkpoint", str(ckpt), "--quiet"]
+    assert main([*argv, "--out", str(out)]) == 0
+    first = capsys.readouterr().out
+    assert first.startswith("dsmc heated alpha=0.6 N=400 seed=3: T = ") and "a2 = " in first
+    assert "collisions/s" not in first and "/s), converged" in first
+    assert VelocityDistribution.load(out).method == "dsmc"
+    assert main([*argv, "--resume"]) == 0
+    assert _summary_without_time(capsys.readouterr().out) == _summary_without_time(first)
+    with pytest.raises(SystemExit):
+        main(["dsmc", "0.6", "-N", "400", "-o", "n_batch=5"])
+    assert "valid -o names: ['bins', 'c_max'" in capsys.readouterr().err
+    with pytest.raises(SystemExit):
+        main([*argv, "--out", str(tmp_path / "run.npz")])
+    assert "would write the same .npz file" in capsys.readouterr().err
+    with pytest.raises(SystemExit):
+        main(["dsmc", "0.6", "-N", "400", "--resume"])
+    assert "--resume needs --checkpoint" in capsys.readouterr().err
+    with pytest.raises(SystemExit):
+        main(["dsmc", "0.6", "-N", "400", "--cooling", "--friction", "1"])
+    assert "--friction applies to the heated gas" in capsys.readouterr().err
+    with pytest.raises(SystemExit):
+        main(["dsmc", "0.6"])
+    assert "-N/--particles" in capsys.readouterr().err
+
+
+def test_md_command(capsys):
+    assert main(["md", "0.9", "-N", "50", "--collisions", "4", "--seed", "1", "--cooling",
+                 "--quiet"]) == 0
+    assert capsys.readouterr().out.startswith("md cooling alpha=0.9 N=50 seed=1: T = ")
+
+
+def test_sweep_command_store_out_and_rerun(tmp_path, capsys):
+    import xarray as xr
+
+    store, out = tmp_path / "s", tmp_path / "s.nc"
+    argv = ["sweep", "--method", "spectral", "--alpha", "0.5,0.9", "--density", "1,2",
+            "--store", str(store), "--workers", "1", "--quiet"]
+    assert main([*argv, "--out", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert "4/4 point(s) converged" in printed and "alpha  density" in printed
+    ds = xr.open_dataset(out, engine="scipy").load()
+    assert ds.a2.dims == ("alpha", "density") and ds.attrs["fixed_method"] == "spectral"
+    assert float(ds.T.sel(alpha=0.9, density=2.0)) == pytest.approx(
+        solve_heated(0.9, density=2.0, method="spectral").temperature, rel=1e-15)
+    assert len(list(store.glob("point-*.nc"))) == 4
+    assert main(argv) == 0
+    assert "4/4 point(s) converged" in capsys.readouterr().out
+
+
+def test_sweep_command_reads_a_toml_grid(tmp_path, capsys):
+    config = tmp_path / "grid.toml"
+    config.write_text('method = "dsmc"\nseed = 4\nworkers = 1\n[grid]\nalpha = [0.5, 0.9]\n'
+                      'n_particles = [300]\n[options]\ncollisions_per_particle = 8\n'
+                      'n_batches = 4\n')
+    assert main(["sweep", "--config", str(config), "--quiet"]) == 0
+    out = capsys.readouterr().out
+    assert "alpha  n_particles" in out and "2/2 point(s)" in out and "simulate_heated" in out
+    config.write_text("[grid]\nalpha = [0.5]\n[optoins]\n")
+    with pytest.raises(SystemExit):
+        main(["sweep", "--config", str(config)])
+    assert "unknown key(s) ['optoins']" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("argv, message", [
+    ([], "empty grid"),
+    (["--alpha", "0.5", "--out", "x.txt"], "--out must end in .nc"),
+    (["--alpha", "0.5", "--method", "dsmc"], "needs --particles"),
+    (["--alpha", "0.5", "--workers", "0"], "--workers must be >= 1"),
+    (["--alpha", "0.5", "--workers", "2", "--scheduler", "tcp://x:1"], "not both"),
+    (["--alpha", "0.5,x"], "comma-separated numbers"),
+    (["--alpha", "0.5", "--method", "spectral", "-o", "ordr=4"], "valid -o names"),
+])
+def test_sweep_command_errors(argv, message, capsys):
+    with pytest.raises(SystemExit) as exit_:
+        main(["sweep", *argv])
+    assert exit_.value.code == 2
+    assert message in capsys.readouterr().err
+
+
+def test_sweep_command_on_a_dask_scheduler(capsys):
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False,
+                                  dashboard_address=None) as cluster:
+        assert main(["sweep", "--method", "spectral", "--alpha", "0.5,0.9", "--scheduler",
+                     cluster.scheduler_address, "--quiet"]) == 0
+    assert "2/2 point(s) converged" in capsys.readouterr().out
+
+
+def test_sweep_command_in_a_subprocess(tmp_path):
+    done = subprocess.run([sys.executable, "-m", "kinetic_fem", "sweep", "--method", "spectral",
+                           "--alpha", "0.5,0.9", "--workers", "2", "--store",
+                           str(tmp_path / "s"), "--quiet"],
+                          capture_output=True, text=True, timeout=120, check=False)
+    assert done.returncode == 0, done.stderr
+    assert "2/2 point(s) converged" in done.stdout

@@ -1,0 +1,139 @@
+"""``kinetic-fem dsmc`` and ``kinetic-fem md``: one particle simulation.
+
+``particles`` is imported inside the commands only (kinetic_fem never imports it at
+module level); model options the installed simulation does not take are refused with
+the list of what it does take.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import inspect
+import time
+from pathlib import Path
+from typing import Any
+
+from .parser import (
+    add_model_arguments,
+    check_options,
+    check_out,
+    key_value,
+    restitution_of,
+    save,
+)
+
+__all__ = ["add_parsers", "run"]
+
+EPILOG = """\
+examples:
+  kinetic-fem {cmd} 0.9 -N 10000 --collisions 200 --seed 1 --out run.npz
+  kinetic-fem {cmd} 0.6 -N 100000 --progress --checkpoint run.ckpt      (Ctrl-C, then:)
+  kinetic-fem {cmd} 0.6 -N 100000 --progress --checkpoint run.ckpt --resume
+  kinetic-fem {cmd} 0.9 -N 5000 --cooling --collisions 50
+  kinetic-fem {cmd} 0.9 -N 5000 -o n_batches=10{extra}
+
+One line summarises the run: T, a2 with its batch error, collisions, wall time and
+collisions per second.  Any keyword of particles.{cmd}.simulate_heated/_cooling can
+be given with -o; an unknown one lists the valid names.
+"""
+
+_DESCRIPTION = {
+    "dsmc": "Direct Simulation Monte Carlo of the homogeneous Boltzmann equation "
+            "(velocities only): heated steady state or free cooling.",
+    "md": "Event-driven molecular dynamics of inelastic rods on a ring: heated steady "
+          "state or free cooling.",
+}
+
+
+def add_parsers(sub: argparse._SubParsersAction) -> list[argparse.ArgumentParser]:
+    parsers = []
+    for cmd in ("dsmc", "md"):
+        extra = "\n  kinetic-fem md 0.9 -N 2000 -o sigma=0.25" if cmd == "md" else ""
+        p = sub.add_parser(cmd, help=_DESCRIPTION[cmd].split(":")[0].lower(),
+                           description=_DESCRIPTION[cmd],
+                           epilog=EPILOG.format(cmd=cmd, extra=extra),
+                           formatter_class=argparse.RawDescriptionHelpFormatter)
+        add_model_arguments(p, heated=True)
+        p.add_argument("-N", "--particles", dest="n_particles", type=int, required=True,
+                       metavar="N", help="number of particles")
+        p.add_argument("--collisions", type=float, default=None, metavar="C",
+                       help="run length in collisions per particle (default: the "
+                            "simulation's)")
+        p.add_argument("--cooling", action="store_true",
+                       help="free cooling instead of the heated steady state")
+        p.add_argument("--seed", type=int, default=None,
+                       help="root seed (default: fresh entropy, recorded in the result)")
+        p.add_argument("--checkpoint", type=Path, default=None, metavar="FILE",
+                       help="write the state to FILE during the run and at its end")
+        p.add_argument("--resume", action="store_true",
+                       help="continue bit-identically from --checkpoint if it exists")
+        p.add_argument("--progress", action="store_true", help="progress bar (stderr)")
+        p.add_argument("--out", type=Path, default=None, metavar="FILE",
+                       help="save the distribution: .npz, .vtu or .xdmf")
+        p.add_argument("-o", "--option", dest="options", type=key_value, action="append",
+                       default=[], metavar="KEY=VALUE",
+                       help="further keyword of the simulation, repeatable")
+        p.add_argument("--quiet", action="store_true", help="no log messages")
+        parsers.append(p)
+    return parsers
+
+
+_SET_BY_FLAGS = ("alpha", "n_particles", "density", "diffusion", "friction", "kernel", "seed",
+                 "collisions_per_particle", "checkpoint", "resume", "progress")
+
+
+def _keywords(args: argparse.Namespace, function: Any) -> dict[str, Any]:
+    params = inspect.signature(function).parameters
+    kw: dict[str, Any] = {"density": args.density, "seed": args.seed,
+                          "progress": args.progress}
+    model = {"kernel": (args.kernel, 1.0)}
+    if args.cooling:
+        for name, default in (("diffusion", 1.0), ("friction", 0.0)):
+            if getattr(args, name) != default:
+                raise ValueError(f"--{name} applies to the heated gas, not with --cooling")
+    else:
+        kw["diffusion"] = args.diffusion
+        model["friction"] = (args.friction, 0.0)
+    for name, (value, default) in model.items():
+        if name in params:
+            kw[name] = value
+        elif value != default:
+            raise ValueError(f"this installation's {function.__module__}.{function.__name__} "
+                             f"takes no {name}; it supports {name} = {default} only")
+    if args.collisions is not None:
+        kw["collisions_per_particle"] = args.collisions
+    if args.resume and args.checkpoint is None:
+        raise ValueError("--resume needs --checkpoint FILE")
+    if args.checkpoint is not None:
+        if args.out is not None and (args.out.with_suffix(".npz").resolve()
+                                     == args.checkpoint.with_suffix(".npz").resolve()):
+            raise ValueError(f"--out {str(args.out)!r} and --checkpoint "
+                             f"{str(args.checkpoint)!r} would write the same .npz file")
+        kw.update(checkpoint=args.checkpoint, resume=args.resume)
+    options = dict(args.options)
+    check_options(function, options, f"{function.__module__}.{function.__name__}",
+                  exclude=_SET_BY_FLAGS)
+    return {**kw, **options}
+
+
+def run(args: argparse.Namespace) -> int:
+    check_out(args.out)
+    module = importlib.import_module(f"particles.{args.command}")
+    function = module.simulate_cooling if args.cooling else module.simulate_heated
+    kw = _keywords(args, function)
+    alpha = restitution_of(args)
+    start = time.perf_counter()
+    result = function(alpha, args.n_particles, **kw)
+    wall = time.perf_counter() - start
+    dist = result.distribution
+    entropy = args.seed if args.seed is not None else dist.info.extra.get("seed_entropy")
+    state = "converged" if dist.info.converged else f"NOT converged ({dist.info.message})"
+    print(f"{args.command} {'cooling' if args.cooling else 'heated'} alpha={alpha} "
+          f"N={args.n_particles} seed={entropy}: T = {result.temperature:.6g}  "
+          f"a2 = {result.a2:.5g} +- {result.a2_error:.2g}  "
+          f"{result.n_collisions:.4g} collisions in {wall:.3g} s "
+          f"({result.n_collisions / wall:.3g} /s), {state}")
+    if args.out is not None:
+        print(f"saved to {save(dist, args.out)}")
+    return 0

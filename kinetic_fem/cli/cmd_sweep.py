@@ -1,0 +1,206 @@
+"""``kinetic-fem sweep``: a parameter sweep from options or a TOML file.
+
+A grid file (TOML) holds the same settings as the options; options given on the
+command line win::
+
+    method = "fem"           # a registered solver, "dsmc" or "md"
+    problem = "heated"       # or "cooling"
+    store = "sweep-store"
+    [grid]
+    alpha = [0.3, 0.6, 0.9]
+    kernel = [0.0, 1.0]
+    [options]                # fixed keyword arguments of the solver / simulation
+    collisions_per_particle = 50
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+from typing import Any, Callable
+
+from ..solve import COOLING_SOLVERS, HEATED_SOLVERS, solve_cooling, solve_heated
+from ..sweep import sweep
+from .parser import check_options, float_list, int_list, key_value
+
+__all__ = ["add_parser", "run", "read_config", "GRID_OPTIONS"]
+
+EPILOG = """\
+examples:
+  kinetic-fem sweep --method fem --alpha 0.3,0.6,0.9 --kernel 0,1 --store a2-map
+  kinetic-fem sweep --method dsmc --alpha 0.5,0.9 --particles 10000 -o collisions_per_particle=50
+  kinetic-fem sweep --config grid.toml --scheduler tcp://10.0.0.1:8786
+  kinetic-fem sweep --method spectral --problem cooling --alpha 0.6,0.9 --out hcs.nc
+
+A killed sweep rerun with the same --store computes only the missing points.  Grid
+file (TOML): method, problem, store, workers, scheduler, seed, out, a [grid] table
+(alpha = [0.3, 0.6], ...) and an [options] table of fixed keywords.
+"""
+
+GRID_OPTIONS = {"alpha": float_list, "kernel": float_list, "friction": float_list,
+                "density": float_list, "diffusion": float_list, "n_particles": int_list}
+_PARTICLE_METHODS = ("dsmc", "md")
+
+
+def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
+    methods = sorted({*HEATED_SOLVERS, *COOLING_SOLVERS, *_PARTICLE_METHODS})
+    p = sub.add_parser(
+        "sweep", help="a parameter sweep (grid of alpha, kernel, ...) persisted point by point",
+        description="Evaluate a solver or particle simulation on the outer product of a grid "
+                    "and print T and a2 for each point; with --store every finished point is "
+                    "saved at once and a rerun computes only the missing ones.",
+        epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--config", type=Path, default=None, metavar="FILE.toml",
+                   help="grid and settings from a TOML file (options below override it)")
+    p.add_argument("--method", default=None, choices=methods, metavar="METHOD",
+                   help=f"one of: {', '.join(methods)} (default: fem)")
+    p.add_argument("--problem", default=None, choices=("heated", "cooling"),
+                   help="heated steady state (default) or free cooling")
+    for name in GRID_OPTIONS:
+        flag = "--particles" if name == "n_particles" else f"--{name}"
+        p.add_argument(flag, dest=name, type=GRID_OPTIONS[name], default=None,
+                       metavar="V1,V2,...", help=f"grid values of {name}")
+    p.add_argument("--store", type=Path, default=None, metavar="DIR",
+                   help="directory where each finished point is written (resumable)")
+    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help="dask.distributed scheduler address, e.g. tcp://host:8786")
+    p.add_argument("--workers", type=int, default=None, metavar="N",
+                   help="local worker processes (default: one per core; 1: in this process)")
+    p.add_argument("--seed", type=int, default=None,
+                   help="root seed of the seeds derived from each point (stochastic methods)")
+    p.add_argument("--out", type=Path, default=None, metavar="FILE.nc",
+                   help="write the result Dataset as netCDF")
+    p.add_argument("-o", "--option", dest="options", type=key_value, action="append",
+                   default=[], metavar="KEY=VALUE",
+                   help="fixed keyword of the solver / simulation, repeatable")
+    p.add_argument("--progress", action="store_true", help="progress bar over the points")
+    p.add_argument("--quiet", action="store_true", help="no log messages")
+    return p
+
+
+def read_config(path: Path) -> dict[str, Any]:
+    """The settings of a TOML grid file (``tomllib``; ``tomli`` on Python 3.10)."""
+    try:
+        import tomllib
+    except ModuleNotFoundError:  # Python 3.10
+        try:
+            import tomli as tomllib  # type: ignore[no-redef]
+        except ModuleNotFoundError:
+            raise ValueError("reading a TOML grid file on Python 3.10 needs tomli "
+                             "(pip install tomli); or give the grid as options") from None
+    try:
+        with open(path, "rb") as fh:
+            config = tomllib.load(fh)
+    except OSError as exc:
+        raise ValueError(f"cannot read --config {str(path)!r}: {exc}") from exc
+    except tomllib.TOMLDecodeError as exc:
+        raise ValueError(f"--config {str(path)!r} is not valid TOML: {exc}") from exc
+    allowed = {"method", "problem", "store", "workers", "scheduler", "seed", "out", "grid",
+               "options"}
+    unknown = sorted(set(config) - allowed)
+    if unknown:
+        raise ValueError(f"unknown key(s) {unknown} in {str(path)!r}; allowed: "
+                         f"{sorted(allowed)}")
+    for table in ("grid", "options"):
+        if not isinstance(config.get(table, {}), dict):
+            raise ValueError(f"[{table}] in {str(path)!r} must be a table")
+    return config
+
+
+def _function(method: str, problem: str) -> tuple[Callable[..., Any], dict[str, Any]]:
+    if method in _PARTICLE_METHODS:
+        module = importlib.import_module(f"particles.{method}")
+        return getattr(module, f"simulate_{problem}"), {}
+    table = HEATED_SOLVERS if problem == "heated" else COOLING_SOLVERS
+    if method not in table:
+        raise ValueError(f"method {method!r} has no {problem} solver; {problem} methods: "
+                         f"{sorted({*table, *_PARTICLE_METHODS})}")
+    return (solve_heated if problem == "heated" else solve_cooling), {"method": method}
+
+
+def _executor(workers: int | None, scheduler: str | None) -> tuple[Any, Any]:
+    """(executor for sweep, object to close afterwards)."""
+    if scheduler is not None:
+        if workers is not None:
+            raise ValueError("give --scheduler or --workers, not both")
+        try:
+            from distributed import Client
+        except ImportError as exc:
+            raise ValueError("--scheduler needs dask.distributed: pip install "
+                             "'kinetic-fem[distributed]'") from exc
+        client = Client(scheduler)
+        return client, client
+    if workers is None:
+        return None, None
+    if workers < 1:
+        raise ValueError(f"--workers must be >= 1, got {workers}")
+    if workers == 1:
+        return "serial", None
+    pool = ProcessPoolExecutor(workers)
+    return pool, pool
+
+
+def _settings(args: argparse.Namespace) -> dict[str, Any]:
+    config = read_config(args.config) if args.config is not None else {}
+    grid = dict(config.get("grid", {}))
+    for name in GRID_OPTIONS:
+        if getattr(args, name) is not None:
+            grid[name] = getattr(args, name)
+    if "particles" in grid:
+        grid["n_particles"] = grid.pop("particles")
+    options = {**config.get("options", {}), **dict(args.options)}
+    pick = {k: getattr(args, k) if getattr(args, k) is not None else config.get(k)
+            for k in ("method", "problem", "store", "workers", "scheduler", "seed", "out")}
+    pick["method"] = pick["method"] or "fem"
+    pick["problem"] = pick["problem"] or "heated"
+    if not grid:
+        raise ValueError("empty grid: give e.g. --alpha 0.3,0.6,0.9 or a [grid] table in "
+                         "--config")
+    if pick["out"] is not None and Path(pick["out"]).suffix != ".nc":
+        raise ValueError(f"--out must end in .nc, got {str(pick['out'])!r}")
+    return {"grid": grid, "options": options, **pick}
+
+
+def run(args: argparse.Namespace) -> int:
+    s = _settings(args)
+    function, fixed = _function(s["method"], s["problem"])
+    if s["method"] in _PARTICLE_METHODS and "n_particles" not in s["grid"] | s["options"]:
+        raise ValueError(f"--method {s['method']} needs --particles N (or n_particles in the "
+                         "grid)")
+    if s["method"] in _PARTICLE_METHODS:
+        check_options(function, s["options"], f"{function.__module__}.{function.__name__}",
+                      exclude=tuple(s["grid"]))
+    else:
+        table = HEATED_SOLVERS if s["problem"] == "heated" else COOLING_SOLVERS
+        solver_opts = {k: v for k, v in s["options"].items()
+                       if k not in ("density", "diffusion", "friction", "kernel")}
+        check_options(table[s["method"]], solver_opts, f"method {s['method']!r}",
+                      exclude=("problem",))
+    if s["seed"] is not None:
+        fixed["seed"] = s["seed"]
+    executor, closing = _executor(s["workers"], s["scheduler"])
+    try:
+        ds = sweep(function, s["grid"], store=s["store"], executor=executor,
+                   progress=args.progress, **fixed, **s["options"])
+    finally:
+        if closing is not None:
+            closing.shutdown() if isinstance(closing, ProcessPoolExecutor) else closing.close()
+    _print_table(ds, list(s["grid"]))
+    if s["out"] is not None:
+        ds.to_netcdf(s["out"], engine="scipy")
+        print(f"saved to {s['out']}")
+    return 0
+
+
+def _print_table(ds: Any, dims: list[str]) -> None:
+    cols = [*dims, "T", "a2", "a2_error", "zeta", "converged", "wall_time"]
+    table = ds[["T", "a2", "a2_error", "zeta", "converged", "wall_time"]].to_dataframe()
+    table = table.reset_index()[cols]
+    if table["zeta"].isna().all():
+        table = table.drop(columns="zeta")
+    sys.stdout.write(table.to_string(index=False, float_format=lambda x: f"{x:.6g}") + "\n")
+    print(f"{int(ds.converged.sum())}/{ds.converged.size} point(s) converged; "
+          f"function {ds.attrs['function']} method {ds.attrs['method']}")

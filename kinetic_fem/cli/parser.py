@@ -1,0 +1,184 @@
+"""Argument parsing shared by the sub-commands of ``kinetic-fem``.
+
+:class:`CommandParser` reports a mistyped option with the usage of the sub-command it
+was typed in and the list of that sub-command's valid options (with the closest match);
+the model options (kernel, friction, restitution law) and ``-o KEY=VALUE`` solver
+options are parsed once here, and options a function does not take are named with the
+list of valid names.
+"""
+
+from __future__ import annotations
+
+import argparse
+import ast
+import difflib
+import inspect
+import logging
+import sys
+from pathlib import Path
+from typing import Any, Callable, Sequence
+
+from .. import io
+from ..distribution import VelocityDistribution
+from ..model import ThresholdRestitution, ViscoelasticRestitution
+
+__all__ = ["CommandParser", "key_value", "split_keys", "float_list", "int_list",
+           "setup_logging", "add_model_arguments", "restitution_of", "check_options",
+           "check_out", "save", "PACKAGES"]
+
+PACKAGES = ("kinetic_fem", "particles")
+
+
+class CommandParser(argparse.ArgumentParser):
+    """``argparse.ArgumentParser`` whose errors name the valid options of its command."""
+
+    def option_names(self) -> list[str]:
+        """The long (or only) option string of every optional argument."""
+        names = []
+        for action in self._actions:
+            if action.option_strings:
+                longs = [s for s in action.option_strings if s.startswith("--")]
+                names.append((longs or action.option_strings)[0])
+        return names
+
+    def reject_unknown(self, extra: Sequence[str]) -> None:
+        """Exit with this command's usage, the unknown words and the valid options."""
+        names = self.option_names()
+        hints = []
+        for word in extra:
+            if word.startswith("-"):
+                close = difflib.get_close_matches(word.split("=")[0],
+                                                  [n for n in names if n != "--help"], n=1)
+                if close:
+                    hints.append(f"{word.split('=')[0]} -> did you mean {close[0]}?")
+        hint = f" ({'; '.join(hints)})" if hints else ""
+        self.error(f"unrecognized argument(s): {' '.join(extra)}{hint}\n"
+                   f"valid options of '{self.prog}': {', '.join(names)}")
+
+
+def key_value(text: str) -> tuple[str, object]:
+    """``KEY=VALUE`` with VALUE a Python literal (number, bool, string, tuple ...)."""
+    key, sep, value = text.partition("=")
+    if not sep or not key.strip().isidentifier():
+        raise argparse.ArgumentTypeError(f"expected KEY=VALUE, got {text!r}")
+    try:
+        parsed: object = ast.literal_eval(value)
+    except (ValueError, SyntaxError):
+        parsed = value  # a plain string
+    return key.strip(), parsed
+
+
+def split_keys(text: str) -> list[str]:
+    keys = [k.strip() for k in text.split(",") if k.strip()]
+    if not keys:
+        raise argparse.ArgumentTypeError(f"no item given in {text!r}; e.g. --only F2,C5")
+    return keys
+
+
+def _list_of(kind: Callable[[str], Any], what: str) -> Callable[[str], list[Any]]:
+    def parse(text: str) -> list[Any]:
+        try:
+            values = [kind(x) for x in text.split(",") if x.strip()]
+        except ValueError:
+            raise argparse.ArgumentTypeError(
+                f"expected comma-separated {what}, e.g. 0.3,0.6,0.9; got {text!r}") from None
+        if not values:
+            raise argparse.ArgumentTypeError(f"no value in {text!r}")
+        return values
+    return parse
+
+
+float_list = _list_of(float, "numbers")
+int_list = _list_of(int, "integers")
+
+
+def setup_logging(quiet: bool) -> None:
+    """Log the packages to stderr at INFO (WARNING with ``--quiet``); command only."""
+    for name in PACKAGES:
+        log = logging.getLogger(name)
+        for old in [h for h in log.handlers if getattr(h, "_kinetic_fem", False)]:
+            log.removeHandler(old)  # a second call (tests) writes to the current stderr
+        handler = logging.StreamHandler(sys.stderr)
+        handler.setFormatter(logging.Formatter("%(levelname)s %(name)s: %(message)s"))
+        handler._kinetic_fem = True  # type: ignore[attr-defined]
+        log.addHandler(handler)
+        log.setLevel(logging.WARNING if quiet else logging.INFO)
+
+
+def _law(text: str) -> tuple[str, float | None]:
+    kind, _, value = text.partition(":")
+    kind = kind.strip().lower()
+    if kind == "constant" and not value:
+        return kind, None
+    if kind in ("threshold", "viscoelastic") and value:
+        try:
+            return kind, float(value)
+        except ValueError:
+            pass
+    raise argparse.ArgumentTypeError(
+        f"expected constant, threshold:SPEED or viscoelastic:DELTA, got {text!r}")
+
+
+def add_model_arguments(parser: argparse.ArgumentParser, *, heated: bool,
+                        alpha: bool = True) -> None:
+    """``alpha`` (positional), ``--restitution``, ``--kernel`` and (heated) ``--friction``."""
+    if alpha:
+        parser.add_argument("alpha", type=float, nargs="?", default=None,
+                            help="restitution coefficient, 0 <= alpha < 1 (not with "
+                                 "--restitution viscoelastic:DELTA)")
+        parser.add_argument("--restitution", type=_law, default=("constant", None),
+                            metavar="LAW",
+                            help="constant (default: alpha), threshold:SPEED (elastic below "
+                                 "the relative speed SPEED, alpha above) or viscoelastic:DELTA "
+                                 "(Brilliantov-Poeschel law)")
+    parser.add_argument("--kernel", type=float, default=1.0, metavar="GAMMA",
+                        help="collision kernel |g|^GAMMA, 0 <= GAMMA <= 2 (default 1: hard "
+                             "rods; 0: Maxwell model)")
+    parser.add_argument("--density", type=float, default=1.0, metavar="N",
+                        help="number density n > 0 (default: %(default)s)")
+    if heated:
+        parser.add_argument("--diffusion", type=float, default=1.0, metavar="D",
+                            help="noise strength D > 0 (default: %(default)s)")
+        parser.add_argument("--friction", type=float, default=0.0, metavar="XI",
+                            help="friction xi >= 0 of a Fokker-Planck bath, bath temperature "
+                                 "D/xi (default 0: white noise, the paper)")
+
+
+def restitution_of(args: argparse.Namespace) -> Any:
+    """``alpha`` as a float or a restitution law, from ``alpha`` and ``--restitution``."""
+    kind, value = args.restitution
+    if kind == "viscoelastic":
+        if args.alpha is not None:
+            raise ValueError("give either alpha or --restitution viscoelastic:DELTA, not both "
+                             "(the viscoelastic law sets alpha(g) itself)")
+        return ViscoelasticRestitution(value)
+    if args.alpha is None:
+        raise ValueError("alpha is required (e.g. 0.9), unless --restitution "
+                         "viscoelastic:DELTA is given")
+    return args.alpha if kind == "constant" else ThresholdRestitution(args.alpha, value)
+
+
+def check_options(function: Callable[..., Any], options: dict[str, Any], what: str,
+                  exclude: Sequence[str] = ()) -> None:
+    """Raise ValueError naming options ``function`` does not take, and the valid names."""
+    try:
+        params = inspect.signature(function).parameters
+    except (TypeError, ValueError):
+        return
+    if any(p.kind is p.VAR_KEYWORD for p in params.values()):
+        return
+    valid = sorted(n for n, p in params.items()
+                   if p.kind in (p.KEYWORD_ONLY, p.POSITIONAL_OR_KEYWORD) and n not in exclude)
+    unknown = sorted(set(options) - set(valid))
+    if unknown:
+        raise ValueError(f"unknown option(s) {unknown} for {what}; valid -o names: {valid}")
+
+
+def check_out(out: Path | None, suffixes: Sequence[str] = (".npz", *io.FORMATS)) -> None:
+    if out is not None and out.suffix not in suffixes:
+        raise ValueError(f"--out must end in {', '.join(suffixes)}; got {str(out)!r}")
+
+
+def save(dist: VelocityDistribution, out: Path) -> Path:
+    """Write ``dist`` as ``.npz`` (:meth:`VelocityDistribution.save`) or VTU/XDMF."""
+    return dist.save(out) if out.suffix == ".npz" else io.write_distribution(dist, out)
