@@ -1,0 +1,156 @@
+"""Plots of sweeps: :math:`a_2` against a parameter with error bars, families of f(c).
+
+The helpers take the ``xarray.Dataset`` of :func:`kinetic_fem.sweep.sweep` and draw on
+a given matplotlib ``Axes`` or on a new :class:`matplotlib.figure.Figure` created
+without pyplot, so importing this module (or drawing) never selects a backend; a
+backend is chosen only where a figure is written, by :func:`save_figure` (Agg, for
+files).  Pass ``ax=plt.gca()`` to draw into an interactive figure.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any, Callable
+
+import numpy as np
+
+__all__ = ["plot_a2", "plot_f", "plot_sweep", "new_axes", "save_figure"]
+
+
+def new_axes(n: int = 1, *, width: float = 5.0, height: float = 3.8) -> list[Any]:
+    """``n`` side-by-side Axes on a new pyplot-free Figure (``ax.figure`` is the Figure)."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(width * n, height), layout="constrained")
+    return list(np.atleast_1d(fig.subplots(1, n)))
+
+
+def save_figure(fig: Any, path: str | Path, **kwargs: Any) -> Path:
+    """Write ``fig`` to ``path`` (format from the suffix) with the Agg canvas.
+
+    A Figure made by pyplot keeps its own canvas; a pyplot-free one gets an Agg
+    canvas here, the only place a backend is chosen.
+    """
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    path = Path(path)
+    if type(fig.canvas).__name__ == "FigureCanvasBase":
+        FigureCanvasAgg(fig)
+    fig.savefig(path, **kwargs)
+    return path
+
+
+def _series(ds: Any, x: str) -> list[tuple[str, Any]]:
+    """One (label, 1-D sub-dataset along ``x``) per combination of the other grid dims."""
+    if x not in ds.dims:
+        raise ValueError(f"{x!r} is not a grid dimension of this sweep; dims: "
+                         f"{[d for d in ds.a2.dims]}")
+    others = [d for d in ds.a2.dims if d != x]
+    if not others:
+        return [("", ds)]
+    stacked = ds.stack(_line=others)
+    out = []
+    for i in range(stacked.sizes["_line"]):
+        line = stacked.isel(_line=i)
+        label = ", ".join(f"{d}={line[d].item()}" for d in others)
+        out.append((label, line))
+    return out
+
+
+def plot_a2(ds: Any, *, x: str = "alpha", ax: Any = None, label: str | None = None,
+            theory: Callable[[Any], Any] | None = None, **style: Any) -> Any:
+    """:math:`a_2` against ``x``, with its error bars where the method gives them.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A sweep (:func:`kinetic_fem.sweep.sweep`); one line per combination of the
+        grid dims other than ``x``.
+    x : str
+        The grid dimension on the horizontal axis.
+    ax : matplotlib Axes, optional
+        Default: a new pyplot-free figure (see :func:`save_figure`).
+    label : str, optional
+        Legend label (default: the method, plus the other dims' values).
+    theory : callable, optional
+        A curve ``theory(x_values)`` drawn dashed, e.g.
+        :func:`kinetic_fem.sonine.a2_first_order`.
+    **style
+        Passed to ``Axes.errorbar``.
+
+    Returns
+    -------
+    matplotlib Axes
+    """
+    ax = new_axes()[0] if ax is None else ax
+    base = label if label is not None else (ds.attrs.get("method") or "sweep")
+    for text, line in _series(ds, x):
+        xs = np.asarray(line[x].values, dtype=float)
+        order = np.argsort(xs)
+        err = np.asarray(line.a2_error.values, dtype=float)[order]
+        yerr = None if not np.isfinite(err).any() else np.nan_to_num(err)
+        kw = {"fmt": "o" if yerr is not None else "-", "ms": 4, "capsize": 2, **style}
+        ax.errorbar(xs[order], np.asarray(line.a2.values)[order], yerr=yerr,
+                    label=f"{base} {text}".strip(), **kw)
+    if theory is not None:
+        grid = np.linspace(float(ds[x].min()), float(ds[x].max()), 200)
+        ax.plot(grid, theory(grid), "k--", lw=1, label=getattr(theory, "__name__", "theory"))
+    ax.axhline(0.0, color="gray", lw=0.5)
+    ax.set(xlabel=x, ylabel="$a_2$")
+    ax.legend(fontsize="small")
+    return ax
+
+
+def plot_f(ds: Any, *, ax: Any = None, log: bool = True, gaussian: bool = True,
+           **style: Any) -> Any:
+    """The family :math:`f(c)` of every point of the sweep (one curve each).
+
+    Sampled points are drawn with their error band; ``log`` gives a log scale in
+    :math:`f` (tails), ``gaussian`` adds :math:`e^{-c^2/2}/\\sqrt{2\\pi}`.
+
+    Returns
+    -------
+    matplotlib Axes
+    """
+    ax = new_axes()[0] if ax is None else ax
+    c = np.asarray(ds.c.values, dtype=float)
+    flat = [(text, line) for text, line in _series(ds, ds.a2.dims[0])]
+    for text, line in flat:
+        first = ds.a2.dims[0]
+        for k in range(line.sizes[first]):
+            point = line.isel({first: k})
+            name = ", ".join(p for p in (f"{first}={point[first].item()}", text) if p)
+            f = np.asarray(point.f.values, dtype=float)
+            keep = f > 0 if log else np.isfinite(f)
+            (curve,) = ax.plot(c[keep], f[keep], label=name, **style)
+            err = np.asarray(point.f_error.values, dtype=float)
+            if np.isfinite(err[keep]).any():
+                ax.fill_between(c[keep], np.maximum(f - err, 0)[keep], (f + err)[keep],
+                                color=curve.get_color(), alpha=0.25, lw=0)
+    if gaussian:
+        ax.plot(c, np.exp(-c**2 / 2) / math.sqrt(2 * math.pi), "k:", lw=1, label="Gaussian")
+    if log:
+        ax.set_yscale("log")
+        positive = np.asarray(ds.f.values)[np.asarray(ds.f.values) > 0]
+        if positive.size:
+            ax.set_ylim(max(positive.min(), 1e-12) / 2, 1.0)
+    ax.set(xlabel="c", ylabel="f(c)")
+    ax.legend(fontsize="small")
+    return ax
+
+
+def plot_sweep(ds: Any, path: str | Path | None = None, *, x: str = "alpha",
+               theory: Callable[[Any], Any] | None = None) -> Any:
+    """Two panels, :func:`plot_a2` and :func:`plot_f`; written to ``path`` if given.
+
+    Returns
+    -------
+    matplotlib Figure
+    """
+    ax1, ax2 = new_axes(2)
+    plot_a2(ds, x=x, ax=ax1, theory=theory)
+    plot_f(ds, ax=ax2)
+    if path is not None:
+        save_figure(ax1.figure, path)
+    return ax1.figure
