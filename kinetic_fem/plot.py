@@ -59,7 +59,8 @@ def _series(ds: Any, x: str) -> list[tuple[str, Any]]:
 
 
 def plot_a2(ds: Any, *, x: str = "alpha", ax: Any = None, label: str | None = None,
-            theory: Callable[[Any], Any] | None = None, **style: Any) -> Any:
+            theory: Callable[[Any], Any] | None = None, theory_label: str | None = None,
+            **style: Any) -> Any:
     """:math:`a_2` against ``x``, with its error bars where the method gives them.
 
     Parameters
@@ -76,6 +77,8 @@ def plot_a2(ds: Any, *, x: str = "alpha", ax: Any = None, label: str | None = No
     theory : callable, optional
         A curve ``theory(x_values)`` drawn dashed, e.g.
         :func:`kinetic_fem.sonine.a2_first_order`.
+    theory_label : str, optional
+        Its legend label (default: the function's name).
     **style
         Passed to ``Axes.errorbar``.
 
@@ -95,7 +98,8 @@ def plot_a2(ds: Any, *, x: str = "alpha", ax: Any = None, label: str | None = No
                     label=f"{base} {text}".strip(), **kw)
     if theory is not None:
         grid = np.linspace(float(ds[x].min()), float(ds[x].max()), 200)
-        ax.plot(grid, theory(grid), "k--", lw=1, label=getattr(theory, "__name__", "theory"))
+        name = theory_label or getattr(theory, "__name__", "theory")
+        ax.plot(grid, theory(grid), "k--", lw=1, label=name)
     ax.axhline(0.0, color="gray", lw=0.5)
     ax.set(xlabel=x, ylabel="$a_2$")
     ax.legend(fontsize="small")
