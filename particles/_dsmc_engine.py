@@ -386,10 +386,6 @@ class Engine:
             params.update(dt=o.dt, diffusion=self.problem.diffusion)
             if self.problem.friction > 0.0:
                 params.update(friction=self.problem.friction)
-            inj = 2.0 * self.problem.diffusion * (1.0 - 1.0 / self.n)
-            if self.problem.friction > 0.0 and keep.any():
-                m0, m1, m2 = self.sums[keep, :3].sum(axis=0)
-                inj -= 2.0 * self.problem.friction * (m2 / m0 - (m1 / m0) ** 2)
             k = 0.5 / self.n
             ok = self.batch_time > 0
             if ok.any():
@@ -397,6 +393,14 @@ class Engine:
                 diss = k * self.batch_loss[ok].sum() / self.batch_time[ok].sum()
                 diss_err = (float(rates.std(ddof=1) / math.sqrt(rates.size))
                             if rates.size > 1 else float("nan"))
+            inj = 2.0 * self.problem.diffusion * (1.0 - 1.0 / self.n)
+            xi = self.problem.friction
+            if xi > 0.0 and keep.any():  # the exact input of the split OU kicks
+                m0, m1, m2 = self.sums[keep, :3].sum(axis=0)
+                temp = m2 / m0 - (m1 / m0) ** 2
+                t_bath = self.problem.thermostat.bath_temperature * (1.0 - 1.0 / self.n)
+                inj = (-math.expm1(-2.0 * xi * o.dt) * (t_bath - temp) / o.dt
+                       - math.expm1(-xi * o.dt) * diss)
         msg = ("interrupted (resume from the checkpoint)" if interrupted else
                "relaxation detected" if c["converged"] else
                "fixed relaxation" if o.relax != "auto" else "relaxation not detected")

@@ -1,33 +1,44 @@
 """Direct Simulation Monte Carlo of the homogeneous Boltzmann equation (1D inelastic rods).
 
-The ``N`` particles have velocities only (no positions).  The pair ``(i, j)`` collides
-at rate :math:`n|v_i - v_j|/(N-1)`, so that particle ``i`` collides at rate
-:math:`n \\langle |v_i - v'| \\rangle` over the others, the loss rate of
+The ``N`` particles have velocities only (no positions).  The model comes from
+:mod:`kinetic_fem.model`: a kernel :math:`B(g) = |g|^\\gamma`, ``0 <= gamma <= 2``
+(1: hard rods, the paper; 0: Maxwell), a restitution law :math:`\\alpha(g)` and a
+thermostat.  The pair ``(i, j)`` collides at rate :math:`n|v_i - v_j|^\\gamma/(N-1)`,
+so that particle ``i`` collides at rate :math:`n \\langle |v_i - v'|^\\gamma\\rangle`
+over the others, the loss rate of
 
 .. math::
 
-    \\partial_t P - D\\partial_v^2 P = -n\\int dv'\\,|v-v'|P(v)P(v')
-    + \\frac{4n}{(1+\\alpha)^2}\\int dv'\\,|v-v'|P(v')
-      P\\Big(\\frac{2v-(1-\\alpha)v'}{1+\\alpha}\\Big).
+    \\partial_t P = Q[P] + \\mathcal F[P], \\qquad
+    Q[P](v) = n\\int dv'\\,|v-v'|^\\gamma\\,[\\text{gain} - P(v)P(v')],
 
-The total rate is :math:`\\Lambda = \\tfrac n{N-1}\\sum_{i<j} g_{ij}
-= \\tfrac{Nn}{2}\\langle g\\rangle`.  *Thinning*: candidate pairs (two distinct
-uniform indices, each unordered pair with probability :math:`2/(N(N-1))`) are drawn
-at rate :math:`\\Lambda_{max} = N n g_{max}/2` and accepted with probability
-:math:`g_{ij}/g_{max}`; each pair then collides at rate
-:math:`\\Lambda_{max}\\cdot\\tfrac{2}{N(N-1)}\\cdot g_{ij}/g_{max} = n g_{ij}/(N-1)`
-as required, and each candidate advances time by :math:`2/(N n g_{max})`.  The
-majorant :math:`g_{max} = \\max v - \\min v` is the exact largest relative speed,
-and a collision, :math:`v_{1,2}' = v_{1,2} \\mp \\tfrac{1+\\alpha}{2}(v_1 - v_2)`,
-replaces two velocities by convex combinations of them, so it can never exceed
-``g_max``; it is re-measured after every kick (heated) or every ``N`` candidates
-(cooling).  No collision is ever lost.
+(for hard rods with constant ``alpha`` the gain is
+:math:`\\tfrac{4}{(1+\\alpha)^2}P(v')P(\\tfrac{2v-(1-\\alpha)v'}{1+\\alpha})`).
+The total rate is :math:`\\Lambda = \\tfrac n{N-1}\\sum_{i<j} g_{ij}^\\gamma`.
+*Thinning*: candidate pairs (two distinct uniform indices, each unordered pair with
+probability :math:`2/(N(N-1))`) are drawn at rate
+:math:`\\Lambda_{max} = N n g_{max}^\\gamma/2` and accepted with probability
+:math:`(g_{ij}/g_{max})^\\gamma`; each pair then collides at rate
+:math:`n g_{ij}^\\gamma/(N-1)` as required, and each candidate advances time by
+:math:`2/(N n g_{max}^\\gamma)`.  The majorant :math:`g_{max} = \\max v - \\min v` is
+the exact largest relative speed, and a collision,
+:math:`v_{1,2}' = v_{1,2} \\mp \\tfrac{1+\\alpha(g)}{2}(v_1 - v_2)`, replaces two
+velocities by convex combinations of them, so it can never exceed ``g_max``; it is
+re-measured after every kick (heated) or every ``N`` candidates (cooling).  No
+collision is ever lost.  For the Maxwell kernel (``gamma = 0``) every candidate
+collides: no rejection and no acceptance draw.  A restitution law is evaluated by
+:func:`kinetic_fem.model.restitution_value` at the physical relative speed; a run
+whose relative speeds leave the law's range (``law.max_speed``) stops with a
+``ValueError``.
 
 *Heated* (:func:`simulate_heated`): Strang splitting
 :math:`e^{\\Delta t(C+K)} \\approx e^{\\Delta t K/2} e^{\\Delta t C} e^{\\Delta t K/2}`
-of collisions ``C`` and white-noise kicks ``K`` (:math:`v \\to v + \\sqrt{2D\\Delta t}
-\\,\\xi`, exact for the diffusion); consecutive half kicks merge, measurements are
-taken after a half kick.  Weak error :math:`O(\\Delta t^2)`; the measured orders are
+of collisions ``C`` and thermostat kicks ``K``, each exact on its own: white noise
+:math:`v \\to v + \\sqrt{2D\\Delta t}\\,\\xi`; the Fokker-Planck bath by its exact
+Ornstein-Uhlenbeck update :math:`v \\to v e^{-\\xi\\Delta t} +
+\\sqrt{T_b(1 - e^{-2\\xi\\Delta t})}\\,\\xi`, :math:`T_b = D/\\xi`.  Consecutive half
+kicks merge (exactly, for both), measurements are taken after a half kick.  Weak
+error :math:`O(\\Delta t^2)`; the measured orders (hard rods, white noise) are
 1.7 +- 0.1 for T and 1.9 +- 0.3 for a2 (``benchmarks/convergence_dsmc.py``).  Kicks
 are applied to every particle at every step: "lazy" kicks (one Gaussian summing a
 particle's pending kicks when it is next touched) would leave the stored velocities
@@ -39,29 +50,37 @@ over): the expected count rather than a Poisson one, a difference of order
 :math:`2T/N`, see the N table of ``benchmarks/convergence_dsmc.py``).  The dynamics
 depend on velocity differences only, so velocities are kept in the centre-of-mass
 frame (the mean, a random walk driven by the kicks, is subtracted at every
-measurement); the kicks inject :math:`2D(1 - 1/N)` per particle into the internal
-energy.
+measurement); white-noise kicks inject :math:`2D(1 - 1/N)` per particle into the
+internal energy.  Numerical defaults come from the model: the reference temperature
+``T_ref`` is the Gaussian closure of the energy balance
+(:meth:`~kinetic_fem.model.HeatedProblem.temperature_estimate`), the collision
+rate per particle :math:`n\\langle|g|^\\gamma\\rangle` at ``T_ref``
+(:meth:`~kinetic_fem.model.PowerLawKernel.gaussian_mean`).
 
 *Free cooling* (:func:`simulate_cooling`): velocities are moved to the centre-of-mass
 frame and rescaled to unit temperature every ``N`` candidates (inside the kernel)
 while :math:`\\ln` of the scale and :math:`\\ln t` are accumulated (``logaddexp``),
-so nothing under- or overflows over any number of collisions.  Time advances by the
-expected candidate spacing: the sequence of collisions is exact, and the clock
-differs from the exponential waiting times of the exact process by a relative
-:math:`O(\\text{candidates}^{-1/2})`.
+so nothing under- or overflows over any number of collisions; a candidate at scale
+``S`` (physical velocity per unit) advances time by
+:math:`2/(N n (S g_{max})^\\gamma)`, so that :math:`dT/dt = -2\\zeta n T^{1+\\gamma/2}`
+(:meth:`DSMCRun.cooling_rate`).  Time advances by the expected candidate spacing:
+the sequence of collisions is exact, and the clock differs from the exponential
+waiting times of the exact process by a relative :math:`O(\\text{candidates}^{-1/2})`.
 
 Random numbers: an explicit-state xoshiro256** stream inside the kernels (seeded
 from a ``numpy.random.SeedSequence``, saved in checkpoints) for pairs, acceptance and
-Gaussian kicks (ziggurat); see :mod:`particles._dsmc_kernels`.
+Gaussian kicks (ziggurat); see :mod:`particles.rng`.
 
 *Relaxation detector* (``relax="auto"``): the time series are cut into windows of
-:math:`W = \\max(2, 2/(1-\\alpha^2))` collisions per particle (at least 10 samples),
-about three linear relaxation times of T (:math:`\\tau\\nu = 2/(3(1-\\alpha^2))`
-collisions per particle from the energy balance).  Averaging starts after the first
-window whose means of ``a2`` and of ``ln T`` (heated) or ``a3`` (cooling) differ from
-those of the previous window by less than three combined standard errors (each from the
-spread of five sub-block means, as the samples are correlated; at least two windows,
-at most 20; ``info.converged`` is False if the cap is hit).
+:math:`W = \\max(2, 2/(1-\\alpha^2))` collisions per particle (at least 10 samples;
+for a restitution law :math:`1-\\alpha^2` is its average weighted by
+:math:`|g|^{\\gamma+2}` at ``T_ref``), about three linear relaxation times of T
+(:math:`\\tau\\nu = 2/(3(1-\\alpha^2))` collisions per particle from the energy
+balance).  Averaging starts after the first window whose means of ``a2`` and of
+``ln T`` (heated) or ``a3`` (cooling) differ from those of the previous window by less
+than three combined standard errors (each from the spread of five sub-block means, as
+the samples are correlated; at least two windows, at most 20; ``info.converged`` is
+False if the cap is hit).
 
 References
 ----------
@@ -150,13 +169,8 @@ def _seeds(seed: int | np.random.SeedSequence | None) -> tuple[Any, Any, str]:
 def _common(n_particles: int, collisions_per_particle: float, relax: str | float,
             sample_every: float, n_batches: int, bins: int, c_max: float,
             checkpoint: str | Path | None, checkpoint_every: float, resume: bool,
-            max_wall_time: float | None, progress: bool,
-            dissipation: float) -> dict[str, Any]:
-    """Validate the run options shared by both problems.
-
-    ``dissipation``: :math:`1-\\alpha^2` (its Gaussian average for a restitution law),
-    which sets the relaxation window :math:`W = \\max(2, 2/(1-\\alpha^2))`.
-    """
+            max_wall_time: float | None, progress: bool, w: float) -> dict[str, Any]:
+    """Validate the run options shared by both problems; ``w``: :func:`_window`."""
     n = _check_int("n_particles", n_particles, 2, 2**32 - 1)
     cpp = check_positive("collisions_per_particle", collisions_per_particle)
     every = check_positive("sample_every", sample_every)
@@ -173,10 +187,10 @@ def _common(n_particles: int, collisions_per_particle: float, relax: str | float
         raise ValueError("resume=True needs a checkpoint path")
     if max_wall_time is not None:
         check_positive("max_wall_time", max_wall_time)
-    w = max(2.0, 2.0 / dissipation) if dissipation > 0.0 else 1e4
     if cpp / nb < w:
         logger.warning("batches of %.3g collisions per particle are shorter than the "
-                       "relaxation window %.3g (2/(1-alpha^2)): consecutive batches are "
+                       "relaxation window %.3g (2/(1-alpha^2) for hard rods): consecutive "
+                       "batches are "
                        "correlated and the error bars too small; run longer or use fewer "
                        "batches", cpp / nb, w)
     return {"n": n, "relax": relax if relax == "auto" else float(relax),
@@ -185,6 +199,24 @@ def _common(n_particles: int, collisions_per_particle: float, relax: str | float
             "window": max(10, int(math.ceil(w / every))), "checkpoint": checkpoint,
             "checkpoint_every": float(checkpoint_every), "resume": bool(resume),
             "max_wall_time": max_wall_time, "progress": bool(progress)}
+
+
+def _window(gas: InelasticGas, temperature: float, friction: float = 0.0) -> float:
+    """Relaxation window: three linear relaxation times of T, in collisions per particle.
+
+    The Gaussian closure gives the relaxation rate of T over the collision rate
+    :math:`\\nu = n\\langle|g|^\\gamma\\rangle`:
+    :math:`\\lambda/\\nu = (2+\\gamma)(1+\\gamma)(1-\\alpha^2)/4 + 2\\xi/\\nu`, so
+    :math:`W = \\max(2, 3\\nu/\\lambda)`; hard rods under white noise:
+    :math:`2/(1-\\alpha^2)`.
+    """
+    diss = _dissipation(gas, temperature)
+    gamma = gas.gamma
+    inverse = diss / 2.0 if gamma == 1.0 else (2 + gamma) * (1 + gamma) * diss / 12.0
+    if friction > 0.0:
+        nu = gas.density * gas.kernel.gaussian_mean(temperature)
+        inverse += 2.0 * friction / (3.0 * nu)
+    return max(2.0, 1.0 / inverse)
 
 
 def _dissipation(gas: InelasticGas, temperature: float) -> float:
@@ -309,7 +341,7 @@ def simulate_heated(alpha: float | RestitutionLaw, n_particles: int, *, density:
     t_ref = problem.temperature_estimate()
     o = _common(n_particles, collisions_per_particle, relax, sample_every, n_batches, bins,
                 c_max, checkpoint, checkpoint_every, resume, max_wall_time, progress,
-                _dissipation(gas, t_ref))
+                _window(gas, t_ref, problem.friction))
     c_max = check_positive("c_max", c_max)
     init_seq, run_seq, entropy = _seeds(seed)
     paper = gas.gamma == 1.0 and gas.restitution.constant is not None and friction == 0.0
@@ -386,7 +418,7 @@ def simulate_cooling(alpha: float | RestitutionLaw, n_particles: int, *, density
     gas = problem.gas
     o = _common(n_particles, collisions_per_particle, relax, sample_every, n_batches, bins,
                 c_max, checkpoint, checkpoint_every, resume, max_wall_time, progress,
-                _dissipation(gas, 1.0))
+                _window(gas, 1.0))
     c_max = check_positive("c_max", c_max)
     init_seq, run_seq, entropy = _seeds(seed)
     v = _initial(initial_velocities, o["n"], 1.0, init_seq)
