@@ -1,23 +1,29 @@
 """Sphinx configuration of the kinetic-fem documentation.
 
-The API reference is generated from what exists: every public module of
-``kinetic_fem`` and ``particles`` that imports cleanly is listed (see
-:func:`_api_modules`), so a module added by a later capability appears without
-editing this file, and a module that cannot be imported is left out with a
-message instead of breaking the build.  The gallery is built from
-``docs/examples`` (``-D plot_gallery=0`` skips running the examples).
+The API reference is generated from what exists (``docs/sphinxext/api_pages.py``):
+every public module of ``kinetic_fem`` and ``particles`` that imports cleanly gets a
+page, each object is documented once, in the module that defines it, so a module
+added by a later capability appears without editing this file, and a module that
+cannot be imported is left out with a message instead of breaking the build.  The
+gallery is built from ``docs/examples`` in the order of ``sphinxext/gallery_order.py``;
+every example is executed (``-D plot_gallery=0`` skips that) and a failing example
+fails the build.
+With ``KINETIC_FEM_DOCS_QUICK=1`` in the environment the examples run at the cheap
+sizes they state (CI does this).  Maths is rendered by a MathJax copy bundled with
+``sphinx-mathjax-offline``, so pages need no network.
 """
 
 from __future__ import annotations
 
-import importlib
-import logging
-import pkgutil
+import sys
 from pathlib import Path
 
 import matplotlib
 
 matplotlib.use("Agg")
+sys.path.insert(0, str(Path(__file__).parent / "sphinxext"))
+
+from api_pages import write_api_pages  # noqa: E402  (docs/sphinxext)
 
 import kinetic_fem  # noqa: E402
 
@@ -31,7 +37,9 @@ extensions = [
     "sphinx.ext.autodoc",
     "sphinx.ext.autosummary",
     "sphinx.ext.mathjax",
+    "sphinx-mathjax-offline",  # MathJax 3 copied into _static: no CDN at view time
     "sphinx.ext.viewcode",
+    "matplotlib.sphinxext.plot_directive",  # the figure of getting_started
     "numpydoc",
     "sphinx_gallery.gen_gallery",
 ]
@@ -42,10 +50,21 @@ exclude_patterns = ["_build", "examples/README.rst",
 html_theme = "pydata_sphinx_theme"
 html_title = "kinetic-fem"
 html_theme_options = {"show_toc_level": 2}
+# Pages linked from the top-level toctree have no section navigation: an empty
+# left sidebar would only narrow the text (and clip wide equations).
+html_sidebars = {
+    "index": [], "getting_started": [], "validation": [], "contributing": [],
+    "user_guide/*": [], "auto_examples/index": [],
+}
+html_static_path = ["_static"]
+html_css_files = ["custom.css"]
 
 # No network: no intersphinx inventories are fetched.
 autosummary_generate = True
 autosummary_imported_members = False
+plot_html_show_source_link = False
+plot_html_show_formats = False
+plot_formats = [("png", 100)]
 autodoc_default_options = {"members": True, "show-inheritance": False}
 autodoc_typehints = "none"  # numpydoc shows the types from the docstrings
 numpydoc_show_class_members = False
@@ -59,49 +78,13 @@ sphinx_gallery_conf = {
     "reset_modules": ("matplotlib",),
     "matplotlib_animations": False,
     "write_computation_times": False,
+    "within_subsection_order": "gallery_order.LearningOrder",
+    # a failing example fails the build (the default, stated)
+    "only_warn_on_example_error": False,
 }
 
 _HERE = Path(__file__).parent
-_PACKAGES = ("kinetic_fem", "particles")
-_LOG = logging.getLogger("kinetic_fem.docs")
-
-
-def _api_modules(package: str) -> list[str]:
-    """Public modules of ``package`` (recursively) that import without error."""
-    pkg = importlib.import_module(package)
-    names = [package]
-    for mod in pkgutil.walk_packages(pkg.__path__, prefix=f"{package}."):
-        if any(part.startswith("_") for part in mod.name.split(".")):
-            continue
-        try:
-            importlib.import_module(mod.name)
-        except Exception as exc:  # noqa: BLE001 - a half-written module must not break docs
-            _LOG.warning("API reference: %s left out (%s: %s)", mod.name,
-                         type(exc).__name__, exc)
-            continue
-        names.append(mod.name)
-    return sorted(names)
-
-
-_TITLES = {"kinetic_fem": "kinetic_fem: deterministic kinetic theory",
-           "particles": "particles: DSMC and event-driven MD"}
-
-
-def _write_api_lists() -> None:
-    """Write one page per package listing its modules (autosummary), for ``api.rst``."""
-    out = _HERE / "api" / "generated"
-    out.mkdir(parents=True, exist_ok=True)
-    for package in _PACKAGES:
-        title = f"``{_TITLES[package]}``"
-        lines = [title, "=" * len(title), "", ".. autosummary::", "   :toctree: .", ""]
-        lines += [f"   {name}" for name in _api_modules(package)]
-        text = "\n".join(lines) + "\n"
-        target = out / f"{package}_modules.rst"
-        if not target.exists() or target.read_text() != text:
-            target.write_text(text)
-
-
-_write_api_lists()
+write_api_pages(_HERE)
 
 _USER_GUIDE_GLOB = "   user_guide/*\n"
 _USER_GUIDE_LISTED = {"physics", "methods", "reproducing"}

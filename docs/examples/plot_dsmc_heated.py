@@ -1,6 +1,6 @@
 r"""
-DSMC of the randomly heated gas: :math:`a_2`, :math:`f(c)` and the energy balance
-===================================================================================
+DSMC of the randomly heated gas: a2, f(c) and the energy balance
+================================================================
 
 Direct Simulation Monte Carlo (:func:`particles.dsmc.simulate_heated`) solves the
 homogeneous Boltzmann equation of the heated one-dimensional inelastic gas,

@@ -1,6 +1,6 @@
 r"""
-First-order Sonine theory: :math:`a_2` over :math:`\alpha`
-==========================================================
+First-order Sonine theory: a2 over alpha
+========================================
 
 The kurtosis coefficient of the heated one-dimensional gas in first-order Sonine
 theory (van Noije and Ernst 1998) is
