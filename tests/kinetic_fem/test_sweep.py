@@ -8,7 +8,6 @@ import sys
 import textwrap
 import time
 from concurrent.futures import ProcessPoolExecutor
-from multiprocessing import get_context
 from types import SimpleNamespace
 
 import numpy as np
@@ -151,6 +150,12 @@ def test_damaged_point_file_is_recomputed(tmp_path, caplog, damage):
     assert without_wall_time(again).identical(without_wall_time(first))
 
 
+def test_progress_bar_goes_to_stderr(capsys):
+    sweep(sampled_gauss, {"alpha": [0.5, 1.0]}, executor="serial", progress=True)
+    err = capsys.readouterr().err
+    assert "sweep: 100%" in err and "2/2" in err
+
+
 def test_failure_keeps_finished_points(tmp_path):
     store = tmp_path / "s"
     with pytest.raises(RuntimeError, match="no convergence") as info:
@@ -172,7 +177,7 @@ def test_results_identical_for_every_executor():
     distributed = pytest.importorskip("distributed")
     serial = without_wall_time(_dsmc_sweep("serial"))
     assert np.isfinite(serial.a2_error).all() and (serial.n_collisions > 0).all()
-    with ProcessPoolExecutor(2, mp_context=get_context("fork")) as pool:
+    with ProcessPoolExecutor(2) as pool:
         assert without_wall_time(_dsmc_sweep(pool)).identical(serial)
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=False,
                                   dashboard_address=None) as cluster, \
