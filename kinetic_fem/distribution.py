@@ -10,7 +10,10 @@ corrected:
 
 .. math::
 
-    T = \\langle (v-u)^2 \\rangle, \\quad c = (v - u)/\\sqrt{T}, \\quad
+    T = \\langle (v-u)^2 \\rangle, \\quad c = (v - u)/\\sqrt{T},
+
+.. math::
+
     f(c) = \\sqrt{T} P(u + c\\sqrt{T}), \\quad
     a_2 = \\frac{\\langle (v-u)^4 \\rangle}{3 T^2} - 1,
 
@@ -55,7 +58,9 @@ MAX_MOMENT = 2 * MAX_SONINE
 
 @dataclass(frozen=True)
 class RunInfo:
-    """How a result was obtained (cf. SciPy's ``OdeResult``).
+    """How a result was obtained: convergence, iterations, residual and cost.
+
+    Like SciPy's ``OdeResult``.
 
     Attributes
     ----------
@@ -100,7 +105,21 @@ class RunInfo:
 
 @dataclass(frozen=True)
 class Comparison:
-    """Differences between two distributions (see :meth:`VelocityDistribution.compare`)."""
+    """Differences between two distributions (see :meth:`VelocityDistribution.compare`).
+
+    Attributes
+    ----------
+    temperature_rel : float
+        Relative difference of the temperatures, :math:`|T_1/T_2 - 1|`.
+    a2_abs : float
+        Absolute difference of the kurtosis coefficients, :math:`|a_{2,1} - a_{2,2}|`.
+    f_rel_max : float
+        Largest relative difference :math:`|f_1(c)/f_2(c) - 1|` of the scaled
+        distributions over the compared nodes (NaN if none is compared).
+    c_max : float
+        The nodes compared are those with :math:`|c| \\le` ``c_max`` where both
+        distributions exceed the ``floor`` of :meth:`VelocityDistribution.compare`.
+    """
 
     temperature_rel: float
     a2_abs: float
