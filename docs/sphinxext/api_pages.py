@@ -207,7 +207,10 @@ def write_api_pages(docs_dir: Path) -> None:
         if not present:
             continue
         lines += [f".. rubric:: {title}", "", ".. autosummary::", ""]
-        lines += [f"   ~{r}" for _, r in present] + [""]
+        # the short name, unless two entries share it (dsmc and md)
+        short = [r.rpartition(".")[2] for _, r in present]
+        lines += [f"   {'~' if short.count(r.rpartition('.')[2]) == 1 else ''}{r}"
+                  for _, r in present] + [""]
     lines += solver_options_table()
     _write(out / "start_here.rst", "\n".join(lines))
 
