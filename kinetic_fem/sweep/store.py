@@ -8,8 +8,9 @@ Layout of a store directory::
 Each point file is written whole to a temporary name in the same directory, flushed to
 disk (``fsync``) and renamed over its final name with :func:`os.replace`, which is
 atomic on POSIX file systems: a reader sees either no file or a complete one, and
-processes that write different points never touch the same file, so any number of
-sweeps (or a killed one and its rerun) can share a store without locks.  Every file
+processes never write the same file, so any number of sweeps (or a killed one and its
+rerun) can share a store without locks (two sweeps running at once may compute the same
+point twice; each rename leaves a complete file).  Every file
 carries the SHA-256 checksum of its point key and data; a file that cannot be read or
 whose checksum does not match (a truncated copy, a disk error) is logged, removed and
 recomputed, never read as data.
@@ -22,7 +23,7 @@ import io
 import json
 import logging
 import os
-import tempfile
+import secrets
 from pathlib import Path
 from typing import Any, Mapping
 
@@ -53,7 +54,9 @@ def point_filename(key: str) -> str:
 
 
 def _write_atomic(path: Path, payload: bytes) -> None:
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    # a unique temporary name; mode 0o666 less the umask (mkstemp would give 0o600)
+    tmp = path.parent / f".{path.name}.{os.getpid()}.{secrets.token_hex(6)}.tmp"
+    fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
     try:
         with os.fdopen(fd, "wb") as fh:
             fh.write(payload)
