@@ -14,6 +14,7 @@
 5. Heated a2 against alpha: MD (N = 5000) vs DSMC vs first-order Sonine (``--part a2``).
 
 Run ``python benchmarks/bench_md.py [--quick] [--part speed|kicks|a2|threshold|invariants]``.
+Before/after speed comparisons: ``benchmarks/bench_md_before_after.py``.
 The machine may be shared: part 1 reports CPU time of the process (the event loop is
 single-threaded), which does not count time spent descheduled but still feels the
 other jobs in the caches; whole-run timings are wall-clock.
