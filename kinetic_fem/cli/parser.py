@@ -69,6 +69,7 @@ def key_value(text: str) -> tuple[str, object]:
 
 
 def split_keys(text: str) -> list[str]:
+    """Comma-separated keys (``--only F2,C5``), at least one."""
     keys = [k.strip() for k in text.split(",") if k.strip()]
     if not keys:
         raise argparse.ArgumentTypeError(f"no item given in {text!r}; e.g. --only F2,C5")
@@ -175,6 +176,7 @@ def check_options(function: Callable[..., Any], options: dict[str, Any], what: s
 
 
 def check_out(out: Path | None, suffixes: Sequence[str] = (".npz", *io.FORMATS)) -> None:
+    """Raise ValueError unless ``out`` is None or ends in one of ``suffixes``."""
     if out is not None and out.suffix not in suffixes:
         raise ValueError(f"--out must end in {', '.join(suffixes)}; got {str(out)!r}")
 

@@ -93,7 +93,8 @@ def test_seeds_come_from_the_point_and_the_root():
     ds = sweep(sampled_gauss, {"alpha": [0.5, 1.0]}, executor="serial")
     assert int(ds.seed.sel(alpha=0.5)) == point_seed({"alpha": 0.5})
     assert float(ds.a2_error[0]) > 0 and np.isfinite(ds.T_error).all()
-    assert float(ds.T.sel(alpha=0.5)) == pytest.approx(2.0, rel=0.05)  # 5 sigma at n=4000
+    # the variance of 4000 normal samples has relative standard error sqrt(2/4000) = 2.2 %
+    assert float(ds.T.sel(alpha=0.5)) == pytest.approx(2.0, rel=0.11)  # 5 standard errors
     rooted = sweep(sampled_gauss, {"alpha": [0.5, 1.0]}, executor="serial", seed=7)
     assert int(rooted.seed.sel(alpha=0.5)) == point_seed({"alpha": 0.5}, root=7)
     assert float(rooted.T[0]) != float(ds.T[0])
