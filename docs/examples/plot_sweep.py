@@ -1,6 +1,6 @@
 r"""
-A parameter sweep: :math:`a_2` against the restitution coefficient
-===================================================================
+A parameter sweep: a2 against the restitution coefficient
+=========================================================
 
 :func:`kinetic_fem.sweep.sweep` evaluates a solver or a particle simulation on the
 outer product of a grid of parameters and returns an ``xarray.Dataset`` whose
