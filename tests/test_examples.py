@@ -78,3 +78,49 @@ def test_readme_commands_match_ci():
     assert test_command in readme
     assert test_command in ci
     assert "python -m sphinx -W" in ci
+
+
+def test_getting_started_output():
+    """The output printed on the getting-started page is what docs/first_solve.py prints.
+
+    The page shows the script (literalinclude) and its output as text; the numbers must
+    stay what the script computes.  T, a2 and f are compared to the digits printed
+    (round-off of the last digit allowed); the node count is compared exactly.
+    """
+    root = Path(__file__).parents[1]
+    page = (root / "docs" / "getting_started.rst").read_text()
+    block = page.split(".. code-block:: text", 1)[1].split("\n\n", 2)[1]
+    documented = [line.strip() for line in block.splitlines() if line.strip()]
+    script = root / "docs" / "first_solve.py"
+    import contextlib
+    import io
+    import re
+    import runpy
+
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        runpy.run_path(str(script), run_name="first_solve")  # not __main__: no show()
+    printed = [line.strip() for line in out.getvalue().splitlines() if line.strip()]
+    assert len(printed) == len(documented), (printed, documented)
+    number = re.compile(r"[-+]?\d+\.?\d*(?:e[-+]?\d+)?")
+    for got, doc in zip(printed, documented, strict=True):
+        assert number.sub("#", got) == number.sub("#", doc), (got, doc)
+        for g, d in zip(number.findall(got), number.findall(doc), strict=True):
+            digits = d.split("e")[0]
+            ulp = 10.0 ** -(len(digits.split(".")[1]) if "." in digits else 0)
+            scale = 10.0 ** int(d.split("e")[1]) if "e" in d else 1.0
+            assert abs(float(g) - float(d)) <= 1.01 * ulp * scale, (got, doc)
+
+
+def test_example_titles_have_no_maths():
+    """Gallery titles appear in tiles, the sidebar and the browser title: no maths there."""
+    for path in EXAMPLES:
+        title = load_example_doc(path).strip().splitlines()[0]
+        assert ":math:" not in title and "$" not in title, f"{path.name}: maths in {title!r}"
+
+
+def load_example_doc(path: Path) -> str:
+    """The module docstring of an example, without running it."""
+    import ast
+
+    return ast.get_docstring(ast.parse(path.read_text())) or ""
