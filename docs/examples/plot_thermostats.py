@@ -134,8 +134,9 @@ report(result)
 # differently: under white noise the rods cluster (Var N/<N> up to 4.5 in boxes of
 # 40-80 rod lengths, T = 2.04 against the Boltzmann 1.24, a2 = 0.26 +- 0.02), in the
 # bath they stay near the equilibrium hard-rod value 0.25 (0.25-0.41; T = 1.21,
-# a2 = 0.030 +- 0.001, of which about 0.003 is the splitting bias of the kick
-# interval, measured by refining it).  The friction, which takes energy from the fast
+# a2 = 0.030 +- 0.001, of which 0.002-0.006 is the splitting bias of the default kick
+# interval: N = 2000 runs at 2, 1 and 1/4 times it gave a2 = 0.037, 0.029, 0.027,
+# +- 0.002 each, and T 0.6 % low).  The friction, which takes energy from the fast
 # rods and the dense clusters alike, suppresses the clustering that white noise
 # lets grow.  Near elastic (alpha = 0.95) MD and FEM agree within the MD's error
 # bars under the bath (tests/particles/test_md_model.py).
