@@ -1,6 +1,13 @@
 """Throughput of the homogeneous DSMC kernels (accepted collisions per second, one core).
 
-Run: ``python benchmarks/bench_dsmc.py [--quick] [--no-replicas]``.
+Run: ``python benchmarks/bench_dsmc.py [--quick] [--no-replicas] [--baseline DIR]``.
+
+``--baseline DIR``: DIR holds an older ``particles`` package (e.g. ``git archive <commit>
+particles | tar -x -C DIR``); the hard-rod cases are then timed alternately with it (in
+a subprocess with ``PYTHONPATH=DIR``) and with this checkout, twice each, best of all,
+and printed side by side with the ratio (the machine's load changes slowly, so
+alternating makes the ratio fair).  The Maxwell kernel (no rejection) and the other
+power-law kernels are timed after the hard-rod table.
 
 Cases (issue 5): free cooling at alpha = 0.9 and the heated gas at alpha = 0.6 with a
 time step of 0.05 mean free times (kicks included), each for N = 25000 and N = 1e6
@@ -36,11 +43,39 @@ from kinetic_fem.sonine import steady_temperature
 from particles import _dsmc_kernels as kern
 from particles import dsmc
 
-TABLES = kern.ziggurat_tables()
+try:  # this checkout: the generator in particles.rng, segments in their own module
+    from particles import _dsmc_segments as seg
+    from particles import rng as _rng
+    NEW_API = True
+except ImportError:  # a baseline from before the model layer
+    seg = _rng = kern
+    NEW_API = False
+
+TABLES = _rng.ziggurat_tables()
 
 
 def _state(seed: int) -> np.ndarray:
     return np.random.SeedSequence(seed).generate_state(4, dtype=np.uint64)
+
+
+def cooling_block(v, m, refresh, alpha, s, kcode=1, gamma=1.0):
+    """The cooling block of either kernel API (hard rods, constant alpha, unless new)."""
+    if NEW_API:
+        return seg.cooling_block(v, m, refresh, kcode, gamma, 0, alpha, 0.0, 0.0, s)
+    return kern.cooling_block(v, m, refresh, alpha, s)
+
+
+def heated_segment(v, steps, dt, amp, rate, alpha, debt, s, kcode=1, gamma=1.0):
+    """The white-noise heated segment of either kernel API: ``(accepted, loss, debt)``."""
+    if NEW_API:
+        return seg.heated_segment(v, steps, dt, 1.0, amp, 1.0, amp / math.sqrt(2.0), rate,
+                                  kcode, gamma, 0, alpha, 0.0, math.inf, debt, s, *TABLES)[:3]
+    return kern.heated_segment(v, steps, dt, amp, rate, alpha, debt, s, *TABLES)
+
+
+def null_kick(u, s):
+    """A kick of amplitude 0 (leaves ``u`` unchanged) of either API."""
+    return seg.kick(u, 1.0, 0.0, s, *TABLES) if NEW_API else kern.kick(u, 0.0, s, *TABLES)
 
 
 def mean_acceptance(v: np.ndarray) -> float:
@@ -57,12 +92,12 @@ def cooling(n: int, collisions_per_particle: float, seed: int = 0,
     s = _state(seed)
     v = np.random.default_rng(seed).normal(size=n)
     # relax: 40 collisions per particle (the acceptance settles after about 30)
-    kern.cooling_block(v, int(40 * n / 2 / 0.15), n, 0.9, s)
+    cooling_block(v, int(40 * n / 2 / 0.15), n, 0.9, s)
     best = None
     for _ in range(repeat):
         m = int(collisions_per_particle * n / 2 / 0.15)
         t0, c0 = time.perf_counter(), time.process_time()
-        acc, _, _ = kern.cooling_block(v, m, n, 0.9, s)
+        acc, _, _ = cooling_block(v, m, n, 0.9, s)
         wall, cpu = time.perf_counter() - t0, time.process_time() - c0
         if best is None or acc / cpu > best["rate"]:
             best = {"rate": acc / cpu, "ns_coll": cpu / acc * 1e9, "wall": acc / wall,
@@ -81,11 +116,11 @@ def heated(n: int, collisions_per_particle: float, seed: int = 0, repeat: int = 
     v = np.random.default_rng(seed).normal(0.0, math.sqrt(t_ref), n)
     steps = max(1, int(collisions_per_particle / step))
     args = (dt, math.sqrt(2 * dt), 0.5 * n, alpha)
-    kern.heated_segment(v, int(10 / step), *args, 0.0, s, *TABLES)  # 10 collisions/particle
+    heated_segment(v, int(10 / step), *args, 0.0, s)  # 10 collisions/particle
     best = None
     for _ in range(repeat):
         t0, c0 = time.perf_counter(), time.process_time()
-        acc, _, _ = kern.heated_segment(v, steps, *args, 0.0, s, *TABLES)
+        acc, _, _ = heated_segment(v, steps, *args, 0.0, s)
         wall, cpu = time.perf_counter() - t0, time.process_time() - c0
         if best is None or acc / cpu > best["rate"]:
             best = {"rate": acc / cpu, "ns_coll": cpu / acc * 1e9, "wall": acc / wall,
@@ -98,7 +133,7 @@ def heated(n: int, collisions_per_particle: float, seed: int = 0, repeat: int = 
     for _ in range(2 * repeat):
         c0 = time.process_time()
         for _ in range(sweeps):
-            kern.kick(u, 0.0, s, *TABLES)
+            null_kick(u, s)
         kick = min(kick, (time.process_time() - c0) / (sweeps * n) * 1e9)
     best["ns_kick"] = kick
     best["kick_share"] = kick * n * best["steps"] / best["acc"] / best["ns_coll"]
@@ -107,7 +142,7 @@ def heated(n: int, collisions_per_particle: float, seed: int = 0, repeat: int = 
 
 def batch_ratio(v: np.ndarray, repeat: int = 3) -> tuple[float, float]:
     """ns per candidate of ``collide`` on (copies of) ``v``: plain loop, batches."""
-    lo, hi = kern.extent(v)
+    lo, hi = seg.extent(v)
     m = v.size
     calls = max(1, 4_000_000 // m)
     out = []
@@ -130,12 +165,12 @@ def rng_costs(n: int = 4_000_000) -> dict[str, float]:
     """Nanoseconds per normal and per candidate with every velocity in the L1 cache."""
     s = _state(1)
     out = np.empty(n)
-    kern.fill_normal(out, s, *TABLES)  # compile and touch every page before timing
+    _rng.fill_normal(out, s, *TABLES)  # compile and touch every page before timing
     c0 = time.process_time()
-    kern.fill_normal(out, s, *TABLES)
+    _rng.fill_normal(out, s, *TABLES)
     normal = (time.process_time() - c0) / n * 1e9
     v = np.random.default_rng(1).normal(size=1000)  # 8 kB: in the L1 cache
-    lo, hi = kern.extent(v)
+    lo, hi = seg.extent(v)
     kern.collide(v, 1000, -1.0, hi - lo, s)
     c0 = time.process_time()
     kern.collide(v, n, -1.0, hi - lo, s)  # alpha = -1: collisions leave v unchanged
@@ -161,14 +196,107 @@ def replicas(n: int, cpp: float, workers: int) -> tuple[float, float]:
     return serial, parallel
 
 
+def hard_rod_rates(cpp: float, repeat: int) -> dict[str, float]:
+    """Accepted collisions per CPU second of the hard-rod cases (kernels and whole calls)."""
+    out = {}
+    for n in (25_000, 1_000_000):
+        out[f"cooling kernel alpha=0.9 N={n}"] = cooling(
+            n, cpp if n < 10**6 else cpp / 4, repeat=repeat)["rate"]
+    for n, step in ((25_000, 0.05), (1_000_000, 0.05), (25_000, 0.2)):
+        out[f"heated kernel alpha=0.6 dt={step} N={n}"] = heated(
+            n, cpp / 4 if n < 10**6 else cpp / 20, repeat=repeat, step=step)["rate"]
+    for name, func, alpha in (("heated", dsmc.simulate_heated, 0.6),
+                              ("cooling", dsmc.simulate_cooling, 0.9)):
+        best = 0.0
+        for _ in range(repeat):
+            c0 = time.process_time()
+            run = func(alpha, 25_000, seed=1, collisions_per_particle=cpp, relax=10.0)
+            best = max(best, run.n_collisions / (time.process_time() - c0))
+        out[f"simulate_{name}({alpha}, 25000) end to end"] = best
+    return out
+
+
+def maxwell_rates(cpp: float, repeat: int) -> None:
+    """Print collisions per CPU second of the Maxwell kernel and of other exponents."""
+    print("\nMaxwell kernel (gamma = 0: every candidate collides, one draw per pair):")
+    for n in (25_000, 1_000_000):
+        v = np.random.default_rng(0).normal(size=n)
+        s = _state(0)
+        m = int(cpp * n / 2)
+        kern.collide_maxwell(v, 1000, 0, 0.9, 0.0, 1.0, s)
+        best = math.inf
+        for _ in range(repeat):
+            c0 = time.process_time()
+            kern.collide_maxwell(v, m, 0, 0.9, 0.0, 1.0, s)
+            best = min(best, time.process_time() - c0)
+        print(f"  collide_maxwell N={n}: {m / best:.3e} collisions/s ({best / m * 1e9:.2f} "
+              f"ns per collision)")
+    for kcode, gamma in ((0, 0.0), (3, 0.5), (1, 1.0), (3, 1.5), (2, 2.0)):
+        n = 25_000
+        v = np.random.default_rng(0).normal(size=n)
+        s = _state(0)
+        cooling_block(v, 20 * n, n, 0.9, s, kcode, gamma)
+        m = int(cpp * n)
+        best = 0.0
+        for _ in range(repeat):
+            c0 = time.process_time()
+            acc, _, _ = cooling_block(v, m, n, 0.9, s, kcode, gamma)
+            best = max(best, acc / (time.process_time() - c0))
+        print(f"  cooling block gamma={gamma:<4} N={n}: {best:.3e} collisions/s "
+              f"(acceptance {acc / m:.3f})")
+    for name, func, alpha in (("heated", dsmc.simulate_heated, 0.6),
+                              ("cooling", dsmc.simulate_cooling, 0.9)):
+        c0 = time.process_time()
+        run = func(alpha, 25_000, kernel=0.0, seed=1, collisions_per_particle=cpp, relax=10.0)
+        cpu = time.process_time() - c0
+        print(f"  simulate_{name}({alpha}, 25000, kernel=0) end to end: "
+              f"{run.n_collisions / cpu:.3e} collisions per CPU second")
+
+
+def compare(baseline: str, cpp: float, repeat: int) -> None:
+    """Hard-rod rates of ``baseline`` and of this checkout, alternately, best of all."""
+    import json
+    import subprocess
+    import sys
+
+    env = {**os.environ, "PYTHONPATH": os.path.abspath(baseline)}
+    cmd = [sys.executable, __file__, "--json", "--repeat", str(repeat), "--cpp", str(cpp)]
+    before: dict[str, float] = {}
+    after: dict[str, float] = {}
+    for _ in range(2):
+        done = subprocess.run(cmd, env=env, capture_output=True, text=True, check=True)
+        for k, val in json.loads(done.stdout.splitlines()[-1]).items():
+            before[k] = max(before.get(k, 0.0), val)
+        for k, val in hard_rod_rates(cpp, repeat).items():
+            after[k] = max(after.get(k, 0.0), val)
+    print(f"\nhard rods, before ({baseline}) and after (this checkout), alternately twice, "
+          f"best of {2 * repeat}; collisions per CPU second (load average "
+          f"{os.getloadavg()[0]:.2f} on {os.cpu_count()} cores)")
+    print(f"{'case':<52}{'before':>11}{'after':>11}{'after/before':>14}")
+    for k in before:
+        print(f"{k:<52}{before[k]:>11.3e}{after[k]:>11.3e}{after[k] / before[k]:>14.3f}")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="short runs")
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--no-replicas", action="store_true",
                         help="skip the replicas (they use every core)")
+    parser.add_argument("--baseline", help="directory with an older particles package")
+    parser.add_argument("--json", action="store_true", help=argparse.SUPPRESS)
+    parser.add_argument("--cpp", type=float, help=argparse.SUPPRESS)
     args = parser.parse_args()
-    cpp = 20.0 if args.quick else 100.0
+    cpp = args.cpp or (20.0 if args.quick else 100.0)
+    if args.json:  # the hard-rod rates of whichever particles package is imported
+        import json
+
+        print(json.dumps(hard_rod_rates(cpp, args.repeat)))
+        return
+    if args.baseline:
+        compare(args.baseline, cpp, args.repeat)
+        maxwell_rates(cpp, args.repeat)
+        return
     print(f"DSMC throughput, one core, best of {args.repeat} (machine shared with other "
           f"jobs; load average {os.getloadavg()[0]:.2f})")
     print(f"{'case':<26}{'N':>9}{'coll/s':>11}{'ns/coll':>9}{'ns/cand':>9}{'accept':>8}"
@@ -211,6 +339,7 @@ def main() -> None:
     print(f"random numbers: {r['normal']:.2f} ns per normal (ziggurat on xoshiro256**); "
           f"{r['candidate_l1']:.2f} ns per candidate with v in L1 (2 draws, pair, "
           f"accept, 2 loads, 2 stores)")
+    maxwell_rates(cpp, args.repeat)
     if not args.no_replicas:
         workers = os.cpu_count() or 1
         serial, parallel = replicas(25_000, 10 * cpp, workers)

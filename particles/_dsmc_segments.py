@@ -50,15 +50,23 @@ def extent(v):  # pragma: no cover - compiled
 def kick(v, decay, amp, s, ki, wi, fi):  # pragma: no cover - compiled
     """``v = decay * v + amp * xi`` with independent standard normals; new ``(min, max)``.
 
-    ``decay = 1`` (white noise) skips the multiply.  Ziggurat of :mod:`particles.rng`:
-    99 % of the draws take one 64-bit number and the fast path (inlined here with the
-    generator state in registers); the rest go to :func:`particles.rng.normal_slow`
-    with the state written back to ``s``.
+    ``decay = 1`` (white noise) runs a loop without the multiply (a separate loop: a
+    branch inside made the white-noise kick 10 % slower).  Ziggurat of
+    :mod:`particles.rng`: 99 % of the draws take one 64-bit number and the fast path
+    (inlined here with the generator state in registers); the rest go to
+    :func:`particles.rng.normal_slow` with the state written back to ``s``.
     """
+    if decay == 1.0:
+        return _kick_white(v, amp, s, ki, wi, fi)
+    return _kick_ou(v, decay, amp, s, ki, wi, fi)
+
+
+@jit
+def _kick_white(v, amp, s, ki, wi, fi):  # pragma: no cover - compiled
+    """:func:`kick` with ``decay = 1``."""
     lo = np.inf
     hi = -np.inf
     s0, s1, s2, s3 = s[0], s[1], s[2], s[3]
-    white = decay == 1.0
     for k in range(v.shape[0]):
         r, s0, s1, s2, s3 = xoshiro(s0, s1, s2, s3)
         layer_sign = r & np.uint64(0x1FF)  # bits 0-7: layer, bit 8: sign
@@ -69,10 +77,33 @@ def kick(v, decay, amp, s, ki, wi, fi):  # pragma: no cover - compiled
             s[0], s[1], s[2], s[3] = s0, s1, s2, s3
             x = normal_slow(s, idx, x, ki, wi, fi)
             s0, s1, s2, s3 = s[0], s[1], s[2], s[3]
-        if white:
-            y = v[k] + amp * x
-        else:
-            y = decay * v[k] + amp * x
+        y = v[k] + amp * x
+        v[k] = y
+        if y < lo:
+            lo = y
+        if y > hi:
+            hi = y
+    s[0], s[1], s[2], s[3] = s0, s1, s2, s3
+    return lo, hi
+
+
+@jit
+def _kick_ou(v, decay, amp, s, ki, wi, fi):  # pragma: no cover - compiled
+    """:func:`kick` with ``decay < 1`` (the Ornstein-Uhlenbeck step)."""
+    lo = np.inf
+    hi = -np.inf
+    s0, s1, s2, s3 = s[0], s[1], s[2], s[3]
+    for k in range(v.shape[0]):
+        r, s0, s1, s2, s3 = xoshiro(s0, s1, s2, s3)
+        layer_sign = r & np.uint64(0x1FF)
+        idx = int(layer_sign & np.uint64(0xFF))
+        rabs = (r >> np.uint64(9)) & np.uint64(0x000FFFFFFFFFFFFF)
+        x = float(np.int64(rabs)) * wi[layer_sign]
+        if rabs >= ki[idx]:
+            s[0], s[1], s[2], s[3] = s0, s1, s2, s3
+            x = normal_slow(s, idx, x, ki, wi, fi)
+            s0, s1, s2, s3 = s[0], s[1], s[2], s[3]
+        y = decay * v[k] + amp * x
         v[k] = y
         if y < lo:
             lo = y
@@ -126,9 +157,20 @@ def heated_segment(v, n_steps, dt, decay, amp, half_decay, half_amp, rate, kcode
         ``loss`` as in :func:`particles._dsmc_kernels.collide_model`; ``steps_done <
         n_steps`` if the law's range was exceeded (``g_max`` then the offending value).
     """
+    if decay == 1.0 and half_decay == 1.0:  # one kick kind per loop: 6 % faster
+        return _heated_white(v, n_steps, dt, amp, half_amp, rate, kcode, gamma, lcode, p0,
+                             p1, g_limit, debt, s, ki, wi, fi)
+    return _heated_ou(v, n_steps, dt, decay, amp, half_decay, half_amp, rate, kcode, gamma,
+                      lcode, p0, p1, g_limit, debt, s, ki, wi, fi)
+
+
+@jit
+def _heated_white(v, n_steps, dt, amp, half_amp, rate, kcode, gamma, lcode, p0, p1, g_limit,
+                  debt, s, ki, wi, fi):  # pragma: no cover - compiled
+    """:func:`heated_segment` under white noise."""
     accepted = 0
     loss = 0.0
-    lo, hi = kick(v, half_decay, half_amp, s, ki, wi, fi)
+    lo, hi = _kick_white(v, half_amp, s, ki, wi, fi)
     for step in range(n_steps):
         if hi - lo > g_limit:
             return accepted, loss, debt, step, hi - lo
@@ -138,10 +180,29 @@ def heated_segment(v, n_steps, dt, decay, amp, half_decay, half_amp, rate, kcode
         a, dloss = collide_model(v, m, kcode, gamma, lcode, p0, p1, hi - lo, 1.0, s)
         accepted += a
         loss += dloss
-        if step < n_steps - 1:
-            lo, hi = kick(v, decay, amp, s, ki, wi, fi)
-        else:
-            lo, hi = kick(v, half_decay, half_amp, s, ki, wi, fi)
+        lo, hi = _kick_white(v, amp if step < n_steps - 1 else half_amp, s, ki, wi, fi)
+    return accepted, loss, debt, n_steps, hi - lo
+
+
+@jit
+def _heated_ou(v, n_steps, dt, decay, amp, half_decay, half_amp, rate, kcode, gamma, lcode,
+               p0, p1, g_limit, debt, s, ki, wi, fi):  # pragma: no cover - compiled
+    """:func:`heated_segment` with a Fokker-Planck bath."""
+    accepted = 0
+    loss = 0.0
+    lo, hi = _kick_ou(v, half_decay, half_amp, s, ki, wi, fi)
+    for step in range(n_steps):
+        if hi - lo > g_limit:
+            return accepted, loss, debt, step, hi - lo
+        x = debt + dt * rate * majorant_power(kcode, gamma, hi - lo)
+        m = int(math.floor(x))
+        debt = x - m
+        a, dloss = collide_model(v, m, kcode, gamma, lcode, p0, p1, hi - lo, 1.0, s)
+        accepted += a
+        loss += dloss
+        full = step < n_steps - 1
+        lo, hi = _kick_ou(v, decay if full else half_decay, amp if full else half_amp, s, ki,
+                          wi, fi)
     return accepted, loss, debt, n_steps, hi - lo
 
 
