@@ -136,7 +136,7 @@ report(result)
 # bath they stay near the equilibrium hard-rod value 0.25 (0.25-0.41; T = 1.21,
 # a2 = 0.030 +- 0.001, of which 0.002-0.006 is the splitting bias of the default kick
 # interval: N = 2000 runs at 2, 1 and 1/4 times it gave a2 = 0.037, 0.029, 0.027,
-# +- 0.002 each, and T 0.6 % low).  The friction, which takes energy from the fast
+# +- 0.002 each, and T about 0.5 % low).  The friction, which takes energy from the fast
 # rods and the dense clusters alike, suppresses the clustering that white noise
 # lets grow.  Near elastic (alpha = 0.95) MD and FEM agree within the MD's error
 # bars under the bath (tests/particles/test_md_model.py).
