@@ -49,7 +49,7 @@ Kicks: :math:`v_i \\to d\\,v_i + b\\,\\xi_i`, white noise with :math:`d = 1`,
 :math:`b = \\sqrt{2 D \\Delta t_k}`, or the exact Ornstein-Uhlenbeck update of a
 Fokker-Planck bath over the kick interval, :math:`d = e^{-\\xi \\Delta t_k}`,
 :math:`b = \\sqrt{T_b (1 - e^{-2\\xi\\Delta t_k})}`; the standard normals ``xi``
-drawn inside the kernel by the ziggurat of :mod:`particles._dsmc_kernels` (its
+drawn inside the kernel by the ziggurat of :mod:`particles.rng` (its
 tables and rare paths; the fast path is inlined) from an explicit-state
 xoshiro256** generator (``rng``, ``uint64[4]``, seeded by the driver
 and saved in checkpoints): about 2.5 ns per normal against 10 ns for a numpy normal
@@ -232,7 +232,7 @@ def fill_normals(out, rng, ki, wi, fi):  # pragma: no cover - compiled
 
     The fast path (one 64-bit number, a table look-up, one comparison; 99 % of the
     draws) is inlined with the generator state in registers; wedge and tail go to
-    :func:`particles._dsmc_kernels._normal_slow` with the state written back.
+    :func:`particles.rng.normal_slow` with the state written back.
     """
     s0, s1, s2, s3 = rng[0], rng[1], rng[2], rng[3]
     for i in range(out.shape[0]):
