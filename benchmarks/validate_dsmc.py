@@ -212,7 +212,7 @@ def relaxation(quick: bool) -> None:
 
 # ----------------------------------------------------------------------------- cooling
 def cooling_rate(run: dsmc.DSMCRun, n_batches: int = 20) -> tuple[float, float]:
-    """zeta from T^(-1/2) = zeta n t + T_0^(-1/2): mean of T^(-1/2)/(n t) after relaxation.
+    """zeta from T^(-1/2) = zeta n t + T_0^(-1/2): :meth:`particles.dsmc.DSMCRun.cooling_rate`.
 
     After relaxation (hundreds of e-folds of T) the constant is negligible (relative
     ``exp(-0.5 (ln T_0 - ln T))``), so every sample gives ``T^(-1/2)/(n t)``, computed
@@ -221,12 +221,7 @@ def cooling_rate(run: dsmc.DSMCRun, n_batches: int = 20) -> tuple[float, float]:
     sample of each batch give the same mean with a ten times larger error: they use two
     samples per batch instead of all of them.)
     """
-    s = run.series
-    late = s["collisions_per_particle"] >= run.relaxed_at
-    z = np.exp(-0.5 * s["log_temperature"][late] - s["log_t"][late])
-    z /= run.distribution.params.get("density", 1.0)
-    means = np.array([b.mean() for b in np.array_split(z, n_batches)])
-    return float(means.mean()), float(means.std(ddof=1) / math.sqrt(n_batches))
+    return run.cooling_rate(n_batches)
 
 
 # alpha: (N, relax, averaging, c_max, bin width); collisions per particle.  Near alpha = 1
