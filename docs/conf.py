@@ -70,10 +70,20 @@ autodoc_typehints = "none"  # numpydoc shows the types from the docstrings
 numpydoc_show_class_members = False
 numpydoc_class_members_toctree = False
 
+# Examples shown with their code but not executed, with the reason; remove an entry as
+# soon as the example runs again (every example still runs in tests/test_examples.py
+# at its TEST_KWARGS).
+_NOT_EXECUTED = {
+    "plot_heated_fd": "method='fd' with Richardson extrapolation fails on the default grid "
+                      "(shape mismatch in finite_difference._richardson; being fixed)",
+}
+
 sphinx_gallery_conf = {
     "examples_dirs": "examples",
     "gallery_dirs": "auto_examples",
-    "filename_pattern": r"/plot_",
+    # executed: every plot_*.py except those in _NOT_EXECUTED
+    "filename_pattern": (r"/plot_(?!(?:" + "|".join(k[len("plot_"):] for k in _NOT_EXECUTED)
+                         + r")\.py$)") if _NOT_EXECUTED else r"/plot_",
     "download_all_examples": False,
     "reset_modules": ("matplotlib",),
     "matplotlib_animations": False,
