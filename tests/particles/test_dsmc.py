@@ -87,38 +87,6 @@ def _collide_reference(v, m, alpha, g_max, state):
 
 
 # ----------------------------------------------------------------------------- kernels
-def test_xoshiro_matches_reference_recurrence(wrapping):
-    """xoshiro256** against a Python big-int transcription of the reference C code."""
-    s = [int(x) for x in _state(5)]
-    expected = [_xoshiro_reference(s) for _ in range(20)]
-    state = _state(5)
-    got = [int(rng.next_u64(state)) for _ in range(20)]
-    assert got == expected
-    assert [int(x) for x in state] == s
-
-
-def test_mul128_is_the_full_product():
-    gen = np.random.default_rng(1)
-    for r in gen.integers(0, 2**64, size=200, dtype=np.uint64):
-        for n in (2, 3, 25_000, 10**7, 2**32 - 1, 2**64 - 1):
-            hi, lo = rng.mul128_pair(r, np.uint64(n))
-            assert (int(hi) << 64) + int(lo) == int(r) * n
-            assert int(rng.mulhi(r, np.uint64(n))) == (int(r) * n) >> 64
-
-
-def test_ziggurat_normals_are_standard_normal():
-    out = np.empty(1_000_000)
-    rng.fill_normal(out, _state(2), *TABLES)
-    assert stats.kstest(out, "norm").pvalue > 1e-3
-    se = 1 / math.sqrt(out.size)
-    assert abs(out.mean()) < 4 * se
-    assert abs(out.var() - 1) < 4 * math.sqrt(2) * se
-    assert abs(np.mean(out**4) - 3) < 4 * math.sqrt(96) * se
-    tail = np.mean(np.abs(out) > rng.ZIGGURAT_R)  # the tail sampler's share
-    p = math.erfc(rng.ZIGGURAT_R / math.sqrt(2))
-    assert abs(tail - p) < 4 * math.sqrt(p / out.size)
-
-
 def test_pairs_are_uniform_and_distinct():
     """With v = one-hot at k and g_max = 1 a candidate is accepted iff k is in the pair.
 
