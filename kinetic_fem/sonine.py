@@ -23,6 +23,9 @@ order in :math:`a_2` gives the steady temperature, the relaxation time and, for
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
+from fractions import Fraction
+from functools import lru_cache
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -38,6 +41,9 @@ __all__ = [
     "tail_exponent_amplitude",
     "crossover_velocities",
     "haff_temperature",
+    "sonine_norm",
+    "sonine_polynomial_coefficients",
+    "sonine_coefficients_from_moments",
 ]
 
 A2_ELASTIC_LIMIT = -16.0 / 159.0
@@ -139,3 +145,90 @@ def haff_temperature(t: ArrayLike, alpha: float, density: float = 1.0,
     t0 = check_positive("temperature0", temperature0)
     rate = n / math.sqrt(math.pi) * (1 - alpha**2) * math.sqrt(t0) * (1 + 3 * a2 / 16)
     return t0 / (1.0 + rate * np.asarray(t, dtype=float)) ** 2
+
+
+@lru_cache(maxsize=None)
+def sonine_norm(p: int) -> Fraction:
+    """:math:`N_p = \\int \\Phi(c) S_p(c^2/2)^2 dc = \\Gamma(p+1/2)/(\\sqrt\\pi\\, p!)`, exactly.
+
+    :math:`\\Phi` is the unit Gaussian and :math:`S_p = L_p^{(-1/2)}` the Sonine
+    (generalised Laguerre) polynomial in :math:`x = c^2/2`.
+
+    Examples
+    --------
+    >>> sonine_norm(0), sonine_norm(1), sonine_norm(2)
+    (Fraction(1, 1), Fraction(1, 2), Fraction(3, 8))
+    """
+    out = Fraction(1)
+    for i in range(p):
+        out *= Fraction(2 * i + 1, 2 * (i + 1))
+    return out
+
+
+@lru_cache(maxsize=None)
+def sonine_polynomial_coefficients(p: int) -> tuple[Fraction, ...]:
+    """Exact coefficients of :math:`S_p(x) = L_p^{(-1/2)}(x) = \\sum_m s_{p,m} x^m`.
+
+    :math:`s_{p,m} = (-1)^m \\Gamma(p+1/2) / (\\Gamma(m+1/2)\\,(p-m)!\\,m!)`, lowest
+    power first (the distribution's :math:`x = c^2/2`).
+
+    Examples
+    --------
+    >>> [str(s) for s in sonine_polynomial_coefficients(2)]  # 3/8 - 3x/2 + x^2/2
+    ['3/8', '-3/2', '1/2']
+    """
+    if isinstance(p, bool) or not isinstance(p, int) or p < 0:
+        raise ValueError(f"Sonine order p must be an integer >= 0, got {p!r}")
+    out = []
+    for m in range(p + 1):
+        ratio = Fraction(1)  # Gamma(p + 1/2) / Gamma(m + 1/2)
+        for i in range(m, p):
+            ratio *= Fraction(2 * i + 1, 2)
+        out.append((-1) ** m * ratio / (math.factorial(p - m) * math.factorial(m)))
+    return tuple(out)
+
+
+def sonine_coefficients_from_moments(moments: Sequence[Fraction | float | int],
+                                     order: int) -> list[Fraction] | NDArray[np.float64]:
+    """Sonine coefficients :math:`a_0 .. a_P` of a distribution from its scaled moments.
+
+    :math:`a_p = N_p^{-1}\\sum_m s_{p,m}\\,\\mu_{2m}/2^m` with
+    :math:`\\mu_k = \\langle c^k\\rangle` the moments in units of the thermal speed
+    (:math:`\\mu_0 = \\mu_2 = 1`).  The alternating sum cancels heavily at high order
+    (terms grow like :math:`p!` while :math:`a_p` stays moderate), so pass
+    :class:`~fractions.Fraction` moments to get exact coefficients; float moments are
+    accepted and give float coefficients (accurate only at low order).
+
+    Parameters
+    ----------
+    moments : sequence, length >= 2 * order + 1
+        :math:`\\mu_0, \\mu_1, \\dots` (odd entries are ignored).
+    order : int
+        Highest Sonine order :math:`P`.
+
+    Returns
+    -------
+    list of Fraction (exact input) or ndarray, shape (order + 1,)
+
+    Examples
+    --------
+    >>> gauss = [1, 0, 1, 0, 3, 0, 15]          # a unit Gaussian: a_p = 0, p >= 1
+    >>> [int(a) for a in sonine_coefficients_from_moments(gauss, 3)]
+    [1, 0, 0, 0]
+    """
+    if len(moments) < 2 * order + 1:
+        raise ValueError(f"order {order} needs the moments up to {2 * order}, got "
+                         f"{len(moments)} moments")
+    exact = all(isinstance(m, (Fraction, int)) for m in moments[: 2 * order + 1])
+    out = []
+    for p in range(order + 1):
+        s = sonine_polynomial_coefficients(p)
+        if exact:
+            total = sum((s[m] * Fraction(moments[2 * m]) / 2**m for m in range(p + 1)),
+                        Fraction(0))
+            out.append(total / sonine_norm(p))
+        else:
+            total = math.fsum(float(s[m]) * float(moments[2 * m]) / 2.0**m
+                              for m in range(p + 1))
+            out.append(total / float(sonine_norm(p)))
+    return out if exact else np.array(out)
