@@ -12,6 +12,10 @@
    over more than a decade of thresholds.
 4. Invariants over the longest run: rods ordered, momentum and energy balance.
 5. Heated a2 against alpha: MD (N = 5000) vs DSMC vs first-order Sonine (``--part a2``).
+6. The model space MD covers (``--part model``): T and a2 of MD (n sigma = 0.5) and FEM
+   (at the Enskog density n/(1 - n sigma)) for alpha = 0.3 ... 0.99 and two laws, under
+   white noise and a Fokker-Planck bath; the difference in MD standard errors (MD
+   departs from the Boltzmann equation where the rods correlate and cluster).
 
 Run ``python benchmarks/bench_md.py [--quick] [--part speed|kicks|a2|threshold|invariants]``.
 Before/after speed comparisons: ``benchmarks/bench_md_before_after.py``.
@@ -365,8 +369,40 @@ def invariants(quick: bool) -> None:
           f"{order:.2e}")
 
 
+def model_table(quick: bool) -> None:
+    """MD against FEM over alpha, two restitution laws and both thermostats (hard rods)."""
+    import kinetic_fem as kf
+    from kinetic_fem.model import ThresholdRestitution, ViscoelasticRestitution
+
+    n, seeds = (1000, 3) if quick else (2000, 4)
+    laws = (0.3, 0.6, 0.9, 0.99, ViscoelasticRestitution(0.1),
+            ThresholdRestitution(0.6, threshold=1.0))
+    print(f"\n== MD (N = {n}, n sigma = 0.5, {seeds} seeds) vs FEM (density 2): T and a2, "
+          f"D = 1; bath xi = 1 (T_b = 1) ==")
+    print(f"{'law':46s} {'xi':>3} {'T FEM':>8} {'T MD':>8} {'+-':>6} {'dT/err':>7} "
+          f"{'a2 FEM':>8} {'a2 MD':>8} {'+-':>6} {'da2/err':>7} {'elastic':>7} {'s':>5}")
+    for law in laws:
+        alpha = law if isinstance(law, float) else law.min_alpha
+        cpp = max(400.0, 8.0 / (1.0 - alpha**2)) / (4 if quick else 1)
+        for xi in (0.0, 1.0):
+            fem = kf.solve_heated(law, density=N_FREE, diffusion=1.0, friction=xi)
+            start = time.perf_counter()
+            runs = [md.simulate_heated(law, n, friction=xi, seed=500 + s, n_records=10,
+                                       collisions_per_particle=cpp, box_counts=[2])
+                    for s in range(seeds)]
+            wall = time.perf_counter() - start
+            t = np.array([r.temperature for r in runs])
+            a2 = np.array([r.a2 for r in runs])
+            te, ae = t.std(ddof=1) / math.sqrt(seeds), a2.std(ddof=1) / math.sqrt(seeds)
+            el = sum(r.n_elastic for r in runs) / sum(r.n_collisions for r in runs)
+            print(f"{law!r:46s} {xi:3g} {fem.temperature:8.4f} {t.mean():8.4f} {te:6.4f} "
+                  f"{(t.mean() - fem.temperature) / te:7.1f} {fem.a2:8.4f} {a2.mean():8.4f} "
+                  f"{ae:6.4f} {(a2.mean() - fem.a2) / ae:7.1f} {el:7.3f} {wall:5.1f}",
+                  flush=True)
+
+
 PARTS = {"speed": speed, "kicks": kicks, "a2": a2_table, "threshold": threshold,
-         "invariants": invariants}
+         "invariants": invariants, "model": model_table}
 
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
