@@ -8,8 +8,10 @@ Run: ``python benchmarks/bench_sweep.py [--quick] [--part replicas|large|all]
 on a local process pool of 1 and of 2 workers (and a dask LocalCluster of 2 worker
 processes with ``--dask``).  Printed: wall time of each, the speed-up of 2 workers over
 1 (ideal 2 on an idle 2-core machine; on a shared machine the other jobs take their
-share) and whether the Datasets are bit-identical (they must be: seeds come from the
-grid point, not from the worker).  Worker start-up (imports, numba cache loading) is
+share), the sum of the points' own wall times (if it grows with the workers, the runs
+slow each other down: cores or memory bandwidth taken by other jobs) and whether the
+Datasets are bit-identical (they must be: seeds come from the grid point, not from the
+worker).  Worker start-up (imports, numba cache loading) is
 included, as a user sees it.
 
 *large*: one heated DSMC run per size, each in a fresh subprocess, with a short run
@@ -54,8 +56,10 @@ def part_replicas(quick: bool, use_dask: bool) -> None:
             ds, wall = replica_sweep(pool, replicas, n, cpp)
         results[workers] = (ds, wall)
         coll = float(ds.n_collisions.sum())
+        busy = float(ds.wall_time.sum())
         print(f"  {workers} worker(s): {wall:7.2f} s wall, {coll:.3g} collisions, "
-              f"{coll / wall:.3g} collisions/s")
+              f"{coll / wall:.3g} collisions/s; points' own wall times add up to {busy:.2f} s "
+              f"(workers busy {busy / (workers * wall):.0%} of the time)")
     (d1, w1), (d2, w2) = results[1], results[2]
     same = d1.drop_vars("wall_time").identical(d2.drop_vars("wall_time"))
     print(f"  speed-up 2 workers / 1: {w1 / w2:.2f}   (bit-identical results: {same})")
