@@ -20,7 +20,8 @@ two parameters, :func:`kinetic_fem.model.restitution_value`) to three loops:
   candidate is still accepted and collided in order on the current velocities, so the
   results are bit-identical to the plain loop.
 * :func:`collide_maxwell`, :math:`\\gamma = 0`: every candidate collides, no
-  acceptance draw; for ``N <= MAXWELL_ONE_DRAW_MAX_N`` one draw gives the pair (``i``
+  acceptance draw (prefetching as :func:`collide` for large ``N``); for
+  ``N <= MAXWELL_ONE_DRAW_MAX_N`` one draw gives the pair (``i``
   from the high word of ``r N``, ``j`` from the high word of ``low(r N) (N - 1)``:
   given ``i`` the low word runs through an arithmetic progression of step ``N`` over
   ``[0, 2^64)``, so ``j`` is uniform up to a relative ``N^2 / 2^64 <= 1e-6``), above
@@ -301,11 +302,24 @@ def _pair_two_draws(s0, s1, s2, s3, n, n1):  # pragma: no cover - compiled
 
 
 @jit
-def collide_maxwell(v, n_collisions, lcode, p0, p1, gscale, s):  # pragma: no cover
+def collide_maxwell(v, n_collisions, lcode, p0, p1, gscale, s,
+                    batch=-1):  # pragma: no cover - compiled
     """Maxwell kernel: ``n_collisions`` collisions of uniform random pairs, no rejection.
 
-    Returns ``(n_collisions, loss)`` as :func:`collide_model`.
+    ``batch``: as in :func:`collide` (pairs drawn and prefetched ``batch`` collisions
+    ahead for ``N >= PREFETCH_MIN_N``; bit-identical to the plain loop).  Returns
+    ``(n_collisions, loss)`` as :func:`collide_model`.
     """
+    if batch < 0:
+        batch = PREFETCH_BATCH if v.shape[0] >= PREFETCH_MIN_N else 0
+    if batch > 0:
+        return _collide_maxwell_batched(v, n_collisions, lcode, p0, p1, gscale, s, batch)
+    return _collide_maxwell_plain(v, n_collisions, lcode, p0, p1, gscale, s)
+
+
+@jit
+def _collide_maxwell_plain(v, n_collisions, lcode, p0, p1, gscale, s):  # pragma: no cover
+    """:func:`collide_maxwell` as one loop (``v`` in the L2 cache)."""
     n = np.uint64(v.shape[0])
     n1 = n - np.uint64(1)
     one_draw = v.shape[0] <= MAXWELL_ONE_DRAW_MAX_N
@@ -334,6 +348,72 @@ def collide_maxwell(v, n_collisions, lcode, p0, p1, gscale, s):  # pragma: no co
     if lcode == CONSTANT:
         loss = (1.0 - p0 * p0) * sum_g2
     return n_collisions, loss
+
+
+@jit
+def _maxwell_pair(v, i, j, lcode, p0, p1, half, gscale):  # pragma: no cover - compiled
+    """Collide the pair ``(i, j)``; returns ``g^2`` (constant law) or ``(1-a^2) g^2``."""
+    vi = v[i]
+    vj = v[j]
+    g = vi - vj
+    if lcode == CONSTANT:
+        dv = half * g
+        out = g * g
+    else:
+        a = restitution_value(lcode, p0, p1, g * gscale)
+        dv = 0.5 * (1.0 + a) * g
+        out = (1.0 - a * a) * g * g
+    v[i] = vi - dv
+    v[j] = vj + dv
+    return out
+
+
+@jit
+def _collide_maxwell_batched(v, n_collisions, lcode, p0, p1, gscale, s,
+                             batch):  # pragma: no cover - compiled
+    """:func:`collide_maxwell` with the pairs drawn and prefetched ``batch`` ahead.
+
+    The buffer holds ``i | j << 32`` of the next ``batch`` pairs; pair ``k`` collides
+    in the iteration that draws pair ``k + batch`` into its slot, so the draws keep
+    the order of the plain loop (bit-identical results).
+    """
+    n = np.uint64(v.shape[0])
+    n1 = n - np.uint64(1)
+    one_draw = v.shape[0] <= MAXWELL_ONE_DRAW_MAX_N
+    low32 = np.uint64(0xFFFFFFFF)
+    high = np.uint64(32)
+    half = 0.5 * (1.0 + p0)
+    total = 0.0
+    s0, s1, s2, s3 = s[0], s[1], s[2], s[3]
+    bij = np.empty(batch, np.uint64)
+    for b in range(min(batch, n_collisions)):
+        if one_draw:
+            i, j, s0, s1, s2, s3 = _pair_one_draw(s0, s1, s2, s3, n, n1)
+        else:
+            i, j, s0, s1, s2, s3 = _pair_two_draws(s0, s1, s2, s3, n, n1)
+        prefetch(v, i)
+        prefetch(v, j)
+        bij[b] = i | (j << high)
+    done = 0
+    while done < n_collisions:
+        m = min(batch, n_collisions - done)  # pairs in the buffer
+        ahead = min(batch, n_collisions - done - m)  # pairs still to draw
+        for b in range(m):
+            ij = bij[b]
+            if b < ahead:
+                if one_draw:
+                    i2, j2, s0, s1, s2, s3 = _pair_one_draw(s0, s1, s2, s3, n, n1)
+                else:
+                    i2, j2, s0, s1, s2, s3 = _pair_two_draws(s0, s1, s2, s3, n, n1)
+                prefetch(v, i2)
+                prefetch(v, j2)
+                bij[b] = i2 | (j2 << high)
+            total += _maxwell_pair(v, ij & low32, ij >> high, lcode, p0, p1, half, gscale)
+        done += m
+    s[0], s[1], s[2], s[3] = s0, s1, s2, s3
+    if lcode == CONSTANT:
+        total = (1.0 - p0 * p0) * total
+    return n_collisions, total
 
 
 @jit

@@ -113,6 +113,21 @@ def test_maxwell_conserves_momentum_and_loses_the_stated_energy(wrapping):
     assert law.min_alpha < 1
 
 
+@pytest.mark.parametrize("n", [2, 3, 40])
+@pytest.mark.parametrize("lcode, p0", [(0, 0.4), (VISCOELASTIC, 0.3)])
+def test_maxwell_batched_is_the_plain_loop(n, lcode, p0, wrapping):
+    """Pairs drawn and prefetched ahead: bit for bit the plain loop, for every batch size,
+    also when the pairs of one batch share particles."""
+    v0 = np.random.default_rng(n).normal(size=n)
+    ref_v, ref_s = v0.copy(), _state(8)
+    ref = kern.collide_maxwell(ref_v, 300, lcode, p0, 0.0, 1.0, ref_s, 0)
+    for batch in (-1, 1, 7, 64, 1000):
+        v, st = v0.copy(), _state(8)
+        assert kern.collide_maxwell(v, 300, lcode, p0, 0.0, 1.0, st, batch) == ref
+        np.testing.assert_array_equal(v, ref_v)
+        np.testing.assert_array_equal(st, ref_s)
+
+
 @pytest.mark.parametrize("kcode, gamma", [(1, 1.0), (2, 2.0), (3, 0.5), (3, 1.5)])
 def test_power_kernel_acceptance_is_g_over_gmax_to_the_gamma(kcode, gamma, wrapping):
     """Two particles at distance x g_max: the acceptance is Binomial(m, x^gamma)."""
