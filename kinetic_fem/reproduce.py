@@ -5,6 +5,12 @@ An item is a function ``run(ctx) -> list[ClaimRow]``: it may write figures into
 ``ctx.out`` and returns the measured claims, each beside the paper's value.
 Plug-in modules are found through the ``kinetic_fem.reproduce`` entry-point group
 (see ``pyproject.toml``), so ``kinetic_fem`` never imports ``particles`` by name.
+
+Quick mode runs small sizes, and some methods then warn that their error bars are
+too small (e.g. DSMC batches shorter than the relaxation time).  In quick mode
+:func:`run_items` keeps these warnings off the console, marks the rows of the item
+that warned as quick-mode estimates (``note``), and :func:`write_table` says once, at
+the end of ``claims.md``, which rows they are and why.
 """
 
 from __future__ import annotations
@@ -12,13 +18,15 @@ from __future__ import annotations
 import csv
 import importlib
 import logging
-from dataclasses import asdict, dataclass, field
+import re
+from contextlib import contextmanager
+from dataclasses import asdict, dataclass, field, replace
 from importlib.metadata import entry_points
 from pathlib import Path
 from typing import Callable
 
 __all__ = ["Context", "ClaimRow", "Item", "ITEMS", "register", "load_plugins", "run_items",
-           "write_table"]
+           "write_table", "quick_mode_summary", "QUICK_MARK"]
 
 logger = logging.getLogger(__name__)
 
@@ -100,8 +108,79 @@ def _order(key: str) -> tuple[str, int, str]:
     return (key[0], int(digits) if digits else 0, key)
 
 
+QUICK_MARK = "quick-mode estimate"
+"""Start of the note added to the rows of an item that warned in quick mode."""
+
+_QUICK_NOTE = re.compile(re.escape(QUICK_MARK) + r" \((\d+) warnings? in ([^:]+): (.*)\)$")
+
+
+def _plugin_packages() -> list[str]:
+    """Top-level packages whose loggers the items log to (``kinetic_fem`` and plug-ins)."""
+    names = {"kinetic_fem"}
+    for ep in entry_points(group="kinetic_fem.reproduce"):
+        names.add(ep.value.split(".")[0])
+    return sorted(names)
+
+
+class _Collect(logging.Handler):
+    """Keeps the WARNING records (not errors) that reach it."""
+
+    def __init__(self) -> None:
+        super().__init__(logging.WARNING)
+        self.records: list[logging.LogRecord] = []
+
+    def emit(self, record: logging.LogRecord) -> None:
+        if record.levelno == logging.WARNING:
+            self.records.append(record)
+
+
+class _DropWarnings(logging.Filter):
+    """Lets through everything but WARNING records of the given packages."""
+
+    def __init__(self, packages: list[str]) -> None:
+        super().__init__()
+        self.packages = set(packages)
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        return not (record.levelno == logging.WARNING
+                    and record.name.split(".")[0] in self.packages)
+
+
+@contextmanager
+def _collect_warnings(packages: list[str]):
+    """Collect the packages' WARNING records and keep them off every other handler."""
+    collector, drop = _Collect(), _DropWarnings(packages)
+    loggers = [logging.getLogger(p) for p in packages]
+    handlers = {h for lg in [*loggers, logging.getLogger()] for h in lg.handlers}
+    for h in handlers:
+        h.addFilter(drop)
+    for lg in loggers:
+        lg.addHandler(collector)
+    try:
+        yield collector.records
+    finally:
+        for lg in loggers:
+            lg.removeHandler(collector)
+        for h in handlers:
+            h.removeFilter(drop)
+
+
+def _mark_quick(rows: list[ClaimRow], key: str,
+                records: list[logging.LogRecord]) -> list[ClaimRow]:
+    """Rows of item ``key`` with the quick-mode note naming its warnings."""
+    first = " ".join(records[0].getMessage().split())
+    n = len(records)
+    mark = f"{QUICK_MARK} ({n} warning{'s' if n != 1 else ''} in {key}: {first})"
+    return [replace(r, note=f"{r.note}; {mark}" if r.note else mark) for r in rows]
+
+
 def run_items(ctx: Context, keys: list[str] | None = None) -> list[ClaimRow]:
-    """Run the selected items (all by default) in figure order; collect their claims."""
+    """Run the selected items (all by default) in figure order; collect their claims.
+
+    In quick mode (``ctx.quick``) the warnings the items log are not shown; the rows
+    of an item that warned carry a note starting with :data:`QUICK_MARK` (with the
+    number of warnings and the first one), which :func:`write_table` summarises once.
+    """
     ctx.out.mkdir(parents=True, exist_ok=True)
     selected = sorted(ITEMS if keys is None else keys, key=_order)
     unknown = [k for k in selected if k not in ITEMS]
@@ -109,14 +188,62 @@ def run_items(ctx: Context, keys: list[str] | None = None) -> list[ClaimRow]:
         raise ValueError(f"unknown reproduce item(s) {unknown}; available: "
                          f"{sorted(ITEMS, key=_order)}")
     rows: list[ClaimRow] = []
+    packages = _plugin_packages() if ctx.quick else []
     for key in selected:
         logger.info("reproduce %s: %s", key, ITEMS[key].title)
-        rows.extend(ITEMS[key].run(ctx))
+        if not ctx.quick:
+            rows.extend(ITEMS[key].run(ctx))
+            continue
+        with _collect_warnings(packages) as records:
+            item_rows = ITEMS[key].run(ctx)
+        rows.extend(_mark_quick(item_rows, key, records) if records else item_rows)
     return rows
 
 
+def quick_mode_summary(rows: list[ClaimRow]) -> str:
+    """One paragraph naming the rows that are quick-mode estimates ("" if none).
+
+    Examples
+    --------
+    >>> row = ClaimRow("C2", "tau exponent", "-0.6", "-2/3", True,
+    ...                note="quick-mode estimate (4 warnings in C2-DSMC: batches too short)")
+    >>> print(quick_mode_summary([row]))
+    Quick-mode estimates: 1 row (claims C2) comes from runs that logged 4 warnings
+    (item C2-DSMC: batches too short): too short for honest error bars, so its
+    verdict is an estimate; `kinetic-fem reproduce --full` runs the paper's sizes.
+    """
+    marked = {}
+    for r in rows:
+        for part in r.note.split("; "):
+            m = _QUICK_NOTE.match(part)
+            if m:
+                marked.setdefault(m.group(2), [int(m.group(1)), m.group(3), []])[2].append(r)
+    if not marked:
+        return ""
+    n_rows = sum(len(v[2]) for v in marked.values())
+    n_warn = sum(v[0] for v in marked.values())
+    claims = sorted({r.claim for v in marked.values() for r in v[2]}, key=_order)
+    items = "; ".join(f"item {k}: {v[1]}" for k, v in marked.items())
+    one = n_rows == 1
+    return (f"Quick-mode estimates: {n_rows} row{'' if one else 's'} (claims {', '.join(claims)}) "
+            f"{'comes' if one else 'come'} from runs that logged {n_warn} warning"
+            f"{'' if n_warn == 1 else 's'}\n({items}): too short for honest error bars, so "
+            f"{'its verdict is an estimate' if one else 'their verdicts are estimates'}; "
+            f"`kinetic-fem reproduce --full` runs the paper's sizes.")
+
+
+def _short_note(note: str) -> str:
+    """The note for the markdown table: quick-mode marks without their warning text."""
+    return "; ".join(QUICK_MARK if _QUICK_NOTE.match(p) else p for p in note.split("; ")
+                     ) if note else note
+
+
 def write_table(rows: list[ClaimRow], out: Path) -> tuple[Path, Path]:
-    """Write the claims as ``claims.csv`` and ``claims.md`` into ``out``."""
+    """Write the claims as ``claims.csv`` and ``claims.md`` into ``out``.
+
+    The CSV keeps every note in full; the markdown table shortens quick-mode notes
+    and ends with :func:`quick_mode_summary`.
+    """
     csv_path, md_path = out / "claims.csv", out / "claims.md"
     names = list(ClaimRow.__dataclass_fields__)
     with csv_path.open("w", newline="") as fh:
@@ -128,6 +255,9 @@ def write_table(rows: list[ClaimRow], out: Path) -> tuple[Path, Path]:
     lines = ["| claim | quantity | measured | paper | agrees | method | note |",
              "|---|---|---|---|---|---|---|"]
     lines += [f"| {r.claim} | {r.quantity} | {r.measured} | {r.paper} | {verdict[r.agrees]} "
-              f"| {r.method} | {r.note} |" for r in rows]
+              f"| {r.method} | {_short_note(r.note)} |" for r in rows]
+    summary = quick_mode_summary(rows)
+    if summary:
+        lines += ["", summary]
     md_path.write_text("\n".join(lines) + "\n")
     return csv_path, md_path

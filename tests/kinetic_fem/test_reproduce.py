@@ -61,3 +61,44 @@ def test_sonine_item_checks_c3(tmp_path):
     rows = run_items(Context(out=tmp_path), ["S1"])
     assert [r.claim for r in rows] == ["C3"] and rows[0].agrees is True
     assert (tmp_path / "S1_a2_first_order.png").stat().st_size > 1000
+
+
+def test_quick_mode_warnings_are_summarised_once(tmp_path, capsys, caplog):
+    """Quick mode: an item's warnings are not printed; its rows say they are estimates.
+
+    The markdown table shortens the note; the summary at its end names the rows once;
+    the CSV keeps the warning text.  Full mode shows the warnings as they come.
+    """
+    import logging
+
+    log = logging.getLogger("particles.toy")
+
+    @reproduce.register("Z8", "a toy item that warns", claims=("C98",))
+    def run(ctx):
+        for n in range(3):
+            log.warning("batches %d too short: error bars too small", n)
+        return [ClaimRow("C98", "y", "2", "2", True, "toy")]
+
+    root = logging.getLogger()
+    handler = logging.StreamHandler()  # as a CLI would install
+    root.addHandler(handler)
+    before = {name: list(logging.getLogger(name).handlers) for name in ("particles", "")}
+    try:
+        ctx = Context(out=tmp_path / "q", quick=True)
+        rows = run_items(ctx, ["Z8"])
+        assert capsys.readouterr().err == ""  # nothing printed
+        assert rows[0].note == ("quick-mode estimate (3 warnings in Z8: batches 0 too "
+                                "short: error bars too small)")
+        csv_path, md_path = write_table(rows, ctx.out)
+        text = md_path.read_text()
+        assert "| toy | quick-mode estimate |" in text
+        assert text.count("Quick-mode estimates: 1 row (claims C98)") == 1
+        assert "logged 3 warnings" in text and "batches 0 too short" in text
+        assert "batches 0 too short" in csv_path.read_text()
+        full = run_items(Context(out=tmp_path / "f", quick=False), ["Z8"])
+        assert full[0].note == "" and "batches 2 too short" in capsys.readouterr().err
+        assert not handler.filters  # everything put in place is removed again
+        assert before == {name: logging.getLogger(name).handlers for name in before}
+    finally:
+        root.removeHandler(handler)
+        ITEMS.pop("Z8")
