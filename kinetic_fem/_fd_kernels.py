@@ -6,16 +6,18 @@ The gain term of the collision operator on the half grid :math:`v_i = i h`,
 
 .. math::
 
-    G_i = \\sum_k w_k\\, |v_i - v_k|\\, P(v_k)\\,
+    G_i = \\sum_k w_k\\, |v_i - v_k|^\\gamma\\, P(v_k)\\,
           \\tilde P\\Big(\\frac{2 v_i - (1-\\alpha) v_k}{1+\\alpha}\\Big) + c_i P_i^2,
 
 a sum over the ``2n - 1`` nodes :math:`v_k = (k - n + 1) h` of the symmetric grid with
 its quadrature weights :math:`w_k` and kink corrections :math:`c_k`
 (:func:`kinetic_fem.grid.simpson_kink_correction`, indexed at the node of
-:math:`v_i`).  :math:`\\tilde P` is the quadratic interpolant on the three nodes
-nearest its argument (the paper; ``order=2``) or the cubic one on the four nodes
-around it (``order=3``), using the symmetry at ``v = 0`` and :math:`P = 0` beyond the
-cut-off.  The kernels take arrays and scalars only; callers validate.
+:math:`v_i`; zero for the smooth Maxwell kernel).  The kernel exponent ``power`` is
+:math:`\\gamma = 1` (hard rods) or :math:`\\gamma = 0` (Maxwell).
+:math:`\\tilde P` is the quadratic interpolant on the three nodes nearest its
+argument (the paper; ``order=2``) or the cubic one on the four nodes around it
+(``order=3``), using the symmetry at ``v = 0`` and :math:`P = 0` beyond the cut-off.
+The kernels take arrays and scalars only; callers validate.
 """
 
 from __future__ import annotations
@@ -89,8 +91,8 @@ def interpolate_half(p, lnp, u, log_interp, order):
 
 
 @jit
-def gain_integral(p, lnp, w, corr, alpha, h, log_interp, order):
-    """:math:`G_i` (module docstring) for ``i = 0 .. n - 1``; O(n^2)."""
+def gain_integral(p, lnp, w, corr, alpha, h, log_interp, order, power):
+    """:math:`G_i` (module docstring) for ``i = 0 .. n - 1``; O(n^2); ``power`` 0 or 1."""
     n = p.size
     out = np.zeros(n)
     a = (1.0 - alpha) / (1.0 + alpha)
@@ -108,13 +110,14 @@ def gain_integral(p, lnp, w, corr, alpha, h, log_interp, order):
             if u >= n:
                 continue
             count = _stencil(u, n, order, nodes, lw)
-            acc += w[k] * abs(i - j) * h * pk * _interp(p, lnp, count, nodes, lw, log_interp)
+            kern = abs(i - j) * h if power == 1 else 1.0
+            acc += w[k] * kern * pk * _interp(p, lnp, count, nodes, lw, log_interp)
         out[i] = acc + corr[n - 1 + i] * p[i] * p[i]
     return out
 
 
 @jit
-def gain_jacobian(p, lnp, w, corr, alpha, h, log_interp, order):
+def gain_jacobian(p, lnp, w, corr, alpha, h, log_interp, order, power):
     """Dense Jacobian :math:`\\partial G_i / \\partial P_l` of :func:`gain_integral`.
 
     Both the quadrature factor :math:`P(v_k)` and the interpolated value depend on
@@ -134,7 +137,7 @@ def gain_jacobian(p, lnp, w, corr, alpha, h, log_interp, order):
             if u >= n:
                 continue
             count = _stencil(u, n, order, nodes, lw)
-            c = w[k] * abs(i - j) * h
+            c = w[k] * abs(i - j) * h if power == 1 else w[k]
             val = _interp(p, lnp, count, nodes, lw, log_interp)
             jac[i, abs(j)] += c * val
             pk = p[abs(j)]

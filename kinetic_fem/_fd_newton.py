@@ -5,11 +5,16 @@ solves (unit problem ``n = D = 1``)
 
 .. math::
 
-    R_i(P, \\lambda) = \\frac{P_{i+1} - 2P_i + P_{i-1}}{\\delta v^2} + G_i[P]
+    R_i(P, \\lambda) = \\frac{P_{i+1} - 2P_i + P_{i-1}}{\\delta v^2}
+        + \\xi\\,\\frac{v_{i+1}P_{i+1} - v_{i-1}P_{i-1}}{2\\delta v} + G_i[P]
         - \\nu_i[P] P_i - \\lambda P_i = 0, \\qquad \\sum_i w_i P_i = 1,
 
 where :math:`\\lambda` absorbs the O(h^4) mass defect of the discrete collision term
-(the normalisation after every step).  Newton's method is applied to the
+(the normalisation after every step) and :math:`\\xi` is the friction of a
+Fokker-Planck bath in units of the unit problem (0 for white noise; the drift
+:math:`\\partial_v(\\xi v P)` by central differences, second order like the Laplacian).
+The collision term has the kernel :math:`|g|^\\gamma`, ``gamma`` 1 or 0
+(:func:`kinetic_fem.collision.kernel_power`).  Newton's method is applied to the
 relative change :math:`y_i = \\delta P_i / P_i` (update :math:`P_i \\to P_i (1 + y_i)`,
 continued exponentially below :math:`y_i = -0.9` so that :math:`P` stays positive), with
 rows scaled by :math:`P_i(\\nu_i + 2/\\delta v^2)`: the scaled Jacobian has O(1)
@@ -27,9 +32,9 @@ from numpy.typing import NDArray
 from scipy.linalg import lu_factor, lu_solve
 
 from ._fd_kernels import gain_jacobian
-from .collision import HalfGrid, gain_term, loss_frequency
+from .collision import HalfGrid, gain_term, kernel_power, loss_frequency
 
-__all__ = ["NewtonResult", "laplacian", "steady_residual", "collision_jacobian",
+__all__ = ["NewtonResult", "laplacian", "drift", "steady_residual", "collision_jacobian",
            "newton_steady", "update_factor", "UNDERFLOW"]
 
 UNDERFLOW = 1e-290
@@ -59,26 +64,52 @@ def laplacian(p: NDArray[np.float64], h: float) -> NDArray[np.float64]:
     return (ext[2:] - 2.0 * p + ext[:-2]) / h**2
 
 
+def drift(p: NDArray[np.float64], v: NDArray[np.float64], h: float) -> NDArray[np.float64]:
+    """:math:`\\partial_v (v P)` by central differences, :math:`P(-v) = P(v)`, :math:`P_N = 0`.
+
+    Examples
+    --------
+    >>> v = np.linspace(0.0, 4.0, 5)
+    >>> drift(np.ones(5), v, 1.0)  # d(v)/dv = 1 inside; the cut-off sees P_N = 0
+    array([ 1. ,  1. ,  1. ,  1. , -1.5])
+    """
+    vp = np.concatenate([v * p, [0.0]])
+    out = np.empty_like(p)
+    out[0] = vp[1] / h  # (v_1 P_1 - v_{-1} P_{-1}) / 2h with v_{-1} = -v_1
+    out[1:] = (vp[2:] - vp[:-2]) / (2.0 * h)
+    return out
+
+
 def steady_residual(grid: HalfGrid, p: NDArray[np.float64], multiplier: float, *,
-                    alpha: float, log_interp: bool = True, order: int = 2
-                    ) -> NDArray[np.float64]:
+                    alpha: float, log_interp: bool = True, order: int = 2,
+                    gamma: float = 1.0, friction: float = 0.0) -> NDArray[np.float64]:
     """:math:`R_i(P, \\lambda)` of the module docstring (unit problem)."""
-    nu = loss_frequency(grid, p, density=1.0)
-    gain = gain_term(grid, p, alpha=alpha, density=1.0, log_interp=log_interp, order=order)
-    return laplacian(p, grid.h) + gain - (nu + multiplier) * p
+    nu = loss_frequency(grid, p, density=1.0, gamma=gamma)
+    gain = gain_term(grid, p, alpha=alpha, density=1.0, log_interp=log_interp, order=order,
+                     gamma=gamma)
+    res = laplacian(p, grid.h) + gain - (nu + multiplier) * p
+    if friction:
+        res += friction * drift(p, grid.v, grid.h)
+    return res
 
 
 def collision_jacobian(grid: HalfGrid, p: NDArray[np.float64], nu: NDArray[np.float64],
-                       alpha: float, log_interp: bool, order: int) -> NDArray[np.float64]:
+                       alpha: float, log_interp: bool, order: int, gamma: float = 1.0
+                       ) -> NDArray[np.float64]:
     """Dense :math:`\\partial Q_i / \\partial P_l` of the strong collision term
     :math:`Q_i = G_i[P] - \\nu_i[P] P_i` on the half grid (unit density)."""
     n, h = grid.n, grid.h
     idx = np.arange(n)
+    power = kernel_power(gamma)
     with np.errstate(divide="ignore"):
         lnp = np.where(p > 0, np.log(np.where(p > 0, p, 1.0)), -np.inf)
-    jac = 4.0 / (1.0 + alpha) ** 2 * gain_jacobian(p, lnp, grid.weights, grid.kink,
-                                                   float(alpha), h, bool(log_interp),
-                                                   int(order))
+    kink = grid.kink if power == 1 else np.zeros_like(grid.kink)
+    jac = (2.0 / (1.0 + alpha)) ** (1 + power) * gain_jacobian(
+        p, lnp, grid.weights, kink, float(alpha), h, bool(log_interp), int(order), power)
+    if power == 0:  # nu_i = sum_l w_l P_l at every node
+        jac -= p[:, None] * grid.half_weights[None, :]
+        jac[idx, idx] -= nu
+        return jac
     v = grid.v
     w_pos = grid.weights[n - 1:]
     w_neg = grid.weights[n - 1::-1]
@@ -91,22 +122,28 @@ def collision_jacobian(grid: HalfGrid, p: NDArray[np.float64], nu: NDArray[np.fl
 
 
 def _jacobian(grid: HalfGrid, p: NDArray[np.float64], nu: NDArray[np.float64],
-              multiplier: float, alpha: float, log_interp: bool, order: int
-              ) -> NDArray[np.float64]:
+              multiplier: float, alpha: float, log_interp: bool, order: int, gamma: float,
+              friction: float) -> NDArray[np.float64]:
     """Dense :math:`\\partial R_i / \\partial P_l`."""
     n, h = grid.n, grid.h
-    jac = collision_jacobian(grid, p, nu, alpha, log_interp, order)
+    jac = collision_jacobian(grid, p, nu, alpha, log_interp, order, gamma)
     idx = np.arange(n)
     jac[idx, idx] += -2.0 / h**2 - multiplier
     jac[idx[:-1], idx[:-1] + 1] += 1.0 / h**2
     jac[idx[1:], idx[1:] - 1] += 1.0 / h**2
     jac[0, 1] += 1.0 / h**2  # P_{-1} = P_1: the first row sees P_1 twice
+    if friction:
+        v = grid.v
+        jac[0, 1] += friction * v[1] / h
+        jac[idx[1:-1], idx[1:-1] + 1] += friction * v[2:] / (2.0 * h)
+        jac[idx[1:], idx[1:] - 1] -= friction * v[:-1] / (2.0 * h)
     return jac
 
 
 def newton_steady(grid: HalfGrid, p0: NDArray[np.float64], *, alpha: float,
                   log_interp: bool = True, order: int = 2, tol: float = 1e-10,
-                  max_iter: int = 60, monitor_floor: float = 1e-50) -> NewtonResult:
+                  max_iter: int = 60, monitor_floor: float = 1e-50, gamma: float = 1.0,
+                  friction: float = 0.0) -> NewtonResult:
     """Solve :math:`R(P,\\lambda) = 0`, :math:`\\sum w P = 1` from ``p0`` (positive).
 
     Parameters
@@ -120,6 +157,8 @@ def newton_steady(grid: HalfGrid, p0: NDArray[np.float64], *, alpha: float,
         Converged when the largest relative Newton update is below ``tol`` on the
         monitored nodes.
     max_iter : int
+    gamma, friction : float
+        Kernel exponent (1 or 0) and bath friction of the unit problem.
     monitor_floor : float
         Nodes with :math:`f = \\sqrt{T} P >` ``monitor_floor`` are monitored for
         convergence (20 decades below the resolved 1e-30); deeper, under-resolved
@@ -136,10 +175,11 @@ def newton_steady(grid: HalfGrid, p0: NDArray[np.float64], *, alpha: float,
     lam = 0.0
 
     def scaled(p_: NDArray[np.float64], lam_: float) -> tuple[NDArray[np.float64], ...]:
-        nu_ = loss_frequency(grid, p_, density=1.0)
-        res_ = steady_residual(grid, p_, lam_, alpha=alpha, log_interp=log_interp, order=order)
+        nu_ = loss_frequency(grid, p_, density=1.0, gamma=gamma)
+        res_ = steady_residual(grid, p_, lam_, alpha=alpha, log_interp=log_interp, order=order,
+                               gamma=gamma, friction=friction)
         act_ = p_ > UNDERFLOW
-        d_ = np.where(act_, p_ * (nu_ + 2.0 / grid.h**2), 1.0)
+        d_ = np.where(act_, p_ * (nu_ + 2.0 / grid.h**2 + friction), 1.0)
         return nu_, res_, d_, act_
 
     def monitored(p_: NDArray[np.float64]) -> NDArray[np.bool_]:
@@ -154,7 +194,7 @@ def newton_steady(grid: HalfGrid, p0: NDArray[np.float64], *, alpha: float,
     it = 0
     while it < max_iter:
         it += 1
-        jac = _jacobian(grid, p, nu, lam, alpha, log_interp, order)
+        jac = _jacobian(grid, p, nu, lam, alpha, log_interp, order, gamma, friction)
         a = np.flatnonzero(act)
         m = a.size
         big = np.zeros((m + 1, m + 1))

@@ -27,7 +27,33 @@ from ._fd_kernels import gain_integral
 from .grid import abs_power_convolution, simpson_kink_correction, simpson_weights, symmetric_grid
 
 __all__ = ["pair_moment", "energy_loss_rate", "EnergyBalance", "energy_balance",
-           "HalfGrid", "half_grid", "loss_frequency", "gain_term", "collision_term"]
+           "HalfGrid", "half_grid", "loss_frequency", "gain_term", "collision_term",
+           "STRONG_FORM_GAMMAS", "kernel_power"]
+
+STRONG_FORM_GAMMAS = (0.0, 1.0)
+"""Kernel exponents of the strong form on the half grid: Maxwell and hard rods."""
+
+
+def kernel_power(gamma: float) -> int:
+    """The integer exponent of :math:`|g|^\\gamma` the strong form supports (0 or 1).
+
+    Raises
+    ------
+    ValueError
+        For other exponents: :math:`|g|^\\gamma` has a kink of fractional order at
+        :math:`g = 0` that the Simpson rule with its kink correction does not integrate
+        to fourth order (``gamma = 2`` would need its own correction).
+
+    Examples
+    --------
+    >>> kernel_power(1.0), kernel_power(0.0)
+    (1, 0)
+    """
+    if gamma not in STRONG_FORM_GAMMAS:
+        raise ValueError(f"the finite-difference strong form supports the kernels gamma = 0 "
+                         f"(Maxwell) and gamma = 1 (hard rods), got gamma={gamma!r}; use "
+                         "method='fem' for other kernels")
+    return int(gamma)
 
 
 def pair_moment(v: NDArray[np.float64], p: NDArray[np.float64], w: NDArray[np.float64],
@@ -125,9 +151,9 @@ def half_grid(cutoff: float, n_v: int) -> HalfGrid:
                     simpson_kink_correction(v_full))
 
 
-def loss_frequency(grid: HalfGrid, p: NDArray[np.float64], *, density: float
-                   ) -> NDArray[np.float64]:
-    """Collision frequency :math:`\\nu(v_i) = n\\int dv' |v_i - v'| P(v')`, O(n).
+def loss_frequency(grid: HalfGrid, p: NDArray[np.float64], *, density: float,
+                   gamma: float = 1.0) -> NDArray[np.float64]:
+    """Collision frequency :math:`\\nu(v_i) = n\\int dv' |v_i - v'|^\\gamma P(v')`, O(n).
 
     Parameters
     ----------
@@ -136,25 +162,35 @@ def loss_frequency(grid: HalfGrid, p: NDArray[np.float64], *, density: float
         :math:`P` on the half grid (even extension to ``v < 0``).
     density : float
         :math:`n`.
+    gamma : {1, 0}
+        Kernel exponent: hard rods or Maxwell (:math:`\\nu = n\\int P`, the same at
+        every node).
 
     Notes
     -----
     Cumulative moments (:func:`~kinetic_fem.grid.abs_power_convolution`) with Simpson
     weights on the mirrored grid plus the kink correction, fourth order in ``h``.
     """
+    if kernel_power(gamma) == 0:
+        return np.full(grid.n, density * float(np.dot(grid.half_weights, p)))
     wf = grid.weights * grid.full(p)
     conv = abs_power_convolution(grid.v_full, wf, 1, at=grid.v)
     return density * (conv + grid.kink[grid.n - 1:] * p)
 
 
 def gain_term(grid: HalfGrid, p: NDArray[np.float64], *, alpha: float, density: float,
-              log_interp: bool = True, order: int = 2) -> NDArray[np.float64]:
+              log_interp: bool = True, order: int = 2, gamma: float = 1.0
+              ) -> NDArray[np.float64]:
     """Gain term of the strong collision operator on the half grid, O(n^2).
 
     .. math::
 
-        G(v) = \\frac{4n}{(1+\\alpha)^2}\\int dv' |v - v'| P(v')
+        G(v) = n\\Big(\\frac{2}{1+\\alpha}\\Big)^{1+\\gamma}\\int dv' |v - v'|^\\gamma P(v')
                P\\Big(\\frac{2v - (1-\\alpha)v'}{1+\\alpha}\\Big)
+
+    (the pre-collision partner of :math:`v` and :math:`v'` is the argument of the second
+    :math:`P`; the Jacobian :math:`2/(1+\\alpha)` of that map and
+    :math:`|g_{pre}| = 2|v - v'|/(1+\\alpha)` give the prefactor).
 
     Parameters
     ----------
@@ -170,6 +206,8 @@ def gain_term(grid: HalfGrid, p: NDArray[np.float64], *, alpha: float, density: 
     order : {2, 3}
         Quadratic interpolation on the three nearest nodes (the paper) or cubic on the
         four nodes around the argument.
+    gamma : {1, 0}
+        Kernel exponent (hard rods or Maxwell; the Maxwell integrand has no kink).
 
     Notes
     -----
@@ -182,13 +220,16 @@ def gain_term(grid: HalfGrid, p: NDArray[np.float64], *, alpha: float, density: 
         lnp = np.where(p > 0, np.log(np.where(p > 0, p, 1.0)), -np.inf)
     if order not in (2, 3):
         raise ValueError(f"interpolation order must be 2 or 3, got {order!r}")
-    g = gain_integral(p, lnp, grid.weights, grid.kink, float(alpha), grid.h, bool(log_interp),
-                      int(order))
-    return 4.0 * density / (1.0 + alpha) ** 2 * g
+    power = kernel_power(gamma)
+    kink = grid.kink if power == 1 else np.zeros_like(grid.kink)
+    g = gain_integral(p, lnp, grid.weights, kink, float(alpha), grid.h, bool(log_interp),
+                      int(order), power)
+    return density * (2.0 / (1.0 + alpha)) ** (1 + power) * g
 
 
 def collision_term(grid: HalfGrid, p: NDArray[np.float64], *, alpha: float, density: float,
-                   log_interp: bool = True, order: int = 2) -> NDArray[np.float64]:
+                   log_interp: bool = True, order: int = 2, gamma: float = 1.0
+                   ) -> NDArray[np.float64]:
     """Strong form :math:`Q[P,P](v_i) = G(v_i) - \\nu(v_i) P(v_i)` on the half grid.
 
     Examples
@@ -200,5 +241,5 @@ def collision_term(grid: HalfGrid, p: NDArray[np.float64], *, alpha: float, dens
     True
     """
     return (gain_term(grid, p, alpha=alpha, density=density, log_interp=log_interp,
-                      order=order)
-            - loss_frequency(grid, p, density=density) * p)
+                      order=order, gamma=gamma)
+            - loss_frequency(grid, p, density=density, gamma=gamma) * p)

@@ -65,7 +65,7 @@ def solve_steady(alpha: float, *, spacing: float = 0.04, cutoff_factor: float = 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ConvergenceWarning)
         dist = solve_heated(alpha, method="fd", steady="newton", spacing=spacing,
-                            cutoff=cutoff, interpolation_order=3)
+                            cutoff=cutoff, interpolation_order=3, richardson=0)
     if not dist.info.converged:
         raise RuntimeError(f"FD steady state not converged at alpha={alpha}: "
                            f"{dist.info.message}; reduce spacing")
@@ -143,7 +143,7 @@ def relaxation_run(alpha: float, *, spacing: float = 0.2, initial_temperature: f
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ConvergenceWarning)
         return solve_heated(alpha, method="fd", steady="march", spacing=spacing,
-                            initial_temperature=initial_temperature, tol=1e-9)
+                            initial_temperature=initial_temperature, tol=1e-9, richardson=0)
 
 
 def _c1_residual(dist: VelocityDistribution) -> float:
