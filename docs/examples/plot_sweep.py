@@ -80,11 +80,18 @@ for alpha in result.dsmc.alpha.values:
 # :math:`a_2(\alpha)`: the deterministic curve, DSMC with error bars and the Sonine
 # approximation; and the family :math:`f(c)` on a log scale.
 if __name__ == "__main__":
+    import os
+
     import matplotlib.pyplot as plt
 
     from kinetic_fem.plot import plot_a2, plot_f
 
-    result = main()
+    # The documentation build in CI sets KINETIC_FEM_DOCS_QUICK=1: three alphas, DSMC
+    # with 5000 particles and 200 collisions per particle (the full run: five alphas,
+    # 10000 particles, 400 collisions per particle; about a minute on 2 cores).
+    quick = os.environ.get("KINETIC_FEM_DOCS_QUICK") == "1"
+    result = (main(alphas=(0.2, 0.5, 0.8), n_particles=5000, collisions_per_particle=200.0)
+              if quick else main())
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4), layout="constrained")
     plot_a2(result.deterministic, ax=ax1, theory=a2_first_order,
             theory_label="first-order Sonine")
