@@ -51,6 +51,7 @@ class SerialExecutor(Executor):
     """Runs each submitted call at once in the calling process (debugging, tests, CLI)."""
 
     def submit(self, fn: Callable[..., Any], /, *args: Any, **kwargs: Any) -> Future:
+        """Call ``fn(*args, **kwargs)`` now; its result or exception is in the Future."""
         future: Future = Future()
         try:
             future.set_result(fn(*args, **kwargs))
