@@ -290,7 +290,7 @@ class Engine:
 
     def _relaxed(self) -> bool:
         o = self.opts
-        if o.relax != "auto":
+        if not isinstance(o.relax, str):
             return 2.0 * self.c["accepted"] / self.n >= o.relax
         w = o.window
         k = len(self.series["a2"])
@@ -315,7 +315,7 @@ class Engine:
 
     def _accumulate(self) -> None:
         o = self.opts
-        k = self.c["n_samples"]
+        k = int(self.c["n_samples"])
         b = k * o.n_batches // o.n_samples
         x = self.v if self.kind == "heated" else self.v / math.sqrt(np.mean(self.v**2))
         accumulate_kernel(x, o.lo, o.hi, self.counts[b], self.sums[b])

@@ -345,7 +345,7 @@ def simulate_heated(alpha: float | RestitutionLaw, n_particles: int, *, density:
     c_max = check_positive("c_max", c_max)
     init_seq, run_seq, entropy = _seeds(seed)
     paper = gas.gamma == 1.0 and gas.restitution.constant is not None and friction == 0.0
-    a2 = a2_first_order(gas.alpha) if paper else 0.0
+    a2 = float(a2_first_order(gas.alpha)) if paper else 0.0
     v = _initial(initial_velocities, o["n"], t_ref, init_seq, a2=a2)
     _check_range(gas, v, "the initial velocities")
     t_max = max(t_ref, float(np.mean(v**2)))
@@ -359,9 +359,10 @@ def simulate_heated(alpha: float | RestitutionLaw, n_particles: int, *, density:
                          f"{MAX_COLLISIONS_PER_STEP / per_step * dt:.3g})")
     if xi > 0.0:  # exact Ornstein-Uhlenbeck flow over dt and dt/2
         t_bath = problem.thermostat.bath_temperature
-        kicks = {"decay": math.exp(-xi * dt), "amp": math.sqrt(-t_bath * math.expm1(-2 * xi * dt)),
-                 "half_decay": math.exp(-0.5 * xi * dt),
-                 "half_amp": math.sqrt(-t_bath * math.expm1(-xi * dt))}
+        kicks: dict[str, Any] = {
+            "decay": math.exp(-xi * dt), "amp": math.sqrt(-t_bath * math.expm1(-2 * xi * dt)),
+            "half_decay": math.exp(-0.5 * xi * dt),
+            "half_amp": math.sqrt(-t_bath * math.expm1(-xi * dt))}
     else:
         amp = math.sqrt(2.0 * problem.diffusion * dt)
         kicks = {"decay": 1.0, "amp": amp, "half_decay": 1.0, "half_amp": amp / math.sqrt(2.0)}
