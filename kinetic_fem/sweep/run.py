@@ -310,7 +310,7 @@ def _compute(function, points, seeds, fixed, todo, keys, records, db, executor, 
         for fut in pending:
             fut.cancel()
         if owned:
-            pool.shutdown(wait=True, cancel_futures=True)
+            pool.shutdown(wait=not pending, cancel_futures=True)  # no wait on an error
 
 
 def _dataset(coords, points, records, seeds, manifest, store, derive):
