@@ -31,7 +31,8 @@ __all__ = ["add_parser", "run", "read_config", "GRID_OPTIONS"]
 EPILOG = """\
 examples:
   kinetic-fem sweep --method fem --alpha 0.3,0.6,0.9 --kernel 0,1 --store a2-map
-  kinetic-fem sweep --method dsmc --alpha 0.5,0.9 --particles 10000 -o collisions_per_particle=50
+  kinetic-fem sweep --method dsmc --alpha 0.5,0.9 --particles 10000 --replicas 8 \\
+      -o collisions_per_particle=50
   kinetic-fem sweep --config grid.toml --scheduler tcp://10.0.0.1:8786
   kinetic-fem sweep --method spectral --problem cooling --alpha 0.6,0.9 --out hcs.nc
 
@@ -63,6 +64,9 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
         flag = "--particles" if name == "n_particles" else f"--{name}"
         p.add_argument(flag, dest=name, type=GRID_OPTIONS[name], default=None,
                        metavar="V1,V2,...", help=f"grid values of {name}")
+    p.add_argument("--replicas", type=int, default=None, metavar="R",
+                   help="R independent runs per point (stochastic methods): a grid "
+                        "dimension 'replica' = 0..R-1 that only changes the derived seed")
     p.add_argument("--store", type=Path, default=None, metavar="DIR",
                    help="directory where each finished point is written (resumable)")
     p.add_argument("--scheduler", default=None, metavar="ADDRESS",
@@ -149,6 +153,10 @@ def _settings(args: argparse.Namespace) -> dict[str, Any]:
     for name in GRID_OPTIONS:
         if getattr(args, name) is not None:
             grid[name] = getattr(args, name)
+    if args.replicas is not None:
+        if args.replicas < 1:
+            raise ValueError(f"--replicas must be >= 1, got {args.replicas}")
+        grid["replica"] = list(range(args.replicas))
     if "particles" in grid:
         grid["n_particles"] = grid.pop("particles")
     options = {**config.get("options", {}), **dict(args.options)}

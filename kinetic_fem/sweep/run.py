@@ -202,7 +202,9 @@ def sweep(function: Callable[..., Any], grid: Mapping[str, Any], *,
         Keyword arguments passed to every call.  If ``function`` takes ``seed`` and the
         grid has none, each point gets ``seed = point_seed(point, root=fixed["seed"])``
         (:func:`kinetic_fem.sweep.grid.point_seed`), so results are identical whatever
-        the executor and the number of workers.
+        the executor and the number of workers.  A grid dimension named ``replica``
+        (e.g. ``"replica": range(32)``) that ``function`` does not take is not passed
+        to it: it only labels independent replicas, whose derived seeds differ.
 
     Returns
     -------
@@ -238,7 +240,13 @@ def sweep(function: Callable[..., Any], grid: Mapping[str, Any], *,
     derive = "seed" not in coords and _takes(function, "seed")
     if root is not None and not derive:
         fixed["seed"] = root
-    _check_call(function, [*coords, *fixed, *(["seed"] if derive else [])])
+    replica = "replica" in coords and not _takes(function, "replica")
+    if replica and not derive:
+        raise ValueError("a 'replica' grid dimension labels independent runs of a function "
+                         "that takes a seed (not given in the grid); "
+                         f"{_name(function)} takes none, or the grid gives the seeds")
+    names = [n for n in coords if not (replica and n == "replica")]
+    _check_call(function, [*names, *fixed, *(["seed"] if derive else [])])
     c = C_GRID
     manifest = {"function": _name(function),
                 "fixed": {k: _text(v) for k, v in sorted(fixed.items())},
@@ -258,7 +266,9 @@ def sweep(function: Callable[..., Any], grid: Mapping[str, Any], *,
     logger.info("sweep of %s: %d point(s), %d stored, %d to compute", manifest["function"],
                 len(points), len(records), len(todo))
     if todo:
-        _compute(function, points, seeds, fixed, todo, keys, records, db, executor, progress)
+        calls = [{k: v for k, v in p.items() if not (replica and k == "replica")}
+                 for p in points]
+        _compute(function, calls, seeds, fixed, todo, keys, records, db, executor, progress)
     return _dataset(coords, points, records, seeds, manifest, store, derive)
 
 

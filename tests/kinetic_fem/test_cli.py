@@ -296,6 +296,10 @@ def test_sweep_command_reads_a_toml_grid(tmp_path, capsys):
     assert main(["sweep", "--config", str(config), "--quiet"]) == 0
     out = capsys.readouterr().out
     assert "alpha  n_particles" in out and "2/2 point(s)" in out and "simulate_heated" in out
+    assert main(["sweep", "--config", str(config), "--quiet", "--replicas", "2",
+                 "--alpha", "0.5"]) == 0
+    out = capsys.readouterr().out
+    assert "alpha  n_particles  replica" in out and "2/2 point(s)" in out
     config.write_text("[grid]\nalpha = [0.5]\n[optoins]\n")
     with pytest.raises(SystemExit):
         main(["sweep", "--config", str(config)])

@@ -103,6 +103,16 @@ def test_seeds_come_from_the_point_and_the_root():
         0.5, seed=1).temperature
 
 
+def test_replica_dimension_labels_independent_seeds():
+    ds = sweep(sampled_gauss, {"alpha": [0.5, 1.0], "replica": range(3)}, executor="serial")
+    assert ds.T.dims == ("alpha", "replica")
+    assert int(ds.seed.sel(alpha=0.5, replica=2)) == point_seed({"alpha": 0.5, "replica": 2})
+    assert len(set(ds.seed.values.ravel())) == 6 and len(set(ds.T.values.ravel())) == 6
+    with pytest.raises(ValueError, match="labels independent runs"):
+        sweep(kf.solve_heated, {"alpha": [0.5], "replica": [0, 1]}, method="spectral",
+              executor="serial")
+
+
 def test_bad_arguments_are_named():
     with pytest.raises(TypeError, match=r"no argument\(s\) \['widht'\]; valid names"):
         sweep(sampled_gauss, {"alpha": [0.5]}, executor="serial", widht=2.0)
