@@ -3,7 +3,7 @@
 Run: ``python benchmarks/bench_sweep.py [--quick] [--part replicas|large|all]
 [--sizes 1e7,1e8] [--dask]``.
 
-*replicas*: a replica sweep ``{"seed": [0, ..., R-1]}`` of heated DSMC runs
+*replicas*: a replica sweep ``{"replica": [0, ..., R-1]}`` of heated DSMC runs
 (:func:`particles.dsmc.simulate_heated`, alpha = 0.6) through :func:`kinetic_fem.sweep`
 on a local process pool of 1 and of 2 workers (and a dask LocalCluster of 2 worker
 processes with ``--dask``).  Printed: wall time of each, the speed-up of 2 workers over
@@ -40,9 +40,9 @@ def replica_sweep(executor, replicas: int, n: int, cpp: float):
     from particles import dsmc
 
     start = time.perf_counter()
-    ds = kf.sweep(dsmc.simulate_heated, {"seed": list(range(replicas))}, executor=executor,
-                  alpha=0.6, n_particles=n, collisions_per_particle=cpp, relax=2.0,
-                  n_batches=5)
+    ds = kf.sweep(dsmc.simulate_heated, {"replica": list(range(replicas))},
+                  executor=executor, alpha=0.6, n_particles=n, collisions_per_particle=cpp,
+                  relax=2.0, n_batches=5, seed=2002)
     return ds, time.perf_counter() - start
 
 
