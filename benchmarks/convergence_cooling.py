@@ -9,6 +9,13 @@ wherever f > 1e-30.  The last block compares the default solution with DSMC-free
 independent checks: the Sonine moment method (order 8) where it converges.
 
     python benchmarks/convergence_cooling.py [--alphas 0.5 0.85] [--levels 4]
+    python benchmarks/convergence_cooling.py --defaults --alphas 0.5 0.999
+
+The study also prints the two-level Richardson values of zeta from the grids
+(2h, h, h/2) and (h, h/2, h/4) and their difference.  ``--defaults`` times the default
+call (``solve_cooling(alpha, method="fd")``: two Richardson levels over 2h, h, h/2)
+against one grid of the default spacing h (the old default) and prints the error
+estimates the result reports.
 """
 
 from __future__ import annotations
@@ -23,7 +30,9 @@ import time  # noqa: E402
 
 import numpy as np  # noqa: E402
 
+import kinetic_fem as kf  # noqa: E402
 from kinetic_fem import cooling, spectral  # noqa: E402
+from kinetic_fem._richardson import richardson_scalar  # noqa: E402
 
 
 def f_rel(coarse: cooling.HCSSolution, fine: cooling.HCSSolution) -> float:
@@ -51,7 +60,7 @@ def study(alpha: float, levels: int) -> None:
     sols, walls = [], []
     for h in spacings:
         t0 = time.perf_counter()
-        sols.append(cooling.solve_hcs(alpha, spacing=h, cutoff=cutoff))
+        sols.append(cooling.solve_hcs(alpha, spacing=h, cutoff=cutoff))  # one grid each
         walls.append(time.perf_counter() - t0)
     print(f"\n=== alpha = {alpha}: default spacing {h0:.4g}, cut-off {cutoff:.3g} ===")
     print(f"{'spacing':>8} {'n':>5} {'it':>3} {'wall s':>7} {'zeta':>16} {'a2':>14} "
@@ -79,6 +88,12 @@ def study(alpha: float, levels: int) -> None:
     ar = (2**p * a2(sols[2]) - a2(sols[1])) / (2**p - 1)
     print(f"default spacing: estimated error zeta {abs(sols[1].zeta / zr - 1):.1e} (rel), "
           f"a2 {abs(a2(sols[1]) - ar):.1e} (abs), f {df[1]:.1e} (rel, vs h/2)")
+    if levels >= 4:
+        z_a, _ = richardson_scalar([s.zeta for s in sols[0:3]])
+        z_b, _ = richardson_scalar([s.zeta for s in sols[1:4]])
+        print(f"two Richardson levels: zeta = {z_a:.13f} (2h, h, h/2), {z_b:.13f} "
+              f"(h, h/2, h/4), relative difference {abs(z_a / z_b - 1):.1e}; one grid of "
+              f"spacing h misses zeta by {abs(sols[1].zeta / z_b - 1):.1e}")
     try:
         son, zeta_s = spectral.solve_sonine_cooling(alpha, 8)
         son6, _ = spectral.solve_sonine_cooling(alpha, 6)
@@ -89,11 +104,35 @@ def study(alpha: float, levels: int) -> None:
         print(f"Sonine order 8 (or 6): no solution ({str(exc)[:60]}...)")
 
 
+def defaults(alpha: float) -> None:
+    """The default call (two levels) against one grid of the default spacing."""
+    t0 = time.perf_counter()
+    one = kf.solve_cooling(alpha, method="fd", richardson=0)
+    t_one = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    best = kf.solve_cooling(alpha, method="fd")
+    t_best = time.perf_counter() - t0
+    e = best.info.extra
+    z1, zb = one.info.extra["zeta"], e["zeta"]
+    print(f"alpha={alpha}: one grid h={one.info.extra['spacing']:.4g}: zeta={z1:.12f} "
+          f"({t_one:.1f} s); default (2 levels, spacings "
+          f"{', '.join(f'{h:.4g}' for h in e['spacings'])}): zeta={zb:.13f} "
+          f"({t_best:.1f} s), one-grid error {abs(z1 / zb - 1):.1e}; estimated errors of "
+          f"the default: zeta {e['estimated_error_zeta']:.1e}, a2 "
+          f"{e['estimated_error_a2']:.1e}, f {e['estimated_error_f']:.1e}")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--alphas", type=float, nargs="+", default=[0.0, 0.5, 0.85, 0.99])
     parser.add_argument("--levels", type=int, default=4)
+    parser.add_argument("--defaults", action="store_true",
+                        help="time and check the default call instead of the study")
     args = parser.parse_args()
+    if args.defaults:
+        for alpha in args.alphas:
+            defaults(alpha)
+        return
     for alpha in args.alphas:
         study(alpha, args.levels)
 

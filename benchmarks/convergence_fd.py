@@ -10,11 +10,18 @@ of f(c) resolved, and, when the FEM solver is importable, the FD/FEM differences
 
     python benchmarks/convergence_fd.py                 # all alphas of issue 3
     python benchmarks/convergence_fd.py --alphas 0.6 --spacings 0.1 0.05 0.025
+    python benchmarks/convergence_fd.py --defaults --fem   # accuracy of the defaults
+
+``--defaults`` prints, per alpha, the error of the old default (one grid of spacing
+0.04, the fixed point of the paper's time marching, computed here by Newton) and of
+the new default (Newton, two Richardson levels over 0.08/0.04/0.02) against the FEM
+defaults, with the error estimates the FD result reports and the wall times.
 """
 
 from __future__ import annotations
 
 import argparse
+import importlib
 import math
 import time
 import warnings
@@ -33,7 +40,7 @@ def solve(alpha: float, spacing: float, cutoff: float) -> VelocityDistribution:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         return kf.solve_heated(alpha, method="fd", steady="newton", spacing=spacing,
-                               cutoff=cutoff, interpolation_order=ORDER)
+                               cutoff=cutoff, interpolation_order=ORDER, richardson=0)
 
 
 def f_rel(a: VelocityDistribution, b: VelocityDistribution) -> float:
@@ -113,6 +120,30 @@ def study(alpha: float, spacings: list[float]) -> None:
                   f"|da2|={cmp2.a2_abs:.2e} max df/f(f>1e-30)={cmp2.f_rel_max:.2e}")
 
 
+def defaults(alpha: float) -> None:
+    """Old default (one grid, h = 0.04) and new default (two Richardson levels) vs FEM."""
+    importlib.import_module("kinetic_fem.fem")  # registers "fem"
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        t0 = time.perf_counter()
+        fem = kf.solve_heated(alpha, method="fem")
+        t_fem = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        old = kf.solve_heated(alpha, method="fd", spacing=0.04, richardson=0)
+        t_old = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        new = kf.solve_heated(alpha, method="fd")
+        t_new = time.perf_counter() - t0
+    for name, d, t in (("one grid h=0.04", old, t_old), ("default (2 levels)", new, t_new)):
+        cmp = d.compare(fem)
+        e = d.info.extra
+        print(f"alpha={alpha:<6} {name:>19}: dT/T={cmp.temperature_rel:8.1e} "
+              f"|da2|={cmp.a2_abs:8.1e} max df/f={cmp.f_rel_max:8.1e}  estimated: "
+              f"{e['estimated_error_temperature']:8.1e} {e['estimated_error_a2']:8.1e} "
+              f"{e['estimated_error_f']:8.1e}  {t:6.1f} s (FEM {t_fem:.1f} s)")
+
+
 def _weights(d: VelocityDistribution) -> np.ndarray:
     from kinetic_fem.grid import simpson_weights
     return simpson_weights(d.v)
@@ -135,6 +166,8 @@ def main() -> None:
                         default=[0.0, 0.1, 0.6, 0.9, 0.99, 0.999])
     parser.add_argument("--spacings", type=float, nargs="+", default=[0.16, 0.08, 0.04, 0.02])
     parser.add_argument("--fem", action="store_true", help="import kinetic_fem.fem and compare")
+    parser.add_argument("--defaults", action="store_true",
+                        help="accuracy of the default call against the FEM defaults")
     parser.add_argument("--order", type=int, default=2, choices=(2, 3),
                         help="interpolation order of the gain argument (2: the paper)")
     args = parser.parse_args()
@@ -142,6 +175,10 @@ def main() -> None:
     ORDER = args.order
     if args.fem:
         import kinetic_fem.fem  # noqa: F401
+    if args.defaults:
+        for alpha in args.alphas:
+            defaults(alpha)
+        return
     for alpha in args.alphas:
         study(alpha, args.spacings)
 

@@ -54,16 +54,16 @@ import logging
 import math
 import time
 import warnings
-from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.linalg import lu_factor, lu_solve
 
-from ._fd_newton import collision_jacobian, update_factor
-from .collision import HalfGrid, gain_term, half_grid, loss_frequency, pair_moment
+from ._hcs_newton import HCSSolution, drift_term, hcs_residual, newton_hcs
+from ._richardson import richardson_log, richardson_scalar
+from .collision import HalfGrid, half_grid
 from .distribution import RunInfo, VelocityDistribution
 from .gas import CoolingProblem, check_alpha, check_positive
+from .model import UnsupportedModelError
 from .solve import register_solver
 
 __all__ = ["HCSSolution", "ResolutionWarning", "default_cutoff", "default_spacing",
@@ -72,7 +72,6 @@ __all__ = ["HCSSolution", "ResolutionWarning", "default_cutoff", "default_spacin
 
 logger = logging.getLogger(__name__)
 
-_MONITOR_FLOOR = 1e-50
 _CONTINUATION_START = 0.2  # eps at which continuation starts from a Gaussian
 _CONTINUATION_RATIO = 3.0  # eps ratio of one continuation step (halved on failure)
 
@@ -106,176 +105,6 @@ def default_spacing(alpha: float) -> float:
     (claim C11); see ``benchmarks/convergence_cooling.py`` for the errors it gives.
     """
     return min(0.04, (1.0 - alpha) ** (1.0 / 3.0) / 25.0)
-
-
-def _log_derivative(grid: HalfGrid, u: NDArray[np.float64]) -> NDArray[np.float64]:
-    """:math:`u'_i`: central differences, ``u' = 0`` at ``c = 0``, one-sided at the end."""
-    du = np.empty_like(u)
-    du[0] = 0.0
-    du[1:-1] = (u[2:] - u[:-2]) / (2.0 * grid.h)
-    du[-1] = (u[-1] - u[-2]) / grid.h
-    return du
-
-
-def drift_term(grid: HalfGrid, u: NDArray[np.float64]) -> NDArray[np.float64]:
-    """:math:`(cf)'_i = f_i (1 + c_i u'_i)` with :math:`f = e^u` on the half grid.
-
-    Examples
-    --------
-    >>> g = half_grid(12.0, 1201)
-    >>> u = -g.v**2 / 2
-    >>> exact = np.exp(u) * (1 - g.v**2)
-    >>> bool(np.max(np.abs(drift_term(g, u)[:-1] - exact[:-1])) < 1e-4)
-    True
-    """
-    return np.exp(u) * (1.0 + grid.v * _log_derivative(grid, u))
-
-
-def _drift_jacobian(grid: HalfGrid, u: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Dense :math:`\\partial (cf)'_i / \\partial u_l`."""
-    n, h, c = grid.n, grid.h, grid.v
-    f = np.exp(u)
-    du = _log_derivative(grid, u)
-    jac = np.zeros((n, n))
-    idx = np.arange(n)
-    jac[idx, idx] = f * (1.0 + c * du)
-    inner = idx[1:-1]
-    jac[inner, inner + 1] += f[inner] * c[inner] / (2.0 * h)
-    jac[inner, inner - 1] -= f[inner] * c[inner] / (2.0 * h)
-    jac[n - 1, n - 1] += f[n - 1] * c[n - 1] / h
-    jac[n - 1, n - 2] -= f[n - 1] * c[n - 1] / h
-    return jac
-
-
-def hcs_residual(grid: HalfGrid, u: NDArray[np.float64], zeta: float, multiplier: float, *,
-                 alpha: float, order: int = 3) -> NDArray[np.float64]:
-    """:math:`R_i(u, \\zeta, \\lambda)` of the module docstring; the last row is the
-    closure :math:`u_{n-1} - 2u_{n-2} + u_{n-3} = 0` at the cut-off."""
-    f = np.exp(u)
-    q = (gain_term(grid, f, alpha=alpha, density=1.0, order=order)
-         - loss_frequency(grid, f, density=1.0) * f)
-    res = q - multiplier * f - zeta * drift_term(grid, u)
-    # closure at the cut-off: the gain there misses its partners beyond the grid, so
-    # the last row extrapolates ln f linearly instead (exact for an exponential tail)
-    res[-1] = u[-1] - 2.0 * u[-2] + u[-3]
-    return res
-
-
-@dataclass(frozen=True)
-class HCSSolution:
-    """A homogeneous cooling state on one half grid.
-
-    Attributes
-    ----------
-    grid : HalfGrid
-    f : ndarray, shape (n,)
-        Scaled distribution on ``grid.v`` (unit temperature).
-    zeta : float
-        Dimensionless cooling rate: :math:`dT/dt = -2\\zeta n T^{3/2}`.
-    multiplier : float
-        Mass-defect rate :math:`\\lambda` of the discrete operator (a discretisation
-        error, zero in the continuum).
-    iterations : int
-    residual : float
-        Largest scaled residual on the monitored nodes.
-    converged : bool
-    message : str
-    """
-
-    grid: HalfGrid
-    f: NDArray[np.float64]
-    zeta: float
-    multiplier: float
-    iterations: int
-    residual: float
-    converged: bool
-    message: str
-
-    def energy_identity(self, alpha: float) -> float:
-        """:math:`(1-\\alpha^2)\\langle|c-c'|^3\\rangle/8`, to compare with :attr:`zeta`."""
-        w = self.grid.weights
-        g3 = pair_moment(self.grid.v_full, self.grid.full(self.f), w, 3)
-        return (1.0 - alpha**2) * g3 / 8.0
-
-
-def newton_hcs(grid: HalfGrid, u0: NDArray[np.float64], zeta0: float, *, alpha: float,
-               order: int = 3, tol: float = 1e-10, max_iter: int = 60) -> HCSSolution:
-    """Solve the discrete HCS equations by damped Newton from ``(u0, zeta0)``.
-
-    Rows are scaled by :math:`f_i(\\nu_i + \\zeta(1 + c_i/h))`, so that tail equations
-    weigh as much as bulk ones; converged when the largest change of ``u`` on the
-    nodes with :math:`f > 10^{-50}` is below ``tol``.
-    """
-    w = grid.half_weights
-    c2w = w * grid.v**2
-    u = np.asarray(u0, dtype=float).copy()
-    zeta, lam = float(zeta0), 0.0
-
-    def evaluate(u_: NDArray[np.float64], zeta_: float, lam_: float,
-                 scale: NDArray[np.float64] | None = None):
-        """Residuals and their max norm, rows scaled by ``scale`` (default: own scale).
-
-        The line search compares norms with the scaling of the current iterate: a
-        scaling that moves with the trial point (through f and zeta) can grow while the
-        residual itself falls."""
-        f_ = np.exp(u_)
-        nu_ = loss_frequency(grid, f_, density=1.0)
-        res_ = hcs_residual(grid, u_, zeta_, lam_, alpha=alpha, order=order)
-        d_ = np.maximum(f_ * (nu_ + abs(zeta_) * (1.0 + grid.v / grid.h)), 1e-300)
-        d_[-1] = 1.0  # the closure row is already O(1)
-        mon_ = f_ > _MONITOR_FLOOR
-        constraint = np.array([np.dot(w, f_) - 1.0, np.dot(c2w, f_) - 1.0])
-        s_ = d_ if scale is None else scale
-        norm_ = max(float(np.max(np.abs(res_[mon_] / s_[mon_]))),
-                    float(np.max(np.abs(constraint))))
-        return f_, nu_, res_, d_, mon_, constraint, norm_
-
-    f, nu, res, d, mon, cons, norm = evaluate(u, zeta, lam)
-    converged = False
-    message = "maximum iterations reached"
-    it = 0
-    n = grid.n
-    while it < max_iter:
-        it += 1
-        jac = collision_jacobian(grid, f, nu, alpha, True, order) * f[None, :]
-        jac[np.arange(n), np.arange(n)] -= lam * f
-        jac -= zeta * _drift_jacobian(grid, u)
-        big = np.zeros((n + 2, n + 2))
-        jac[-1, :] = 0.0
-        jac[-1, -3:] = [1.0, -2.0, 1.0]
-        drift = drift_term(grid, u)
-        drift[-1] = 0.0
-        big[:n, :n] = jac / d[:, None]
-        big[:n, n] = -drift / d
-        big[:n, n + 1] = -np.where(np.arange(n) < n - 1, f, 0.0) / d
-        big[n, :n] = w * f
-        big[n + 1, :n] = c2w * f
-        rhs = np.concatenate([-res / d, -cons])
-        step = lu_solve(lu_factor(big, check_finite=False), rhs, check_finite=False)
-        if not np.all(np.isfinite(step)):
-            message = "singular Newton system"
-            break
-        du, dzeta, dlam = step[:n], step[n], step[n + 1]
-        # the step du is applied as a relative change of f, f -> f * update_factor(du)
-        # (sublinear in ln f for large rises, exponential damping of large falls, as in
-        # the heated solver), then backtracking on the residual norm
-        theta = 1.0
-        for _ in range(12):
-            u_try = u + np.log(update_factor(theta * du))
-            trial = evaluate(u_try, zeta + theta * dzeta, lam + theta * dlam, d)
-            if trial[-1] < norm or theta < 1e-3:
-                break
-            theta *= 0.5
-        change = float(np.max(np.abs(u_try - u)[mon]))
-        u, zeta, lam = u_try, zeta + theta * dzeta, lam + theta * dlam
-        f, nu, res, d, mon, cons, norm = evaluate(u, zeta, lam)
-        if change < tol:
-            converged = True
-            message = f"Newton converged: max |d ln f| < {tol:g}"
-            break
-    if not math.isfinite(norm):
-        converged = False
-    return HCSSolution(grid, f, float(zeta), float(lam), it, norm, converged, message)
 
 
 def _grid(alpha: float, spacing: float | None, cutoff: float | None) -> HalfGrid:
@@ -408,37 +237,123 @@ def _check(sol: HCSSolution, alpha: float) -> None:
                       "f > 1e-30: reduce spacing", ResolutionWarning, stacklevel=3)
 
 
+def _refined(sol: HCSSolution, alpha: float, order: int, tol: float, max_iter: int
+             ) -> HCSSolution:
+    """The state on the grid of half the spacing (same cut-off), Newton from ``sol``."""
+    n = 2 * sol.grid.n - 1
+    grid = half_grid(sol.grid.v[-1], n)
+    fine = newton_hcs(grid, _transfer(sol, grid), sol.zeta, alpha=alpha, order=order, tol=tol,
+                      max_iter=max_iter)
+    if not fine.converged:
+        raise RuntimeError(f"HCS Newton failed on the refined grid (spacing {grid.h:.3g}) at "
+                           f"alpha={alpha}: {fine.message}; pass a smaller spacing")
+    return fine
+
+
+def _unsupported(problem: CoolingProblem) -> None:
+    gas = problem.gas
+    if gas.restitution.constant is None:
+        raise UnsupportedModelError(
+            f"the paper's FD method needs a constant restitution coefficient, got "
+            f"{gas.restitution!r}; use method='fem'")
+    if gas.gamma != 1.0:
+        raise UnsupportedModelError(
+            f"the FD cooling state supports hard rods (gamma = 1) only, got "
+            f"gamma={gas.gamma:g}: its closure u'' = 0 at the cut-off assumes the exponential "
+            "tail of hard rods, while the Maxwell state (gamma = 0) has the power-law tail "
+            "2/(pi (1 + c^2)^2) with an infinite fourth moment that no uniform grid with a "
+            "cut-off represents; use method='fem'")
+
+
 @register_solver("fd", problem="cooling")
 def hcs_fd(problem: CoolingProblem, *, spacing: float | None = None,
            cutoff: float | None = None, interpolation_order: int = 3, tol: float = 1e-10,
-           max_iter: int = 60) -> VelocityDistribution:
+           max_iter: int = 60, richardson: bool | int = 2) -> VelocityDistribution:
     """Homogeneous cooling state by Newton on the finite-difference grid (key ``"fd"``).
+
+    A second-order scheme; by default the state is computed on three nested grids of
+    spacing ``h``, ``h/2``, ``h/4`` (the finer ones by Newton from the coarser) and
+    extrapolated twice (:mod:`kinetic_fem._richardson`): zeta, a2 and ln f on the
+    coarse nodes.  Measured (``benchmarks/convergence_cooling.py``): zeta to ~1e-10
+    relative at alpha = 0.5 and 0.9, where one grid of the old default spacing missed
+    it by 3e-5.
 
     Parameters
     ----------
     problem : CoolingProblem
-    spacing, cutoff, interpolation_order, tol, max_iter
-        See :func:`solve_hcs`.
+        Hard rods with a constant restitution coefficient (anything else raises
+        :class:`~kinetic_fem.model.UnsupportedModelError`).
+    spacing : float, optional
+        Spacing of the coarsest grid (thermal velocities); default
+        ``2 * default_spacing(alpha)`` with two Richardson levels, else
+        :func:`default_spacing`.
+    cutoff, interpolation_order, tol, max_iter
+        See :func:`solve_hcs`; the cut-off is rounded up to a multiple of ``spacing``.
+    richardson : {2, 1, 0} or bool
+        Levels of extrapolation (0/False: one grid, second order, no error estimate).
 
     Returns
     -------
     VelocityDistribution
-        The scaled state at unit temperature (``v = c``);
+        The scaled state at unit temperature (``v = c``) on the coarse grid;
         ``info.extra`` holds ``zeta`` (:math:`dT/dt = -2\\zeta n T^{3/2}`), the energy
-        identity ``zeta_energy`` (equal to ``zeta`` up to the discretisation error),
-        the mass-defect rate, the spacing and the cut-off.
+        identity ``zeta_energy`` of the coarsest grid (equal to its ``zeta`` up to the
+        discretisation error), ``order`` (2), ``richardson`` (levels),
+        ``estimated_error_zeta`` (relative), ``estimated_error_a2`` (absolute),
+        ``estimated_error_f`` (max relative where f > 1e-30), NaN without
+        extrapolation, the mass-defect rate, the spacings and the cut-off.
     """
+    _unsupported(problem)
     problem.require("fd", gammas=(1.0,), constant_restitution=True)
+    if isinstance(richardson, bool):
+        levels = int(richardson)
+    elif richardson in (0, 1, 2):
+        levels = int(richardson)
+    else:
+        raise ValueError(f"richardson must be 0/False, 1/True or 2, got {richardson!r}")
     start = time.perf_counter()
     alpha = problem.gas.alpha
-    sol = solve_hcs(alpha, spacing=spacing, cutoff=cutoff,
-                    interpolation_order=interpolation_order, tol=tol, max_iter=max_iter)
+    if spacing is None:
+        spacing = default_spacing(alpha) * (2.0 if levels == 2 else 1.0)
+    spacing = check_positive("spacing", spacing)
+    cut = default_cutoff(alpha) if cutoff is None else check_positive("cutoff", cutoff)
+    cutoff = spacing * math.ceil(cut / spacing - 1e-9)
+    sols = [solve_hcs(alpha, spacing=spacing, cutoff=cutoff,
+                      interpolation_order=interpolation_order, tol=tol, max_iter=max_iter)]
+    for _ in range(levels):
+        sols.append(_refined(sols[-1], alpha, interpolation_order, tol, max_iter))
+    sol = sols[0]
     _check(sol, alpha)
-    info = RunInfo(converged=sol.converged, iterations=sol.iterations, residual=sol.residual,
-                   wall_time=time.perf_counter() - start, message=sol.message,
-                   extra={"zeta": sol.zeta, "zeta_energy": sol.energy_identity(alpha),
-                          "mass_defect_rate": sol.multiplier, "spacing": sol.grid.h,
-                          "cutoff": float(sol.grid.v[-1]), "n_v_half": sol.grid.n})
-    return VelocityDistribution.from_values(sol.grid.v_full, sol.grid.full(sol.f),
-                                            weights=sol.grid.weights, method="fd",
-                                            params=problem.as_dict(), info=info)
+    grid = sol.grid
+    extra: dict[str, object] = {"order": 2, "richardson": levels,
+                                "spacings": [s.grid.h for s in sols]}
+    if levels:
+        f, f_prev = richardson_log([s.f for s in sols])
+        zeta, zeta_prev = richardson_scalar([s.zeta for s in sols])
+        a2_best, a2_prev = _a2(grid, f), _a2(grid, f_prev)
+        keep = f > 1e-30
+        extra.update(estimated_error_zeta=abs(zeta_prev / zeta - 1.0),
+                     estimated_error_a2=abs(a2_prev - a2_best),
+                     estimated_error_f=float(np.max(np.abs(f_prev[keep] / f[keep] - 1.0))))
+    else:
+        f, zeta = sol.f, sol.zeta
+        extra.update(estimated_error_zeta=math.nan, estimated_error_a2=math.nan,
+                     estimated_error_f=math.nan)
+    extra.update({"zeta": float(zeta), "zeta_energy": sol.energy_identity(alpha),
+                  "mass_defect_rate": sol.multiplier, "spacing": grid.h,
+                  "cutoff": float(grid.v[-1]), "n_v_half": grid.n,
+                  "iterations_per_grid": [s.iterations for s in sols]})
+    info = RunInfo(converged=all(s.converged for s in sols),
+                   iterations=sum(s.iterations for s in sols),
+                   residual=max(s.residual for s in sols),
+                   wall_time=time.perf_counter() - start, message=sols[-1].message,
+                   extra=extra)
+    return VelocityDistribution.from_values(grid.v_full, grid.full(f), weights=grid.weights,
+                                            method="fd", params=problem.as_dict(), info=info)
+
+
+def _a2(grid: HalfGrid, f: NDArray[np.float64]) -> float:
+    """a2 of an even state on the half grid (normalised by its own moments)."""
+    w = grid.half_weights
+    m0, m2, m4 = (float(np.dot(w, grid.v**k * f)) for k in (0, 2, 4))
+    return m4 * m0 / (3.0 * m2**2) - 1.0

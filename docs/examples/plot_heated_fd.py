@@ -12,11 +12,13 @@ for the heated gas,
 with Simpson quadrature, quadratic interpolation of the gain argument and an implicit
 three-point diffusion step (``method="fd"``, :mod:`kinetic_fem.finite_difference`).
 Its steady state is reached by time marching (the paper) or, much faster, by Newton's
-method on the same discrete equations (``steady="newton"``); both give the same
-numbers.  The scheme is second order in the spacing; Richardson extrapolation over
-``spacing`` and ``spacing/2`` (``richardson=True``) removes the leading error.  We
-check the energy balance (C1), the distance to first-order Sonine theory (C3) and that
-f(c) is positive and resolved down to 1e-30 (C16).
+method on the same discrete equations (``steady="newton"``, the default); both give
+the same numbers.  The scheme is second order in the spacing: one grid of spacing
+0.04 sqrt(T) misses a2 by ~2e-4.  The default therefore extrapolates twice over the
+spacings 0.08, 0.04, 0.02 (``richardson=2``), which reaches T and a2 to ~1e-8, and
+every result reports its order and estimated errors in ``info.extra``.  We check the
+energy balance (C1), the distance to first-order Sonine theory (C3) and that f(c) is
+positive and resolved down to 1e-30 (C16).
 """
 
 from __future__ import annotations
@@ -30,7 +32,7 @@ from kinetic_fem import sonine
 from kinetic_fem.collision import energy_balance
 from kinetic_fem.grid import simpson_weights
 
-TEST_KWARGS = {"alpha": 0.6, "spacing": 0.2, "richardson": False}
+TEST_KWARGS = {"alpha": 0.6, "spacing": 0.2, "richardson": 0}
 
 
 @dataclass(frozen=True)
@@ -56,9 +58,10 @@ class HeatedFDResult:
     decades: float
 
 
-def main(alpha: float = 0.6, spacing: float = 0.04, richardson: bool = True
+def main(alpha: float = 0.6, spacing: float = 0.08, richardson: int = 2
          ) -> HeatedFDResult:
-    """Solve at ``alpha`` with grid ``spacing`` (units of sqrt(T))."""
+    """Solve at ``alpha`` with coarsest grid ``spacing`` (units of sqrt(T)) and
+    ``richardson`` levels of extrapolation (0: one grid)."""
     dist = kf.solve_heated(alpha, method="fd", steady="newton", spacing=spacing,
                            richardson=richardson)
     eb = energy_balance(dist.v, dist.values, simpson_weights(dist.v), alpha=alpha,
@@ -79,8 +82,11 @@ if __name__ == "__main__":
     for a in (0.1, 0.6, 0.9, 0.99):
         r = main(alpha=a)
         d = r.distribution
+        e = d.info.extra
         print(f"alpha={a}: T={d.temperature:.10f} a2={d.a2:.8f} (Sonine {r.a2_sonine:.5f}) "
               f"C1 residual {r.energy_residual:.1e}, {r.decades:.1f} decades, "
+              f"estimated errors T {e['estimated_error_temperature']:.0e} "
+              f"a2 {e['estimated_error_a2']:.0e} f {e['estimated_error_f']:.0e}, "
               f"{d.info.wall_time:.1f} s")
         keep = d.f_values > 1e-35
         ax.semilogy(d.c[keep], d.f_values[keep], label=f"alpha={a}")

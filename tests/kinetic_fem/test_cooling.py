@@ -21,7 +21,9 @@ from kinetic_fem import cooling, spectral
 
 @pytest.fixture(scope="module")
 def hcs() -> dict[float, kf.VelocityDistribution]:
-    return {a: kf.solve_cooling(a, method="fd") for a in (0.5, 0.85)}
+    """One grid of the default spacing (the scheme; the extrapolated default is tested
+    below on coarser grids)."""
+    return {a: kf.solve_cooling(a, method="fd", richardson=0) for a in (0.5, 0.85)}
 
 
 def test_registered():
@@ -121,10 +123,50 @@ def test_short_cutoff_warns():
 
 
 def test_density_does_not_change_the_scaled_state(hcs):
-    other = kf.solve_cooling(0.5, density=3.0, method="fd")
+    other = kf.solve_cooling(0.5, density=3.0, method="fd", richardson=0)
     np.testing.assert_array_equal(other.values, hcs[0.5].values)
     assert other.params["density"] == 3.0
     assert math.isclose(other.info.extra["zeta"], hcs[0.5].info.extra["zeta"])
+
+
+ZETA_05 = 0.43556748342
+"""zeta(0.5) from two Richardson levels on spacings 0.0159/0.0079/0.0040 and
+0.0317/0.0159/0.0079 (they agree to 2e-12; benchmarks/convergence_cooling.py)."""
+
+
+def test_richardson_cooling_rate():
+    """One Richardson level from a coarse h = 0.0992: zeta(0.5) to ~1e-7.
+
+    Measured errors of zeta: 2.8e-4 (one grid, second order), 2.5e-7 (h, h/2; estimate
+    7.1e-5), 4.5e-11 (h, h/2, h/4; estimate 1.6e-8, the slow test below).
+    """
+    errors = []
+    for levels in (0, 1):
+        d = kf.solve_cooling(0.5, method="fd", spacing=0.0992, richardson=levels)
+        assert d.info.converged and d.info.extra["richardson"] == levels
+        assert d.info.extra["order"] == 2
+        errors.append(abs(d.info.extra["zeta"] / ZETA_05 - 1.0))
+    assert math.isnan(kf.solve_cooling(0.5, method="fd", spacing=0.0992, richardson=0)
+                      .info.extra["estimated_error_zeta"])
+    assert errors[1] < d.info.extra["estimated_error_zeta"]
+    assert errors[1] < 1e-6 < 1e-4 < errors[0]
+
+
+@pytest.mark.slow
+def test_richardson_two_levels_cooling_rate():
+    d = kf.solve_cooling(0.5, method="fd", spacing=0.0992, richardson=2)
+    err = abs(d.info.extra["zeta"] / ZETA_05 - 1.0)
+    assert err < d.info.extra["estimated_error_zeta"] and err < 1e-9
+
+
+@pytest.mark.parametrize("alpha", [0.5, 0.999])
+@pytest.mark.slow
+def test_default_cooling_production_accuracy(alpha):
+    """The default (two levels) reports zeta to < 1e-9 and f to < 1e-4 (estimates)."""
+    d = kf.solve_cooling(alpha, method="fd")
+    assert d.info.converged
+    assert d.info.extra["estimated_error_zeta"] < 1e-9
+    assert d.info.extra["estimated_error_f"] < 1e-4
 
 
 @pytest.mark.slow
