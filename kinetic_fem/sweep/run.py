@@ -268,11 +268,14 @@ def sweep(function: Callable[..., Any], grid: Mapping[str, Any], *,
     if todo:
         calls = [{k: v for k, v in p.items() if not (replica and k == "replica")}
                  for p in points]
-        _compute(function, calls, seeds, fixed, todo, keys, records, db, executor, progress)
+        _compute(function, points, calls, seeds, fixed, todo, keys, records, db, executor,
+                 progress)
     return _dataset(coords, points, records, seeds, manifest, store, derive)
 
 
-def _compute(function, points, seeds, fixed, todo, keys, records, db, executor, progress):
+def _compute(function, points, calls, seeds, fixed, todo, keys, records, db, executor,
+             progress):
+    """Evaluate ``function(**calls[i], **fixed)`` for ``i in todo``; store, record, report."""
     pool, owned = _open_executor(executor, len(todo))
     if isinstance(pool, ProcessPoolExecutor):
         try:
@@ -291,7 +294,7 @@ def _compute(function, points, seeds, fixed, todo, keys, records, db, executor, 
     def submit_next() -> None:
         while queue and len(pending) < window:
             i = queue.pop(0)
-            kwargs = {**points[i], **fixed}
+            kwargs = {**calls[i], **fixed}
             if seeds[i] is not None:
                 kwargs["seed"] = seeds[i]
             pending[pool.submit(evaluate_point, function, kwargs, C_GRID)] = i
