@@ -223,6 +223,32 @@ def test_maxwell_cooling_rate_and_homogeneous_cooling_state():
     assert np.mean(np.abs(z) < 3) > 0.97 and np.abs(z).max() < 4.5
 
 
+@pytest.mark.parametrize("gamma", [0.5, 2.0])
+def test_cooling_follows_the_generalised_haff_law(gamma):
+    """dT/dt = -2 zeta n T^(1+gamma/2): T ~ t^(-2/gamma) once the constant is forgotten."""
+    run = dsmc.simulate_cooling(0.7, 2000, kernel=gamma, seed=4, collisions_per_particle=200,
+                                relax=50.0)
+    s = run.series
+    late = s["collisions_per_particle"] > 50
+    slope = np.polyfit(s["log_t"][late], s["log_temperature"][late], 1)[0]
+    assert slope == pytest.approx(-2.0 / gamma, rel=2e-3)
+    zeta, err = run.cooling_rate()
+    assert err < 0.01 * zeta
+
+
+@pytest.mark.slow
+def test_cooling_rate_and_a2_against_fem_gamma_half():
+    """FEM: zeta = 0.190356, a2 = 0.24593 at alpha = 0.7, gamma = 0.5."""
+    fem = kf.solve_cooling(0.7, kernel=0.5)
+    run = dsmc.simulate_cooling(0.7, 20_000, kernel=0.5, seed=9, collisions_per_particle=2000,
+                                relax=200.0)
+    zeta, err = run.cooling_rate()
+    print(f"zeta {zeta:.6f} +- {err:.1e} (FEM {fem.info.extra['zeta']:.6f}), a2 {run.a2:.5f} "
+          f"+- {run.a2_error:.5f} (FEM {fem.a2:.5f})")
+    assert abs(zeta - fem.info.extra["zeta"]) < 4 * err
+    assert abs(run.a2 - fem.a2) < 4 * run.a2_error
+
+
 def test_hard_rods_with_explicit_step_match_the_previous_kernels():
     """The paper's model through the new dispatch: bit-identical to the kernels before
     the model layer (series of the run recorded with them: seed 5, dt = 0.04)."""
