@@ -11,10 +11,10 @@ processes with ``--dask``).  Printed: wall time of each, the speed-up of 2 worke
 share), the sum of the points' own wall times (if it grows with the workers, the runs
 slow each other down: cores or memory bandwidth taken by other jobs) and whether the
 Datasets are bit-identical (they must be: seeds come from the grid point, not from the
-worker).  First, what the machine offers at the moment: the CPU time that 1 and 2
-busy-looping processes get per second of wall time (on a shared machine 2 workers may
-get no more than 1).  Worker start-up (imports, numba cache loading) is
-included, as a user sees it.
+worker).  First, what the machine offers at the moment: the work per second of 2
+busy-looping processes against 1 (pure Python arithmetic; on a shared machine, or on two
+hyper-threads of one core, 2 may do little more than 1).  Worker start-up (imports,
+numba cache loading) is included, as a user sees it.
 
 *large*: one heated DSMC run per size, each in a fresh subprocess, with a short run
 (relaxation fixed at 1 collision per particle, 3 of averaging).  Printed: peak
@@ -49,24 +49,25 @@ def replica_sweep(executor, replicas: int, n: int, cpp: float):
 
 
 def _burn(seconds: float) -> float:
-    """Busy-loop for ``seconds`` of wall time; return the CPU seconds this process got."""
-    start, cpu = time.perf_counter(), time.process_time()
+    """Busy-loop (pure Python arithmetic) for ``seconds`` of wall time; loops per second."""
+    start, loops = time.perf_counter(), 0
     while time.perf_counter() - start < seconds:
         sum(i * i for i in range(10_000))
-    return time.process_time() - cpu
+        loops += 1
+    return loops / seconds
 
 
 def cpu_capacity(workers: int, seconds: float = 2.0) -> float:
-    """Cores' worth of CPU that ``workers`` busy processes get together right now."""
+    """Work per second that ``workers`` busy processes do together right now (loops/s)."""
     with ProcessPoolExecutor(workers) as pool:
         pool.submit(_burn, 0.01).result()  # start the workers first
-        return sum(pool.map(_burn, [seconds] * workers)) / seconds
+        return sum(pool.map(_burn, [seconds] * workers))
 
 
 def part_replicas(quick: bool, use_dask: bool) -> None:
     cap = {w: cpu_capacity(w) for w in (1, 2)}
-    print(f"machine now: 1 busy process gets {cap[1]:.2f} cores, 2 get {cap[2]:.2f} together "
-          f"(the speed-up a perfectly parallel job could reach: {cap[2] / cap[1]:.2f})")
+    print(f"machine now: 2 busy processes do {cap[2] / cap[1]:.2f} times the work of 1 (the "
+          "speed-up a perfectly parallel job could reach)")
     replicas, n, cpp = (4, 20_000, 20.0) if quick else (8, 100_000, 40.0)
     print(f"replica sweep: {replicas} heated DSMC runs, alpha=0.6, N={n}, "
           f"{cpp:g} collisions per particle each")
