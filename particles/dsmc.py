@@ -347,7 +347,7 @@ def simulate_heated(alpha: float | RestitutionLaw, n_particles: int, *, density:
                 _window(gas, t_ref, problem.friction))
     c_max = check_positive("c_max", c_max)
     init_seq, run_seq, entropy = _seeds(seed)
-    paper = gas.gamma == 1.0 and gas.restitution.constant is not None and friction == 0.0
+    paper = gas.gamma == 1.0 and gas.restitution.constant is not None and problem.friction == 0
     a2 = float(a2_first_order(gas.alpha)) if paper else 0.0
     v = _initial(initial_velocities, o["n"], t_ref, init_seq, a2=a2)
     _check_range(gas, v, "the initial velocities")
