@@ -49,7 +49,11 @@ exclude_patterns = ["_build", "examples/README.rst",
                     "auto_examples/*.ipynb", "auto_examples/*.py", "**/*.zip"]
 html_theme = "pydata_sphinx_theme"
 html_title = "kinetic-fem"
-html_theme_options = {"show_toc_level": 2}
+html_theme_options = {
+    "show_toc_level": 2,
+    # gallery pages have no sections: the right column would only narrow the code
+    "secondary_sidebar_items": {"auto_examples/*": []},
+}
 # Pages linked from the top-level toctree have no section navigation: an empty
 # left sidebar would only narrow the text (and clip wide equations).
 html_sidebars = {
