@@ -49,10 +49,13 @@ exclude_patterns = ["_build", "examples/README.rst",
                     "auto_examples/*.ipynb", "auto_examples/*.py", "**/*.zip"]
 html_theme = "pydata_sphinx_theme"
 html_title = "kinetic-fem"
+_PAGE_TOC = ["page-toc", "sourcelink"]
 html_theme_options = {
     "show_toc_level": 2,
     # gallery pages have no sections: the right column would only narrow the code
-    "secondary_sidebar_items": {"auto_examples/*": []},
+    # (non-overlapping patterns: the theme warns when a page matches two)
+    "secondary_sidebar_items": {"*": _PAGE_TOC, "user_guide/*": _PAGE_TOC,
+                                "api/generated/*": _PAGE_TOC, "auto_examples/*": []},
 }
 # Pages linked from the top-level toctree have no section navigation: an empty
 # left sidebar would only narrow the text (and clip wide equations).
