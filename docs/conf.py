@@ -49,6 +49,7 @@ exclude_patterns = ["_build", "examples/README.rst",
                     "auto_examples/*.ipynb", "auto_examples/*.py", "**/*.zip"]
 html_theme = "pydata_sphinx_theme"
 html_title = "kinetic-fem"
+toc_object_entries_show_parents = "hide"  # page TOC: "a2", not "VelocityDistribution.a2"
 _PAGE_TOC = ["page-toc", "sourcelink"]
 html_theme_options = {
     "show_toc_level": 2,

@@ -122,11 +122,12 @@ def _title(text: str, char: str = "=") -> list[str]:
 
 def module_page(name: str, table: dict[str, str]) -> str:
     """reST of one module page: docstring, owned members, links to re-exported ones."""
-    own = [n for n, home in table.items() if home == name]
     other = [(n, home) for n, home in table.items() if home != name]
     lines = _title(name)
-    lines += [f".. automodule:: {name}"]
-    lines += [f"   :members: {', '.join(own)}" if own else "   :no-members:", ""]
+    lines += [f".. automodule:: {name}", "   :members:"]
+    if other:  # re-exported names: documented where they are defined
+        lines += [f"   :exclude-members: {', '.join(n for n, _ in other)}"]
+    lines += [""]
     if other:
         lines += [".. currentmodule:: None", "",
                   ".. rubric:: Also available here (documented in their own modules)", "",
