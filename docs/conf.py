@@ -81,10 +81,7 @@ numpydoc_class_members_toctree = False
 # Examples shown with their code but not executed, with the reason; remove an entry as
 # soon as the example runs again (every example still runs in tests/test_examples.py
 # at its TEST_KWARGS).
-_NOT_EXECUTED = {
-    "plot_heated_fd": "method='fd' with Richardson extrapolation fails on the default grid "
-                      "(shape mismatch in finite_difference._richardson; being fixed)",
-}
+_NOT_EXECUTED: dict[str, str] = {}
 
 sphinx_gallery_conf = {
     "examples_dirs": "examples",
