@@ -43,6 +43,12 @@ discrete operators (as in the heated solver).  Near elastic collisions
 (``alpha > 0.8``) the solution is reached by continuation in
 :math:`\\varepsilon = 1 - \\alpha`, each step on its own grid.
 
+Accuracy.  The scheme is second order in the spacing: one grid of
+:func:`default_spacing` misses zeta by ~3e-5 relative (alpha = 0.5, 0.9; ~1e-4 at
+alpha = 0.999) and f by ~1e-3.  The registered solver (:func:`hcs_fd`) therefore
+extrapolates by default over three nested grids (:mod:`kinetic_fem._richardson`) and
+reports ``order`` and the ``estimated_error_*`` of its result in ``info.extra``.
+
 References
 ----------
 Barrat, Biben, Racz, Trizac, van Wijland, J. Phys. A 35 (2002) 463, section 3.

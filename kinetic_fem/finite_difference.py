@@ -55,17 +55,20 @@ then, after a few implicit steps that settle the deep tail, on all nodes down to
 Accuracy.  The scheme is second order in :math:`\\delta v`: one grid at
 :math:`\\delta v = 0.04\\sqrt T` misses T by about 2e-5 and a2 by about 2e-4
 (alpha = 0.6), and the tail at f ~ 1e-30 by several per cent.  The default therefore
-extrapolates (``richardson=2``): solutions at ``spacing`` (0.08), ``spacing/2`` and
+extrapolates (``richardson=2``): solutions at ``spacing`` (0.08, finer near elastic
+collisions), ``spacing/2`` and
 ``spacing/4`` (the finer ones started from the coarser), combined on the coarse nodes as
 :math:`R_1 = (4\\ln P_{h/2} - \\ln P_h)/3` per pair and
-:math:`R_2 = (16 R_1(h/2) - R_1(h))/15`, which reaches T to ~1e-8, a2 to ~1e-8 and f
-to ~1e-4 relative where f > 1e-30 (``benchmarks/convergence_fd.py``).  Every result
+:math:`R_2 = (16 R_1(h/2) - R_1(h))/15`.  With the cubic interpolation of the gain
+argument (the default; the paper's quadratic one has an error that is not smooth in
+the spacing, which extrapolation does not remove) this reaches T to ~1e-8, a2 to
+~1e-8 and f to ~1e-4 relative where f > 1e-30 (``benchmarks/convergence_fd.py``).  Every result
 states its order and an error estimate in ``info.extra``: ``order`` (2),
 ``richardson`` (levels), and ``estimated_error_temperature`` (relative),
 ``estimated_error_a2`` (absolute), ``estimated_error_f`` (max relative where
 f > 1e-30), the difference between the result and the next less extrapolated one (an
 upper estimate of the error); NaN without Richardson (a single grid gives no
-estimate).
+estimate).  ``energy_balance_residual`` (claim C1) checks them independently.
 
 Models (issue 9): constant restitution only (the gain term's pre-collision velocity
 is linear in :math:`v` only then); the kernels :math:`|g|` (hard rods, the paper) and
@@ -89,7 +92,7 @@ from ._fd_march import F_FLOOR, MarchResult, even_moments, march
 from ._fd_newton import newton_steady
 from ._fd_scales import UnitModel, default_cutoff
 from ._richardson import richardson_log
-from .collision import HalfGrid, half_grid
+from .collision import HalfGrid, half_grid, pair_moment
 from .distribution import RunInfo, VelocityDistribution
 from .gas import HeatedProblem, check_positive
 from .model import FokkerPlanckBath, UnsupportedModelError, WhiteNoise
@@ -232,6 +235,19 @@ def _error_estimate(grid: HalfGrid, best: NDArray[np.float64], prev: NDArray[np.
             "estimated_error_f": float(np.max(np.abs(prev[keep] / best[keep] - 1.0)))}
 
 
+def _energy_residual(model: UnitModel, grid: HalfGrid, p: NDArray[np.float64],
+                     temperature: float) -> float:
+    """:math:`|2D - 2\\xi T - \\tfrac n4(1-\\alpha^2)\\langle|g|^{\\gamma+2}\\rangle|/(2D)`
+    of the result (claim C1, unit problem): zero for the exact steady state, so an
+    independent check of the error estimates."""
+    if model.gamma == 1.0:
+        g_moment = pair_moment(grid.v_full, grid.full(p), grid.weights, 3)
+    else:
+        g_moment = 2.0 * temperature  # <g^2> = 2 <v^2> for an even P of unit mass
+    loss = 0.25 * (1.0 - model.alpha**2) * g_moment
+    return float(abs(2.0 - 2.0 * model.friction * temperature - loss) / 2.0)
+
+
 def _richardson_levels(richardson: bool | int) -> int:
     if isinstance(richardson, bool):
         return int(richardson)
@@ -242,10 +258,11 @@ def _richardson_levels(richardson: bool | int) -> int:
 
 
 @register_solver("fd", problem="heated")
-def solve_fd(problem: HeatedProblem, *, spacing: float = 0.08, cutoff: float | None = None,
+def solve_fd(problem: HeatedProblem, *, spacing: float | None = None,
+             cutoff: float | None = None,
              steady: str = "newton", richardson: bool | int = 2, dt: float | None = None,
              courant: float = 0.5, implicit_loss: bool = False, log_interp: bool = True,
-             interpolation_order: int = 2, tol: float = 1e-10, max_time: float | None = None,
+             interpolation_order: int = 3, tol: float = 1e-10, max_time: float | None = None,
              max_steps: int = 10**6,
              initial_temperature: float = 1.0, progress: bool = False) -> VelocityDistribution:
     """Heated steady state by the paper's finite-difference scheme.
@@ -258,9 +275,11 @@ def solve_fd(problem: HeatedProblem, *, spacing: float = 0.08, cutoff: float | N
     problem : HeatedProblem
         Constant restitution, kernel ``gamma`` 1 or 0, white noise or a Fokker-Planck
         bath.
-    spacing : float
+    spacing : float, optional
         Grid spacing :math:`\\delta v` of the coarsest grid, in units of the estimated
-        :math:`\\sqrt{T}`.
+        :math:`\\sqrt{T}`; default 0.08, finer near elastic collisions
+        (:meth:`kinetic_fem._fd_scales.UnitModel.spacing`: 0.043 at alpha = 0.99, 0.02
+        from alpha = 0.992 on).
     cutoff : float, optional
         Cut-off in units of :math:`\\sqrt{T}`, rounded up to a multiple of ``spacing``
         (so that halving the spacing nests the grids); default from the model
@@ -283,10 +302,13 @@ def solve_fd(problem: HeatedProblem, *, spacing: float = 0.08, cutoff: float | N
         Implicit loss term (positive for any ``dt``).
     log_interp : bool
         Interpolate :math:`\\ln P` (default) or :math:`P` at the gain-term argument.
-    interpolation_order : {2, 3}
-        Quadratic on the three nearest nodes (the paper) or cubic on four nodes; the
-        interpolation error of the gain term is amplified by :math:`1/\\varepsilon` in the
-        energy balance, so cubic pays off as :math:`\\alpha \\to 1`.
+    interpolation_order : {3, 2}
+        Cubic on four nodes (default) or quadratic on the three nearest nodes (the
+        paper).  The interpolation error of the gain term is amplified by
+        :math:`1/\\varepsilon` in the energy balance, and the quadratic one is not a
+        smooth function of the spacing (the stencil jumps with the argument), so
+        Richardson does not remove it: at alpha = 0.99 the extrapolated quadratic
+        result misses T by 1.7e-5 while its estimate says 1.3e-7 (cubic: 2e-8).
     tol : float
         Stopping criterion :math:`\\tau\\max|\\partial_t\\ln P| <` ``tol`` of the marching.
     max_time : float, optional
@@ -305,7 +327,8 @@ def solve_fd(problem: HeatedProblem, *, spacing: float = 0.08, cutoff: float | N
         holds the transient ``t, temperature, a2, rate`` (physical units) of the
         coarsest grid when marching.  ``info.extra`` holds ``order`` (2),
         ``richardson`` (levels), the ``estimated_error_*`` figures (module docstring;
-        NaN without Richardson), ``spacings`` and the per-grid details.
+        NaN without Richardson), ``energy_balance_residual`` (C1, relative to
+        :math:`2D`; an independent check), ``spacings`` and the per-grid details.
 
     Raises
     ------
@@ -329,11 +352,11 @@ def solve_fd(problem: HeatedProblem, *, spacing: float = 0.08, cutoff: float | N
             f"alpha), got {problem.gas.restitution!r}; use method='fem'")
     problem.require("fd", gammas=(0.0, 1.0), constant_restitution=True,
                     thermostats=(WhiteNoise, FokkerPlanckBath))
-    spacing = check_positive("spacing", spacing)
+    model = UnitModel.from_problem(problem)
+    spacing = model.spacing() if spacing is None else check_positive("spacing", spacing)
     if spacing > 0.25:
         raise ValueError(f"spacing={spacing} sqrt(T) is too coarse; use spacing <= 0.25 "
                          "(0.02-0.08 for production accuracy)")
-    model = UnitModel.from_problem(problem)
     default = model.cutoff()
     cutoff = default if cutoff is None else check_positive("cutoff", cutoff)
     if cutoff < 4.0:
@@ -377,6 +400,7 @@ def solve_fd(problem: HeatedProblem, *, spacing: float = 0.08, cutoff: float | N
                      estimated_error_f=math.nan)
     temperature, _ = even_moments(grid, p)
     _check_resolution(grid, p, temperature)
+    extra["energy_balance_residual"] = _energy_residual(model, grid, p, temperature)
     info = RunInfo(converged=all(s.info.converged for s in sols),
                    iterations=sum(s.info.iterations for s in sols),
                    residual=max(s.info.residual for s in sols),
