@@ -26,7 +26,7 @@ from pathlib import Path
 from typing import Callable
 
 __all__ = ["Context", "ClaimRow", "Item", "ITEMS", "register", "load_plugins", "run_items",
-           "write_table", "quick_mode_summary", "QUICK_MARK"]
+           "item_order", "write_table", "quick_mode_summary", "QUICK_MARK"]
 
 logger = logging.getLogger(__name__)
 
@@ -103,7 +103,14 @@ def load_plugins() -> list[str]:
     return loaded
 
 
-def _order(key: str) -> tuple[str, int, str]:
+def item_order(key: str) -> tuple[str, int, str]:
+    """Sort key of item and claim labels: letter, then number (F2 before F10), then name.
+
+    Examples
+    --------
+    >>> sorted(["F10", "C2", "F2-FD", "F2"], key=item_order)
+    ['C2', 'F2', 'F2-FD', 'F10']
+    """
     digits = "".join(ch for ch in key[1:] if ch.isdigit())
     return (key[0], int(digits) if digits else 0, key)
 
@@ -182,11 +189,11 @@ def run_items(ctx: Context, keys: list[str] | None = None) -> list[ClaimRow]:
     number of warnings and the first one), which :func:`write_table` summarises once.
     """
     ctx.out.mkdir(parents=True, exist_ok=True)
-    selected = sorted(ITEMS if keys is None else keys, key=_order)
+    selected = sorted(ITEMS if keys is None else keys, key=item_order)
     unknown = [k for k in selected if k not in ITEMS]
     if unknown:
         raise ValueError(f"unknown reproduce item(s) {unknown}; available: "
-                         f"{sorted(ITEMS, key=_order)}")
+                         f"{sorted(ITEMS, key=item_order)}")
     rows: list[ClaimRow] = []
     packages = _plugin_packages() if ctx.quick else []
     for key in selected:
@@ -222,7 +229,7 @@ def quick_mode_summary(rows: list[ClaimRow]) -> str:
         return ""
     n_rows = sum(len(v[2]) for v in marked.values())
     n_warn = sum(v[0] for v in marked.values())
-    claims = sorted({r.claim for v in marked.values() for r in v[2]}, key=_order)
+    claims = sorted({r.claim for v in marked.values() for r in v[2]}, key=item_order)
     items = "; ".join(f"item {k}: {v[1]}" for k, v in marked.items())
     one = n_rows == 1
     return (f"Quick-mode estimates: {n_rows} row{'' if one else 's'} (claims {', '.join(claims)}) "

@@ -62,7 +62,7 @@ def select_items(only: list[str] | None) -> list[str]:
     """
     items = reproduce.ITEMS
     if only is None:
-        return sorted(items, key=reproduce._order)
+        return sorted(items, key=reproduce.item_order)
     keys: list[str] = []
     unknown = []
     for k in only:
@@ -77,15 +77,15 @@ def select_items(only: list[str] | None) -> list[str]:
     if unknown:
         claims = sorted({c for item in items.values() for c in item.claims})
         raise ValueError(f"unknown item or claim {unknown}; items: "
-                         f"{sorted(items, key=reproduce._order)}, claims: {claims}")
-    return sorted(dict.fromkeys(keys), key=reproduce._order)
+                         f"{sorted(items, key=reproduce.item_order)}, claims: {claims}")
+    return sorted(dict.fromkeys(keys), key=reproduce.item_order)
 
 
 def run(args: argparse.Namespace) -> int:
     reproduce.load_plugins()
     if args.list:
         lines = []
-        for key in sorted(reproduce.ITEMS, key=reproduce._order):
+        for key in sorted(reproduce.ITEMS, key=reproduce.item_order):
             item = reproduce.ITEMS[key]
             claims = f"  [{', '.join(item.claims)}]" if item.claims else ""
             lines.append(f"{key:5s} {item.title}{claims}")

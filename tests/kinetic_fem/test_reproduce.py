@@ -52,7 +52,7 @@ def test_unknown_item_and_double_registration(tmp_path, toy_item):
 
 def test_items_run_in_figure_order():
     keys = ["F10", "C2", "F2", "S1", "F1"]
-    assert sorted(keys, key=reproduce._order) == ["C2", "F1", "F2", "F10", "S1"]
+    assert sorted(keys, key=reproduce.item_order) == ["C2", "F1", "F2", "F10", "S1"]
 
 
 def test_sonine_item_checks_c3(tmp_path):
