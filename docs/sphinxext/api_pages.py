@@ -31,6 +31,7 @@ START_HERE = (
     ("Solve", ("kinetic_fem.solve_heated", "kinetic_fem.solve_cooling",
                "kinetic_fem.evolve_heated", "kinetic_fem.evolve_cooling",
                "kinetic_fem.sweep")),
+    ("Time dependence", ("kinetic_fem.evolution.Evolution", "kinetic_fem.protocol.Protocol")),
     ("Results", ("kinetic_fem.VelocityDistribution", "kinetic_fem.distribution.Comparison",
                  "kinetic_fem.RunInfo")),
     ("Particles", ("particles.dsmc.simulate_heated", "particles.dsmc.simulate_cooling",
@@ -49,13 +50,17 @@ START_HERE = (
 """(section title, public names as users write them) of the "Start here" table."""
 
 GROUPS = (
-    ("Entry points and results", ("kinetic_fem", "kinetic_fem.solve", "kinetic_fem.distribution",
-                                  "kinetic_fem.evolution", "kinetic_fem.sweep")),
-    ("The model", ("kinetic_fem.model", "kinetic_fem.gas")),
-    ("Deterministic solvers", ("kinetic_fem.fem", "kinetic_fem.fem_transient",
-                               "kinetic_fem.finite_difference", "kinetic_fem.spectral",
-                               "kinetic_fem.cooling", "kinetic_fem.scaling",
-                               "kinetic_fem.sonine", "kinetic_fem.solvers")),
+    ("Entry points and results", ("=kinetic_fem", "kinetic_fem.solve", "kinetic_fem.distribution",
+                                  "kinetic_fem.evolve", "kinetic_fem.evolution",
+                                  "kinetic_fem.sweep")),
+    ("The model", ("kinetic_fem.model", "kinetic_fem.gas", "kinetic_fem.protocol")),
+    ("Deterministic solvers", ("kinetic_fem.fem", "kinetic_fem.fem_defaults",
+                               "kinetic_fem.fem_transient", "kinetic_fem.fem_cooling",
+                               "kinetic_fem.fem_evolution", "kinetic_fem.fem_thermostat",
+                               "kinetic_fem.finite_difference",
+                               "kinetic_fem.spectral", "kinetic_fem.cooling",
+                               "kinetic_fem.scaling", "kinetic_fem.sonine",
+                               "kinetic_fem.maxwell", "kinetic_fem.solvers")),
     ("Particle simulations", ("particles",)),
     ("Analysis, plots and files", ("kinetic_fem.analysis", "kinetic_fem.plot",
                                    "kinetic_fem.io")),
@@ -63,7 +68,8 @@ GROUPS = (
                                    "kinetic_fem.operators")),
     ("Command line and the reproduce registry", ("kinetic_fem.cli", "kinetic_fem.reproduce")),
 )
-"""(group title, module prefixes); a module joins the first group with a matching prefix."""
+"""(group title, module prefixes); a module joins the group of its longest matching
+prefix (``=name`` matches that module only)."""
 
 PLUGIN_PACKAGES = ("kinetic_fem.figures", "particles.figures")
 """Reproduce plug-ins: documented apart, they are not user API."""
@@ -145,10 +151,14 @@ def _write(path: Path, text: str) -> None:
 def _group_of(name: str) -> str:
     if any(name == p or name.startswith(p + ".") for p in PLUGIN_PACKAGES):
         return "plugins"
+    best, group = "", "Other modules"
     for title, prefixes in GROUPS:
-        if any(name == p or name.startswith(p + ".") for p in prefixes):
-            return title
-    return "Other modules"
+        for p in prefixes:
+            exact = p.startswith("=")
+            p = p.lstrip("=")
+            if (name == p or (not exact and name.startswith(p + "."))) and len(p) > len(best):
+                best, group = p, title
+    return group
 
 
 def _resolve(public: str, homes: dict[str, dict[str, str]]) -> str | None:
@@ -156,9 +166,15 @@ def _resolve(public: str, homes: dict[str, dict[str, str]]) -> str | None:
     ``kinetic_fem.solve.solve_heated``), or None if it does not exist."""
     module, _, attr = public.rpartition(".")
     table = homes.get(module)
-    if table is None or attr not in table:
+    if table is None:
         return None
-    return f"{table[attr]}.{attr}"
+    if attr in table:
+        return f"{table[attr]}.{attr}"
+    obj = getattr(importlib.import_module(module), attr, None)  # public, not in __all__
+    home = getattr(obj, "__module__", None)
+    if home in homes and homes[home].get(attr) == home:
+        return f"{home}.{attr}"
+    return None
 
 
 def write_api_pages(docs_dir: Path) -> None:
