@@ -86,7 +86,7 @@ def test_select_items_maps_claims(toy_item):
     assert select_items(["C98"]) == ["Z8"]
     assert select_items(["Z8", "C98", "S1"]) == ["S1", "Z8"]
     assert "S1" in select_items(["C3"])
-    assert select_items(None) == sorted(reproduce.ITEMS, key=reproduce._order)
+    assert select_items(None) == sorted(reproduce.ITEMS, key=reproduce.item_order)
     with pytest.raises(ValueError, match=r"unknown item or claim \['F99'\]"):
         select_items(["F99"])
 
