@@ -280,9 +280,9 @@ def hcs_fd(problem: CoolingProblem, *, spacing: float | None = None,
     A second-order scheme; by default the state is computed on three nested grids of
     spacing ``h``, ``h/2``, ``h/4`` (the finer ones by Newton from the coarser) and
     extrapolated twice (:mod:`kinetic_fem._richardson`): zeta, a2 and ln f on the
-    coarse nodes.  Measured (``benchmarks/convergence_cooling.py``): zeta to ~1e-10
-    relative at alpha = 0.5 and 0.9, where one grid of the old default spacing missed
-    it by 3e-5.
+    coarse nodes.  Measured (``benchmarks/convergence_cooling.py``): zeta to ~1e-11
+    (alpha = 0.5) and ~3e-10 (0.9) relative, where one grid of the old default spacing
+    missed it by 3e-5; at alpha = 0.999 the estimate is 1.7e-8 (f: 5e-4).
 
     Parameters
     ----------
@@ -291,8 +291,8 @@ def hcs_fd(problem: CoolingProblem, *, spacing: float | None = None,
         :class:`~kinetic_fem.model.UnsupportedModelError`).
     spacing : float, optional
         Spacing of the coarsest grid (thermal velocities); default
-        ``2 * default_spacing(alpha)`` with two Richardson levels, else
-        :func:`default_spacing`.
+        ``2 * default_spacing(alpha)`` with two Richardson levels for
+        ``alpha <= 0.95``, else :func:`default_spacing`.
     cutoff, interpolation_order, tol, max_iter
         See :func:`solve_hcs`; the cut-off is rounded up to a multiple of ``spacing``.
     richardson : {2, 1, 0} or bool
@@ -320,7 +320,11 @@ def hcs_fd(problem: CoolingProblem, *, spacing: float | None = None,
     start = time.perf_counter()
     alpha = problem.gas.alpha
     if spacing is None:
-        spacing = default_spacing(alpha) * (2.0 if levels == 2 else 1.0)
+        # coarsest grid 2h with two levels, except near elastic collisions, where the
+        # outer edges of the humps need h (measured: ln f jumps by 1.8 per node at
+        # alpha = 0.999 on 2h)
+        wide = levels == 2 and 1.0 - alpha >= 0.05
+        spacing = default_spacing(alpha) * (2.0 if wide else 1.0)
     spacing = check_positive("spacing", spacing)
     cut = default_cutoff(alpha) if cutoff is None else check_positive("cutoff", cutoff)
     cutoff = spacing * math.ceil(cut / spacing - 1e-9)
