@@ -17,6 +17,7 @@ import logging
 
 from . import cooling, fem, finite_difference, gas, grid, model, scaling, sonine, spectral  # noqa: F401
 from .distribution import RunInfo, VelocityDistribution
+from .evolve import evolve_cooling, evolve_heated
 from .model import (
     CoolingProblem,
     FokkerPlanckBath,
@@ -36,6 +37,7 @@ __all__ = [
     "solve_heated", "solve_cooling", "register_solver", "HEATED_SOLVERS", "COOLING_SOLVERS",
     "PowerLawKernel", "ThresholdRestitution", "ViscoelasticRestitution", "WhiteNoise",
     "FokkerPlanckBath", "sonine", "scaling", "grid", "gas", "model",
+    "evolve_heated", "evolve_cooling",
 ]
 
 logging.getLogger(__name__).addHandler(logging.NullHandler())

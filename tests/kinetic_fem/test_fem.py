@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-import warnings
 
 import numpy as np
 import pytest
@@ -11,7 +10,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 import kinetic_fem as kf
-from kinetic_fem import fem, fem_transient, sonine
+from kinetic_fem import fem, sonine
 from kinetic_fem._fem_kernels import evaluate_field
 from kinetic_fem.collision import energy_balance
 
@@ -197,57 +196,6 @@ def test_bad_input():
         fem.solve_fem(problem, spacing=0.8)
     with pytest.raises(ValueError, match="too coarse for alpha"):
         kf.solve_heated(0.99, method="fem", spacing=0.4)
-
-
-def test_transient_conserves_mass_and_heats_towards_steady_state():
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", fem.ResolutionWarning)
-        dist = fem_transient.evolve_heated(0.6, t_final=0.5, dt=0.1, spacing=0.6)
-    s = dist.series
-    assert np.ptp(s["mass"]) < 1e-12
-    temp = s["temperature"]
-    steady = sonine.steady_temperature(0.6)
-    assert temp[0] == pytest.approx(0.25 * steady, rel=1e-3)
-    assert np.all(np.diff(temp) > 0) and temp[-1] < steady
-    assert np.all(dist.values > 0)
-
-
-def test_transient_rescales_time_and_velocity():
-    """t = t_1 u^2 / D and T = T_1 u^2 with u = (D/n)^(1/3)."""
-    kwargs = {"t_final": 0.3, "dt": 0.1, "spacing": 0.6}
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", fem.ResolutionWarning)
-        ref = fem_transient.evolve_heated(0.6, **kwargs)
-        other = fem_transient.evolve_heated(0.6, density=2.0, diffusion=3.0, **kwargs)
-    u = 1.5 ** (1 / 3)
-    np.testing.assert_allclose(other.series["t"], ref.series["t"] * u**2 / 3.0, rtol=1e-13)
-    np.testing.assert_allclose(other.series["temperature"], ref.series["temperature"] * u**2,
-                               rtol=1e-13)
-
-
-def test_transient_bad_input():
-    with pytest.raises(ValueError, match="dt"):
-        fem_transient.evolve_heated(0.6, t_final=1.0, dt=0.0)
-    with pytest.raises(TypeError):
-        fem_transient.evolve_heated(0.6, t_final=1.0, dt=0.1, time_step=0.1)
-
-
-@pytest.mark.slow
-def test_transient_bdf2_is_second_order():
-    """T(4) and a2(4) at alpha = 0.9 for dt = 0.4, 0.2, 0.1, 0.05 (coarse mesh).
-
-    Measured: T differences 7.4e-3, 1.7e-3, 3.9e-4 (orders 2.1, 2.2); a2 2.2, 2.1.
-    """
-    finals = []
-    for dt in (0.4, 0.2, 0.1, 0.05):
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", fem.ResolutionWarning)
-            d = fem_transient.evolve_heated(0.9, t_final=4.0, dt=dt, spacing=0.4)
-        finals.append((d.temperature, d.a2))
-    for k in (0, 1):
-        diffs = np.abs(np.diff([f[k] for f in finals]))
-        orders = np.log2(diffs[:-1] / diffs[1:])
-        assert np.all(orders > 1.8), orders
 
 
 @pytest.mark.slow

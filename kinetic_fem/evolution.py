@@ -1,0 +1,209 @@
+"""The result of a time-dependent computation: :class:`Evolution`.
+
+An evolution holds the velocity distribution :math:`P(v, t_i)` at the requested
+output times :math:`t_i` (each on its own nodes with its own quadrature weights, so
+that a cooling gas whose temperature falls by many decades keeps its resolution), and
+the observables over time computed from them:
+
+.. math::
+
+    T(t) = \\langle v^2 \\rangle, \\qquad
+    a_2(t) = \\frac{\\langle v^4 \\rangle}{3T^2} - 1, \\qquad
+    a_p(t) = \\langle S_p(c^2) \\rangle / \\mathcal N_p \\ (p \\le 6),
+
+with :math:`c = v/\\sqrt T` (see :mod:`kinetic_fem.distribution`).  ``ev[i]`` is the
+:class:`~kinetic_fem.distribution.VelocityDistribution` at ``ev.times[i]``.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Mapping
+
+import numpy as np
+from numpy.typing import NDArray
+
+from .distribution import MAX_SONINE, RunInfo, VelocityDistribution
+
+__all__ = ["Evolution"]
+
+
+@dataclass(frozen=True)
+class Evolution:
+    """Velocity distributions at a sequence of times, with observables over time.
+
+    Attributes
+    ----------
+    times : ndarray, shape (n_t,)
+        Output times (physical units).
+    grid : ndarray, shape (n_t, n_v)
+        Velocities of the nodes at each time.
+    values : ndarray, shape (n_t, n_v)
+        :math:`P(v, t_i)` at ``grid[i]``.
+    weights : ndarray, shape (n_t, n_v)
+        Quadrature weights of ``grid[i]``.
+    method : str
+        Registry key of the method (``"fem"``).
+    params : dict
+        Problem parameters (and a description of the protocol).
+    info : RunInfo
+        Steps taken and rejected, Newton iterations, wall time.
+    series : dict of str to ndarray, shape (n_t,)
+        Further quantities at the output times (``"zeta"`` of a cooling run,
+        ``"diffusion"``, ``"friction"``, ``"mass"``).
+    """
+
+    times: NDArray[np.float64]
+    grid: NDArray[np.float64]
+    values: NDArray[np.float64]
+    weights: NDArray[np.float64]
+    method: str = ""
+    params: Mapping[str, Any] = field(default_factory=dict)
+    info: RunInfo = field(default_factory=RunInfo)
+    series: Mapping[str, NDArray[np.float64]] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        times = np.asarray(self.times, dtype=float)
+        shape = (times.size, np.shape(self.grid)[-1])
+        for name in ("grid", "values", "weights"):
+            arr = np.asarray(getattr(self, name), dtype=float)
+            if arr.shape != shape:
+                raise ValueError(f"{name} must have shape (n_t, n_v) = {shape}, got {arr.shape}")
+            object.__setattr__(self, name, arr)
+        object.__setattr__(self, "times", times)
+        object.__setattr__(self, "series", {k: np.asarray(v, dtype=float)
+                                            for k, v in self.series.items()})
+        dists = tuple(VelocityDistribution.from_values(
+            self.grid[i], self.values[i], weights=self.weights[i], normalize=False)
+            for i in range(times.size))
+        object.__setattr__(self, "_dists", dists)
+
+    # ------------------------------------------------------------------ access
+    def __len__(self) -> int:
+        return int(self.times.size)
+
+    def __getitem__(self, i: int) -> VelocityDistribution:
+        """The distribution at ``times[i]`` (with this run's method, params and info)."""
+        d = self._dists[i]  # type: ignore[attr-defined]
+        return VelocityDistribution(v=d.v, values=d.values, raw_moments=d.raw_moments,
+                                    method=self.method, params=dict(self.params),
+                                    info=self.info)
+
+    def __repr__(self) -> str:
+        t = self.times
+        span = f"t={t[0]:.4g}..{t[-1]:.4g}" if t.size else "no times"
+        temp = f", T={self.temperature[0]:.4g}->{self.temperature[-1]:.4g}" if t.size else ""
+        return (f"Evolution(method={self.method!r}, {t.size} times {span}{temp}, "
+                f"{self.grid.shape[1]} nodes, {self.info.iterations} steps)")
+
+    # ------------------------------------------------------------------ observables
+    def _observable(self, fn) -> NDArray[np.float64]:
+        return np.array([fn(d) for d in self._dists])  # type: ignore[attr-defined]
+
+    @property
+    def temperature(self) -> NDArray[np.float64]:
+        """:math:`T(t_i) = \\langle (v - u)^2 \\rangle`, shape (n_t,)."""
+        return self._observable(lambda d: d.temperature)
+
+    @property
+    def mass(self) -> NDArray[np.float64]:
+        """:math:`\\int P(v, t_i)\\,dv` by the nodes' quadrature, shape (n_t,)."""
+        return self._observable(lambda d: d.raw_moments[0])
+
+    @property
+    def a2(self) -> NDArray[np.float64]:
+        """Kurtosis excess :math:`a_2(t_i)`, shape (n_t,)."""
+        return self._observable(lambda d: d.a2)
+
+    def moment(self, k: int) -> NDArray[np.float64]:
+        """Central moment :math:`\\langle (v-u)^k \\rangle(t_i)`, shape (n_t,)."""
+        return self._observable(lambda d: d.moment(k))
+
+    def sonine_coefficient(self, p: int) -> NDArray[np.float64]:
+        """:math:`a_p(t_i)`, ``2 <= p <= 6``, shape (n_t,)."""
+        if not 2 <= p <= MAX_SONINE:
+            raise ValueError(f"Sonine order p={p!r} is outside 2..{MAX_SONINE}")
+        return self._observable(lambda d: d.sonine_coefficient(p))
+
+    @property
+    def sonine(self) -> NDArray[np.float64]:
+        """:math:`a_2 \\dots a_6` over time, shape (n_t, 5)."""
+        return np.stack([self.sonine_coefficient(p) for p in range(2, MAX_SONINE + 1)], axis=1)
+
+    # ------------------------------------------------------------------ io, plot
+    def save(self, path: str | Path) -> Path:
+        """Write to ``.npz`` (arrays; parameters and run info as JSON).
+
+        Examples
+        --------
+        >>> import tempfile, os
+        >>> v = np.linspace(-8, 8, 161)[None, :]
+        >>> ev = Evolution([0.0], v, np.exp(-v**2 / 2) / np.sqrt(2 * np.pi),
+        ...                np.full_like(v, 0.1), method="test")
+        >>> back = Evolution.load(ev.save(os.path.join(tempfile.mkdtemp(), "ev.npz")))
+        >>> bool(np.allclose(back.temperature, ev.temperature)), back.method
+        (True, 'test')
+        """
+        path = Path(path)
+        if path.suffix != ".npz":
+            path = path.with_suffix(".npz")
+        meta = {"method": self.method, "params": dict(self.params),
+                "info": {"converged": self.info.converged,
+                         "iterations": self.info.iterations,
+                         "residual": self.info.residual, "wall_time": self.info.wall_time,
+                         "message": self.info.message, "extra": dict(self.info.extra)}}
+        arrays = {f"series_{k}": v for k, v in self.series.items()}
+        np.savez_compressed(path, times=self.times, grid=self.grid, values=self.values,
+                            weights=self.weights, meta=np.array(json.dumps(meta, default=str)),
+                            **arrays)
+        return path
+
+    @classmethod
+    def load(cls, path: str | Path) -> Evolution:
+        """Read what :meth:`save` wrote."""
+        with np.load(Path(path), allow_pickle=False) as data:
+            meta = json.loads(str(data["meta"]))
+            series = {k[len("series_"):]: data[k] for k in data.files
+                      if k.startswith("series_")}
+            return cls(data["times"], data["grid"], data["values"], data["weights"],
+                       method=meta["method"], params=meta["params"],
+                       info=RunInfo(**meta["info"]), series=series)
+
+    def plot(self, path: str | Path | None = None, *, axes=None, label: str | None = None,
+             logx: bool = False):
+        """Plot :math:`T(t)` and :math:`a_2(t)`; save to ``path`` if given.
+
+        matplotlib is imported here; the Agg backend is used when only saving.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+        """
+        import matplotlib
+
+        if axes is None and path is not None:
+            matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        if axes is None:
+            fig, axes = plt.subplots(1, 2, figsize=(9, 3.5), layout="constrained")
+        else:
+            fig = axes[0].figure
+        t = self.times
+        temp = self.temperature
+        axes[0].plot(t, temp, label=label)
+        axes[1].plot(t, self.a2, label=label)
+        if temp.min() > 0 and temp.max() / temp.min() > 100:
+            axes[0].set_yscale("log")
+        for ax, name in zip(axes, ("temperature $T$", "$a_2$"), strict=True):
+            ax.set_xlabel("time $t$")
+            ax.set_ylabel(name)
+            if logx:
+                ax.set_xscale("log")
+        if label is not None:
+            axes[0].legend()
+        if path is not None:
+            fig.savefig(path)
+        return fig

@@ -1,0 +1,159 @@
+"""Public entry points of time-dependent problems: :func:`evolve_heated`, :func:`evolve_cooling`.
+
+.. math::
+
+    \\partial_t P = Q_{\\alpha(t)}[P] + \\partial_v(\\xi(t) v P) + D(t)\\,\\partial_v^2 P
+    \\quad\\text{(heated)}, \\qquad \\partial_t P = Q_\\alpha[P] \\quad\\text{(cooling)},
+
+from an initial distribution (any normalised
+:class:`~kinetic_fem.distribution.VelocityDistribution`, or a Gaussian at
+``initial_temperature``) to the requested output ``times``; the time dependence of
+:math:`D`, :math:`\\xi` and :math:`\\alpha` is a :class:`~kinetic_fem.protocol.Protocol`.
+Parameters are validated here; methods are registered in :data:`TRANSIENT_SOLVERS`
+(``"fem"``: adaptive BDF2 on the Galerkin system, :mod:`kinetic_fem.fem_evolution`).
+"""
+
+from __future__ import annotations
+
+from typing import Any, Callable
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from .distribution import VelocityDistribution
+from .evolution import Evolution
+from .fem_evolution import evolve_cooling_fem, evolve_heated_fem
+from .model import CoolingProblem, HeatedProblem, PowerLawKernel, RestitutionLaw, check_positive
+from .protocol import Protocol
+
+__all__ = ["evolve_heated", "evolve_cooling", "TRANSIENT_SOLVERS", "check_times"]
+
+TRANSIENT_SOLVERS: dict[str, dict[str, Callable[..., Evolution]]] = {
+    "heated": {"fem": evolve_heated_fem},
+    "cooling": {"fem": evolve_cooling_fem},
+}
+"""Transient methods by problem and registry key."""
+
+
+def check_times(times: ArrayLike) -> np.ndarray:
+    """Output times as a float array: finite, >= 0, strictly increasing, not empty.
+
+    Examples
+    --------
+    >>> check_times([0, 1, 2.5])
+    array([0. , 1. , 2.5])
+    """
+    t = np.atleast_1d(np.asarray(times, dtype=float))
+    if t.ndim != 1 or t.size == 0:
+        raise ValueError(f"times must be a non-empty 1-d sequence, got shape {t.shape}")
+    if not np.all(np.isfinite(t)):
+        raise ValueError(f"times must be finite, got {t}")
+    if t[0] < 0:
+        raise ValueError(f"times must be >= 0 (the initial state is at t = 0), got {t[0]}")
+    if np.any(np.diff(t) <= 0):
+        bad = int(np.flatnonzero(np.diff(t) <= 0)[0])
+        raise ValueError(f"times must be strictly increasing; times[{bad}]={t[bad]} is "
+                         f"followed by {t[bad + 1]}")
+    if t[-1] == 0:
+        raise ValueError("times must reach beyond t = 0")
+    return t
+
+
+def _initial(initial: Any, initial_temperature: Any) -> tuple[Any, float | None]:
+    if initial is not None and initial_temperature is not None:
+        raise ValueError("give either initial (a VelocityDistribution) or "
+                         "initial_temperature (a Gaussian start), not both")
+    if initial is not None and not isinstance(initial, VelocityDistribution):
+        raise TypeError(f"initial must be a VelocityDistribution, got {type(initial).__name__}")
+    if initial_temperature is not None:
+        initial_temperature = check_positive("initial_temperature", initial_temperature)
+    return initial, initial_temperature
+
+
+def _method(problem: str, method: str) -> Callable[..., Evolution]:
+    table = TRANSIENT_SOLVERS[problem]
+    if not isinstance(method, str) or method not in table:
+        raise ValueError(f"unknown {problem} transient method {method!r}; available: "
+                         f"{sorted(table)}")
+    return table[method]
+
+
+def evolve_heated(alpha: float | RestitutionLaw, *, density: float = 1.0,
+                  diffusion: float = 1.0, friction: float = 0.0,
+                  kernel: float | PowerLawKernel = 1.0,
+                  initial_temperature: float | None = None,
+                  initial: VelocityDistribution | None = None, times: ArrayLike,
+                  protocol: Protocol | None = None, method: str = "fem",
+                  **options: Any) -> Evolution:
+    """Time-dependent heated gas under a protocol.
+
+    Parameters
+    ----------
+    alpha : float or RestitutionLaw
+        Restitution at ``t = 0`` (changes are given by ``protocol.restitution``).
+    density, diffusion, friction : float
+        :math:`n`, :math:`D` and :math:`\\xi` (values at ``t = 0``, or throughout if the
+        protocol leaves them alone).
+    kernel : float or PowerLawKernel
+        Collision kernel :math:`|g|^\\gamma` (0 Maxwell, 1 hard rods).
+    initial_temperature : float, optional
+        Start from the Gaussian at this temperature (default: the Gaussian-closure
+        steady temperature of the parameters at ``t = 0``).
+    initial : VelocityDistribution, optional
+        Start from this normalised distribution instead (made even).
+    times : array_like, shape (n_t,)
+        Output times, strictly increasing, >= 0.
+    protocol : Protocol, optional
+        Time dependence of :math:`D`, :math:`\\xi` and the restitution.
+    method : str
+        Registry key (``"fem"``).
+    **options
+        Passed to the method, e.g. ``rtol`` (local error tolerance per step: relative on
+        T, absolute on a2; default 1e-6), ``spacing``, ``cutoff``, ``order``.
+
+    Returns
+    -------
+    Evolution
+
+    Raises
+    ------
+    ValueError, TypeError
+        For invalid parameters, protocols, times or initial states, unknown methods
+        or options.
+
+    Examples
+    --------
+    >>> ev = evolve_heated(0.5, times=[0.0, 0.5], initial_temperature=0.5, spacing=0.5,
+    ...                    rtol=1e-4)
+    >>> bool(ev.temperature[1] > ev.temperature[0])
+    True
+    """
+    problem = HeatedProblem.from_parameters(alpha, density=density, diffusion=diffusion,
+                                            friction=friction, kernel=kernel)
+    if protocol is None:
+        protocol = Protocol()
+    if not isinstance(protocol, Protocol):
+        raise TypeError(f"protocol must be a Protocol, got {type(protocol).__name__}")
+    initial, initial_temperature = _initial(initial, initial_temperature)
+    return _method("heated", method)(problem, times=check_times(times), protocol=protocol,
+                                     initial=initial, initial_temperature=initial_temperature,
+                                     **options)
+
+
+def evolve_cooling(alpha: float | RestitutionLaw, *, density: float = 1.0,
+                   kernel: float | PowerLawKernel = 1.0,
+                   initial_temperature: float | None = None,
+                   initial: VelocityDistribution | None = None, times: ArrayLike,
+                   method: str = "fem", **options: Any) -> Evolution:
+    """Free cooling from an initial state, :math:`T(t)` in physical units.
+
+    The scaled distribution :math:`f(c, \\tau)` is evolved (unit temperature enforced,
+    the drift coefficient :math:`\\zeta(\\tau)` an unknown) and the physical temperature
+    follows from :math:`dT/dt = -2\\zeta n T^{1+\\gamma/2}`; ``ev.series["zeta"]``.
+    See :func:`evolve_heated` for the parameters (default start: the Gaussian at
+    ``initial_temperature = 1``).
+    """
+    problem = CoolingProblem.from_parameters(alpha, density=density, kernel=kernel)
+    initial, initial_temperature = _initial(initial, initial_temperature)
+    return _method("cooling", method)(problem, times=check_times(times), initial=initial,
+                                      initial_temperature=initial_temperature, **options)

@@ -1,0 +1,107 @@
+"""Tests of kf.evolve_heated / kf.evolve_cooling (kinetic_fem/evolve.py, fem_evolution.py,
+fem_transient.py) and the Evolution result (kinetic_fem/evolution.py).
+
+Fast tests use coarse meshes (spacing 0.6 thermal velocities, cut-off 10) and loose
+tolerances; what they check is exact at any resolution (mass conservation to round-off,
+positivity, exact restarts at protocol switches, error messages) or has a tolerance
+from the coarse-mesh error measured in the slow tests.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+import kinetic_fem as kf
+from kinetic_fem.evolution import Evolution
+from kinetic_fem.fem_transient import lte_ratio
+from kinetic_fem.protocol import Protocol, steps
+
+COARSE = {"spacing": 0.6, "cutoff": 10.0, "rtol": 1e-3}
+
+
+@pytest.fixture(scope="module")
+def heating():
+    return kf.evolve_heated(0.5, times=[0.0, 0.25, 0.5], initial_temperature=0.8, **COARSE)
+
+
+def test_heated_run_conserves_mass_and_heats(heating):
+    ev = heating
+    assert np.abs(ev.mass - 1.0).max() < 1e-12
+    assert ev.temperature[0] == pytest.approx(0.8, rel=1e-12)
+    assert np.all(np.diff(ev.temperature) > 0)
+    assert np.all(ev.values > 0)
+    assert ev.a2[0] == pytest.approx(0.0, abs=1e-12)
+    assert ev.sonine.shape == (3, 5)
+
+
+def test_evolution_indexing_repr_and_round_trip(heating, tmp_path):
+    ev = heating
+    d = ev[1]
+    assert isinstance(d, kf.VelocityDistribution)
+    assert d.temperature == pytest.approx(ev.temperature[1], rel=1e-14)
+    assert d.method == "fem" and len(ev) == 3
+    assert "Evolution(method='fem', 3 times" in repr(ev)
+    back = Evolution.load(ev.save(tmp_path / "run"))
+    np.testing.assert_array_equal(back.values, ev.values)
+    np.testing.assert_allclose(back.a2, ev.a2, rtol=0, atol=0)
+    assert back.info.iterations == ev.info.iterations
+    np.testing.assert_array_equal(back.series["diffusion"], ev.series["diffusion"])
+
+
+def test_plot_saves_a_file(heating, tmp_path):
+    fig = heating.plot(tmp_path / "ev.png")
+    assert (tmp_path / "ev.png").stat().st_size > 0
+    assert len(fig.axes) == 2
+
+
+def test_step_in_diffusion_restarts_at_the_switch():
+    """The integrator stops at the switch, restarts, and heats faster after it."""
+    times = [0.0, 0.2, 0.4]
+    plain = kf.evolve_heated(0.5, times=times, initial_temperature=0.8, **COARSE)
+    switched = kf.evolve_heated(0.5, times=times, initial_temperature=0.8,
+                                protocol=Protocol(diffusion=steps([0.2], [1.0, 3.0])),
+                                **COARSE)
+    assert switched.info.extra["restarts"] == 1
+    assert switched.series["diffusion"].tolist() == [1.0, 3.0, 3.0]
+    # before the switch: the same run up to the (different) coarse meshes' error
+    assert switched.temperature[1] == pytest.approx(plain.temperature[1], rel=2e-3)
+    assert switched.temperature[2] > plain.temperature[2] + 0.5
+    assert np.abs(switched.mass - 1.0).max() < 1e-12
+
+
+def test_initial_distribution_is_taken_and_checked(heating):
+    start = heating[2]
+    ev = kf.evolve_heated(0.5, times=[0.0, 0.1], initial=start, **COARSE)
+    assert ev.temperature[0] == pytest.approx(start.temperature, rel=1e-3)
+    bad = kf.VelocityDistribution.from_values(start.v, 2.0 * start.values, normalize=False)
+    with pytest.raises(ValueError, match="not normalised"):
+        kf.evolve_heated(0.5, times=[0.0, 0.1], initial=bad, **COARSE)
+
+
+@pytest.mark.parametrize("kwargs, error, match", [
+    ({"times": [0.0, 2.0, 1.0]}, ValueError, "strictly increasing"),
+    ({"times": [-1.0, 1.0]}, ValueError, ">= 0"),
+    ({"times": [0.0, math.nan]}, ValueError, "finite"),
+    ({"times": [0.0]}, ValueError, "beyond"),
+    ({"times": [1.0], "initial_temperature": -1.0}, ValueError, "initial_temperature"),
+    ({"times": [1.0], "protocol": "step"}, TypeError, "Protocol"),
+    ({"times": [1.0], "method": "magic"}, ValueError, "available"),
+    ({"times": [1.0], "initial": 1.0}, TypeError, "VelocityDistribution"),
+    ({"times": [1.0], "time_step": 0.1}, TypeError, "time_step"),
+])
+def test_bad_input(kwargs, error, match):
+    with pytest.raises(error, match=match):
+        kf.evolve_heated(0.5, **kwargs)
+
+
+def test_protocol_without_steady_state_is_refused():
+    with pytest.raises(ValueError, match="t=1"):
+        kf.evolve_heated(0.5, times=[0.0, 2.0],
+                         protocol=Protocol(restitution=[(1.0, 1.0)]), **COARSE)
+
+
+def test_lte_ratio_constant_steps():
+    """Equal steps: BDF2 error -2/9 h^3 y''' against the quadratic predictor's h^3 y'''."""
+    assert lte_ratio((0.3, 0.3, 0.3), 2) == pytest.approx(2.0 / 11.0)
+    assert lte_ratio((0.3,), 1) == 0.5
