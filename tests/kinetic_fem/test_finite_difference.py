@@ -199,6 +199,8 @@ def test_gain_jacobian_matches_finite_differences():
     (dict(cutoff=2.0), "cutoff >= 4"),
     (dict(steady="anneal"), "steady must be"),
     (dict(interpolation_order=4), "interpolation_order"),
+    (dict(richardson=3), "richardson must be"),
+    (dict(richardson=1.5), "richardson must be"),
     (dict(courant=2.0, steady="march"), "breaks positivity"),
     (dict(dt=1.0, steady="march", cutoff=10.0), "too large for an explicit"),
 ])
