@@ -58,10 +58,11 @@ class HeatedFDResult:
     decades: float
 
 
-def main(alpha: float = 0.6, spacing: float = 0.08, richardson: int = 2
+def main(alpha: float = 0.6, spacing: float | None = None, richardson: int = 2
          ) -> HeatedFDResult:
-    """Solve at ``alpha`` with coarsest grid ``spacing`` (units of sqrt(T)) and
-    ``richardson`` levels of extrapolation (0: one grid)."""
+    """Solve at ``alpha`` with coarsest grid ``spacing`` (units of sqrt(T); default from
+    the model, finer near elastic collisions) and ``richardson`` levels of extrapolation
+    (0: one grid)."""
     dist = kf.solve_heated(alpha, method="fd", steady="newton", spacing=spacing,
                            richardson=richardson)
     eb = energy_balance(dist.v, dist.values, simpson_weights(dist.v), alpha=alpha,
