@@ -1,8 +1,10 @@
 """All numba compile options of the ``particles`` package, in one place.
 
 Kernels are compiled with ``cache=True`` and hold no global state; random numbers are
-drawn by numpy generators outside the kernels and passed in, so that runs are
-reproducible from explicit seeds and checkpoints resume bit-identically.
+drawn inside the kernels from an explicit generator state passed in as an array
+(:mod:`particles.rng`, seeded from a ``numpy.random.SeedSequence`` and saved in
+checkpoints), so that runs are reproducible from explicit seeds and checkpoints resume
+bit-identically.
 Setting ``NUMBA_DISABLE_JIT=1`` runs the kernels as plain Python (slow, for tests).
 """
 
