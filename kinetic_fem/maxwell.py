@@ -44,14 +44,14 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from fractions import Fraction
 
+import mpmath
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.integrate import solve_ivp
 
 from .model import check_alpha, check_nonnegative, check_positive
-from .sonine import sonine_coefficients_from_moments
+from .sonine import sonine_norm, sonine_polynomial_coefficients
 
 __all__ = ["MaxwellSteadyState", "MaxwellTransient", "collision_moment_rates",
            "moment_rates", "steady_state", "evolve_moments", "hcs_zeta", "hcs_pdf",
@@ -60,7 +60,7 @@ __all__ = ["MaxwellSteadyState", "MaxwellTransient", "collision_moment_rates",
 Protocol = float | Callable[[float], float]
 
 
-def _pair_coefficients(alpha: float | Fraction, k: int) -> list:
+def _pair_coefficients(alpha: float | mpmath.mpf, k: int) -> list:
     """:math:`\\binom kj(a^j b^{k-j} + a^{k-j} b^j)`, ``j = 0 .. k``."""
     a = (1 - alpha) / 2
     b = (1 + alpha) / 2
@@ -131,16 +131,13 @@ class MaxwellSteadyState:
     temperature : float
         :math:`T = M_2`.
     sonine : ndarray, shape (order + 1,)
-        Sonine coefficients :math:`a_0 = 1, a_1 = 0, a_2, .., a_P`, computed in exact
-        rational arithmetic from the exact moments, then rounded once.
-    exact_moments : tuple of Fraction
-        The moments as exact fractions of the binary parameters.
+        Sonine coefficients :math:`a_0 = 1, a_1 = 0, a_2, .., a_P`, computed with
+        ``40 + 2P`` significant digits from the moments, then rounded once.
     """
 
     moments: NDArray[np.float64]
     temperature: float
     sonine: NDArray[np.float64]
-    exact_moments: tuple[Fraction, ...]
 
     @property
     def a2(self) -> float:
@@ -176,9 +173,10 @@ def steady_state(alpha: float, order: int = 6, *, density: float = 1.0,
     Notes
     -----
     Each moment follows from the lower ones (see the module docstring); the
-    recursion runs in exact rational arithmetic on the binary values of the
-    parameters, so the Sonine coefficients, alternating sums of the moments, are
-    exact to the final rounding at any order.
+    recursion runs in multiple precision (``40 + 2P`` digits: the recursion has
+    positive terms only, and the Sonine coefficients, alternating sums of the
+    moments, lose fewer digits than that), so every output is exact to its final
+    rounding.
 
     Examples
     --------
@@ -188,24 +186,31 @@ def steady_state(alpha: float, order: int = 6, *, density: float = 1.0,
     """
     if isinstance(order, bool) or not isinstance(order, int) or order < 1:
         raise ValueError(f"order must be an integer >= 1, got {order!r}")
-    n = Fraction(check_positive("density", density))
-    d = Fraction(check_positive("diffusion", diffusion))
-    xi = Fraction(check_nonnegative("friction", friction))
-    al = Fraction(check_alpha(alpha, allow_elastic=xi > 0))
+    n_f = check_positive("density", density)
+    d_f = check_positive("diffusion", diffusion)
+    xi_f = check_nonnegative("friction", friction)
+    al_f = check_alpha(alpha, allow_elastic=xi_f > 0)
     kmax = 2 * order
-    m: list[Fraction] = [Fraction(1)]
-    for k in range(1, kmax + 1):
-        if k % 2:
-            m.append(Fraction(0))   # centred: the odd moments vanish
-            continue
-        c = _pair_coefficients(al, k)
-        gain = n / 2 * sum((c[j] * m[j] * m[k - j] for j in range(1, k)), Fraction(0))
-        m.append((gain + d * k * (k - 1) * m[k - 2]) / (n * (1 - c[0]) + xi * k))
-    t = m[2]
-    scaled = [m[k] / t ** (k // 2) if k % 2 == 0 else Fraction(0) for k in range(kmax + 1)]
-    sonine = sonine_coefficients_from_moments(scaled, order)
-    return MaxwellSteadyState(np.array([float(x) for x in m]), float(t),
-                              np.array([float(x) for x in sonine]), tuple(m))
+    with mpmath.workprec(int(3.33 * (40 + 2 * order))):
+        n, d, xi, al = (mpmath.mpf(x) for x in (n_f, d_f, xi_f, al_f))
+        m = [mpmath.mpf(1)]
+        for k in range(1, kmax + 1):
+            if k % 2:
+                m.append(mpmath.mpf(0))   # centred: the odd moments vanish
+                continue
+            c = _pair_coefficients(al, k)
+            gain = n / 2 * mpmath.fsum(c[j] * m[j] * m[k - j] for j in range(1, k))
+            m.append((gain + d * k * (k - 1) * m[k - 2]) / (n * (1 - c[0]) + xi * k))
+        t = m[2]
+        sonine = []
+        for p in range(order + 1):
+            coeffs = sonine_polynomial_coefficients(p)
+            total = mpmath.fsum(mpmath.mpf(cf.numerator) / cf.denominator
+                                * m[2 * j] / (2 * t) ** j for j, cf in enumerate(coeffs))
+            norm = sonine_norm(p)
+            sonine.append(total * norm.denominator / norm.numerator)
+        return MaxwellSteadyState(np.array([float(x) for x in m]), float(t),
+                                  np.array([float(x) for x in sonine]))
 
 
 @dataclass(frozen=True)

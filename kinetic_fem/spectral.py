@@ -1,147 +1,346 @@
-"""Sonine (Laguerre/Hermite) spectral solver of the heated steady state and the HCS.
+"""Sonine spectral solver: Galerkin projection of the heated and cooling states.
 
-The scaled distribution is expanded in Sonine polynomials,
-
-.. math::
-
-    f(c) = \\Phi(c)\\Big(1 + \\sum_{p=2}^{P} a_p S_p(c^2)\\Big), \\qquad
-    S_p(c^2) = L_p^{(-1/2)}(c^2/2), \\qquad P(v) = f(v/\\sqrt T)/\\sqrt T,
-
-and the steady Boltzmann equation is projected on the even monomials
-:math:`\\varphi_k = v^{2k}`, ``k = 1 .. P`` (moment method).  With the weak form of
-the collision operator,
+The scaled distribution is expanded in the orthonormal Sonine basis
+:math:`e_p(c) = S_p(c^2/2)/\\sqrt{N_p}` (:mod:`kinetic_fem._sonine_tensors`),
 
 .. math::
 
-    2k(2k-1)\\, D\\, T^{k-1}\\mu_{2k-2}
-    + \\frac n2 T^{k+1/2} J_k(a) = 0,\\qquad
-    J_k(a) = \\iint |c_1 - c_2| f(c_1) f(c_2)
-        \\left[c_1'^{2k} + c_2'^{2k} - c_1^{2k} - c_2^{2k}\\right],
+    f(c) = \\Phi(c)\\sum_{p=0}^{P} b_p e_p(c), \\qquad b_0 = 1,\\ b_1 = 0,\\qquad
+    a_p = b_p/\\sqrt{N_p},\\qquad P(v) = f(v/\\sqrt T)/\\sqrt T,
 
-where :math:`\\mu_{2m} = \\langle c^{2m}\\rangle_f` is linear and :math:`J_k`
-quadratic in :math:`(1, a_2, \\dots, a_P)`.  The ``k = 1`` equation is the energy
-balance C1 and fixes :math:`T^{3/2} = -4D/(n J_1)`; the others,
-:math:`2k(2k-1)\\mu_{2k-2} = 2 J_k/J_1`, fix the :math:`a_p` independently of ``n`` and
-``D``.  Linearising in the :math:`a_p` at ``P = 2`` reproduces the first-order
-result :func:`kinetic_fem.sonine.a2_first_order` exactly.
+and the homogeneous Boltzmann equation with kernel :math:`|g|^\\gamma`, constant
+:math:`\\alpha` and a thermostat :math:`\\partial_v(\\xi vP) + D\\partial_v^2P` is tested
+against :math:`e_q(v/\\sqrt T)`, ``q = 1 .. P`` (Galerkin).  Divided by
+:math:`nT^{\\gamma/2}`:
 
-The double integrals are evaluated exactly: in centre-of-mass and relative
-velocities :math:`C = (c_1+c_2)/2`, :math:`g = c_1 - c_2` the weight is
-:math:`e^{-C^2} e^{-g^2/4}/(2\\pi)`; Gauss-Hermite in ``C`` and, after
-:math:`s = g^2/4` on the even part in ``g``, Gauss-Laguerre in ``s`` integrate the
-polynomial remainder exactly.
+.. math::
 
-The truncated series is accurate for the heated gas (claim C15) but is not
-positive in the far tails; use ``"fem"`` or ``"fd"`` for the tails.
+    R_q = \\tfrac12 \\sum_{rs} A_{qrs} b_r b_s - \\delta\\,\\kappa_q b_{q-1}
+          - \\chi\\,(2q\\,b_q - \\kappa_q b_{q-1}) = 0,\\qquad
+    \\kappa_q = \\sqrt{2q(2q-1)},
+
+with :math:`\\delta = D/(nT^{1+\\gamma/2})`, :math:`\\chi = \\xi/(nT^{\\gamma/2})` (heated:
+unknowns :math:`b_2 .. b_P` and :math:`\\ln T`) and, for the homogeneous cooling state
+(:math:`dT/dt = -2\\zeta nT^{1+\\gamma/2}`), :math:`\\delta = 0`, :math:`\\chi = -\\zeta`
+(unknowns :math:`b_2..b_P` and :math:`\\zeta`).  ``q = 1`` is the energy balance C1.
+The collision tensor :math:`A_{qrs}` is exact to round-off (Gauss rules with the weight
+:math:`|g|^\\gamma`); the quadratic system is solved by Newton with a backtracking line
+search, continued in the order from ``P = 2``.
+
+For the Maxwell kernel (``gamma = 0``) the equation of order ``q`` involves the moments
+up to ``2q`` only, so every truncation gives the exact :math:`a_2 .. a_P`
+(:mod:`kinetic_fem.maxwell`).  The Maxwell cooling state has no fourth moment
+(:func:`kinetic_fem.maxwell.hcs_pdf`) and is refused.  The truncated series is not
+positive in the far tails; use ``"fem"`` for the tails.
 """
 
 from __future__ import annotations
 
+import logging
 import math
 import time
-from functools import lru_cache
+from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import NDArray
-from scipy.optimize import fsolve
-from scipy.special import genlaguerre, roots_genlaguerre, roots_hermite
+from numpy.typing import ArrayLike, NDArray
 
+from ._sonine_tensors import (
+    collision_tensor,
+    dilation_coefficients,
+    laplacian_coefficients,
+    orthonormal_sonine,
+)
 from .distribution import RunInfo, VelocityDistribution
-from .gas import CoolingProblem, HeatedProblem, check_alpha
 from .grid import simpson_weights
-from .model import WhiteNoise
+from .model import (
+    CoolingProblem,
+    FokkerPlanckBath,
+    HeatedProblem,
+    UnsupportedModelError,
+    WhiteNoise,
+)
 from .solve import register_solver
 
 __all__ = ["SonineSolution", "solve_sonine", "sonine_heated", "solve_sonine_cooling",
-           "sonine_cooling"]
+           "sonine_cooling", "MAX_ORDER"]
+
+logger = logging.getLogger(__name__)
+
+MAX_ORDER = 80
+"""Highest truncation order (the tensor costs ~ ``P**3 * 4.5 P**2`` operations)."""
 
 
-def _sonine_polys(order: int) -> list[np.polynomial.Polynomial]:
-    """:math:`S_p(c^2)` as polynomials in ``c``, ``p = 0 .. order``."""
-    out = []
-    for p in range(order + 1):
-        coeffs_x = genlaguerre(p, -0.5).coeffs[::-1]  # in x = c^2/2, lowest first
-        c_coeffs = np.zeros(2 * p + 1)
-        c_coeffs[::2] = coeffs_x / 2.0 ** np.arange(p + 1)
-        out.append(np.polynomial.Polynomial(c_coeffs))
-    return out
-
-
-@lru_cache(maxsize=32)
-def _tensors(order: int, alpha: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Moment matrix ``M[m, p]`` and collision tensor ``A[k, p, q]``.
-
-    ``M[m, p] = ∫Φ S_p c^{2m}`` (``m = 0 .. order``) and
-    ``A[k, p, q] = ∬ |g| Φ Φ S_p(c1²) S_q(c2²) Δφ_k`` (``k = 1 .. order``).
-    """
-    polys = _sonine_polys(order)
-    n_nodes = 3 * order + 4
-    xc, wc = roots_hermite(n_nodes)               # weight exp(-C^2)
-    xs, ws = roots_genlaguerre(n_nodes, 0.0)      # weight exp(-s), s = g^2/4
-    big_c = xc[:, None]
-    m = np.zeros((order + 1, order + 1))
-    # single integrals with weight Φ(c): c = sqrt(2) t, Gauss-Hermite in t
-    t, wt = roots_hermite(n_nodes)
-    c1d = math.sqrt(2.0) * t
-    w1d = wt / math.sqrt(math.pi)
-    for p, sp in enumerate(polys):
-        for mm in range(order + 1):
-            m[mm, p] = np.sum(w1d * sp(c1d) * c1d ** (2 * mm))
-    a = np.zeros((order + 1, order + 1, order + 1))
-    half = 0.5 * (1.0 + alpha)
-    for sign in (1.0, -1.0):                       # even part in g
-        g = sign * 2.0 * np.sqrt(xs)[None, :]
-        c1 = big_c + 0.5 * g
-        c2 = big_c - 0.5 * g
-        c1p, c2p = c1 - half * g, c2 + half * g
-        # ∫∫|g| e^{-C^2 - g^2/4}/(2π) h dC dg = (4/(2π)) Σ wc ws h_even
-        weight = (4.0 / (2.0 * math.pi)) * 0.5 * wc[:, None] * ws[None, :]
-        s1 = np.array([sp(c1) for sp in polys])
-        s2 = np.array([sp(c2) for sp in polys])
-        for k in range(1, order + 1):
-            dphi = c1p ** (2 * k) + c2p ** (2 * k) - c1 ** (2 * k) - c2 ** (2 * k)
-            a[k] += np.einsum("ij,pij,qij->pq", weight * dphi, s1, s2)
-    return m, a
-
-
+@dataclass(frozen=True)
 class SonineSolution:
-    """Sonine coefficients and temperature of the heated steady state.
+    """Sonine coefficients and temperature of a Galerkin solution.
 
     Attributes
     ----------
     order : int
         Truncation order ``P``.
     coefficients : ndarray, shape (order + 1,)
-        ``a_0 = 1, a_1 = 0, a_2 .. a_P``.
+        :math:`a_0 = 1, a_1 = 0, a_2 .. a_P` (the convention of
+        :meth:`VelocityDistribution.sonine_coefficient`).
     temperature : float
-        Steady temperature.
+        Temperature (1 for the cooling state, which is scaled).
+    zeta : float
+        Cooling rate (cooling) or NaN.
+    residual : float
+        Largest Galerkin residual :math:`|R_q|` relative to the size of its terms.
+    condition_number : float
+        2-norm condition number of the Newton Jacobian at the solution, rows scaled
+        by the size of their terms and columns by the unknowns' magnitudes.
+    iterations : int
+        Newton iterations (all continuation stages).
     """
 
-    def __init__(self, order: int, coefficients: NDArray[np.float64], temperature: float):
-        self.order = order
-        self.coefficients = coefficients
-        self.temperature = temperature
+    order: int
+    coefficients: NDArray[np.float64]
+    temperature: float
+    zeta: float = math.nan
+    residual: float = 0.0
+    condition_number: float = math.nan
+    iterations: int = 0
 
-    def f(self, c: NDArray[np.float64]) -> NDArray[np.float64]:
+    @property
+    def orthonormal_coefficients(self) -> NDArray[np.float64]:
+        """:math:`b_p = a_p\\sqrt{N_p}`."""
+        return self.coefficients * _sqrt_norms(self.order)
+
+    def f(self, c: ArrayLike) -> NDArray[np.float64]:
         """The truncated series :math:`f(c)` (may be negative in the far tails)."""
         c = np.asarray(c, dtype=float)
-        polys = _sonine_polys(self.order)
-        series = sum(a * sp(c) for a, sp in zip(self.coefficients, polys, strict=True))
+        basis = orthonormal_sonine(self.order, c)
+        series = np.tensordot(self.orthonormal_coefficients, basis, axes=1)
         return np.exp(-0.5 * c**2) / math.sqrt(2.0 * math.pi) * series
 
 
+def _sqrt_norms(order: int) -> NDArray[np.float64]:
+    p = np.arange(order + 1)
+    return np.exp(0.5 * (np.array([math.lgamma(k + 0.5) - math.lgamma(k + 1.0) for k in p])
+                         - 0.5 * math.log(math.pi)))
+
+
+def _check_order(order: object) -> int:
+    if isinstance(order, bool) or not isinstance(order, int) or order < 2:
+        raise ValueError(f"Sonine order must be an integer >= 2, got {order!r}")
+    if order > MAX_ORDER:
+        raise ValueError(f"order={order} is not supported (2 <= order <= {MAX_ORDER})")
+    return order
+
+
+class _System:
+    """Galerkin residual and Jacobian in the unknowns ``x = (b_2 .. b_P, y)``.
+
+    Heated: ``y = ln T`` (units of ``n = D = 1``, friction ``chi0 = xi/(n u^gamma)``);
+    cooling: ``y = zeta``.
+    """
+
+    def __init__(self, order: int, alpha: float, gamma: float, *, cooling: bool,
+                 friction: float = 0.0, linearized: bool = False,
+                 reference: float = 1.0) -> None:
+        self.order, self.gamma, self.cooling = order, gamma, cooling
+        self.friction, self.linearized = friction, linearized
+        self.tensor = collision_tensor(order, alpha, gamma)
+        self.kappa = laplacian_coefficients(order)
+        self.dil = dilation_coefficients(order)
+        self.reference = reference   # y of the Gaussian state (linearised products)
+
+    def coefficients(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
+        return np.concatenate([[1.0, 0.0], x[:-1]])
+
+    def _drive(self, y: float) -> tuple[float, float, float, float]:
+        """``delta, chi`` and their derivatives in ``y``."""
+        if self.cooling:
+            return 0.0, -y, 0.0, -1.0
+        g = self.gamma
+        delta = math.exp(-(1.0 + 0.5 * g) * y)
+        chi = self.friction * math.exp(-0.5 * g * y)
+        return delta, chi, -(1.0 + 0.5 * g) * delta, -0.5 * g * chi
+
+    def __call__(self, x: NDArray[np.float64]
+                 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        p = self.order
+        b = self.coefficients(x)
+        a = self.tensor[1:]                                   # rows q = 1 .. P
+        delta, chi, d_delta, d_chi = self._drive(x[-1])
+        lap = self.kappa[1:] * b[:-1]                         # kappa_q b_{q-1}
+        dil = self.dil[1:] @ b                                # 2q b_q - kappa_q b_{q-1}
+        jac_b = np.zeros((p, p + 1))
+        if self.linearized:   # products of b_p (p >= 2) with b_r or with delta, chi dropped
+            b0 = np.zeros(p + 1)
+            b0[0] = 1.0
+            ab0 = a @ b0                                      # A_{q r 0}
+            coll = 0.5 * a[:, 0, 0] + ab0[:, 2:] @ b[2:]
+            jac_b[:, 2:] = ab0[:, 2:]
+            d0, c0, _, _ = self._drive(self.reference)
+            lap0, dil0 = self.kappa[1:] * b0[:-1], self.dil[1:] @ b0
+            res = coll - delta * lap0 - chi * dil0 - d0 * (lap - lap0) - c0 * (dil - dil0)
+            jac_b -= d0 * _lap_matrix(self.kappa)[1:] + c0 * self.dil[1:]
+            dres_dy = -d_delta * lap0 - d_chi * dil0
+        else:
+            ab = a @ b                                        # (P, P+1): sum_s A_qrs b_s
+            coll = 0.5 * ab @ b
+            res = coll - delta * lap - chi * dil
+            jac_b = ab - delta * _lap_matrix(self.kappa)[1:] - chi * self.dil[1:]
+            dres_dy = -d_delta * lap - d_chi * dil
+        jac = np.concatenate([jac_b[:, 2:], dres_dy[:, None]], axis=1)
+        return res, jac
+
+    def row_scale(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Size of the terms of each equation (sum of their absolute values)."""
+        b = np.abs(self.coefficients(x))
+        delta, chi, _, _ = self._drive(x[-1])
+        coll = 0.5 * (np.abs(self.tensor[1:]) @ b) @ b
+        lap = self.kappa[1:] * b[:-1]
+        dil = np.abs(self.dil[1:]) @ b
+        return coll + abs(delta) * lap + abs(chi) * dil + np.finfo(float).tiny
+
+
+def _lap_matrix(kappa: NDArray[np.float64]) -> NDArray[np.float64]:
+    n = len(kappa)
+    mat = np.zeros((n, n))
+    mat[np.arange(1, n), np.arange(n - 1)] = kappa[1:]
+    return mat
+
+
+def _newton(system: _System, x0: NDArray[np.float64], *, tol: float = 1e-14,
+            max_iter: int = 100) -> tuple[NDArray[np.float64], float, int, float]:
+    """Newton with backtracking on the row-scaled residual.
+
+    Each equation is divided by the size of its terms (:meth:`_System.row_scale`, frozen
+    during one step) and each unknown by its magnitude before the linear solve, so the
+    solution may span many decades (the Maxwell coefficients grow like ``p**p``).
+    Returns ``x``, the largest relative residual, the iterations and the condition
+    number of the equilibrated Jacobian.
+    """
+    x = x0.copy()
+    res, jac = system(x)
+    with np.errstate(over="ignore", invalid="ignore"):
+        return _newton_loop(system, x, res, jac, tol, max_iter)
+
+
+def _newton_loop(system: _System, x: NDArray[np.float64], res: NDArray[np.float64],
+                 jac: NDArray[np.float64], tol: float, max_iter: int
+                 ) -> tuple[NDArray[np.float64], float, int, float]:
+    it = 0
+    while it < max_iter:
+        it += 1
+        rows = system.row_scale(x)
+        cols = np.maximum(np.abs(x), 1.0)
+        scaled = jac * cols[None, :] / rows[:, None]
+        try:
+            step = cols * np.linalg.solve(scaled, -res / rows)
+        except np.linalg.LinAlgError:
+            step = cols * np.linalg.lstsq(scaled, -res / rows, rcond=None)[0]
+        norm = float(np.linalg.norm(res / rows))
+        lam = 1.0
+        while True:
+            trial = x + lam * step
+            res_t, jac_t = system(trial)
+            norm_t = float(np.linalg.norm(res_t / rows))
+            if np.isfinite(norm_t) and (norm_t < (1.0 - 1e-4 * lam) * norm or lam < 1e-3
+                                        or norm < 1e-13):
+                break
+            lam *= 0.5
+        x, res, jac = trial, res_t, jac_t
+        rel = float(np.max(np.abs(res) / system.row_scale(x)))
+        small_step = np.all(np.abs(lam * step) <= 4 * np.finfo(float).eps * np.abs(x))
+        if rel <= tol or small_step:
+            break
+    rows = system.row_scale(x)
+    cols = np.maximum(np.abs(x), 1.0)
+    cond = float(np.linalg.cond(jac * cols[None, :] / rows[:, None]))
+    return x, float(np.max(np.abs(res) / rows)), it, cond
+
+
+def _realisable(b: NDArray[np.float64]) -> bool:
+    """Stieltjes test: can :math:`\\nu_k = \\langle c^{2k}\\rangle`, ``k <= min(P, 4)``, be moments?
+
+    The moments of :math:`x = c^2 \\ge 0` need positive semidefinite Hankel matrices
+    :math:`[\\nu_{i+j}]` and :math:`[\\nu_{i+j+1}]`; e.g. :math:`a_2 \\ge -2/3`.  Only
+    the moments fixed by :math:`b_0 .. b_P` (order ``<= 2P``) enter.
+    """
+    t, w = np.polynomial.hermite_e.hermegauss(12)
+    w = w / w.sum()
+    m = min(4, len(b) - 1)
+    series = np.tensordot(b[: m + 1], orthonormal_sonine(m, t), axes=1)
+    nu = np.array([np.sum(w * series * t ** (2 * k)) for k in range(m + 1)])
+    n0, n1 = m // 2 + 1, (m - 1) // 2 + 1
+    h0 = np.array([[nu[i + j] for j in range(n0)] for i in range(n0)])
+    h1 = np.array([[nu[i + j + 1] for j in range(n1)] for i in range(n1)])
+    for h in (h0, h1):
+        d = np.diag(h)
+        if not (np.all(np.isfinite(h)) and np.all(d > 0)):
+            return False
+        if np.linalg.eigvalsh(h / np.sqrt(np.outer(d, d))).min() < -1e-12:
+            return False
+    return True
+
+
+def _solve(order: int, alpha: float, gamma: float, *, cooling: bool, friction: float,
+           linearized: bool, guess_y: float) -> SonineSolution:
+    stages = [2]
+    while stages[-1] < order:
+        stages.append(min(order, 2 * stages[-1]))
+    x = np.array([guess_y])
+    total = 0
+    for stage in stages:
+        system = _System(stage, alpha, gamma, cooling=cooling, friction=friction,
+                         linearized=linearized, reference=guess_y)
+        x = np.concatenate([x[:-1], np.zeros(stage - 1 - (len(x) - 1)), x[-1:]])
+        x, resid, its, cond = _newton(system, x)
+        total += its
+        logger.debug("Sonine order %d: relative residual %.2e after %d Newton steps",
+                     stage, resid, its)
+    if not (np.all(np.isfinite(x)) and resid <= 1e-10):
+        kind = "cooling" if cooling else "heated"
+        raise RuntimeError(
+            f"the Sonine Galerkin equations ({kind}, alpha={alpha}, gamma={gamma:g}, order "
+            f"{order}) have no solution Newton could find (relative residual {resid:.1e}); "
+            "the truncated series fails where f is far from a Gaussian: try another order "
+            "or method='fem'")
+    coef = system.coefficients(x) / _sqrt_norms(order)
+    if not _realisable(system.coefficients(x)):
+        kind = "cooling" if cooling else "heated"
+        raise RuntimeError(
+            f"the Sonine Galerkin equations ({kind}, alpha={alpha}, gamma={gamma:g}, order "
+            f"{order}) gave only a spurious root (a2 = {coef[2]:.3g}): no distribution has "
+            "its moments up to <c^8> (their Hankel matrices are not positive); the "
+            "truncated system has no physical solution here: try another order or "
+            "method='fem'")
+    if cooling:
+        return SonineSolution(order, coef, 1.0, float(x[-1]), resid, cond, total)
+    return SonineSolution(order, coef, math.exp(x[-1]), math.nan, resid, cond, total)
+
+
 def solve_sonine(alpha: float, order: int = 6, *, density: float = 1.0, diffusion: float = 1.0,
+                 friction: float = 0.0, kernel: float = 1.0,
                  linearized: bool = False) -> SonineSolution:
-    """Solve the moment equations for :math:`a_2 .. a_P` and :math:`T`.
+    """Heated steady state by the Sonine Galerkin method: :math:`a_2 .. a_P` and :math:`T`.
 
     Parameters
     ----------
     alpha : float
-        Restitution coefficient in ``[0, 1)``.
+        Restitution coefficient in ``[0, 1)`` (``[0, 1]`` with friction).
     order : int
-        Truncation order ``P >= 2``.
+        Truncation order ``2 <= P <= MAX_ORDER``.
+    density, diffusion, friction : float
+        :math:`n > 0`, :math:`D > 0`, bath friction :math:`\\xi \\ge 0` (0: white noise).
+    kernel : float or PowerLawKernel
+        Kernel exponent :math:`\\gamma \\in [0, 2]`.
     linearized : bool
-        Drop products :math:`a_p a_q` (``p, q >= 2``): the first-order Sonine theory.
+        Drop the products of :math:`a_p` (``p >= 2``) with each other and with the
+        thermostat terms: the first-order Sonine theory at ``P = 2``.
+
+    Returns
+    -------
+    SonineSolution
+
+    Raises
+    ------
+    RuntimeError
+        If Newton finds no solution of the truncated system.
 
     Examples
     --------
@@ -150,81 +349,39 @@ def solve_sonine(alpha: float, order: int = 6, *, density: float = 1.0, diffusio
     >>> bool(abs(sol.coefficients[2] - a2_first_order(0.5)) < 1e-12)
     True
     """
-    problem = HeatedProblem.from_parameters(alpha, density=density, diffusion=diffusion)
-    order = _check_order(order)
-    coef, j1 = _solve_moments(problem.gas.alpha, order, linearized, cooling=False)
-    temperature = (-4.0 * problem.diffusion / (problem.gas.density * j1)) ** (2.0 / 3.0)
-    return SonineSolution(order, coef, temperature)
+    problem = HeatedProblem.from_parameters(alpha, density=density, diffusion=diffusion,
+                                            friction=friction, kernel=kernel)
+    return _solve_problem(problem, _check_order(order), linearized)
 
 
-def _check_order(order: object) -> int:
-    if isinstance(order, bool) or not isinstance(order, int) or order < 2:
-        raise ValueError(f"Sonine order must be an integer >= 2, got {order!r}")
-    if order > 12:
-        raise ValueError(f"order={order} is not supported (<= 12); the moment method "
-                         "becomes ill-conditioned at high order")
-    return order
+def _solve_problem(problem: HeatedProblem, order: int, linearized: bool) -> SonineSolution:
+    gas = problem.gas
+    u = problem.velocity_scale
+    chi0 = problem.friction / (gas.density * u**gas.gamma)
+    guess = math.log(problem.temperature_estimate() / u**2)
+    sol = _solve(order, gas.alpha, gas.gamma, cooling=False, friction=chi0,
+                 linearized=linearized, guess_y=guess)
+    return SonineSolution(order, sol.coefficients, sol.temperature * u**2, math.nan,
+                          sol.residual, sol.condition_number, sol.iterations)
 
 
-def _solve_moments(alpha: float, order: int, linearized: bool, *, cooling: bool
-                   ) -> tuple[NDArray[np.float64], float]:
-    """Sonine coefficients ``a_0 .. a_P`` and :math:`J_1` of the moment equations.
-
-    Heated: :math:`2k(2k-1)\\mu_{2k-2} J_1 = 2 J_k`; cooling (scaled, :math:`\\langle
-    c^2\\rangle = 1`): :math:`k\\mu_{2k} J_1 = J_k`, ``k = 2 .. P``.
-    """
-    m, a = _tensors(order, alpha)
-
-    def full(x: NDArray[np.float64]) -> NDArray[np.float64]:
-        return np.concatenate([[1.0, 0.0], x])
-
-    def j(k: int, coef: NDArray[np.float64]) -> float:
-        if linearized:
-            return float(a[k, 0, 0] + a[k, 0, 2:] @ coef[2:] + a[k, 2:, 0] @ coef[2:])
-        return float(coef @ a[k] @ coef)
-
-    def residual(x: NDArray[np.float64]) -> NDArray[np.float64]:
-        coef = full(x)
-        j1 = j(1, coef)
-        # each row scaled by its Gaussian size |J_1| times the Gaussian moment
-        if cooling:
-            mu = np.array([m[k] @ coef for k in range(order + 1)])
-            if linearized:  # mu_2k J_1 without the products a_p a_q
-                mu0, j10 = m[:, 0], a[1, 0, 0]
-                prod = mu0 * j1 + (mu - mu0) * j10
-            else:
-                prod = mu * j1
-            return np.array([(k * prod[k] - j(k, coef)) / (k * m[k, 0] * abs(a[1, 0, 0]))
-                             for k in range(2, order + 1)])
-        return np.array([(2 * k * (2 * k - 1) * (m[k - 1] @ coef) * j1 - 2.0 * j(k, coef))
-                         / (2 * k * (2 * k - 1) * m[k - 1, 0] * abs(a[1, 0, 0]))
-                         for k in range(2, order + 1)])
-
-    x, _, _, msg = fsolve(residual, np.zeros(order - 1), xtol=1e-13, full_output=True)
-    if not np.max(np.abs(residual(x))) < 1e-12:
-        raise RuntimeError(f"the Sonine moment equations ({'cooling' if cooling else 'heated'}, "
-                           f"alpha={alpha}, order {order}) have no solution the solver could "
-                           f"find ({msg.strip()}); the truncated series fails where f is far "
-                           "from a Gaussian: try another order or method='fd'")
-    coef = full(x)
-    return coef, j(1, coef)
-
-
-def solve_sonine_cooling(alpha: float, order: int = 6, *, linearized: bool = False
-                         ) -> tuple[SonineSolution, float]:
+def solve_sonine_cooling(alpha: float, order: int = 6, *, kernel: float = 1.0,
+                         linearized: bool = False) -> tuple[SonineSolution, float]:
     """Sonine coefficients of the homogeneous cooling state and its cooling rate.
-
-    The scaled state :math:`\\zeta (cf)' = \\tilde Q[f]` (see
-    :mod:`kinetic_fem.cooling`) projected on :math:`c^{2k}`:
-    :math:`-2k\\zeta\\mu_{2k} = J_k/2`; ``k = 1`` gives :math:`\\zeta = -J_1/4`, the
-    others :math:`k\\mu_{2k}J_1 = J_k`.
 
     Returns
     -------
     solution : SonineSolution
         Coefficients at unit temperature.
     zeta : float
-        Dimensionless cooling rate, :math:`dT/dt = -2\\zeta n T^{3/2}`.
+        Cooling rate in :math:`dT/dt = -2\\zeta n T^{1+\\gamma/2}`.
+
+    Raises
+    ------
+    UnsupportedModelError
+        For the Maxwell kernel (``gamma = 0``): its cooling state
+        :math:`2/(\\pi(1+c^2)^2)` has no fourth moment, hence no Sonine expansion (the
+        truncated system has only the spurious root :math:`a_2 = -2`).
 
     Examples
     --------
@@ -235,70 +392,91 @@ def solve_sonine_cooling(alpha: float, order: int = 6, *, linearized: bool = Fal
     >>> round(float(sol.coefficients[2]), 12), round(16 * 0.5 / (33 + 7.5), 12)
     (0.197530864198, 0.197530864198)
     """
-    alpha = check_alpha(alpha)
-    order = _check_order(order)
-    coef, j1 = _solve_moments(alpha, order, linearized, cooling=True)
-    return SonineSolution(order, coef, 1.0), -j1 / 4.0
+    problem = CoolingProblem.from_parameters(alpha, kernel=kernel)
+    return _solve_cooling_problem(problem, _check_order(order), linearized)
+
+
+def _solve_cooling_problem(problem: CoolingProblem, order: int, linearized: bool
+                           ) -> tuple[SonineSolution, float]:
+    gas = problem.gas
+    if gas.kernel.is_maxwell:
+        raise UnsupportedModelError(
+            "method 'spectral' cannot represent the cooling state of the Maxwell kernel "
+            "(gamma = 0): f(c) = 2/(pi (1 + c^2)^2) has an infinite fourth moment, so its "
+            "Sonine coefficients do not exist; use kinetic_fem.maxwell.hcs_pdf or 'fem'")
+    sol = _solve(order, gas.alpha, gas.gamma, cooling=True, friction=0.0,
+                 linearized=linearized, guess_y=problem.zeta_estimate())
+    return sol, sol.zeta
+
+
+def _output(sol: SonineSolution, problem: object, cutoff: float | None, n_v: int | None,
+            start: float, kind: str) -> VelocityDistribution:
+    if cutoff is None:
+        cutoff = max(12.0, math.sqrt(4.0 * sol.order + 8.0) + 8.0)
+    if n_v is None:
+        n_v = 2 * int(math.ceil(cutoff / 0.01)) + 1
+    if n_v < 5 or n_v % 2 == 0:
+        raise ValueError(f"n_v={n_v} must be odd and >= 5 (Simpson weights)")
+    c = np.linspace(-cutoff, cutoff, n_v)
+    s = math.sqrt(sol.temperature)
+    extra = {"order": sol.order, "sonine": [float(x) for x in sol.coefficients],
+             "condition_number": sol.condition_number}
+    if kind == "cooling":
+        extra["zeta"] = sol.zeta
+    info = RunInfo(converged=True, iterations=sol.iterations, residual=sol.residual,
+                   wall_time=time.perf_counter() - start,
+                   message=f"Sonine Galerkin ({kind}), order {sol.order}", extra=extra)
+    return VelocityDistribution.from_values(
+        s * c, sol.f(c) / s, weights=s * simpson_weights(c), method="spectral",
+        params=problem.as_dict(), info=info)
 
 
 @register_solver("spectral", problem="heated")
-def sonine_heated(problem: HeatedProblem, *, order: int = 6, cutoff: float = 12.0,
-                  n_v: int = 2401, linearized: bool = False) -> VelocityDistribution:
-    """Heated steady state by the Sonine moment method (registry key ``"spectral"``).
+def sonine_heated(problem: HeatedProblem, *, order: int = 8, cutoff: float | None = None,
+                  n_v: int | None = None, linearized: bool = False) -> VelocityDistribution:
+    """Heated steady state by the Sonine Galerkin method (registry key ``"spectral"``).
+
+    Kernels :math:`|g|^\\gamma`, ``0 <= gamma <= 2``, constant restitution, white noise or
+    a Fokker-Planck bath.
 
     Parameters
     ----------
     problem : HeatedProblem
     order : int
         Truncation order ``P``.
-    cutoff : float
-        Output grid half-width in units of the thermal velocity.
-    n_v : int
-        Number of output nodes on ``[-cutoff, cutoff]`` (odd, for Simpson weights).
+    cutoff : float, optional
+        Output grid half-width in thermal speeds (default
+        :math:`\\max(12, \\sqrt{4P+8} + 8)`, beyond the last polynomial's Gaussian bulk).
+    n_v : int, optional
+        Odd number of output nodes (default spacing 0.01 thermal speeds).
     linearized : bool
         First-order (linearised) Sonine theory.
 
     Returns
     -------
     VelocityDistribution
-        Values of the truncated series on the grid; ``info.extra['sonine']`` holds
-        :math:`a_0 .. a_P`.
+        The truncated series on the grid; ``info.extra['sonine']`` holds
+        :math:`a_0 .. a_P`, ``info.extra['condition_number']`` the Jacobian's.
     """
-    problem.require("spectral", gammas=(1.0,), constant_restitution=True, thermostats=(WhiteNoise,))
+    problem.require("spectral", constant_restitution=True,
+                    thermostats=(WhiteNoise, FokkerPlanckBath))
     start = time.perf_counter()
-    sol = solve_sonine(problem.gas.alpha, order, density=problem.gas.density,
-                       diffusion=problem.diffusion, linearized=linearized)
-    c = np.linspace(-cutoff, cutoff, n_v)
-    s = math.sqrt(sol.temperature)
-    info = RunInfo(converged=True, iterations=0, residual=0.0,
-                   wall_time=time.perf_counter() - start,
-                   message=f"Sonine moment method, order {order}",
-                   extra={"order": order, "sonine": [float(x) for x in sol.coefficients],
-                          "linearized": linearized})
-    return VelocityDistribution.from_values(
-        s * c, sol.f(c) / s, weights=s * simpson_weights(c), method="spectral",
-        params=problem.as_dict(), info=info)
+    sol = _solve_problem(problem, _check_order(order), linearized)
+    return _output(sol, problem, cutoff, n_v, start, "heated")
 
 
 @register_solver("spectral", problem="cooling")
-def sonine_cooling(problem: CoolingProblem, *, order: int = 6, cutoff: float = 12.0,
-                   n_v: int = 2401, linearized: bool = False) -> VelocityDistribution:
-    """Homogeneous cooling state by the Sonine moment method (key ``"spectral"``).
+def sonine_cooling(problem: CoolingProblem, *, order: int = 8, cutoff: float | None = None,
+                   n_v: int | None = None, linearized: bool = False) -> VelocityDistribution:
+    """Homogeneous cooling state by the Sonine Galerkin method (key ``"spectral"``).
 
-    Accurate only while the state is close to a Gaussian (moderate inelasticity): the
-    two humps of the near-elastic state (claims C10, C15) are beyond a truncated
-    series.  Parameters as :func:`sonine_heated`; the result is at unit temperature
-    and ``info.extra`` holds ``zeta`` and the coefficients.
+    Kernels ``0 < gamma <= 2`` with constant restitution (the Maxwell cooling state has
+    no Sonine expansion: :func:`solve_sonine_cooling`).  Accurate while the state is
+    close to a Gaussian; the two humps of the near-elastic state (claims C10, C15)
+    need high orders.  Parameters as :func:`sonine_heated`; the result is at unit
+    temperature and ``info.extra`` holds ``zeta`` and the coefficients.
     """
-    problem.require("spectral", gammas=(1.0,), constant_restitution=True)
+    problem.require("spectral", constant_restitution=True)
     start = time.perf_counter()
-    sol, zeta = solve_sonine_cooling(problem.gas.alpha, order, linearized=linearized)
-    c = np.linspace(-cutoff, cutoff, n_v)
-    info = RunInfo(converged=True, iterations=0, residual=0.0,
-                   wall_time=time.perf_counter() - start,
-                   message=f"Sonine moment method (cooling), order {order}",
-                   extra={"order": order, "sonine": [float(x) for x in sol.coefficients],
-                          "linearized": linearized, "zeta": zeta})
-    return VelocityDistribution.from_values(c, sol.f(c), weights=simpson_weights(c),
-                                            method="spectral", params=problem.as_dict(),
-                                            info=info)
+    sol, _ = _solve_cooling_problem(problem, _check_order(order), linearized)
+    return _output(sol, problem, cutoff, n_v, start, "cooling")
