@@ -87,14 +87,15 @@ def test_steady_bath_energy_balance(alpha, xi):
 
 
 def test_elastic_bath_is_the_gaussian():
-    """alpha = 1 with a bath: the Gaussian at T = D/xi, every a_p = 0 exactly."""
+    """alpha = 1 with a bath: the Gaussian at T = D/xi, every a_p = 0 (to the working
+    precision of the recursion, 80 digits at order 20: measured |a_p| < 3e-75)."""
     s = steady_state(1.0, 20, diffusion=3.0, friction=2.0)
     assert s.temperature == 1.5
-    assert np.all(s.sonine[2:] == 0.0)
+    assert np.max(np.abs(s.sonine[2:])) < 1e-60
 
 
 def test_sonine_coefficients_exact_at_high_order():
-    """The exact rational a_p at order 40 are finite; the float alternating sum of the
+    """The multiprecision a_p at order 40 are finite; the float alternating sum of the
     float moments agrees to 1e-10 relative (measured 4e-14 at p <= 40 for alpha = 0.6:
     the a_p of the heated Maxwell gas grow like p^p, a_40 = 8.5e27, so the sum does not
     cancel much).  The exponential tail makes the Sonine series divergent."""
