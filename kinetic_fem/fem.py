@@ -72,7 +72,8 @@ from .solve import register_solver
 
 __all__ = ["FEMDiscretisation", "SteadyState", "ResolutionWarning", "ConvergenceError",
            "default_cutoff", "default_spacing", "steady_state", "solve_fem", "ELEMENTS",
-           "newton_steady", "discretisation", "STALL_LEVEL"]
+           "newton_steady", "discretisation", "STALL_LEVEL", "EquilibratedLU", "log_update",
+           "newton_info", "stalled", "bath_drift", "bath_drift_jacobian", "mass", "weighted_mass"]
 
 logger = logging.getLogger(__name__)
 
@@ -326,7 +327,7 @@ def _mesh(alpha: float, *, cutoff: float | None, spacing: float, vertices,
     return math.sqrt(model.temperature) * graded_vertices(c_max, spacing, grading=grading)
 
 
-def _log_update(delta: NDArray, limit: float) -> NDArray:
+def log_update(delta: NDArray, limit: float) -> NDArray:
     """Map a Newton step on ``u`` to ``ln(1 + delta)``: the Newton step on ``P``.
 
     Exact for the linear tail equation and equal to ``delta`` to second order, so
@@ -335,7 +336,7 @@ def _log_update(delta: NDArray, limit: float) -> NDArray:
     return np.log1p(np.maximum(delta, math.expm1(-limit)))
 
 
-class _Equilibrated:
+class EquilibratedLU:
     """LU factors of ``J`` scaled to unit row and column maxima.
 
     Rows and columns of far-tail dofs scale with :math:`P \\sim 10^{-30}` (or much less
@@ -360,7 +361,7 @@ def newton_steady(disc: FEMDiscretisation, u0: NDArray[np.float64], *, tol: floa
                   max_iter: int = 40, step_limit: float = 10.0) -> tuple[NDArray, RunInfo]:
     """Newton iteration for the even steady state with :math:`\\int P_h = 1`.
 
-    The update of each dof is :math:`\\ln(1 + \\delta)` (see :func:`_log_update`).
+    The update of each dof is :math:`\\ln(1 + \\delta)` (see :func:`log_update`).
     """
     start = time.perf_counter()
     sym = disc.symmetry
@@ -386,33 +387,37 @@ def newton_steady(disc: FEMDiscretisation, u0: NDArray[np.float64], *, tol: floa
     history = []
     r, j = system(u_red, True)
     for it in range(1, max_iter + 1):
-        delta = _Equilibrated(j).solve(-r)
+        delta = EquilibratedLU(j).solve(-r)
         step = float(np.abs(delta).max())
-        u_red = u_red + _log_update(delta, step_limit)
+        u_red = u_red + log_update(delta, step_limit)
         history.append(step)
         logger.debug("newton %d: max|du| = %.3e", it, step)
-        if step < tol or _stalled(history):
+        if step < tol or stalled(history):
             break
         r, j = system(u_red, True)
-    return sym @ u_red, _newton_info(history, tol, it, start)
+    return sym @ u_red, newton_info(history, tol, it, start)
 
 
-def _stalled(history: list[float]) -> bool:
+def stalled(history: list[float]) -> bool:
     """The update stopped decreasing below :data:`STALL_LEVEL`: round-off reached."""
     return len(history) >= 3 and history[-1] < STALL_LEVEL and \
         history[-1] > 0.25 * min(history[-3:-1])
 
 
-def _newton_info(history: list[float], tol: float, iterations: int, start: float) -> RunInfo:
+def newton_info(history: list[float], tol: float, iterations: int, start: float) -> RunInfo:
     """Run info of a Newton iteration: converged below ``tol`` or stalled at round-off."""
     step = history[-1]
     text = f"Newton max|du| history {['%.1e' % s for s in history]}"
-    if step >= tol and _stalled(history):
+    if step >= tol and stalled(history):
         text = (f"Newton stalled at round-off, max|du| = {step:.1e} (tol {tol:.0e}); "
                 + text)
         logger.info("%s", text)
-    return RunInfo(converged=step < tol or _stalled(history), iterations=iterations,
+    return RunInfo(converged=step < tol or stalled(history), iterations=iterations,
                    residual=step, wall_time=time.perf_counter() - start, message=text)
+
+
+_Equilibrated = EquilibratedLU  # former private names, still imported by fem_transient
+_log_update = log_update
 
 
 @dataclass(frozen=True, eq=False)
@@ -602,3 +607,8 @@ def solve_fem(problem: HeatedProblem, *, order: int = 2, spacing: float | None =
                                       "c1_injection": injection, "c1_loss": loss})
     dist = state.disc.distribution(state.u, method="fem", params=problem.as_dict(), info=info)
     return dist.rescaled(problem.velocity_scale) if problem.velocity_scale != 1.0 else dist
+
+
+# the cooling-state solver shares this module's discretisation; importing it here
+# registers the "fem" cooling method wherever the heated one is available
+from . import fem_cooling  # noqa: E402, F401
