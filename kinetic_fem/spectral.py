@@ -154,8 +154,8 @@ class _System:
         if self.cooling:
             return 0.0, -y, 0.0, -1.0
         g = self.gamma
-        delta = math.exp(-(1.0 + 0.5 * g) * y)
-        chi = self.friction * math.exp(-0.5 * g * y)
+        delta = float(np.exp(min(-(1.0 + 0.5 * g) * y, 700.0)))   # inf-free trial steps
+        chi = self.friction * float(np.exp(min(-0.5 * g * y, 700.0)))
         return delta, chi, -(1.0 + 0.5 * g) * delta, -0.5 * g * chi
 
     def __call__(self, x: NDArray[np.float64]
