@@ -1,0 +1,213 @@
+/* The work of particles.dsmc.simulate_cooling / simulate_heated (hard rods, constant
+ * alpha, default options) written as a careful C program, for benchmarks/bench_end_to_end.py.
+ *
+ * Same algorithm as the Python call: xoshiro256**, candidates from two draws (pair from
+ * the high words of r1 N and r2 (N-1), acceptance uniform from the low word of r1 N),
+ * branch-free collision; cooling: blocks of at most max(4N, 65536) candidates with a
+ * rescaling to unit temperature every N candidates (sums and extent, then rescale) and a
+ * central rescale after each block, a measurement every N/2 collisions (central moments
+ * up to 6 and a 240-bin histogram of c = v/sqrt(<v^2>) with power sums up to 12);
+ * heated: Strang steps of white-noise kicks (256-layer ziggurat, the same tables) and
+ * collisions, 0.05 mean free times per step, a measurement every collision per particle
+ * (central moments up to 6, 200-bin histogram, power sums up to 12).
+ * Runs until `collisions` collisions are done; prints "collisions seconds checksum".
+ *
+ * usage: dsmc cooling N alpha collisions seed
+ *        dsmc heated  N alpha collisions seed T_ref
+ */
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#define KMAX 12
+static uint64_t s[4];
+static inline uint64_t rotl(uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
+static inline uint64_t next(void) {
+    uint64_t r = rotl(s[1] * 5, 7) * 9, t = s[1] << 17;
+    s[2] ^= s[0]; s[3] ^= s[1]; s[1] ^= s[2]; s[0] ^= s[3]; s[2] ^= t; s[3] = rotl(s[3], 45);
+    return r;
+}
+/* xoshiro256** on the state in local variables s0..s3 (kept in registers in the loops) */
+#define NEXT(r) do { uint64_t t_ = s1 << 17; r = rotl(s1 * 5, 7) * 9; s2 ^= s0; s3 ^= s1; \
+    s1 ^= s2; s0 ^= s3; s2 ^= t_; s3 = rotl(s3, 45); } while (0)
+#define LOAD uint64_t s0 = s[0], s1 = s[1], s2 = s[2], s3 = s[3]
+#define STORE do { s[0] = s0; s[1] = s1; s[2] = s2; s[3] = s3; } while (0)
+static inline double next_double(void) { return (next() >> 11) * (1.0 / 9007199254740992.0); }
+static uint64_t splitmix(uint64_t *x) {
+    uint64_t z = (*x += 0x9e3779b97f4a7c15ULL);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL; z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+}
+
+/* ziggurat tables as particles.rng.ziggurat_tables */
+static uint64_t ki[256]; static double wi[512], fi[256];
+#define ZR 3.6541528853610088
+static void zig_init(void) {
+    double dn = ZR, tn = ZR, V = 0.00492867323399, M1 = 4503599627370496.0;
+    double q = V / exp(-0.5 * dn * dn);
+    ki[0] = (uint64_t)((dn / q) * M1); ki[1] = 0; wi[0] = q / M1; wi[255] = dn / M1;
+    fi[0] = 1.0; fi[255] = exp(-0.5 * dn * dn);
+    for (int i = 254; i >= 1; i--) {
+        dn = sqrt(-2.0 * log(V / dn + exp(-0.5 * dn * dn)));
+        ki[i + 1] = (uint64_t)((dn / tn) * M1); tn = dn; fi[i] = exp(-0.5 * dn * dn);
+        wi[i] = dn / M1;
+    }
+    for (int i = 0; i < 256; i++) wi[256 + i] = -wi[i];
+}
+static double normal_slow(int idx, double x) {
+    for (;;) {
+        if (idx == 0) {
+            for (;;) {
+                double xx = -log1p(-next_double()) / ZR, yy = -log1p(-next_double());
+                if (yy + yy > xx * xx) return x < 0 ? -(ZR + xx) : ZR + xx;
+            }
+        }
+        if ((fi[idx - 1] - fi[idx]) * next_double() + fi[idx] < exp(-0.5 * x * x)) return x;
+        uint64_t r = next(), ls = r & 0x1FF, rabs = (r >> 9) & 0x000FFFFFFFFFFFFFULL;
+        idx = (int)(ls & 0xFF); x = (double)(int64_t)rabs * wi[ls];
+        if (rabs < ki[idx]) return x;
+    }
+}
+static inline double normal(void) {
+    uint64_t r = next(), ls = r & 0x1FF, rabs = (r >> 9) & 0x000FFFFFFFFFFFFFULL;
+    int idx = (int)(ls & 0xFF);
+    double x = (double)(int64_t)rabs * wi[ls];
+    if (__builtin_expect(rabs >= ki[idx], 0)) x = normal_slow(idx, x);
+    return x;
+}
+/* white-noise kick, returns the extent */
+static double kick(double *v, long n, double amp) {
+    double lo = INFINITY, hi = -INFINITY;
+    LOAD;
+    for (long k = 0; k < n; k++) {
+        uint64_t r; NEXT(r);
+        uint64_t ls = r & 0x1FF, rabs = (r >> 9) & 0x000FFFFFFFFFFFFFULL;
+        int idx = (int)(ls & 0xFF);
+        double x = (double)(int64_t)rabs * wi[ls];
+        if (__builtin_expect(rabs >= ki[idx], 0)) {
+            STORE; x = normal_slow(idx, x); s0 = s[0]; s1 = s[1]; s2 = s[2]; s3 = s[3];
+        }
+        double y = v[k] + amp * x;
+        v[k] = y; lo = y < lo ? y : lo; hi = y > hi ? y : hi;
+    }
+    STORE;
+    return hi - lo;
+}
+
+static long collide(double *v, uint64_t n, long m, double half, double gmax) {
+    uint64_t n1 = n - 1; double scale = gmax / 9007199254740992.0; long acc = 0;
+    LOAD;
+    for (long c = 0; c < m; c++) {
+        uint64_t r1, r2; NEXT(r1); NEXT(r2);
+        unsigned __int128 p1 = (unsigned __int128)r1 * n;
+        uint64_t i = (uint64_t)(p1 >> 64), low = (uint64_t)p1;
+        uint64_t j = (uint64_t)(((unsigned __int128)r2 * n1) >> 64);
+        j += (j >= i);
+        double thr = (double)(int64_t)(low >> 11) * scale;
+        double vi = v[i], vj = v[j], g = vi - vj;
+        int a = fabs(g) > thr;
+        double dv = a ? half * g : 0.0;
+        v[i] = vi - dv; v[j] = vj + dv; acc += a;
+    }
+    STORE;
+    return acc;
+}
+
+/* central moments 0..6 (four lanes), subtract the mean */
+static void centre(double *v, long n, double *cm) {
+    double a[4] = {0}, mean;
+    long k;
+    for (k = 0; k + 4 <= n; k += 4) for (int l = 0; l < 4; l++) a[l] += v[k + l];
+    for (; k < n; k++) a[0] += v[k];
+    mean = ((a[0] + a[1]) + (a[2] + a[3])) / n;
+    double acc[7][4] = {{0}};
+    for (k = 0; k + 4 <= n; k += 4)
+        for (int l = 0; l < 4; l++) {
+            double d = v[k + l] - mean, p = 1.0;
+            for (int m = 0; m <= 6; m++) { acc[m][l] += p; p *= d; }
+        }
+    for (; k < n; k++) { double d = v[k] - mean, p = 1.0;
+        for (int m = 0; m <= 6; m++) { acc[m][0] += p; p *= d; } }
+    for (int m = 0; m <= 6; m++) cm[m] = ((acc[m][0] + acc[m][1]) + (acc[m][2] + acc[m][3])) / n;
+    for (k = 0; k < n; k++) v[k] -= mean;
+}
+static void accumulate(const double *v, long n, double scale, double lo, double hi,
+                       double *counts, int bins, double *sums) {
+    double width = (hi - lo) / bins;
+    for (long k = 0; k < n; k++) {
+        double x = v[k] * scale, p = 1.0;
+        for (int m = 0; m <= KMAX; m++) { sums[m] += p; p *= x; }
+        long b = (long)floor((x - lo) / width);
+        if (b >= 0 && b < bins) counts[b] += 1.0;
+    }
+}
+
+static double now(void) { struct timespec t; clock_gettime(CLOCK_MONOTONIC, &t);
+    return t.tv_sec + 1e-9 * t.tv_nsec; }
+
+int main(int argc, char **argv) {
+    if (argc < 6) { fprintf(stderr, "usage: see source\n"); return 2; }
+    int heated = strcmp(argv[1], "heated") == 0;
+    long n = atol(argv[2]); double alpha = atof(argv[3]);
+    long total = atol(argv[4]); uint64_t seed = strtoull(argv[5], 0, 10);
+    double t_ref = heated ? atof(argv[6]) : 1.0;
+    double t0 = now();
+    for (int k = 0; k < 4; k++) s[k] = splitmix(&seed);
+    zig_init();
+    double *v = malloc(n * sizeof(double));
+    double sd = sqrt(t_ref);
+    for (long k = 0; k < n; k++) v[k] = sd * normal();
+    int bins = heated ? 200 : 240;
+    double *counts = calloc(bins, sizeof(double)), sums[KMAX + 1] = {0}, cm[7];
+    double half = 0.5 * (1.0 + alpha), chk = 0.0;
+    long accepted = 0;
+    if (heated) {
+        double rate1 = 2.0 * sqrt(t_ref / M_PI);  /* n <|g|> at T_ref, n = 1 */
+        double dt = 0.05 / rate1, amp = sqrt(2.0 * dt), hamp = amp / sqrt(2.0);
+        long steps = lround(1.0 / (dt * rate1));
+        double rate = 0.5 * n, debt = 0.0, hw = 10.0 * sqrt(t_ref);
+        while (accepted < total) {
+            double gmax = kick(v, n, hamp);
+            for (long st = 0; st < steps; st++) {
+                double x = debt + dt * rate * gmax; long m = (long)floor(x); debt = x - m;
+                accepted += collide(v, n, m, half, gmax);
+                gmax = kick(v, n, st < steps - 1 ? amp : hamp);
+            }
+            centre(v, n, cm); chk += cm[4] / (3 * cm[2] * cm[2]) - 1.0;
+            accumulate(v, n, 1.0, -hw, hw, counts, bins, sums);
+        }
+    } else {
+        long refresh = n, cand = 0;
+        while (accepted < total) {
+            long target = accepted + (n / 2 > 1 ? n / 2 : 1);
+            while (accepted < target) {
+                double ratio = cand ? (double)accepted / cand : 0.1;
+                long need = (long)((target - accepted) / (ratio > 1e-3 ? ratio : 1e-3)) + 1;
+                long lim = 4 * n > 65536 ? 4 * n : 65536, m = need < lim ? need : lim;
+                for (long done = 0; done < m;) {
+                    double s1 = 0, s2 = 0, lo = v[0], hi = v[0];
+                    for (long k = 0; k < n; k++) { double x = v[k]; s1 += x; s2 += x * x;
+                        lo = x < lo ? x : lo; hi = x > hi ? x : hi; }
+                    double mean = s1 / n, inv = 1.0 / sqrt(s2 / n - mean * mean);
+                    for (long k = 0; k < n; k++) v[k] = (v[k] - mean) * inv;
+                    long mm = refresh < m - done ? refresh : m - done;
+                    accepted += collide(v, n, mm, half, (hi - lo) * inv);
+                    done += mm;
+                }
+                cand += m;
+                centre(v, n, cm);
+                double inv = 1.0 / sqrt(cm[2]);
+                for (long k = 0; k < n; k++) v[k] *= inv;
+            }
+            centre(v, n, cm); chk += cm[4] / (3 * cm[2] * cm[2]) - 1.0;
+            double ms = 0; for (long k = 0; k < n; k++) ms += v[k] * v[k];
+            accumulate(v, n, 1.0 / sqrt(ms / n), -6.0, 6.0, counts, bins, sums);
+        }
+    }
+    printf("%ld %.6f %.6g\n", accepted, now() - t0, chk + counts[bins / 2] * 1e-30);
+    free(v); free(counts);
+    return 0;
+}
