@@ -32,7 +32,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from kinetic_fem.model import HeatedProblem
+from kinetic_fem.model import HeatedProblem, InelasticGas, WhiteNoise
 from particles import dsmc, md
 
 HERE = Path(__file__).resolve().parent / "c"
@@ -80,8 +80,13 @@ def c_args(name: str, run) -> list[str]:
         return ["dsmc", "heated", str(n), "0.6", str(coll), "1", repr(t_ref)]
     alpha = {"md_cooling": 0.9, "md_heated": 0.9, "md_large": 0.99}[name]
     kind = "heated" if name == "md_heated" else "cooling"
-    thr = "1e-6" if name == "md_cooling" else "0"
-    return ["md", kind, str(n), repr(alpha), str(coll), "1", thr]
+    if kind == "cooling":
+        return ["md", kind, str(n), repr(alpha), str(coll), "1",
+                "1e-6" if name == "md_cooling" else "0"]
+    # md.simulate_heated's scales: the model at the reduced ring's density n/(1 - n sigma)
+    t_est = HeatedProblem(InelasticGas(alpha, 2.0), WhiteNoise(1.0)).temperature_estimate()
+    return ["md", kind, str(n), repr(alpha), str(coll), "1",
+            repr(md.HEATED_THRESHOLD * math.sqrt(t_est)), repr(t_est)]
 
 
 def time_c(exes: dict[str, Path], args: list[str]) -> tuple[float, float, int]:
@@ -122,7 +127,7 @@ def table(names: list[str], repeat: int, exes: dict[str, Path]) -> None:
             b["coll"] = coll
             b["py_wall"] = min(b.get("py_wall", math.inf), wall)
             b["py_cpu"] = min(b.get("py_cpu", math.inf), cpu)
-            if ROWS[name] and c_args(name, run)[0] in exes:
+            if c_args(name, run)[0] in exes:
                 cw, cc, ccoll = time_c(exes, c_args(name, run))
                 b["c_coll"] = ccoll
                 b["c_wall"] = min(b.get("c_wall", math.inf), cw)
