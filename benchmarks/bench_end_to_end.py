@@ -56,6 +56,10 @@ ROWS = {
 }
 
 
+SIZES = {"dsmc_cooling": 25000, "dsmc_heated": 25000, "md_cooling": 5000, "md_heated": 5000,
+         "md_large": 100000}
+
+
 def build(tmp: Path) -> dict[str, Path]:
     """Compile the C programs into ``tmp``; returns name -> executable."""
     gcc = shutil.which("gcc")
@@ -72,7 +76,7 @@ def build(tmp: Path) -> dict[str, Path]:
 
 def c_args(name: str, run) -> list[str]:
     """Arguments of the C program doing the work of ``run`` (row ``name``)."""
-    n, coll = run.n_particles, run.n_collisions
+    n, coll = SIZES[name], run.n_collisions
     if name == "dsmc_cooling":
         return ["dsmc", "cooling", str(n), "0.9", str(coll), "1"]
     if name == "dsmc_heated":

@@ -226,6 +226,8 @@ def central_sums(v, kmax):  # pragma: no cover - compiled
         a0 += v[k]
         k += 1
     mean = ((a0 + a1) + (a2 + a3)) / n
+    if kmax <= 6:
+        return mean, _central_sums_6(v, mean, kmax)
     acc = np.zeros((kmax + 1, 4))
     k = 0
     while k + 4 <= n:
@@ -255,6 +257,33 @@ def central_sums(v, kmax):  # pragma: no cover - compiled
     for m in range(kmax + 1):
         out[m] = ((acc[m, 0] + acc[m, 1]) + (acc[m, 2] + acc[m, 3])) / n
     return mean, out
+
+
+@jit
+def _central_sums_6(v, mean, kmax):  # pragma: no cover - compiled
+    """Central moments ``k = 0 .. kmax`` (``kmax <= 6``) about ``mean``, sums in registers.
+
+    An accumulator array is reloaded and stored for every element (6.3 ns per element
+    at N = 25000 for ``kmax = 6``); six scalar sums run at the add throughput.
+    """
+    n = v.shape[0]
+    c1 = c2 = c3 = c4 = c5 = c6 = 0.0
+    for k in range(n):
+        d1 = v[k] - mean
+        d2 = d1 * d1
+        c1 += d1
+        c2 += d2
+        if kmax > 2:
+            d4 = d2 * d2
+            c3 += d2 * d1
+            c4 += d4
+            c5 += d4 * d1
+            c6 += d4 * d2
+    out = np.zeros(kmax + 1)
+    vals = (1.0, c1 / n, c2 / n, c3 / n, c4 / n, c5 / n, c6 / n)
+    for m in range(kmax + 1):
+        out[m] = vals[m]
+    return out
 
 
 @jit

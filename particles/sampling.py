@@ -35,11 +35,17 @@ __all__ = ["Accumulator", "accumulate_kernel", "save_checkpoint", "load_checkpoi
 def accumulate_kernel(x, lo, hi, counts, sums):  # pragma: no cover - compiled
     """Add samples ``x`` to one batch: histogram on ``[lo, hi)`` and power sums.
 
-    ``counts`` has shape (n_bins,), ``sums`` shape (MAX_MOMENT + 1,); both are
-    updated in place.  Samples outside the range count in the sums only.
+    ``counts`` has shape (n_bins,), ``sums`` shape (K + 1,) (``K = MAX_MOMENT`` in the
+    runs); both are updated in place.  Samples outside the range count in the sums only.
+    For ``K = 12`` the thirteen sums are kept in local variables during the pass (an
+    array accumulator is reloaded and stored for every sample: 13.6 against about 4 ns
+    per sample at N = 25000); other ``K`` take a plain loop.
     """
     n_bins = counts.shape[0]
     width = (hi - lo) / n_bins
+    if sums.shape[0] == 13:
+        _accumulate_12(x, lo, width, counts, sums)
+        return
     kmax = sums.shape[0]
     for i in range(x.shape[0]):
         xi = x[i]
@@ -50,6 +56,48 @@ def accumulate_kernel(x, lo, hi, counts, sums):  # pragma: no cover - compiled
         b = int(np.floor((xi - lo) / width))
         if 0 <= b < n_bins:
             counts[b] += 1.0
+
+
+@jit
+def _accumulate_12(x, lo, width, counts, sums):  # pragma: no cover - compiled
+    """:func:`accumulate_kernel` for power sums ``k = 0 .. 12`` in registers."""
+    n_bins = counts.shape[0]
+    s1 = s2 = s3 = s4 = s5 = s6 = s7 = s8 = s9 = s10 = s11 = s12 = 0.0
+    for i in range(x.shape[0]):
+        x1 = x[i]
+        x2 = x1 * x1
+        x3 = x2 * x1
+        x4 = x2 * x2
+        x5 = x4 * x1
+        x6 = x4 * x2
+        s1 += x1
+        s2 += x2
+        s3 += x3
+        s4 += x4
+        s5 += x5
+        s6 += x6
+        s7 += x6 * x1
+        s8 += x6 * x2
+        s9 += x6 * x3
+        s10 += x6 * x4
+        s11 += x6 * x5
+        s12 += x6 * x6
+        b = int(np.floor((x1 - lo) / width))
+        if 0 <= b < n_bins:
+            counts[b] += 1.0
+    sums[0] += x.shape[0]
+    sums[1] += s1
+    sums[2] += s2
+    sums[3] += s3
+    sums[4] += s4
+    sums[5] += s5
+    sums[6] += s6
+    sums[7] += s7
+    sums[8] += s8
+    sums[9] += s9
+    sums[10] += s10
+    sums[11] += s11
+    sums[12] += s12
 
 
 @dataclass
