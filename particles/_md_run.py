@@ -35,10 +35,12 @@ from kinetic_fem.distribution import RunInfo, VelocityDistribution
 from kinetic_fem.model import check_nonnegative, check_positive
 
 from . import _md_kernels as K
+from ._jit import jit
 from ._md_engine import EngineOptions, MDEngine
 from .sampling import Accumulator, load_checkpoint, save_checkpoint
 
-__all__ = ["MDRun", "Snapshot", "DensityFluctuations", "density_fluctuations", "RunPlan",
+__all__ = ["MDRun", "Snapshot", "DensityFluctuations", "density_fluctuations",
+           "box_square_sums", "RunPlan",
            "Checkpointing", "run_md", "json_params", "SERIES"]
 
 logger = logging.getLogger(__name__)
@@ -147,19 +149,50 @@ def density_fluctuations(x: NDArray[np.float64], length: float,
     Column 0 is the mean count, column 1 the variance over the mean.  Box numbers
     ``m = odd * 2^j`` sharing the odd factor are counted once, at the largest
     ``M``, and summed in groups of ``M / m`` boxes: ``x M / L`` is exactly
-    ``2^k x m / L`` in floating point, so the counts are those of binning with ``m``.
+    ``2^k x m / L`` in floating point, so the counts are those of binning with ``m``
+    (:func:`box_square_sums`, compiled).  Mean and variance/mean are then computed from
+    the integer sums exactly and rounded once (the numpy ``mean``/``var`` calls per box
+    number took 12 % of a heated run at N = 5000).
     """
     out = np.empty((len(n_boxes), 2))
     finest: dict[int, int] = {}
     for m in n_boxes:
         odd = m // (m & -m)
         finest[odd] = max(finest.get(odd, 0), m)
-    base = {odd: np.bincount(np.minimum((x * (big / length)).astype(np.int64), big - 1),
-                             minlength=big) for odd, big in finest.items()}
-    for k, m in enumerate(n_boxes):
-        big = finest[m // (m & -m)]
-        counts = base[m // (m & -m)].reshape(m, big // m).sum(axis=1)
-        out[k] = counts.mean(), counts.var() / counts.mean()
+    n = x.size
+    for odd, big in finest.items():
+        ms = np.array([m for m in n_boxes if m // (m & -m) == odd], np.int64)
+        sq = box_square_sums(x, big / length, big, ms)
+        for m, s2 in zip(ms.tolist(), sq.tolist(), strict=True):
+            k = list(n_boxes).index(m)
+            # exact integers: mean n/m, variance/mean (m s2 - n^2)/(m n), one rounding each
+            out[k] = n / m, (m * s2 - n * n) / (m * n)
+    return out
+
+
+@jit
+def box_square_sums(x, scale, big, ms):  # pragma: no cover - compiled
+    """:math:`\\sum_b c_b^2` of the counts per box for each number of boxes in ``ms``.
+
+    ``x`` (shape (N,), in ``[0, L)``) is binned once into ``big`` boxes
+    (``min(int(x scale), big - 1)``, ``scale = big / L``); each ``m`` in ``ms`` divides
+    ``big`` and its counts are sums of ``big / m`` consecutive fine counts.  Returns
+    int64, shape ``ms.shape``.
+    """
+    fine = np.zeros(big, np.int64)
+    for i in range(x.shape[0]):
+        b = int(x[i] * scale)
+        fine[min(b, big - 1)] += 1
+    out = np.zeros(ms.shape[0], np.int64)
+    for k in range(ms.shape[0]):
+        group = big // ms[k]
+        total = 0
+        for b in range(ms[k]):
+            c = 0
+            for q in range(b * group, (b + 1) * group):
+                c += fine[q]
+            total += c * c
+        out[k] = total
     return out
 
 
