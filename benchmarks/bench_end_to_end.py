@@ -14,6 +14,10 @@ and C runs are interleaved and repeated ``K`` times; the best of each is printed
 time and as CPU time (``time.process_time`` / ``getrusage`` of the child): on a shared
 machine the CPU time is closer to the cost on an idle core; the load average is printed.
 
+``--growth``: collisions per CPU second and the peak memory per particle (tracemalloc)
+of the DSMC (N = 1e3 .. 1e7) and MD (1e3 .. 1e6) cooling calls at 20 collisions per
+particle.
+
 Then the figure of merit of a user (issue 13, item 3): the standard error of the heated
 ``a2`` times the square root of the CPU seconds of the call (the error bar one CPU second
 would give, as the error falls like one over the square root of the length), at
@@ -165,13 +169,44 @@ def error_per_cpu_second(cpp: float) -> None:
               f"{run.a2_error * math.sqrt(cpu):>13.2e}")
 
 
+def growth(kind: str, sizes: list[int], cpp: float) -> None:
+    """Collisions per CPU second against N, and the peak traced memory per particle.
+
+    The memory is the peak of ``tracemalloc`` (numpy's arrays are traced) over the whole
+    call, divided by N; the rate is from a second, untraced call.
+    """
+    import tracemalloc
+    call = {"dsmc": lambda n: dsmc.simulate_cooling(0.9, n, collisions_per_particle=cpp,
+                                                      seed=3),
+            "md": lambda n: md.simulate_cooling(0.9, n, collisions_per_particle=cpp,
+                                                threshold=1e-6, seed=3)}[kind]
+    print(f"\n{kind} cooling alpha = 0.9, {cpp:g} collisions per particle, default options")
+    print(f"{'N':>9} {'coll/s (cpu)':>13} {'ns/coll':>8} {'peak B/particle':>16}")
+    for n in sizes:
+        tracemalloc.start()
+        call(n)
+        peak = tracemalloc.get_traced_memory()[1]
+        tracemalloc.stop()
+        wall, cpu, run = time_py(lambda n=n: call(n))
+        rate = run.n_collisions / cpu
+        print(f"{n:>9} {rate:>13.3e} {1e9 / rate:>8.1f} {peak / n:>16.1f}", flush=True)
+
+
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--repeat", type=int, default=2)
     p.add_argument("--only", nargs="*", default=list(ROWS), choices=list(ROWS))
     p.add_argument("--error-cpp", type=float, default=1000.0)
+    p.add_argument("--growth", action="store_true",
+                   help="also collisions/s and memory per particle against N")
+    p.add_argument("--growth-max", type=float, default=1e7,
+                   help="largest N of the growth table (DSMC; MD stops at a tenth)")
     args = p.parse_args()
     warm_up()
+    if args.growth:
+        top = int(args.growth_max)
+        growth("dsmc", [n for n in (10**3, 10**4, 10**5, 10**6, 10**7) if n <= top], 20.0)
+        growth("md", [n for n in (10**3, 10**4, 10**5, 10**6) if n <= top // 10], 20.0)
     with tempfile.TemporaryDirectory() as tmp:
         exes = build(Path(tmp))
         table(args.only, args.repeat, exes)
