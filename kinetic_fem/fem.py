@@ -489,7 +489,8 @@ def steady_state(model: float | HeatedProblem, *, order: int = 2,
     scaled = scaled_model(problem)
     paper = scaled.is_paper_model
     alpha = scaled.alpha
-    alpha_eff = 1.0 - scaled.effective_epsilon
+    # with a bath the elastic limit is a Gaussian (no quasi-elastic structure)
+    alpha_eff = 1.0 - scaled.effective_epsilon if scaled.friction == 0.0 else 0.0
     if order not in ELEMENTS:
         raise ValueError(f"order must be one of {sorted(ELEMENTS)}, got {order!r}")
     default = default_spacing(alpha) if paper else model_spacing(scaled)

@@ -197,6 +197,8 @@ def tail_exponent(model: ScaledModel) -> float:
 def model_spacing(model: ScaledModel) -> float:
     """Bulk P2 element size in thermal velocities: :func:`default_spacing` at the
     effective inelasticity."""
+    if model.friction > 0.0:  # the bath's Gaussian limit needs no quasi-elastic refinement
+        return default_spacing(min(1.0 - model.effective_epsilon, 0.9))
     return default_spacing(1.0 - model.effective_epsilon)
 
 
