@@ -185,7 +185,7 @@ def initial_log_f(c: NDArray, gamma: float, zeta: float) -> NDArray:
     fine = np.concatenate([np.linspace(0.0, 20.0, 20001)[:-1],
                            np.geomspace(20.0, max(float(c.max()), 21.0), 4000)])
     if gamma == 0.0:
-        log_f = -np.minimum(0.5 * fine**2, 2.0 * np.log1p(fine**2 / 3.0))
+        log_f = -2.0 * np.log1p(0.5 * fine**2)  # a c^-4 law at temperature 2
     elif gamma >= 2.0:
         log_f = -0.5 * fine**2
     else:
