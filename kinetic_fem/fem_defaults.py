@@ -221,7 +221,7 @@ def graded_vertices(c_max: float, spacing: float, *, grading: float,
     Examples
     --------
     >>> v = graded_vertices(10.0, 0.5, grading=0.0)
-    >>> v.size, v[0], v[-1]
+    >>> v.size, float(v[0]), float(v[-1])
     (41, -10.0, 10.0)
     """
     if grading == 0.0:
