@@ -492,3 +492,21 @@ def test_ten_million_particles(simulate):
     r = simulate(0.9, 10_000_000, seed=9, collisions_per_particle=2.0, relax=0.5,
                  sample_every=0.5, n_batches=4)
     assert np.isfinite(r.a2) and r.n_collisions > 1e7
+
+
+@pytest.mark.parametrize("a2", [0.0, 0.05, -0.3])
+def test_initial_sampler_in_chunks_equals_whole_arrays(a2, monkeypatch):
+    """The chunked rejection sampler draws exactly what whole arrays of a round drew."""
+    monkeypatch.setattr(dsmc, "_CHUNK", 1000)  # several chunks and rounds at n = 5003
+    n = 5003
+    rng = np.random.default_rng(np.random.SeedSequence(11))
+    weight = lambda c2: np.maximum(1 + a2 * (c2**2 / 8 - 3 * c2 / 4 + 3 / 8), 0.0)  # noqa: E731
+    top = weight(np.linspace(0.0, 6.0, 601) ** 2).max()
+    parts, count = [], 0
+    while count < n:
+        c = rng.normal(size=2 * (n - count) + 16)
+        keep = (np.abs(c) < 6) & (rng.random(c.size) * top < weight(c**2))
+        parts.append(c[keep][: n - count])
+        count += parts[-1].size
+    got = dsmc._sonine_draws(n, a2, np.random.default_rng(np.random.SeedSequence(11)))
+    np.testing.assert_array_equal(got, np.concatenate(parts))
