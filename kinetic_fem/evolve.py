@@ -152,6 +152,12 @@ def evolve_cooling(alpha: float | RestitutionLaw, *, density: float = 1.0,
     follows from :math:`dT/dt = -2\\zeta n T^{1+\\gamma/2}`; ``ev.series["zeta"]``.
     See :func:`evolve_heated` for the parameters (default start: the Gaussian at
     ``initial_temperature = 1``).
+
+    Warnings
+    --------
+    Not working yet: with method ``"fem"`` the first step from a Gaussian converges,
+    but Newton's method fails on every later step (any step size down to the minimum
+    step), so the run ends with :class:`~kinetic_fem.fem_transient.ConvergenceError`.
     """
     problem = CoolingProblem.from_parameters(alpha, density=density, kernel=kernel)
     initial, initial_temperature = _initial(initial, initial_temperature)

@@ -48,6 +48,9 @@ __all__ = ["evolve_heated_fem", "evolve_cooling_fem", "default_transient_cutoff"
 
 logger = logging.getLogger(__name__)
 
+COOLING_MIN_STEP = 0.01
+"""Smallest scaled-time step of a cooling run (see ``TransientOptions.min_step``)."""
+
 
 def default_transient_cutoff(gamma: float) -> float:
     """Half-width of the mesh in thermal velocities: :math:`\\max(10, 26 - 11\\gamma)`.
@@ -232,8 +235,11 @@ def evolve_cooling_fem(problem: CoolingProblem, *, times: NDArray,
     c_cut = max(12.0, 1.5 + 80.0 * zeta_est) if cutoff is None else cutoff
     verts = build_mesh(c_cut, spacing)
     disc = make_discretisation(gas.restitution, gas.gamma, verts, order)
-    opt = TransientOptions(rtol, 0.0, order, spacing, cutoff, first_step, max_step, max_steps,
-                           newton_tol, max_newton)
+    # steps below ~0.01 collision times from a Gaussian start have no positive solution
+    # in the steep initial tail (as for the heated gas): they are the minimum step
+    h_min = COOLING_MIN_STEP if first_step is None else min(first_step, COOLING_MIN_STEP)
+    opt = TransientOptions(rtol, h_min, order, spacing, cutoff, first_step, max_step,
+                           max_steps, newton_tol, max_newton)
     integ = Integrator(disc, lambda t, left=True: (gas.density, 0.0, 0.0), cooling=True,
                        options=opt, gamma=gas.gamma)
     x = integ.x
@@ -255,7 +261,7 @@ def evolve_cooling_fem(problem: CoolingProblem, *, times: NDArray,
         u = u - (m2 / m0 - 1.0) / (m4 / m0 - (m2 / m0) ** 2) * x2
     y0 = np.array([math.log(t0), 0.0])
     hist = [Level(0.0, u, integ.masses(u), integ.zeta_of(u), y0, integ.observables(u, y0))]
-    h = first_step if first_step is not None else 0.1 * math.sqrt(rtol)
+    h = first_step if first_step is not None else h_min
     outputs, temps, zetas, taus = [], [], [], []
     k = 0
     while k < times.size and times[k] <= 0.0:

@@ -450,7 +450,8 @@ class Integrator:
         whether ``s_stop`` was reached.
         """
         while True:
-            if self.stats.accepted + self.stats.rejected >= self.opt.max_steps:
+            if self.stats.accepted + self.stats.rejected + self.stats.newton_failures \
+                    >= self.opt.max_steps:
                 raise ConvergenceError(
                     f"{self.opt.max_steps} steps taken before s={s_stop:.4g} (reached "
                     f"{hist[-1].s:.4g}); increase max_steps or rtol={self.opt.rtol:g}")
