@@ -1,5 +1,10 @@
 """Galerkin finite elements (scikit-fem) for the randomly heated inelastic gas.
 
+Every model of :mod:`kinetic_fem.model`: kernels :math:`|g|^\\gamma`, restitution laws
+(evaluated in the pair rule, :mod:`kinetic_fem._fem_kernels`), white noise and the
+Fokker-Planck bath, whose drift :math:`\\partial_v(\\xi v P)` enters as the form
+:func:`bath_drift`.  Below, the paper's model (hard rods, white noise).
+
 The homogeneous Boltzmann equation with white-noise heating,
 
 .. math::
@@ -579,10 +584,13 @@ def solve_fem(problem: HeatedProblem, *, order: int = 2, spacing: float | None =
         Lagrange degree, 1 or 2.
     spacing : float, optional
         Element size in thermal velocities :math:`\\sqrt{T}`; default
-        :func:`default_spacing` (T to 1e-8, a2 to 1e-6, f(c) to 1e-4 down to 1e-30).
+        :func:`default_spacing` for hard rods with constant alpha and white noise (T to
+        1e-8, a2 to 1e-6, f(c) to 1e-4 down to 1e-30), else
+        :func:`kinetic_fem.fem_defaults.model_spacing` on a mesh graded in the tail.
     cutoff : float, optional
         Half-width :math:`V/\\sqrt{T}` of the velocity interval; default
-        :func:`default_cutoff` (covers :math:`f(c) > 10^{-30}`).
+        :func:`default_cutoff`, or :func:`kinetic_fem.fem_defaults.model_cutoff` (the
+        model's WKB tail reaches 1e-33).
     vertices : array_like, optional
         Explicit (e.g. graded) symmetric mesh vertices at ``n = D = 1``; overrides
         ``spacing`` and ``cutoff``.
