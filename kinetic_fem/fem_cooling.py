@@ -137,11 +137,12 @@ def hcs_cutoff(problem: CoolingProblem) -> float:
 
 
 def hcs_spacing(problem: CoolingProblem) -> float:
-    """Bulk P2 element size: :math:`\\min(0.1, \\varepsilon^{1/3}/5)` (0.02 for the
-    Maxwell model), from ``benchmarks/convergence_fem_cooling.py``."""
+    """Bulk P2 element size: :math:`\\min(0.05, \\varepsilon^{1/3}/10)` (0.02 for the
+    Maxwell model), from ``benchmarks/convergence_fem_cooling.py`` (alpha = 0.85:
+    zeta 1.8e-9, a2 8e-9 at 0.05; 3.1e-8, 1.4e-7 at 0.1; fourth order)."""
     if problem.gas.gamma == 0.0:
         return 0.02
-    return min(0.1, problem.gas.epsilon ** (1.0 / 3.0) / 5.0)
+    return min(0.05, problem.gas.epsilon ** (1.0 / 3.0) / 10.0)
 
 
 def hcs_vertices(c_max: float, spacing: float, *, gamma: float,

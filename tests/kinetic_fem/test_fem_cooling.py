@@ -15,7 +15,7 @@ def test_registered_as_default_cooling_method():
 
 @pytest.fixture(scope="module")
 def hcs_085() -> kf.VelocityDistribution:
-    return kf.solve_cooling(0.85)
+    return kf.solve_cooling(0.85, spacing=0.1)
 
 
 def test_constraints_and_energy_identity(hcs_085):
@@ -31,7 +31,7 @@ def test_constraints_and_energy_identity(hcs_085):
 
 @pytest.mark.slow
 def test_agrees_with_the_fd_cooling_state(hcs_085):
-    """FEM (P2, default mesh) against the paper's FD HCS at alpha = 0.85.
+    """FEM (P2, bulk spacing 0.1) against the paper's FD HCS at alpha = 0.85.
 
     Measured: zeta 0.149084763567 (FEM) vs 0.149084758903 (FD), 3.1e-8 relative; a2
     -0.23948994 vs -0.23949009, 1.4e-7 (the FD is second order; FEM at bulk spacing
