@@ -193,7 +193,7 @@ def solve_hcs(alpha: float, *, spacing: float | None = None, cutoff: float | Non
     # continuation in eps from 0.2 (a Gaussian start suffices there) down to eps; a
     # step that fails is halved (in log eps)
     sol = None
-    a_prev = None
+    a_prev = 1.0  # the elastic limit; read only once a state has been accepted
     a_next = alpha if eps >= _CONTINUATION_START else 1.0 - _CONTINUATION_START
     while True:
         last = a_next == alpha

@@ -23,7 +23,7 @@ from contextlib import contextmanager
 from dataclasses import asdict, dataclass, field, replace
 from importlib.metadata import entry_points
 from pathlib import Path
-from typing import Callable
+from typing import Any, Callable
 
 __all__ = ["Context", "ClaimRow", "Item", "ITEMS", "register", "load_plugins", "run_items",
            "item_order", "write_table", "quick_mode_summary", "QUICK_MARK"]
@@ -219,7 +219,7 @@ def quick_mode_summary(rows: list[ClaimRow]) -> str:
     (item C2-DSMC: batches too short): too short for honest error bars, so its
     verdict is an estimate; `kinetic-fem reproduce --full` runs the paper's sizes.
     """
-    marked = {}
+    marked: dict[str, list[Any]] = {}  # item -> [warnings, reason, rows]
     for r in rows:
         for part in r.note.split("; "):
             m = _QUICK_NOTE.match(part)

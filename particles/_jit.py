@@ -60,7 +60,8 @@ def prefetch(arr, idx):
     """Hint that ``arr[idx]`` will be read soon (compiled kernels); a no-op in Python."""
 
 
-@overload(prefetch, jit_options={"cache": True})
+# (numba's TypedDict of jit options omits "cache", which overload accepts)
+@overload(prefetch, jit_options={"cache": True})  # type: ignore[typeddict-unknown-key]
 def _prefetch_jit(arr, idx):  # pragma: no cover - compiled
     def impl(arr, idx):
         _llvm_prefetch(arr, idx)

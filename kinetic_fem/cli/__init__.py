@@ -110,7 +110,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args, extra = parser.parse_known_args(argv)
     if extra:
-        parser.commands.get(args.command, parser).reject_unknown(extra)
+        parser.commands.get(args.command, parser).reject_unknown(extra)  # type: ignore[attr-defined]
     if args.command is None:
         parser.print_help()
         return 0

@@ -53,7 +53,7 @@ def point_filename(key: str) -> str:
     return f"point-{hashlib.sha256(key.encode()).hexdigest()[:20]}.nc"
 
 
-def _write_atomic(path: Path, payload: bytes) -> None:
+def _write_atomic(path: Path, payload: bytes | memoryview) -> None:
     # a unique temporary name; mode 0o666 less the umask (mkstemp would give 0o600)
     tmp = path.parent / f".{path.name}.{os.getpid()}.{secrets.token_hex(6)}.tmp"
     fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
