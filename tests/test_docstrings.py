@@ -1,0 +1,261 @@
+"""Every public callable of the public modules documents its parameters (issue 14).
+
+Walks the modules of ``kinetic_fem`` and ``particles`` (skipping private modules, whose
+names start with ``_``, and the ``figures`` plug-ins, which only plot and register) and
+checks each name in a module's ``__all__`` (or, without ``__all__``, each public
+function and class defined there): a callable that takes parameters must have a
+numpydoc ``Parameters`` section in its docstring, or for a class in the class or
+``__init__`` docstring (dataclasses may use ``Attributes``).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import importlib
+import inspect
+import pkgutil
+import re
+
+import pytest
+
+import kinetic_fem
+import particles
+
+# Names not documented yet when this test was written (issue 14: 160 names, many in
+# modules other engineers were editing).  This list must only shrink: the second test
+# fails when a listed name gains its Parameters section.
+ALLOWED_MISSING: frozenset[str] = frozenset({
+    "kinetic_fem._fd_march.MarchResult",
+    "kinetic_fem._fd_scales.default_cutoff",
+    "kinetic_fem._hcs_newton.drift_term",
+    "kinetic_fem._hcs_newton.hcs_residual",
+    "kinetic_fem._hcs_newton.newton_hcs",
+    "kinetic_fem.analysis.exponent.ExponentPeak",
+    "kinetic_fem.analysis.exponent.exponent_peak",
+    "kinetic_fem.analysis.exponent.local_exponents",
+    "kinetic_fem.analysis.exponent.power_law_exponent",
+    "kinetic_fem.analysis.extrapolation.richardson",
+    "kinetic_fem.analysis.fits.TailFit",
+    "kinetic_fem.analysis.fits.relaxation_fit",
+    "kinetic_fem.analysis.fits.tail_fit",
+    "kinetic_fem.cli.cmd_particles.add_parsers",
+    "kinetic_fem.cli.cmd_particles.run",
+    "kinetic_fem.cli.cmd_reproduce.add_parser",
+    "kinetic_fem.cli.cmd_reproduce.run",
+    "kinetic_fem.cli.cmd_reproduce.select_items",
+    "kinetic_fem.cli.cmd_solve.add_parsers",
+    "kinetic_fem.cli.cmd_solve.run_cooling",
+    "kinetic_fem.cli.cmd_solve.run_heated",
+    "kinetic_fem.cli.cmd_sweep.add_parser",
+    "kinetic_fem.cli.cmd_sweep.read_config",
+    "kinetic_fem.cli.cmd_sweep.run",
+    "kinetic_fem.cli.main",
+    "kinetic_fem.cli.parser.CommandParser",
+    "kinetic_fem.cli.parser._list_of.<locals>.parse",
+    "kinetic_fem.cli.parser.add_model_arguments",
+    "kinetic_fem.cli.parser.check_options",
+    "kinetic_fem.cli.parser.check_out",
+    "kinetic_fem.cli.parser.key_value",
+    "kinetic_fem.cli.parser.restitution_of",
+    "kinetic_fem.cli.parser.save",
+    "kinetic_fem.cli.parser.setup_logging",
+    "kinetic_fem.cli.parser.split_keys",
+    "kinetic_fem.collision.EnergyBalance",
+    "kinetic_fem.collision.collision_term",
+    "kinetic_fem.collision.energy_balance",
+    "kinetic_fem.collision.energy_loss_rate",
+    "kinetic_fem.collision.half_grid",
+    "kinetic_fem.collision.kernel_power",
+    "kinetic_fem.collision.pair_moment",
+    "kinetic_fem.cooling.ResolutionWarning",
+    "kinetic_fem.cooling.default_cutoff",
+    "kinetic_fem.cooling.default_spacing",
+    "kinetic_fem.cooling.initial_guess",
+    "kinetic_fem.cooling.sonine_zeta_estimate",
+    "kinetic_fem.evolve.check_times",
+    "kinetic_fem.evolve.evolve_cooling",
+    "kinetic_fem.fem.ConvergenceError",
+    "kinetic_fem.fem.EquilibratedLU",
+    "kinetic_fem.fem.ResolutionWarning",
+    "kinetic_fem.fem.SteadyState",
+    "kinetic_fem.fem.discretisation",
+    "kinetic_fem.fem.log_update",
+    "kinetic_fem.fem.newton_info",
+    "kinetic_fem.fem.newton_steady",
+    "kinetic_fem.fem.stalled",
+    "kinetic_fem.fem.steady_state",
+    "kinetic_fem.fem_cooling.CoolingState",
+    "kinetic_fem.fem_cooling.cooling_state",
+    "kinetic_fem.fem_cooling.hcs_cutoff",
+    "kinetic_fem.fem_cooling.hcs_spacing",
+    "kinetic_fem.fem_cooling.hcs_vertices",
+    "kinetic_fem.fem_cooling.initial_log_f",
+    "kinetic_fem.fem_cooling.maxwell_hcs",
+    "kinetic_fem.fem_cooling.newton_cooling",
+    "kinetic_fem.fem_defaults.default_cutoff",
+    "kinetic_fem.fem_defaults.default_spacing",
+    "kinetic_fem.fem_defaults.initial_log_density",
+    "kinetic_fem.fem_defaults.model_cutoff",
+    "kinetic_fem.fem_defaults.model_spacing",
+    "kinetic_fem.fem_defaults.scaled_model",
+    "kinetic_fem.fem_defaults.tail_action",
+    "kinetic_fem.fem_defaults.tail_exponent",
+    "kinetic_fem.fem_evolution.check_normalised",
+    "kinetic_fem.fem_evolution.default_transient_cutoff",
+    "kinetic_fem.fem_evolution.evolve_cooling_fem",
+    "kinetic_fem.fem_evolution.evolve_heated_fem",
+    "kinetic_fem.fem_evolution.initial_log_density",
+    "kinetic_fem.fem_transient.ConvergenceError",
+    "kinetic_fem.fem_transient.EquilibratedLU",
+    "kinetic_fem.fem_transient.Level",
+    "kinetic_fem.fem_transient.TransientStats",
+    "kinetic_fem.fem_transient.build_mesh",
+    "kinetic_fem.fem_transient.floor_log",
+    "kinetic_fem.fem_transient.lagrange_weights",
+    "kinetic_fem.fem_transient.log_update",
+    "kinetic_fem.fem_transient.lte_ratio",
+    "kinetic_fem.fem_transient.make_discretisation",
+    "kinetic_fem.finite_difference.ConvergenceWarning",
+    "kinetic_fem.grid.moments",
+    "kinetic_fem.grid.simpson_weights",
+    "kinetic_fem.grid.symmetric_grid",
+    "kinetic_fem.grid.trapezoid_weights",
+    "kinetic_fem.grid.uniform_grid",
+    "kinetic_fem.io.read_distribution",
+    "kinetic_fem.io.read_time_series",
+    "kinetic_fem.io.sidecar_path",
+    "kinetic_fem.maxwell.hcs_characteristic_function",
+    "kinetic_fem.maxwell.hcs_pdf",
+    "kinetic_fem.maxwell.hcs_zeta",
+    "kinetic_fem.maxwell.moment_rates",
+    "kinetic_fem.maxwell.scaled_moment_growth_rates",
+    "kinetic_fem.model.kernel.as_kernel",
+    "kinetic_fem.model.problem.CoolingProblem",
+    "kinetic_fem.model.restitution.ConstantRestitution",
+    "kinetic_fem.model.restitution.ThresholdRestitution",
+    "kinetic_fem.model.restitution.ViscoelasticRestitution",
+    "kinetic_fem.model.restitution.as_restitution",
+    "kinetic_fem.model.thermostat.WhiteNoise",
+    "kinetic_fem.model.thermostat.as_thermostat",
+    "kinetic_fem.model.validation.UnsupportedModelError",
+    "kinetic_fem.model.validation.check_finite_array",
+    "kinetic_fem.model.validation.check_nonnegative",
+    "kinetic_fem.model.validation.check_positive",
+    "kinetic_fem.model.validation.check_real",
+    "kinetic_fem.plot.new_axes",
+    "kinetic_fem.plot.plot_f",
+    "kinetic_fem.plot.plot_sweep",
+    "kinetic_fem.plot.save_figure",
+    "kinetic_fem.protocol.ramp",
+    "kinetic_fem.protocol.steps",
+    "kinetic_fem.reproduce.ClaimRow",
+    "kinetic_fem.reproduce.Item",
+    "kinetic_fem.reproduce.item_order",
+    "kinetic_fem.reproduce.quick_mode_summary",
+    "kinetic_fem.reproduce.register",
+    "kinetic_fem.reproduce.run_items",
+    "kinetic_fem.reproduce.write_table",
+    "kinetic_fem.scaling.phi_grid",
+    "kinetic_fem.solve.register_solver",
+    "kinetic_fem.solve.solve_cooling",
+    "kinetic_fem.sonine.crossover_velocities",
+    "kinetic_fem.sonine.haff_temperature",
+    "kinetic_fem.sonine.relative_speed_cubed",
+    "kinetic_fem.sonine.relaxation_time",
+    "kinetic_fem.sonine.steady_temperature",
+    "kinetic_fem.sonine.tail_exponent_amplitude",
+    "kinetic_fem.spectral.solve_sonine_cooling",
+    "kinetic_fem.spectral.sonine_cooling",
+    "kinetic_fem.sweep.grid.canonical_value",
+    "kinetic_fem.sweep.grid.point_key",
+    "kinetic_fem.sweep.grid.point_seed",
+    "kinetic_fem.sweep.run.evaluate_point",
+    "kinetic_fem.sweep.store.point_filename",
+    "kinetic_fem.sweep.store.record_checksum",
+    "particles._md_engine.InelasticCollapseError",
+    "particles._md_run.DensityFluctuations",
+    "particles._md_run.Snapshot",
+    "particles._md_run.density_fluctuations",
+    "particles.dsmc.combine_runs",
+    "particles.dsmc.simulate_cooling",
+    "particles.md.hard_rods",
+    "particles.md.initial_state",
+    "particles.md.mean_free_time",
+    "particles.rng.mul128",
+    "particles.sampling.load_checkpoint",
+    "particles.sampling.save_checkpoint",
+    "particles.sampling.spawn_seeds",
+})
+
+_SECTION = re.compile(r"^\s*(Parameters|Attributes|Other Parameters)\s*\n\s*-{3,}", re.M)
+
+
+def _public_modules():
+    for package in (kinetic_fem, particles):
+        yield package.__name__
+        for info in pkgutil.walk_packages(package.__path__, package.__name__ + "."):
+            parts = info.name.split(".")
+            if any(p.startswith("_") for p in parts) or "figures" in parts:
+                continue
+            yield info.name
+
+
+def _public_names(module):
+    names = getattr(module, "__all__", None)
+    if names is None:
+        names = [n for n, obj in vars(module).items()
+                 if not n.startswith("_") and (inspect.isfunction(obj) or inspect.isclass(obj))
+                 and getattr(obj, "__module__", None) == module.__name__]
+    for name in names:
+        obj = getattr(module, name, None)
+        if inspect.isfunction(obj) or inspect.isclass(obj):
+            if getattr(obj, "__module__", "").split(".")[0] in ("kinetic_fem", "particles"):
+                yield f"{obj.__module__}.{obj.__qualname__}", obj
+
+
+def _takes_parameters(obj) -> bool:
+    target = obj.__init__ if inspect.isclass(obj) else obj
+    if inspect.isclass(obj) and target is object.__init__:
+        return False
+    try:
+        sig = inspect.signature(target)
+    except (TypeError, ValueError):
+        return False
+    params = [p for p in sig.parameters.values() if p.name not in ("self", "cls")]
+    return bool(params)
+
+
+def _documents_parameters(obj) -> bool:
+    docs = [inspect.getdoc(obj) or ""]
+    if inspect.isclass(obj):
+        docs.append(inspect.getdoc(obj.__init__) or "" if "__init__" in vars(obj) else "")
+        if dataclasses.is_dataclass(obj) and not dataclasses.fields(obj):
+            return True
+    return any(_SECTION.search(d) for d in docs)
+
+
+def _undocumented() -> dict[str, object]:
+    found = {}
+    for modname in _public_modules():
+        module = importlib.import_module(modname)
+        for qualname, obj in _public_names(module):
+            if _takes_parameters(obj) and not _documents_parameters(obj):
+                found[qualname] = obj
+    return found
+
+
+def test_public_callables_have_parameters_sections():
+    missing = sorted(set(_undocumented()) - ALLOWED_MISSING)
+    assert not missing, ("public callables without a numpydoc Parameters section:\n"
+                         + "\n".join(missing))
+
+
+def test_allow_list_only_names_still_missing():
+    """A name documented since must leave ALLOWED_MISSING (the list only shrinks)."""
+    stale = sorted(ALLOWED_MISSING - set(_undocumented()))
+    assert not stale, "documented now, remove from ALLOWED_MISSING: " + ", ".join(stale)
+
+
+@pytest.mark.parametrize("modname", list(_public_modules()))
+def test_module_has_docstring(modname):
+    assert (importlib.import_module(modname).__doc__ or "").strip(), modname
