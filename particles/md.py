@@ -418,12 +418,21 @@ def simulate_cooling(alpha: float | RestitutionLaw, n_particles: int, *, density
         Histogram range :math:`|c| \\le c_{max}`.
     temperature0 : float
         Initial temperature (Gaussian velocities, zero momentum).
+    density, sigma, seed, collisions_per_particle, snapshots_at, n_samples, n_batches, \
+n_bins, n_records, box_counts, positions, velocities, progress, checkpoint, \
+checkpoint_every, resume, max_wall_time, collapse_tol, max_stall
+        As in :func:`simulate_heated`.
 
-    The other parameters are those of :func:`simulate_heated`; records are spaced
-    geometrically in collisions.  The distribution is that of ``c``.  Free cooling
-    never widens the range of velocities (every collision maps the pair into the
-    interval between them), so a restitution law is checked once, on the initial
-    velocities.
+    Returns
+    -------
+    MDRun
+        The run; its distribution is that of the scaled velocity ``c``.
+
+    Notes
+    -----
+    Records are spaced geometrically in collisions.  Free cooling never widens the
+    range of velocities (every collision maps the pair into the interval between
+    them), so a restitution law is checked once, on the initial velocities.
 
     Examples
     --------
