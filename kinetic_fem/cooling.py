@@ -68,6 +68,7 @@ from ._hcs_newton import HCSSolution, drift_term, hcs_residual, newton_hcs
 from ._richardson import richardson_log, richardson_scalar
 from .collision import HalfGrid, half_grid
 from .distribution import RunInfo, VelocityDistribution
+from .exceptions import ResolutionWarning
 from .gas import CoolingProblem, check_alpha, check_positive
 from .model import UnsupportedModelError
 from .solve import register_solver
@@ -80,10 +81,6 @@ logger = logging.getLogger(__name__)
 
 _CONTINUATION_START = 0.2  # eps at which continuation starts from a Gaussian
 _CONTINUATION_RATIO = 3.0  # eps ratio of one continuation step (halved on failure)
-
-
-class ResolutionWarning(UserWarning):
-    """The grid or cut-off does not resolve the cooling state to the requested level."""
 
 
 def sonine_zeta_estimate(alpha: float) -> float:

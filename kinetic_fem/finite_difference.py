@@ -94,6 +94,7 @@ from ._fd_scales import UnitModel, default_cutoff
 from ._richardson import richardson_log
 from .collision import HalfGrid, half_grid, pair_moment
 from .distribution import RunInfo, VelocityDistribution
+from .exceptions import ConvergenceWarning
 from .gas import HeatedProblem, check_positive
 from .model import FokkerPlanckBath, UnsupportedModelError, WhiteNoise
 from .solve import register_solver
@@ -107,10 +108,6 @@ ORDER = 2
 """Order of the finite-difference scheme in the spacing."""
 _MONITOR_BULK, _MONITOR_TAIL = 1e-50, 1e-200
 _POLISH_COURANT, _POLISH_STEPS = 200.0, 100
-
-
-class ConvergenceWarning(UserWarning):
-    """The iteration stopped before its stopping criterion was met."""
 
 
 def _check_resolution(grid: HalfGrid, p: NDArray[np.float64], temperature: float) -> None:

@@ -1,0 +1,28 @@
+"""Warnings and errors shared by the solvers (one public home, as :mod:`numpy.exceptions`).
+
+Every solver raises or warns with these classes, so a caller filters one category for
+all methods: ``warnings.simplefilter("ignore", kinetic_fem.exceptions.ResolutionWarning)``.
+The model layer's :class:`~kinetic_fem.model.UnsupportedModelError` (a ``ValueError``)
+stays with the model it validates.
+"""
+
+from __future__ import annotations
+
+__all__ = ["ResolutionWarning", "ConvergenceWarning"]
+
+
+class ResolutionWarning(UserWarning):
+    """The grid, mesh or cut-off does not resolve the solution to the requested level.
+
+    Raised (as a warning) by the FEM and finite-difference solvers when the distribution
+    at the cut-off is not small enough, or the spacing is too coarse for the solution
+    found; the message says which option to change.
+    """
+
+
+class ConvergenceWarning(UserWarning):
+    """An iteration stopped before its stopping criterion was met.
+
+    The result is returned (with ``info.converged = False``) instead of raising, so that
+    a sweep can continue; the message gives the residual reached.
+    """
