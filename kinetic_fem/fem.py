@@ -55,6 +55,7 @@ from skfem import asm
 
 from . import sonine
 from .distribution import RunInfo, VelocityDistribution
+from .exceptions import ResolutionWarning
 from .fem_defaults import (
     ScaledModel,
     default_cutoff,
@@ -98,10 +99,6 @@ CONTINUATION_ALPHA = 0.95
 """Above this alpha Newton starts from the solution at ten times the inelasticity."""
 STALL_LEVEL = 1e-8
 """A Newton update that stops decreasing below this is round-off: converged."""
-
-
-class ResolutionWarning(UserWarning):
-    """The mesh or cut-off is too coarse for the requested accuracy."""
 
 
 class ConvergenceError(RuntimeError):
