@@ -42,11 +42,12 @@ from typing import Any, Mapping
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.interpolate import CubicSpline
-from scipy.special import binom, gammaln, genlaguerre
 
 from .gas import check_finite_array
 from .grid import moments as quadrature_moments
 from .grid import simpson_weights, trapezoid_weights
+from .moments import central_from_raw, sonine_from_central
+from .run_info import RunInfo
 
 __all__ = ["VelocityDistribution", "RunInfo", "Comparison", "MAX_MOMENT", "MAX_SONINE"]
 
@@ -54,53 +55,6 @@ MAX_SONINE = 6
 """Highest Sonine order available (needs moments up to ``2 * MAX_SONINE``)."""
 MAX_MOMENT = 2 * MAX_SONINE
 """Raw moments ``<v^k>``, ``k = 0 .. MAX_MOMENT``, are carried by every distribution."""
-
-
-@dataclass(frozen=True)
-class RunInfo:
-    """How a result was obtained: convergence, iterations, residual and cost.
-
-    Like SciPy's ``OdeResult``.
-
-    Attributes
-    ----------
-    converged : bool
-        Whether the method's stopping criterion was met.
-    iterations : int
-        Newton iterations, time steps or collisions per particle, as the method counts.
-    residual : float
-        Final residual in the method's own norm (NaN where meaningless).
-    wall_time : float
-        Seconds spent in the solver.
-    message : str
-        Human-readable status.
-    extra : dict
-        JSON-serialisable method-specific figures (mesh size, seeds, ...).
-    """
-
-    converged: bool = True
-    iterations: int = 0
-    residual: float = float("nan")
-    wall_time: float = float("nan")
-    message: str = ""
-    extra: Mapping[str, Any] = field(default_factory=dict)
-
-    def __repr__(self) -> str:
-        """One line: status, counts, cost and the names (not values) of ``extra``.
-
-        Examples
-        --------
-        >>> RunInfo(iterations=7, residual=3e-13, wall_time=0.25, extra={"n_v": 601})
-        RunInfo(converged=True, iterations=7, residual=3e-13, wall_time=0.25 s, extra=['n_v'])
-        """
-        parts = [f"converged={self.converged}", f"iterations={self.iterations}",
-                 f"residual={self.residual:.3g}", f"wall_time={self.wall_time:.3g} s"]
-        if self.message:
-            msg = self.message if len(self.message) <= 60 else self.message[:57] + "..."
-            parts.append(f"message={msg!r}")
-        if self.extra:
-            parts.append(f"extra={sorted(map(str, self.extra))}")
-        return f"RunInfo({', '.join(parts)})"
 
 
 @dataclass(frozen=True)
@@ -125,26 +79,6 @@ class Comparison:
     a2_abs: float
     f_rel_max: float
     c_max: float
-
-
-def _central_from_raw(raw: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Central moments of a normalised distribution from its raw moments."""
-    u = raw[1]
-    out = np.empty_like(raw)
-    for k in range(raw.size):
-        j = np.arange(k + 1)
-        out[k] = np.sum(binom(k, j) * raw[j] * (-u) ** (k - j))
-    return out
-
-
-def _sonine_from_central(central: NDArray[np.float64], p: int) -> float:
-    """:math:`a_p` from central moments (``central[0] = 1``)."""
-    temperature = central[2]
-    poly = genlaguerre(p, -0.5)  # in x = c^2 / 2, highest power first
-    coeffs = poly.coeffs[::-1]
-    mean_s = sum(coeffs[k] * central[2 * k] / temperature**k / 2.0**k for k in range(p + 1))
-    norm = math.exp(gammaln(p + 0.5) - gammaln(p + 1.0)) / math.sqrt(math.pi)
-    return float(mean_s / norm)
 
 
 @dataclass(frozen=True)
@@ -365,7 +299,7 @@ class VelocityDistribution:
     # ------------------------------------------------------------------ moments
     @cached_property
     def _central(self) -> NDArray[np.float64]:
-        return _central_from_raw(self.raw_moments / self.raw_moments[0])
+        return central_from_raw(self.raw_moments / self.raw_moments[0])
 
     @property
     def mean(self) -> float:
@@ -397,7 +331,7 @@ class VelocityDistribution:
         """Sonine coefficient :math:`a_p`, ``0 <= p <= 6`` (``a_0 = 1``, ``a_1 = 0``)."""
         if not 0 <= p <= MAX_SONINE:
             raise ValueError(f"Sonine order must be in 0..{MAX_SONINE}, got {p}")
-        return _sonine_from_central(self._central, p)
+        return sonine_from_central(self._central, p)
 
     def observable_error(self, observable: Any) -> float:
         """Standard error of ``observable(dist)`` from the independent batches.
