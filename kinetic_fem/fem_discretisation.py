@@ -119,7 +119,7 @@ class FEMDiscretisation:
         """``(code, p0, p1, b_lo)`` of the law for the kernels."""
         law = self.law
         if law is None or law.constant is not None:
-            alpha = self.alpha if law is None else law.constant
+            alpha = self.alpha if law is None or law.constant is None else law.constant
             return CONSTANT, alpha, 0.0, 0.5 * (1.0 + alpha)
         p0, p1 = law.parameters
         return law.code, p0, p1, 0.5 * (1.0 + law.min_alpha)
