@@ -181,9 +181,9 @@ class VelocityDistribution:
         (1.0, True)
         """
         v = check_finite_array("v", v, ndim=1)
-        values = check_finite_array("values", values, ndim=1)
-        if v.shape != values.shape:
-            raise ValueError(f"v and values differ in shape: {v.shape} vs {values.shape}")
+        vals = check_finite_array("values", values, ndim=1)
+        if v.shape != vals.shape:
+            raise ValueError(f"v and values differ in shape: {v.shape} vs {vals.shape}")
         if v.size < 3 or np.any(np.diff(v) <= 0):
             raise ValueError("v must hold at least 3 strictly increasing nodes")
         if weights is None:
@@ -192,13 +192,13 @@ class VelocityDistribution:
             w = simpson_weights(v) if uniform else trapezoid_weights(v)
         else:
             w = check_finite_array("weights", weights, ndim=1)
-        raw = quadrature_moments(v, values, w, MAX_MOMENT)
+        raw = quadrature_moments(v, vals, w, MAX_MOMENT)
         if not raw[0] > 0:
             raise ValueError(f"distribution has non-positive mass {raw[0]!r}")
         if normalize:
-            values = values / raw[0]
+            vals = vals / raw[0]
             raw = raw / raw[0]
-        return cls(v=v, values=values, raw_moments=raw, method=method,
+        return cls(v=v, values=vals, raw_moments=raw, method=method,
                    params=dict(params or {}), info=info or RunInfo(),
                    series={k: np.asarray(s, dtype=float) for k, s in (series or {}).items()})
 
@@ -284,12 +284,14 @@ class VelocityDistribution:
         True
         """
         x = check_finite_array("samples", samples)
+        batches: list[NDArray[np.float64]] | NDArray[np.float64]
         batches = x.reshape(1, -1) if x.ndim == 1 else x
         if x.ndim == 1:
             if n_batches < 1 or x.size < n_batches:
                 raise ValueError(f"need at least n_batches={n_batches} samples, got {x.size}")
             batches = np.array_split(x, n_batches)
-        edges = (np.linspace(x.min(), x.max(), int(bins) + 1) if np.ndim(bins) == 0
+        edges = (np.linspace(x.min(), x.max(), int(bins) + 1)  # type: ignore[arg-type]
+                 if np.ndim(bins) == 0
                  else np.asarray(bins, dtype=float))
         counts = np.array([np.histogram(b, edges)[0] for b in batches])
         k = np.arange(MAX_MOMENT + 1)
@@ -473,7 +475,8 @@ class VelocityDistribution:
         for key, s in self.series.items():
             arrays[f"series__{key}"] = s
         meta = {"method": self.method, "params": dict(self.params), "info": asdict(self.info)}
-        np.savez(path, meta=np.array(json.dumps(meta)), **arrays)
+        # (numpy's stub types **kwds of savez as its allow_pickle flag)
+        np.savez(path, meta=np.array(json.dumps(meta)), **arrays)  # type: ignore[arg-type]
         return path
 
     @classmethod
