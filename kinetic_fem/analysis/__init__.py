@@ -11,6 +11,8 @@ from .exponent import (
 )
 from .extrapolation import richardson
 from .fits import TailFit, relaxation_fit, tail_fit
+from .humps import HumpProfile, psi_profile
 
 __all__ = ["F_ANALYSIS_FLOOR", "ExponentPeak", "exponent_peak", "local_exponents",
-           "power_law_exponent", "richardson", "TailFit", "relaxation_fit", "tail_fit"]
+           "power_law_exponent", "richardson", "TailFit", "relaxation_fit", "tail_fit",
+           "HumpProfile", "psi_profile"]

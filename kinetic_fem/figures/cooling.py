@@ -18,6 +18,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from ..analysis.humps import psi_profile
 from ..cooling import HCSSolution, solve_hcs
 from ..reproduce import ClaimRow, Context, register
 from ..scaling import solve_psi
@@ -109,16 +110,6 @@ def hcs_figure(ctx: Context) -> list[ClaimRow]:
     return rows
 
 
-def _psi_profile(sol: HCSSolution, eps: float) -> tuple[np.ndarray, np.ndarray, float]:
-    """The right hump on y = (1 - c/<|c|>)/eps^(1/3): psi_HCS(y) = 2 f eps^(1/3) <|c|>."""
-    c, f = sol.grid.v, sol.f
-    mean_abs = float(np.dot(sol.grid.half_weights, c * f))
-    d = eps ** (1.0 / 3.0)
-    y = (1.0 - c / mean_abs) / d
-    order = np.argsort(y)
-    return y[order], (2.0 * f * d * mean_abs)[order], mean_abs
-
-
 @register("F11-HCS", "HCS humps rescaled with eps^(1/3) onto psi", claims=("C11", "C12"))
 def hcs_psi_figure(ctx: Context) -> list[ClaimRow]:
     """Width of the humps against eps and their distance to the psi equation."""
@@ -129,7 +120,8 @@ def hcs_psi_figure(ctx: Context) -> list[ClaimRow]:
     fig, (ax, axl) = subplots(1, 2, figsize=(10, 4))
     for eps in epss:
         sol = _hcs(1.0 - eps)
-        y, p, mean_abs = _psi_profile(sol, eps)
+        hump = psi_profile(sol.grid.v, sol.f, sol.grid.half_weights, eps)
+        y, p, mean_abs = hump.y, hump.psi, hump.mean_abs
         c, f = sol.grid.v, sol.f
         var = float(np.dot(sol.grid.half_weights, (c - mean_abs) ** 2 * f))
         widths.append(math.sqrt(var))

@@ -177,14 +177,15 @@ def test_humps_approach_psi_as_eps_to_zero():
     """Claims C11, C12: the right hump on y = (1 - c/<|c|>)/eps^(1/3) tends to the
     solution of the psi equation (L1 distance 0.151 at eps = 1e-2, 0.090 at 3e-3,
     0.061 at 1e-3: rate ~ eps^0.4), and the hump width scales as eps^(1/3)."""
-    from kinetic_fem.figures.cooling import _psi_profile
+    from kinetic_fem.analysis import psi_profile
 
     psi = kf.scaling.solve_psi(estimate_errors=False)
     yy = np.linspace(-3.0, 5.0, 801)
     dist, width = [], []
     for eps in (1e-2, 3e-3):
         sol = cooling.solve_hcs(1.0 - eps)
-        y, p, mean_abs = _psi_profile(sol, eps)
+        hump = psi_profile(sol.grid.v, sol.f, sol.grid.half_weights, eps)
+        y, p, mean_abs = hump.y, hump.psi, hump.mean_abs
         dist.append(np.trapezoid(np.abs(np.interp(yy, y, p) - psi(yy)), yy))
         c = sol.grid.v
         width.append(math.sqrt(np.dot(sol.grid.half_weights, (c - mean_abs) ** 2 * sol.f)))
