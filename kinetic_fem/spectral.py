@@ -409,8 +409,9 @@ def _solve_cooling_problem(problem: CoolingProblem, order: int, linearized: bool
     return sol, sol.zeta
 
 
-def _output(sol: SonineSolution, problem: object, cutoff: float | None, n_v: int | None,
-            start: float, kind: str) -> VelocityDistribution:
+def _output(sol: SonineSolution, problem: HeatedProblem | CoolingProblem,
+            cutoff: float | None, n_v: int | None, start: float,
+            kind: str) -> VelocityDistribution:
     if cutoff is None:
         cutoff = max(12.0, math.sqrt(4.0 * sol.order + 8.0) + 8.0)
     if n_v is None:

@@ -162,7 +162,7 @@ def hard_rods(kernel: float | PowerLawKernel) -> PowerLawKernel:
     return k
 
 
-def _check_geometry(n_particles: object, density: float, sigma: object | None) -> tuple:
+def _check_geometry(n_particles: object, density: float, sigma: float | None) -> tuple:
     if isinstance(n_particles, bool) or not isinstance(n_particles, (int, np.integer)):
         raise TypeError(f"n_particles must be an int, got {n_particles!r}")
     if n_particles < 2:

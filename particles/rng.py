@@ -160,7 +160,8 @@ def mul128(r, n):
     return np.uint64(p >> 64), np.uint64(p & 0xFFFFFFFFFFFFFFFF)
 
 
-@overload(mul128, jit_options={"cache": True})
+# (numba's TypedDict of jit options omits "cache", which overload accepts)
+@overload(mul128, jit_options={"cache": True})  # type: ignore[typeddict-unknown-key]
 def _mul128_jit(r, n):  # pragma: no cover - compiled
     def impl(r, n):
         return _llvm_mul128(r, n)

@@ -174,7 +174,8 @@ def save_checkpoint(path: str | Path, arrays: Mapping[str, NDArray[Any]],
     if path.suffix != ".npz":
         path = path.with_suffix(".npz")
     tmp = path.with_name(path.stem + ".tmp.npz")
-    np.savez(tmp, __meta__=np.array(json.dumps(meta)), **arrays)
+    # (numpy's stub types **kwds of savez as its allow_pickle flag)
+    np.savez(tmp, __meta__=np.array(json.dumps(meta)), **arrays)  # type: ignore[arg-type]
     tmp.replace(path)
     return path
 
