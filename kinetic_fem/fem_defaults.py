@@ -178,7 +178,7 @@ def initial_log_density(v: NDArray[np.float64], model: ScaledModel) -> NDArray[n
 def model_cutoff(model: ScaledModel) -> float:
     """Cut-off :math:`V/\\sqrt{T}` where the tail :math:`e^{-S}` reaches 1e-33, plus one
     thermal velocity (:func:`default_cutoff` for the paper's model)."""
-    if model.is_paper_model:
+    if model.is_paper_model and model.law.constant is not None:
         return default_cutoff(model.law.constant)
     target = DECADES * math.log(10.0)
     top = 1.0
@@ -231,9 +231,9 @@ def graded_vertices(c_max: float, spacing: float, *, grading: float,
     total = _stretched(c_max, spacing, grading, bulk)
     n_el = max(2, int(math.ceil(total)))
     targets = np.linspace(0.0, total, n_el + 1)
-    half = np.array([0.0] + [brentq(lambda c, t=t: _stretched(c, spacing, grading, bulk) - t,
-                                    0.0, c_max) for t in targets[1:-1]] + [c_max])
-    return np.concatenate([-half[:0:-1], half])
+    nodes = np.array([0.0] + [brentq(lambda c, t=t: _stretched(c, spacing, grading, bulk) - t,
+                                     0.0, c_max) for t in targets[1:-1]] + [c_max])
+    return np.concatenate([-nodes[:0:-1], nodes])
 
 
 def _stretched(c: float, h0: float, kappa: float, cb: float) -> float:

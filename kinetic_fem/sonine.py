@@ -90,8 +90,8 @@ def steady_temperature(alpha: float, density: float = 1.0, diffusion: float = 1.
     alpha = check_alpha(alpha)
     n = check_positive("density", density)
     d = check_positive("diffusion", diffusion)
-    a2 = a2_first_order(alpha) if a2 is None else a2
-    return (math.sqrt(math.pi) * d / (n * (1 - alpha**2) * (1 + 3 * a2 / 16))) ** (2.0 / 3.0)
+    a2_value = float(a2_first_order(alpha)) if a2 is None else a2
+    return (math.sqrt(math.pi) * d / (n * (1 - alpha**2) * (1 + 3 * a2_value / 16))) ** (2.0 / 3.0)
 
 
 def relaxation_time(alpha: float, density: float = 1.0, diffusion: float = 1.0) -> float:
