@@ -40,7 +40,9 @@ exponential tails, :math:`O(V^{-3})` for the Maxwell power law): the equation at
 :math:`\\int c^2 f_h = 1` closes the system for :math:`(u_h, \\zeta)`.  Newton's method
 (:class:`kinetic_fem.fem.EquilibratedLU`, the log update of the heated solver) starts
 from a Gaussian at the Gaussian estimate of :math:`\\zeta`; near :math:`\\alpha = 1` by
-continuation in :math:`\\varepsilon = 1 - \\alpha`.
+continuation in :math:`\\varepsilon = 1 - \\alpha`, and below :math:`\\alpha = 0.5`
+(long exponential tails far from the Gaussian start) by continuation in
+:math:`\\alpha` from 0.5.
 
 The inelastic Maxwell model (:math:`\\gamma = 0`) has the closed-form state
 :math:`f(c) = 2/(\\pi(1+c^2)^2)` for every alpha (Baldassarri, Marini Bettolo Marconi,
@@ -92,6 +94,10 @@ DECADES = 33.0
 CONTINUATION_EPS = 0.01
 """Below this inelasticity the state is reached by continuation (steps of CONTINUATION_RATIO)."""
 CONTINUATION_RATIO = 2.0
+STRONG_ALPHA = 0.5
+"""Below this alpha (long exponential tails, far from the Gaussian start) the state is
+reached by continuation in alpha from here, in steps of at most STRONG_STEP."""
+STRONG_STEP = 0.125
 PSEUDO_TIME_STEP = 1.0
 """First pseudo-time step of the globalised Newton iteration (scaled collision times)."""
 INCREASE_LIMIT = 2.0
@@ -341,6 +347,14 @@ def cooling_state(problem: CoolingProblem, *, order: int = 2, spacing: float | N
                                spacing=2.0 * hcs_spacing(coarse_problem))
         u0 = coarse.log_f(disc.dof_locations)
         zeta0 = coarse.zeta * (1.0 - (1.0 - eps) ** 2) / (1.0 - (1.0 - eps_prev) ** 2)
+    elif problem.gas.alpha < STRONG_ALPHA and problem.gas.gamma > 0.0:
+        n_steps = math.ceil((STRONG_ALPHA - problem.gas.alpha) / STRONG_STEP - 1e-9)
+        alpha_prev = problem.gas.alpha + (STRONG_ALPHA - problem.gas.alpha) / n_steps
+        coarse_problem = CoolingProblem.from_parameters(alpha_prev, kernel=problem.gas.kernel)
+        coarse = cooling_state(coarse_problem, order=order, tol=1e-7, max_iter=max_iter,
+                               spacing=2.0 * hcs_spacing(coarse_problem))
+        u0 = coarse.log_f(disc.dof_locations)
+        zeta0 = coarse.zeta * (1.0 - problem.gas.alpha**2) / (1.0 - alpha_prev**2)
     state = newton_cooling(disc, u0, zeta0, tol=tol, max_iter=max_iter)
     if not state.info.converged:
         raise ConvergenceError(

@@ -49,6 +49,18 @@ def test_power_kernel_energy_identity():
     assert extra["zeta_identity"] == pytest.approx(extra["zeta"], rel=1e-9)
 
 
+def test_strong_inelasticity_by_continuation():
+    """alpha = 0.3 (Newton from the Gaussian start diverged there) is reached by
+    continuation from alpha = 0.5. Measured against the fd state with two Richardson
+    levels: a2 7e-9, zeta 7e-10 relative; alpha = 0: 6e-8 and 6e-10. On the coarse mesh
+    of this test (spacing 0.2) the identity holds to 1e-9."""
+    dist = kf.solve_cooling(0.3, spacing=0.2)
+    extra = dist.info.extra
+    assert extra["zeta_identity"] == pytest.approx(extra["zeta"], rel=1e-9)
+    assert dist.temperature == pytest.approx(1.0, rel=1e-10)
+    assert dist.a2 == pytest.approx(0.265054, abs=2e-5)
+
+
 def test_velocity_dependent_law_is_refused():
     with pytest.raises(kf.model.UnsupportedModelError, match="speed scale"):
         kf.solve_cooling(kf.ThresholdRestitution(0.5, 1.0))
