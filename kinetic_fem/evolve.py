@@ -153,13 +153,22 @@ def evolve_cooling(alpha: float | RestitutionLaw, *, density: float = 1.0,
     See :func:`evolve_heated` for the parameters (default start: the Gaussian at
     ``initial_temperature = 1``).
 
-    Warnings
-    --------
-    Not working yet: with method ``"fem"`` the first step from a Gaussian converges,
-    but Newton's method fails on every later step (any step size down to the minimum
-    step), so the run ends with :class:`~kinetic_fem.fem_transient.ConvergenceError`.
+    Raises
+    ------
+    NotImplementedError
+        Always, for now: with method ``"fem"`` the first step from a Gaussian converges
+        but Newton's method fails on every later step (any step size down to the
+        minimum step), so rather than spend a run on it the call stops at once.  The
+        homogeneous cooling state itself is :func:`kinetic_fem.solve_cooling`, and DSMC
+        cooling runs (``particles.dsmc.simulate_cooling``) give the transient.
     """
     problem = CoolingProblem.from_parameters(alpha, density=density, kernel=kernel)
+    if method == "fem" and not options.pop("experimental", False):
+        raise NotImplementedError(
+            "kf.evolve_cooling is not available yet: the FEM transient in scaled variables "
+            "fails after its first step. Use kf.solve_cooling for the homogeneous cooling "
+            "state and particles.dsmc.simulate_cooling for the transient (pass "
+            "experimental=True to run the unfinished FEM integrator anyway)")
     initial, initial_temperature = _initial(initial, initial_temperature)
     return _method("cooling", method)(problem, times=check_times(times), initial=initial,
                                       initial_temperature=initial_temperature, **options)

@@ -105,3 +105,9 @@ def test_lte_ratio_constant_steps():
     """Equal steps: BDF2 error -2/9 h^3 y''' against the quadratic predictor's h^3 y'''."""
     assert lte_ratio((0.3, 0.3, 0.3), 2) == pytest.approx(2.0 / 11.0)
     assert lte_ratio((0.3,), 1) == 0.5
+
+
+def test_evolve_cooling_says_it_is_not_available_yet():
+    """The FEM cooling transient fails after its first step; the call says so at once."""
+    with pytest.raises(NotImplementedError, match="not available yet.*solve_cooling"):
+        kf.evolve_cooling(0.9, times=[0.0, 1.0])
