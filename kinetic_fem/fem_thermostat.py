@@ -21,45 +21,23 @@ both thermostat terms conserve mass exactly; with P2
 
 from __future__ import annotations
 
-import numpy as np
-from skfem import BilinearForm, LinearForm
-from skfem.helpers import dot, grad
+from .fem_discretisation import (
+    bath_drift,
+    bath_drift_jacobian,
+    fokker_planck,
+    fokker_planck_jacobian,
+    mass,
+    weighted_mass,
+)
 
 __all__ = ["mass", "weighted_mass", "diffusion", "diffusion_jacobian", "drift",
            "drift_jacobian"]
 
-
-@LinearForm
-def mass(v, w):
-    """:math:`m_i = \\int \\varphi_i e^{u}` (``w.u`` the current iterate)."""
-    return np.exp(w.u) * v
-
-
-@BilinearForm
-def weighted_mass(du, v, w):
-    """:math:`\\int \\varphi_i \\varphi_j e^{u}`, the derivative of :func:`mass`."""
-    return np.exp(w.u) * du * v
-
-
-@LinearForm
-def diffusion(v, w):
-    """:math:`\\int \\varphi_i' P'` with :math:`P = e^{u}`."""
-    return np.exp(w.u) * dot(grad(w.u), grad(v))
-
-
-@BilinearForm
-def diffusion_jacobian(du, v, w):
-    """Derivative of :func:`diffusion` in the direction ``du``."""
-    return np.exp(w.u) * (du * dot(grad(w.u), grad(v)) + dot(grad(du), grad(v)))
-
-
-@LinearForm
-def drift(v, w):
-    """:math:`\\int \\varphi_i'\\, x\\, P` (``w.x`` the quadrature points)."""
-    return np.exp(w.u) * w.x[0] * grad(v)[0]
-
-
-@BilinearForm
-def drift_jacobian(du, v, w):
-    """Derivative of :func:`drift` in the direction ``du``."""
-    return np.exp(w.u) * w.x[0] * grad(v)[0] * du
+#: :math:`\int \varphi_i' P'` with :math:`P = e^{u}` (the steady solver's form).
+diffusion = fokker_planck
+#: Derivative of :data:`diffusion` in the direction ``du``.
+diffusion_jacobian = fokker_planck_jacobian
+#: :math:`\int \varphi_i'\, v\, P` (``w.x`` the quadrature points).
+drift = bath_drift
+#: Derivative of :data:`drift` in the direction ``du``.
+drift_jacobian = bath_drift_jacobian
