@@ -63,9 +63,7 @@ import numpy as np
 from kinetic_fem.model import restitution_value
 
 from ._jit import jit, prefetch
-from .rng import normal_slow as _normal_slow
-from .rng import xoshiro as _xoshiro
-from .rng import ziggurat_tables
+from .rng import normal_slow, xoshiro, ziggurat_tables
 
 __all__ = ["F_T", "F_T_KICK", "F_DISS", "F_INJ", "I_NCOLL", "I_HSIZE", "I_STALL",
            "I_NKICK", "I_NELASTIC", "I_BAD_PAIR", "STATUS_COLLISIONS", "STATUS_TIME",
@@ -236,7 +234,7 @@ def fill_normals(out, rng, ki, wi, fi):  # pragma: no cover - compiled
     """
     s0, s1, s2, s3 = rng[0], rng[1], rng[2], rng[3]
     for i in range(out.shape[0]):
-        r, s0, s1, s2, s3 = _xoshiro(s0, s1, s2, s3)
+        r, s0, s1, s2, s3 = xoshiro(s0, s1, s2, s3)
         idx = int(r & np.uint64(0xFF))
         r >>= np.uint64(8)
         rabs = (r >> np.uint64(1)) & np.uint64(0x000FFFFFFFFFFFFF)
@@ -245,7 +243,7 @@ def fill_normals(out, rng, ki, wi, fi):  # pragma: no cover - compiled
             z = -z
         if rabs >= ki[idx]:
             rng[0], rng[1], rng[2], rng[3] = s0, s1, s2, s3
-            z = _normal_slow(rng, idx, z, ki, wi, fi)
+            z = normal_slow(rng, idx, z, ki, wi, fi)
             s0, s1, s2, s3 = rng[0], rng[1], rng[2], rng[3]
         out[i] = z
     rng[0], rng[1], rng[2], rng[3] = s0, s1, s2, s3
