@@ -133,7 +133,7 @@ def _mesh(alpha: float, *, cutoff: float | None, spacing: float, vertices,
     return math.sqrt(model.temperature) * graded_vertices(c_max, spacing, grading=grading)
 
 
-def log_update(delta: NDArray, limit: float) -> NDArray:
+def log_update(delta: NDArray, limit: float = 10.0) -> NDArray:
     """Map a Newton step on ``u`` to ``ln(1 + delta)``: the Newton step on ``P``.
 
     Exact for the linear tail equation and equal to ``delta`` to second order, so
@@ -151,9 +151,10 @@ class EquilibratedLU:
     """
 
     def __init__(self, jac: NDArray) -> None:
-        self.rows = np.abs(jac).max(axis=1)
+        tiny = np.finfo(float).tiny  # an all-zero row or column stays finite
+        self.rows = np.maximum(np.abs(jac).max(axis=1), tiny)
         scaled = jac / self.rows[:, None]
-        self.cols = np.abs(scaled).max(axis=0)
+        self.cols = np.maximum(np.abs(scaled).max(axis=0), tiny)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
             self.lu = scipy.linalg.lu_factor(scaled / self.cols[None, :])

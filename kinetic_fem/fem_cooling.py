@@ -322,7 +322,7 @@ def cooling_state(problem: CoolingProblem, *, order: int = 2, spacing: float | N
             f"the homogeneous cooling state needs a constant restitution coefficient, got "
             f"{problem.gas.restitution!r}: a velocity-dependent law has its own speed scale, "
             "so no scaling state exists (the gas approaches elastic collisions as it cools); "
-            "use kf.evolve_cooling for the transient")
+            "use particles.dsmc.simulate_cooling for the transient")
     if order not in ELEMENTS:
         raise ValueError(f"order must be one of {sorted(ELEMENTS)}, got {order!r}")
     spacing = hcs_spacing(problem) if spacing is None else check_positive("spacing", spacing)

@@ -42,7 +42,6 @@ from __future__ import annotations
 
 import logging
 import math
-import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -51,7 +50,7 @@ import scipy.sparse.linalg
 from numpy.typing import NDArray
 from skfem import asm
 
-from .fem import FEMDiscretisation
+from .fem import EquilibratedLU, FEMDiscretisation, log_update
 from .fem_thermostat import (
     diffusion,
     diffusion_jacobian,
@@ -140,42 +139,6 @@ class TransientStats:
 
     def as_dict(self) -> dict[str, int]:
         return dict(vars(self))
-
-
-class EquilibratedLU:
-    """LU factors of ``J`` scaled to unit row and column maxima.
-
-    Rows and columns of far-tail dofs scale with :math:`P \\sim 10^{-30}` (or less in
-    a first iterate), so the plain matrix is numerically singular; the scaled one is
-    well conditioned.
-    """
-
-    def __init__(self, jac: NDArray) -> None:
-        tiny = np.finfo(float).tiny
-        self.rows = np.maximum(np.abs(jac).max(axis=1), tiny)
-        scaled = jac / self.rows[:, None]
-        self.cols = np.maximum(np.abs(scaled).max(axis=0), tiny)
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
-            self.lu = scipy.linalg.lu_factor(scaled / self.cols[None, :])
-
-    def solve(self, rhs: NDArray) -> NDArray:
-        """``J^{-1} rhs``."""
-        return scipy.linalg.lu_solve(self.lu, rhs / self.rows) / self.cols
-
-
-def log_update(delta: NDArray, limit: float = 10.0) -> NDArray:
-    """Map a Newton step on ``u = ln P`` to ``ln(1 + delta)``, the Newton step on ``P``.
-
-    Exact for a linear tail equation and equal to ``delta`` to second order, so the
-    iteration stays quadratic; decreases are limited to ``-limit``.
-
-    Examples
-    --------
-    >>> float(log_update(np.array([1e-8]))[0])
-    9.99999995e-09
-    """
-    return np.log1p(np.maximum(delta, math.expm1(-limit)))
 
 
 def lte_ratio(steps: tuple[float, ...], order: int) -> float:
