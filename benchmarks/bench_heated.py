@@ -23,8 +23,8 @@ import time  # noqa: E402
 import numpy as np  # noqa: E402
 
 import kinetic_fem as kf  # noqa: E402
-from kinetic_fem import fem  # noqa: E402
-from kinetic_fem.grid import abs_power_convolution  # noqa: E402
+from kinetic_fem.operators.grid import abs_power_convolution  # noqa: E402
+from kinetic_fem.solvers import fem  # noqa: E402
 
 
 def best_of(func, repeat: int) -> float:

@@ -1,7 +1,7 @@
 """Grid convergence of the homogeneous cooling state solver (cooling ``method="fd"``).
 
 For each alpha the HCS is solved with spacings ``2 h, h, h/2, h/4`` (``h`` the default,
-:func:`kinetic_fem.cooling.default_spacing`) on a common cut-off, and the script prints
+:func:`kinetic_fem.solvers.fd_cooling.default_spacing`) on a common cut-off, and the script prints
 the cooling rate zeta, a2, the energy identity ``zeta - (1-alpha^2)<|c-c'|^3>/8``
 (zero in the continuum, not imposed), the mass-defect rate, successive differences
 with observed orders ``log2(d_h / d_{h/2})``, and the max relative difference of f(c)
@@ -31,8 +31,9 @@ import time  # noqa: E402
 import numpy as np  # noqa: E402
 
 import kinetic_fem as kf  # noqa: E402
-from kinetic_fem import cooling, spectral  # noqa: E402
-from kinetic_fem._richardson import richardson_scalar  # noqa: E402
+from kinetic_fem.solvers import fd_cooling as cooling  # noqa: E402
+from kinetic_fem.solvers import spectral
+from kinetic_fem.solvers.richardson import richardson_scalar  # noqa: E402
 
 
 def f_rel(coarse: cooling.HCSSolution, fine: cooling.HCSSolution) -> float:

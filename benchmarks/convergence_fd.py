@@ -29,9 +29,9 @@ import warnings
 import numpy as np
 
 import kinetic_fem as kf
-import kinetic_fem.finite_difference  # noqa: F401  (registers "fd")
-from kinetic_fem.collision import energy_balance
+import kinetic_fem.solvers.finite_difference  # noqa: F401  (registers "fd")
 from kinetic_fem.distribution import VelocityDistribution
+from kinetic_fem.operators.collision import energy_balance
 
 ORDER = 2
 
@@ -57,12 +57,12 @@ def orders(diffs: list[float]) -> list[str]:
 
 
 def study(alpha: float, spacings: list[float]) -> None:
-    cut = kinetic_fem.finite_difference.default_cutoff(alpha)
+    cut = kinetic_fem.solvers.finite_difference.default_cutoff(alpha)
     print(f"\n=== alpha = {alpha}  (cutoff {cut:.1f} sqrt(T), Newton on the FD equations, "
           f"interpolation order {ORDER}) ===")
     sols, times = [], []
     # a cut-off on the coarsest grid, so that all grids nest
-    cutoff = spacings[0] * math.ceil(kinetic_fem.finite_difference.default_cutoff(alpha)
+    cutoff = spacings[0] * math.ceil(kinetic_fem.solvers.finite_difference.default_cutoff(alpha)
                                      / spacings[0])
     for h in spacings:
         t0 = time.perf_counter()
@@ -122,7 +122,7 @@ def study(alpha: float, spacings: list[float]) -> None:
 
 def defaults(alpha: float) -> None:
     """Old default (one grid, h = 0.04) and new default (two Richardson levels) vs FEM."""
-    importlib.import_module("kinetic_fem.fem")  # registers "fem"
+    importlib.import_module("kinetic_fem.solvers.fem")  # registers "fem"
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -145,7 +145,7 @@ def defaults(alpha: float) -> None:
 
 
 def _weights(d: VelocityDistribution) -> np.ndarray:
-    from kinetic_fem.grid import simpson_weights
+    from kinetic_fem.operators.grid import simpson_weights
     return simpson_weights(d.v)
 
 
@@ -165,7 +165,7 @@ def main() -> None:
     parser.add_argument("--alphas", type=float, nargs="+",
                         default=[0.0, 0.1, 0.6, 0.9, 0.99, 0.999])
     parser.add_argument("--spacings", type=float, nargs="+", default=[0.16, 0.08, 0.04, 0.02])
-    parser.add_argument("--fem", action="store_true", help="import kinetic_fem.fem and compare")
+    parser.add_argument("--fem", action="store_true", help="compare with the FEM solver")
     parser.add_argument("--defaults", action="store_true",
                         help="accuracy of the default call against the FEM defaults")
     parser.add_argument("--order", type=int, default=2, choices=(2, 3),
@@ -174,7 +174,7 @@ def main() -> None:
     global ORDER
     ORDER = args.order
     if args.fem:
-        import kinetic_fem.fem  # noqa: F401
+        import kinetic_fem.solvers.fem  # noqa: F401
     if args.defaults:
         for alpha in args.alphas:
             defaults(alpha)

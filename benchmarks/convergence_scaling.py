@@ -1,4 +1,4 @@
-"""Convergence of the quasi-elastic phi and psi solvers (kinetic_fem.scaling).
+"""Convergence of the quasi-elastic phi and psi solvers (kinetic_fem.solvers.scaling).
 
 Prints, for every returned constant, the change under grid refinement with the
 observed order log2(d_h / d_{h/2}), the error against domain size, the Newton
@@ -17,7 +17,7 @@ import time
 import numpy as np
 
 import kinetic_fem as kf
-from kinetic_fem.scaling import LAMBDA_PAPER, solve_phi, solve_psi
+from kinetic_fem.solvers.scaling import LAMBDA_PAPER, solve_phi, solve_psi
 
 
 def spacing_table(title, solve, sizes, names):
@@ -131,7 +131,7 @@ def psi_report():
 
 
 def fem_report(phi):
-    import kinetic_fem.fem  # noqa: F401  (registers "fem")
+    import kinetic_fem.solvers.fem  # noqa: F401  (registers "fem")
 
     print("\n## heated FEM solution rescaled by x = (n eps/D)^(1/3) v vs phi, |x| <= 4")
     x = np.linspace(-4.0, 4.0, 801)

@@ -5,7 +5,7 @@ Prints
    alpha = 0.3, 0.6, 0.9, 0.99, with the conditioning of the equilibrated Newton
    Jacobian and the wall time;
 2. the Maxwell-kernel exactness: the largest relative error of a_2 .. a_P and T against
-   the exact moment recursion (kinetic_fem.maxwell) at P = 2 .. 80;
+   the exact moment recursion (kinetic_fem.solvers.maxwell) at P = 2 .. 80;
 3. T and a2 for gamma in {0, 0.5, 1, 2}, white noise (D = 1) and a Fokker-Planck bath
    (xi = 1, D = 1), alpha in {0.3, 0.6, 0.9, 0.99}: of the converged orders among
    (8, 12, 16, 24, 32), the higher of the two consecutive ones that differ least
@@ -22,8 +22,8 @@ import time
 
 import numpy as np
 
-from kinetic_fem import maxwell
-from kinetic_fem.spectral import solve_sonine, solve_sonine_cooling
+from kinetic_fem.solvers import maxwell
+from kinetic_fem.solvers.spectral import solve_sonine, solve_sonine_cooling
 
 ALPHAS = (0.3, 0.6, 0.9, 0.99)
 ORDERS = (2, 4, 6, 8, 12, 16, 24, 32, 40)

@@ -16,7 +16,7 @@ import time
 import numpy as np
 
 import kinetic_fem as kf
-from kinetic_fem.protocol import Protocol, steps
+from kinetic_fem.model.protocol import Protocol, steps
 
 TIMES = [0.0, 0.5, 1.0, 1.5, 2.0, 3.0]
 MESH = {"spacing": 0.5, "cutoff": 12.0}

@@ -5,7 +5,7 @@ bath xi = 1, D = 1) and alpha in {0.3, 0.6, 0.9, 0.99}, and for two velocity-dep
 restitution laws, the heated steady state from
 
 * FEM (``kf.solve_heated``, the reference: T ~1e-8, a2 ~1e-6),
-* the Maxwell model's exact moment hierarchy (gamma = 0, ``kinetic_fem.maxwell``),
+* the Maxwell model's exact moment hierarchy (gamma = 0, ``kinetic_fem.solvers.maxwell``),
 * Sonine Galerkin (``method="spectral"``, order chosen where two successive orders agree
   best, that difference as its error; power-law kernels, constant alpha),
 * the paper's finite differences (``method="fd"``, gamma in {0, 1}, constant alpha;
@@ -31,8 +31,8 @@ import time
 import warnings
 
 import kinetic_fem as kf
-from kinetic_fem import fem_defaults, maxwell
 from kinetic_fem.model import ThresholdRestitution, UnsupportedModelError, ViscoelasticRestitution
+from kinetic_fem.solvers import fem_defaults, maxwell
 
 GAMMAS = (0.0, 0.5, 1.0, 2.0)
 ALPHAS = (0.3, 0.6, 0.9, 0.99)

@@ -44,9 +44,9 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.interpolate import CubicSpline
 
 from .gas import check_finite_array
-from .grid import moments as quadrature_moments
-from .grid import simpson_weights, trapezoid_weights
 from .moments import central_from_raw, sonine_from_central
+from .operators.grid import moments as quadrature_moments
+from .operators.grid import simpson_weights, trapezoid_weights
 from .run_info import RunInfo
 
 __all__ = ["VelocityDistribution", "RunInfo", "Comparison", "MAX_MOMENT", "MAX_SONINE"]

@@ -8,9 +8,9 @@
 from an initial distribution (any normalised
 :class:`~kinetic_fem.distribution.VelocityDistribution`, or a Gaussian at
 ``initial_temperature``) to the requested output ``times``; the time dependence of
-:math:`D`, :math:`\\xi` and :math:`\\alpha` is a :class:`~kinetic_fem.protocol.Protocol`.
+:math:`D`, :math:`\\xi` and :math:`\\alpha` is a :class:`~kinetic_fem.model.protocol.Protocol`.
 Parameters are validated here; methods are registered in :data:`TRANSIENT_SOLVERS`
-(``"fem"``: adaptive BDF2 on the Galerkin system, :mod:`kinetic_fem.fem_evolution`).
+(``"fem"``: adaptive BDF2 on the Galerkin system, :mod:`kinetic_fem.solvers.fem_evolution`).
 """
 
 from __future__ import annotations
@@ -22,9 +22,9 @@ from numpy.typing import ArrayLike
 
 from .distribution import VelocityDistribution
 from .evolution import Evolution
-from .fem_evolution import evolve_cooling_fem, evolve_heated_fem
 from .model import CoolingProblem, HeatedProblem, PowerLawKernel, RestitutionLaw, check_positive
-from .protocol import Protocol
+from .model.protocol import Protocol
+from .solvers.fem_evolution import evolve_cooling_fem, evolve_heated_fem
 
 __all__ = ["evolve_heated", "evolve_cooling", "TRANSIENT_SOLVERS", "check_times"]
 

@@ -12,7 +12,7 @@ the solution of
     \int f = \int c^2 f = 1, \qquad \frac{dT}{dt} = -2\zeta n T^{3/2},
 
 solved on a finite-difference grid by Newton's method
-(``kf.solve_cooling(alpha, method="fd")``, :mod:`kinetic_fem.cooling`).  This example
+(``kf.solve_cooling(alpha, method="fd")``, :mod:`kinetic_fem.solvers.fd_cooling`).  This example
 
 * computes the HCS at a few restitution coefficients and checks the energy identity
   :math:`\zeta = (1-\alpha^2)\langle|c-c'|^3\rangle/8`, which the solver does not impose;

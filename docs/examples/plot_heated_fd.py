@@ -10,7 +10,7 @@ for the heated gas,
     \partial_t P - D\,\partial_v^2 P = -\nu[P]\,P + G[P],
 
 with Simpson quadrature, quadratic interpolation of the gain argument and an implicit
-three-point diffusion step (``method="fd"``, :mod:`kinetic_fem.finite_difference`).
+three-point diffusion step (``method="fd"``, :mod:`kinetic_fem.solvers.finite_difference`).
 Its steady state is reached by time marching (the paper) or, much faster, by Newton's
 method on the same discrete equations (``steady="newton"``, the default); both give
 the same numbers.  The scheme is second order in the spacing: one grid of spacing
@@ -29,8 +29,8 @@ import numpy as np
 
 import kinetic_fem as kf
 from kinetic_fem import sonine
-from kinetic_fem.collision import energy_balance
-from kinetic_fem.grid import simpson_weights
+from kinetic_fem.operators.collision import energy_balance
+from kinetic_fem.operators.grid import simpson_weights
 
 TEST_KWARGS = {"alpha": 0.6, "spacing": 0.2, "richardson": 0}
 

@@ -12,7 +12,7 @@ Puglisi, Europhys. Lett. 58, 14 (2002)):
 
 at unit temperature, with :math:`dT/dt = -2\zeta n T`.  Its :math:`c^{-4}` tail has
 an infinite fourth moment, and :math:`c^2 f` carries :math:`4/(\pi V)` of the energy
-beyond :math:`|c| = V`, so the FEM mesh (:mod:`kinetic_fem.fem_cooling`) is uniform in
+beyond :math:`|c| = V`, so the FEM mesh (:mod:`kinetic_fem.solvers.fem_cooling`) is uniform in
 the bulk and geometric out to :math:`V = 10^8`.  This example solves the state with
 ``kf.solve_cooling(alpha, kernel=0.0)`` and plots it with the closed form and the
 relative error.
@@ -23,7 +23,7 @@ from __future__ import annotations
 import numpy as np
 
 import kinetic_fem as kf
-from kinetic_fem.fem_cooling import maxwell_hcs
+from kinetic_fem.solvers.fem_cooling import maxwell_hcs
 
 TEST_KWARGS = {"alpha": 0.5, "spacing": 0.2}
 

@@ -10,7 +10,7 @@ scaled velocity :math:`x = (n\epsilon/D)^{1/3} v` tends to the solution of
     \phi(x) = C \exp\Big(-\frac16 \int dy\, |y-x|^3 \phi(y)\Big), \qquad \int\phi = 1
 
 (claim C5; derivation in the user guide, :doc:`/user_guide/quasi_elastic`).
-:func:`kinetic_fem.scaling.solve_phi` solves it by Newton's method on
+:func:`kinetic_fem.solvers.scaling.solve_phi` solves it by Newton's method on
 :math:`\ln\phi`, with the cubic kernel as O(N) cumulative moments.  We check
 
 * :math:`\lambda = \int |x|\phi \approx 0.785` and the crossover :math:`x_{cr} = 3\lambda`;
@@ -29,7 +29,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 import kinetic_fem as kf
-from kinetic_fem.scaling import LAMBDA_PAPER, PhiSolution, solve_phi
+from kinetic_fem.solvers.scaling import LAMBDA_PAPER, PhiSolution, solve_phi
 
 TEST_KWARGS = {"n_v": 353, "alphas": ()}
 
@@ -56,7 +56,7 @@ def main(n_v: int = 1401, cutoff: float = 7.0,
     phi = solve_phi(n_v=n_v, cutoff=cutoff)
     sup = {}
     if alphas:
-        from kinetic_fem import fem  # noqa: F401  (registers method="fem")
+        from kinetic_fem.solvers import fem  # noqa: F401  (registers method="fem")
 
         x = np.linspace(-4.0, 4.0, 801)
         for alpha in alphas:

@@ -14,7 +14,7 @@ has the shape :math:`\psi(y)` solving (claim C12, derivation in
     \big(|y-y'|(y-y') - (y+y')^2\big) = 0,
     \qquad \int\psi = 1,\ \langle y\rangle_\psi = 0.
 
-:func:`kinetic_fem.scaling.solve_psi` solves its integrated (logarithmic) form by
+:func:`kinetic_fem.solvers.scaling.solve_psi` solves its integrated (logarithmic) form by
 Newton's method with :math:`\langle y\rangle = 0` as an explicit condition.  We check
 the tails, the fourth-order ODE and :math:`\langle y\rangle = 0`; three of the
 paper's printed formulas are misprints (right tail, :math:`(\ln\psi)'''' = \psi`, the
@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from kinetic_fem.scaling import PsiSolution, solve_psi
+from kinetic_fem.solvers.scaling import PsiSolution, solve_psi
 
 TEST_KWARGS = {"n_v": 1051}
 

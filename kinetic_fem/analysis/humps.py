@@ -10,7 +10,7 @@ variable
     \\psi_{HCS}(y) = 2 f(c)\\, \\epsilon^{1/3} \\langle|c|\\rangle,
 
 the right hump tends to the solution of the psi equation
-(:func:`kinetic_fem.scaling.solve_psi`), and its width scales as :math:`\\epsilon^{1/3}`.
+(:func:`kinetic_fem.solvers.scaling.solve_psi`), and its width scales as :math:`\\epsilon^{1/3}`.
 """
 
 from __future__ import annotations
@@ -55,7 +55,7 @@ def psi_profile(c: NDArray[np.float64], f: NDArray[np.float64],
     half_weights : ndarray, shape (n_v,)
         Weights of even functions over the whole line on these nodes (each node stands
         for :math:`\\pm c`), so that ``sum(half_weights * f) = 1``: the
-        ``half_weights`` of :class:`kinetic_fem.collision.HalfGrid`.
+        ``half_weights`` of :class:`kinetic_fem.operators.collision.HalfGrid`.
     eps : float
         Inelasticity :math:`1 - \\alpha`, positive.
 

@@ -19,10 +19,10 @@ from functools import lru_cache
 import numpy as np
 
 from ..analysis.humps import psi_profile
-from ..cooling import HCSSolution, solve_hcs
 from ..reproduce import ClaimRow, Context, register
-from ..scaling import solve_psi
-from ..spectral import solve_sonine_cooling
+from ..solvers.fd_cooling import HCSSolution, solve_hcs
+from ..solvers.scaling import solve_psi
+from ..solvers.spectral import solve_sonine_cooling
 from .plotting import save, subplots
 
 

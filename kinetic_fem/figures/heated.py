@@ -38,12 +38,12 @@ from ..analysis import (
     richardson,
     tail_fit,
 )
-from ..collision import energy_balance
 from ..distribution import VelocityDistribution
-from ..finite_difference import ConvergenceWarning, default_cutoff
-from ..grid import simpson_weights
+from ..operators.collision import energy_balance
+from ..operators.grid import simpson_weights
 from ..reproduce import ClaimRow, Context, register
 from ..solve import solve_heated
+from ..solvers.finite_difference import ConvergenceWarning, default_cutoff
 from ..sonine import crossover_velocities, relaxation_time
 from ..sonine import steady_temperature as sonine_temperature
 from .plotting import save, subplots
@@ -77,7 +77,7 @@ def fem_steady(alpha: float, *, spacing: float = 0.05, cutoff_factor: float = 1.
                intorder: int = 5) -> VelocityDistribution:
     """FEM (P2, Newton) steady state at ``n = D = 1`` with a cut-off beyond the default.
 
-    The cut-off is ``cutoff_factor`` times :func:`kinetic_fem.fem.default_cutoff` (which
+    The cut-off is ``cutoff_factor`` times :func:`kinetic_fem.solvers.fem.default_cutoff` (which
     puts f near 1e-33); at small eps the peak of n(c) lies deeper (f ~ 1e-100 at
     eps = 1e-4), so the interval is widened in steps of ``widen_step`` at spacing
     ``widen_spacing``, each Newton solve started from the previous one continued by a
@@ -88,8 +88,8 @@ def fem_steady(alpha: float, *, spacing: float = 0.05, cutoff_factor: float = 1.
     eps = 1e-3; near the peak at h = 0.05, eps = 1e-4); degree 9 at h = 0.05 is smooth
     and converged at the peak for eps down to 1e-4 (``benchmarks/effective_exponent_peak.py``).
     """
-    from .. import fem
-    from ..grid import symmetric_grid, uniform_grid
+    from ..operators.grid import symmetric_grid, uniform_grid
+    from ..solvers import fem
 
     scale = math.sqrt(sonine_temperature(alpha))
     target = cutoff_factor * fem.default_cutoff(alpha)
@@ -324,7 +324,7 @@ def figure_f6(ctx: Context) -> list[ClaimRow]:
     over 1e-1 ... 1e-4; local exponents of v* -0.577 ... -0.537 (flat near -0.54 below
     eps = 1e-2), of 3 - n* rising 0.297 ... 0.380.
     """
-    from ..scaling import solve_phi
+    from ..solvers.scaling import solve_phi
 
     fig, (ax, bx) = subplots(1, 2, figsize=(10, 4.2))
     for alpha in (0.6, 0.9, 0.99, 0.999):

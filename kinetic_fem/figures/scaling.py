@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..reproduce import ClaimRow, Context, register
-from ..scaling import LAMBDA_PAPER, solve_phi, solve_psi
+from ..solvers.scaling import LAMBDA_PAPER, solve_phi, solve_psi
 from .plotting import save, subplots
 
 
@@ -22,8 +22,8 @@ def _pm(value: float, error: float, digits: int = 10) -> str:
 def _fem_rows(phi, quick: bool) -> list[ClaimRow]:  # type: ignore[no-untyped-def]
     """sup-norm distance of the rescaled heated FEM solution to phi as eps -> 0."""
     try:
-        from .. import fem  # noqa: F401  (registers "fem")
         from ..solve import solve_heated
+        from ..solvers import fem  # noqa: F401  (registers "fem")
     except ImportError as exc:  # pragma: no cover - FEM optional here
         return [ClaimRow("C5", "heated FEM -> phi", "n/a", "P -> phi as eps -> 0", None,
                          "fem", f"FEM unavailable: {exc}")]

@@ -200,7 +200,7 @@ def relaxation_time(ctx: Context) -> list[ClaimRow]:
     Start at T_ref/4 and measure tau = int_0^t_end (T_inf - T)/(T_inf - T_0) dt, with
     T_inf the mean over the second half of a fixed window of 8 linear relaxation times.
     """
-    from kinetic_fem.grid import trapezoid_weights
+    from kinetic_fem.operators.grid import trapezoid_weights
 
     eps_list = (0.3, 0.1, 0.03, 0.01) if ctx.quick else (0.3, 0.1, 0.03, 0.01, 0.003)
     n = 20_000 if ctx.quick else 100_000

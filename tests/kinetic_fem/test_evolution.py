@@ -14,8 +14,8 @@ import pytest
 
 import kinetic_fem as kf
 from kinetic_fem.evolution import Evolution
-from kinetic_fem.fem_transient import lte_ratio
-from kinetic_fem.protocol import Protocol, steps
+from kinetic_fem.model.protocol import Protocol, steps
+from kinetic_fem.solvers.fem_transient import lte_ratio
 
 COARSE = {"spacing": 0.6, "cutoff": 10.0, "rtol": 1e-3}
 

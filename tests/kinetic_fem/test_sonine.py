@@ -14,8 +14,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from kinetic_fem import VelocityDistribution
-from kinetic_fem.collision import pair_moment
-from kinetic_fem.grid import simpson_weights
+from kinetic_fem.operators.collision import pair_moment
+from kinetic_fem.operators.grid import simpson_weights
 from kinetic_fem.sonine import (
     A2_ELASTIC_LIMIT,
     a2_first_order,

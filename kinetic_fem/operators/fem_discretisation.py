@@ -1,0 +1,234 @@
+"""The Galerkin discretisation shared by the FEM solvers (heated, transient, cooling).
+
+Lagrange elements (scikit-fem) on a velocity mesh; the unknown is :math:`u_h = \\ln P_h`.
+Weak forms: the white-noise term :math:`\\int\\varphi_i' P'`
+(:func:`fokker_planck`), the bath drift :math:`\\int \\varphi_i' v P` (:func:`bath_drift`),
+the mass :math:`\\int\\varphi_i P`, each with its Jacobian; the collision weak form
+(kernel :math:`|g|^\\gamma`, any restitution law) by the pair rule of
+:mod:`kinetic_fem.operators.fem_kernels`.  See :mod:`kinetic_fem.solvers.fem` for the equations.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+import scipy.sparse
+from numpy.typing import NDArray
+from skfem import Basis, BilinearForm, ElementLineP1, ElementLineP2, LinearForm, MeshLine, asm
+from skfem.helpers import dot, grad
+
+from ..distribution import VelocityDistribution
+from ..model import RestitutionLaw
+from ..model.restitution import CONSTANT
+from .fem_kernels import collision_operator, evaluate_field
+
+__all__ = ["FEMDiscretisation", "ELEMENTS", "fokker_planck", "fokker_planck_jacobian",
+           "bath_drift", "bath_drift_jacobian", "mass", "weighted_mass"]
+
+ELEMENTS = {1: ElementLineP1, 2: ElementLineP2}
+"""Lagrange elements by degree."""
+
+
+@LinearForm
+def fokker_planck(v, w):
+    """:math:`\\int \\varphi_i' P'` with :math:`P = e^{u}` (``w.u`` the current iterate)."""
+    return np.exp(w.u) * dot(grad(w.u), grad(v))
+
+
+@BilinearForm
+def fokker_planck_jacobian(du, v, w):
+    """Derivative of :func:`fokker_planck` in direction ``du``."""
+    return np.exp(w.u) * (du * dot(grad(w.u), grad(v)) + dot(grad(du), grad(v)))
+
+
+@LinearForm
+def bath_drift(v, w):
+    """:math:`\\int \\varphi_i' \\, v P` with :math:`P = e^{u}`: the weak form of
+    :math:`-\\partial_v(vP)` (times the friction :math:`\\xi`; zero flux at the ends)."""
+    return w.x[0] * np.exp(w.u) * grad(v)[0]
+
+
+@BilinearForm
+def bath_drift_jacobian(du, v, w):
+    """Derivative of :func:`bath_drift` in direction ``du``."""
+    return w.x[0] * np.exp(w.u) * du * grad(v)[0]
+
+
+@LinearForm
+def mass(v, w):
+    """:math:`\\int \\varphi_i e^{u}` (also the gradient of the total mass)."""
+    return np.exp(w.u) * v
+
+
+@BilinearForm
+def weighted_mass(du, v, w):
+    """:math:`\\int \\varphi_i \\varphi_j e^{u}`, the derivative of :func:`mass`."""
+    return np.exp(w.u) * du * v
+
+
+@dataclass(frozen=True, eq=False)
+class FEMDiscretisation:
+    """The Galerkin discretisation of the heated problem at ``n = D = 1``.
+
+    Parameters
+    ----------
+    alpha : float
+        Restitution coefficient.
+    vertices : ndarray, shape (E + 1,)
+        Mesh vertices, symmetric about 0 with a vertex at 0.
+    order : int
+        Lagrange degree, 1 or 2.
+    intorder : int
+        Degree of exactness of the Gauss rule (outer points and inner pieces).
+    symmetric : bool
+        Full collision bracket, exact conservation for any P (default: the reduced
+        bracket, more accurate as alpha -> 1; see
+        :func:`kinetic_fem.operators.fem_kernels.collision_operator`); constant laws only.
+    gamma : float
+        Kernel exponent, :math:`B(g) = |g|^\\gamma`.
+    law : RestitutionLaw, optional
+        A velocity-dependent restitution law (evaluated at ``speed_scale`` times the
+        relative speed); ``None``: the constant ``alpha``.
+    friction : float
+        Scaled friction :math:`\\xi` of a Fokker-Planck bath (0: white noise).
+    speed_scale : float
+        Physical speed of a unit of mesh velocity.
+    """
+
+    alpha: float
+    vertices: NDArray[np.float64]
+    order: int = 2
+    intorder: int = 5
+    symmetric: bool = False
+    gamma: float = 1.0
+    law: RestitutionLaw | None = None
+    friction: float = 0.0
+    speed_scale: float = 1.0
+
+    def __post_init__(self) -> None:
+        if self.symmetric and self.law is not None and self.law.constant is None:
+            raise ValueError("symmetric=True (the full collision bracket) needs a constant "
+                             f"restitution coefficient, got {self.law!r}; use the default "
+                             "reduced bracket")
+
+    @cached_property
+    def _law_arrays(self) -> tuple[int, float, float, float]:
+        """``(code, p0, p1, b_lo)`` of the law for the kernels."""
+        law = self.law
+        if law is None or law.constant is not None:
+            alpha = self.alpha if law is None or law.constant is None else law.constant
+            return CONSTANT, alpha, 0.0, 0.5 * (1.0 + alpha)
+        p0, p1 = law.parameters
+        return law.code, p0, p1, 0.5 * (1.0 + law.min_alpha)
+
+    @cached_property
+    def basis(self) -> Basis:
+        """The scikit-fem basis (owns the outer quadrature)."""
+        return Basis(MeshLine(self.vertices), ELEMENTS[self.order](), intorder=self.intorder)
+
+    @cached_property
+    def points(self) -> tuple[NDArray, NDArray, NDArray]:
+        """Outer quadrature points, weights and element indices, flattened."""
+        x = self.basis.mapping.F(self.basis.X)[0]  # (E, nq)
+        w = self.basis.dx
+        e = np.repeat(np.arange(x.shape[0]), x.shape[1]).reshape(x.shape)
+        return x.ravel(), w.ravel(), e.ravel()
+
+    @cached_property
+    def _mesh_arrays(self) -> tuple[NDArray, NDArray]:
+        verts = np.ascontiguousarray(self.basis.mesh.p[0], dtype=float)
+        dofs = np.ascontiguousarray(self.basis.element_dofs.T, dtype=np.int64)
+        return verts, dofs
+
+    @property
+    def dof_locations(self) -> NDArray[np.float64]:
+        """Velocity of each degree of freedom."""
+        return self.basis.doflocs[0]
+
+    @cached_property
+    def symmetry(self) -> scipy.sparse.csr_matrix:
+        """Sparse ``S`` with ``u = S u_even``: even fields from the dofs at ``v >= 0``."""
+        x = self.dof_locations
+        scale = np.abs(x).max()
+        key = np.round(np.abs(x) / scale * 2**40).astype(np.int64)
+        keep = np.flatnonzero(x >= 0)
+        lookup = dict(zip(key[keep].tolist(), range(keep.size), strict=True))
+        try:
+            cols = np.array([lookup[k] for k in key.tolist()])
+        except KeyError as err:
+            raise ValueError("the mesh must be symmetric about v = 0") from err
+        return scipy.sparse.csr_matrix((np.ones(x.size), (np.arange(x.size), cols)),
+                                       shape=(x.size, keep.size))
+
+    def field(self, u: NDArray[np.float64]):
+        """``u`` as a scikit-fem field at the quadrature points."""
+        return self.basis.interpolate(u)
+
+    def _collide(self, u: NDArray[np.float64], jacobian: bool,
+                 energy_power: int) -> tuple[NDArray, NDArray, float, float]:
+        verts, dofs = self._mesh_arrays
+        xq, wq, eq = self.points
+        ref_x, ref_w = self.basis.quadrature
+        code, p0, p1, b_lo = self._law_arrays
+        return collision_operator(verts, dofs, self.order, np.ascontiguousarray(u), xq, wq, eq,
+                                  np.ascontiguousarray(ref_x[0]), ref_w, p0, 1.0,
+                                  jacobian, energy_power, self.symmetric, float(self.gamma),
+                                  code, p0, p1, float(self.speed_scale), b_lo)
+
+    def collision(self, u: NDArray[np.float64], *, jacobian: bool = False,
+                  energy_power: int = 3) -> tuple[NDArray, NDArray, float]:
+        """Weak collision term, its Jacobian and the pair moment ``<|g|^p>``."""
+        return self._collide(u, jacobian, energy_power)[:3]
+
+    def energy_loss(self, u: NDArray[np.float64]) -> float:
+        """Pair-quadrature energy loss :math:`\\tfrac14\\langle(1-\\alpha(g)^2)
+        |g|^{\\gamma+2}\\rangle` (``n = 1``), the loss side of C1."""
+        return 0.25 * self._collide(u, False, 0)[3]
+
+    def transport(self, u: NDArray[np.float64], *, jacobian: bool = False
+                  ) -> tuple[NDArray, NDArray | None]:
+        """Weak thermostat term :math:`-\\int\\varphi_i'(P' + \\xi v P)` and its Jacobian."""
+        field = self.field(u)
+        res = -asm(fokker_planck, self.basis, u=field)
+        if self.friction > 0.0:
+            res -= self.friction * asm(bath_drift, self.basis, u=field)
+        if not jacobian:
+            return res, None
+        jac = asm(fokker_planck_jacobian, self.basis, u=field)
+        if self.friction > 0.0:
+            jac = jac + self.friction * asm(bath_drift_jacobian, self.basis, u=field)
+        return res, -jac.toarray()
+
+    def residual(self, u: NDArray[np.float64], *, jacobian: bool = False
+                 ) -> tuple[NDArray, NDArray | None]:
+        """:math:`R_i = -\\int \\varphi_i' (P' + \\xi v P) + C_i` and optionally its dense
+        Jacobian."""
+        coll, cjac, _ = self.collision(u, jacobian=jacobian)
+        heat, hjac = self.transport(u, jacobian=jacobian)
+        res = coll + heat
+        if not jacobian:
+            return res, None
+        return res, cjac + hjac
+
+    def values(self, u: NDArray[np.float64]) -> NDArray[np.float64]:
+        """:math:`P_h = e^{u_h}` at the outer quadrature points."""
+        return np.exp(np.asarray(self.field(u))).ravel()
+
+    def evaluate(self, u: NDArray[np.float64], v: NDArray[np.float64]) -> NDArray[np.float64]:
+        """:math:`P_h(v) = e^{u_h(v)}` at increasing points ``v`` inside the mesh."""
+        verts, dofs = self._mesh_arrays
+        return np.exp(evaluate_field(verts, dofs, self.order, np.ascontiguousarray(u),
+                                     np.ascontiguousarray(v, dtype=float)))
+
+    def gaussian(self, temperature: float) -> NDArray[np.float64]:
+        """Coefficients of :math:`\\ln` of the normalised Gaussian (exact in P2)."""
+        x = self.dof_locations
+        return -0.5 * x**2 / temperature - 0.5 * math.log(2.0 * math.pi * temperature)
+
+    def distribution(self, u: NDArray[np.float64], **kwargs) -> VelocityDistribution:
+        """The result on the quadrature points with the quadrature weights."""
+        xq, wq, _ = self.points
+        return VelocityDistribution.from_values(xq, self.values(u), weights=wq, **kwargs)

@@ -1,0 +1,424 @@
+"""Numba kernels of the Galerkin collision operator (see :mod:`kinetic_fem.solvers.fem`).
+
+The weak form of the inelastic collision term for a Lagrange test function
+:math:`\\varphi_i` is
+
+.. math::
+
+    C_i = \\frac n2 \\iint dx\\, dy\\, |x - y| P(x) P(y)
+    \\left[\\varphi_i(x') + \\varphi_i(y') - \\varphi_i(x) - \\varphi_i(y)\\right],
+    \\quad x' = a x + b y,\\ y' = b x + a y,
+
+with :math:`a = (1-\\alpha)/2`, :math:`b = (1+\\alpha)/2` and :math:`P = e^{u_h}`.
+It is evaluated on one set of weighted pairs :math:`(x_q, y_m)`: the outer points
+:math:`x_q` are the basis' quadrature points; for each of them the inner integral
+over :math:`y` is split at every point where the integrand is not smooth (mesh
+vertices, :math:`y = x_q`, and the pre-images of the vertices under :math:`y \\mapsto
+x'` and :math:`y \\mapsto y'`), and each piece gets the basis' reference rule.  The
+integrand is then smooth on every piece, so the pair rule keeps the order of the
+Gauss rule, and because every pair enters with the full bracket, the discrete
+operator conserves :math:`\\sum_i c_i C_i` exactly for any :math:`c` with
+:math:`\\sum_i c_i \\varphi_i \\equiv 1` or :math:`v` (and :math:`v^2` for P2).
+The cost of one evaluation is O(N^2) in the number of elements, as is the
+Jacobian :math:`\\partial C_i / \\partial u_j`.
+
+Kernels take arrays and scalars only; local shape functions are those of
+scikit-fem's ``ElementLineP1`` / ``ElementLineP2`` on the reference interval [0, 1]
+(dofs: left vertex, right vertex, midpoint), checked against ``basis.probes`` in the
+tests.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._jit import jit
+from ..model.restitution import CONSTANT, THRESHOLD, VISCOELASTIC, restitution_value
+
+__all__ = ["shape_values", "collision_operator", "evaluate_field", "kernel_rate",
+           "preimage_distance", "GRADING_RATIO", "GRADING_LEVELS"]
+
+GRADING_RATIO = 0.15
+"""Ratio of the geometric pieces towards the singular point y = x."""
+GRADING_LEVELS = 12
+"""Number of geometric pieces on each side of y = x (graded quadrature only)."""
+
+
+@jit
+def shape_values(order: int, xi: float, out: np.ndarray) -> None:
+    """Lagrange shape functions of degree ``order`` (1 or 2) at ``xi`` in [0, 1]."""
+    if order == 1:
+        out[0] = 1.0 - xi
+        out[1] = xi
+    else:
+        out[0] = 1.0 - 3.0 * xi + 2.0 * xi * xi
+        out[1] = -xi + 2.0 * xi * xi
+        out[2] = 4.0 * xi - 4.0 * xi * xi
+
+
+@jit
+def _locate(verts: np.ndarray, e: int, x: float) -> int:
+    """Walk forward from element ``e`` to the element containing ``x``."""
+    n_el = verts.size - 1
+    while e < n_el - 1 and verts[e + 1] <= x:
+        e += 1
+    return e
+
+
+@jit
+def evaluate_field(verts: np.ndarray, dofs: np.ndarray, order: int, coef: np.ndarray,
+                   x: np.ndarray) -> np.ndarray:
+    """Values of the finite-element field ``coef`` at increasing points ``x``."""
+    k = dofs.shape[1]
+    phi = np.empty(k)
+    out = np.empty(x.size)
+    e = 0
+    for p in range(x.size):
+        e = _locate(verts, e, x[p])
+        shape_values(order, (x[p] - verts[e]) / (verts[e + 1] - verts[e]), phi)
+        s = 0.0
+        for j in range(k):
+            s += coef[dofs[e, j]] * phi[j]
+        out[p] = s
+    return out
+
+
+@jit
+def _merge_breaks(verts: np.ndarray, x: float, a: float, b: float, buf: np.ndarray,
+                  second: bool) -> int:
+    """Sorted breakpoints of the inner integrand in [v_0, v_E]; returns their count."""
+    lo = verts[0]
+    hi = verts[-1]
+    nv = verts.size
+    i1 = 0
+    i2 = 0
+    i3 = 0
+    done4 = False
+    n = 0
+    inf = np.inf
+    while True:
+        c1 = verts[i1] if i1 < nv else inf
+        c2 = (verts[i2] - a * x) / b if i2 < nv else inf
+        c3 = (verts[i3] - b * x) / a if (second and i3 < nv and a > 0.0) else inf
+        c4 = inf if done4 else x
+        m = min(min(c1, c2), min(c3, c4))
+        if m == inf:
+            break
+        if m == c1:
+            i1 += 1
+        elif m == c2:
+            i2 += 1
+        elif m == c3:
+            i3 += 1
+        else:
+            done4 = True
+        if m >= lo and m <= hi:
+            buf[n] = m
+            n += 1
+    return n
+
+
+@jit
+def kernel_rate(gamma: float, g: float) -> float:
+    """:math:`B(g) = g^\\gamma` for ``g >= 0`` (multiplications for gamma in {0, 1, 2})."""
+    if gamma == 1.0:
+        return g
+    if gamma == 0.0:
+        return 1.0
+    if gamma == 2.0:
+        return g * g
+    return g ** gamma
+
+
+@jit
+def preimage_distance(code: int, p0: float, p1: float, speed_scale: float, d: float,
+                      b_lo: float) -> float:
+    """The ``s >= 0`` with :math:`s\\,b(s) = d`, :math:`b(s) = (1 + \\alpha(s))/2`.
+
+    For a law with :math:`s\\,b(s)` increasing (the viscoelastic law: its derivative
+    :math:`2 - \\tfrac65 C_1 x + \\tfrac75 C_2 x^2 > 0`, :math:`x = \\delta s^{1/5}`),
+    the root lies in :math:`[d, d/b_{lo}]` with :math:`b_{lo} = (1 + \\min\\alpha)/2`;
+    regula falsi (Illinois) to round-off.  The law is evaluated at the physical speed
+    ``s * speed_scale``.
+    """
+    if d <= 0.0:
+        return 0.0
+    lo = d
+    hi = d / b_lo
+    flo = lo * 0.5 * (1.0 + restitution_value(code, p0, p1, lo * speed_scale)) - d
+    fhi = hi * 0.5 * (1.0 + restitution_value(code, p0, p1, hi * speed_scale)) - d
+    if flo >= 0.0:
+        return lo
+    if fhi <= 0.0:
+        return hi
+    s = lo
+    side = 0
+    for _ in range(200):
+        s = (lo * fhi - hi * flo) / (fhi - flo)
+        fs = s * 0.5 * (1.0 + restitution_value(code, p0, p1, s * speed_scale)) - d
+        if abs(fs) <= 4e-16 * d or hi - lo <= 4e-16 * hi:
+            break
+        if fs < 0.0:
+            lo = s
+            flo = fs
+            if side == -1:
+                fhi *= 0.5
+            side = -1
+        else:
+            hi = s
+            fhi = fs
+            if side == 1:
+                flo *= 0.5
+            side = 1
+    return s
+
+
+@jit
+def _law_breaks(verts: np.ndarray, x: float, code: int, p0: float, p1: float,
+                speed_scale: float, b_lo: float, pre: np.ndarray, buf: np.ndarray) -> int:
+    """Sorted breakpoints for a velocity-dependent law; returns their count.
+
+    Vertices, :math:`y = x` and the pre-images of the vertices under
+    :math:`y \\mapsto x'(y)`: for the threshold law both linear families (elastic:
+    :math:`x' = y`, the vertices themselves; inelastic: :math:`(v_k - a x)/b`) and the
+    two jumps :math:`y = x \\pm g_{th}`; for a monotone law (viscoelastic) the root of
+    :math:`x + b(|t|)\\,t = v_k`, :math:`t = y - x`.
+    """
+    nv = verts.size
+    lo = verts[0]
+    hi = verts[-1]
+    if code == THRESHOLD:
+        b = 0.5 * (1.0 + p0)
+        a = 1.0 - b
+        for k in range(nv):
+            pre[k] = (verts[k] - a * x) / b
+        th = p1 / speed_scale
+        extras = (x - th, x, x + th)
+        n_extra = 3
+    else:
+        for k in range(nv):
+            d = verts[k] - x
+            t = preimage_distance(code, p0, p1, speed_scale, abs(d), b_lo)
+            pre[k] = x + t if d >= 0.0 else x - t
+        extras = (x, np.inf, np.inf)
+        n_extra = 1
+    i1 = 0
+    i2 = 0
+    i3 = 0
+    n = 0
+    inf = np.inf
+    while True:
+        c1 = verts[i1] if i1 < nv else inf
+        c2 = pre[i2] if i2 < nv else inf
+        c3 = extras[i3] if i3 < n_extra else inf
+        m = min(c1, min(c2, c3))
+        if m == inf:
+            break
+        if m == c1:
+            i1 += 1
+        elif m == c2:
+            i2 += 1
+        else:
+            i3 += 1
+        if m >= lo and m <= hi:
+            buf[n] = m
+            n += 1
+    return n
+
+
+@jit
+def _pieces(buf: np.ndarray, n_br: int, x: float, scale: float, graded: bool,
+            starts: np.ndarray, lengths: np.ndarray) -> int:
+    """Inner pieces between consecutive breaks; returns their count.
+
+    With ``graded`` the two pieces that end at :math:`y = x` (where :math:`|x-y|^\\gamma`
+    or :math:`\\alpha(|x-y|)` is not smooth) are split geometrically towards :math:`x`
+    (ratio :data:`GRADING_RATIO`, :data:`GRADING_LEVELS` levels), which restores the
+    Gauss order up to the innermost piece of relative length
+    :math:`0.15^{12} \\approx 10^{-10}`.
+    """
+    n_p = 0
+    for s in range(n_br - 1):
+        y0 = buf[s]
+        length = buf[s + 1] - y0
+        if length <= 1e-14 * scale:
+            continue
+        if graded and (buf[s + 1] == x or y0 == x):
+            towards_right = buf[s + 1] == x
+            outer = length
+            for _ in range(GRADING_LEVELS):
+                inner = outer * GRADING_RATIO
+                starts[n_p] = x - outer if towards_right else x + inner
+                lengths[n_p] = outer - inner
+                n_p += 1
+                outer = inner
+            starts[n_p] = x - outer if towards_right else x
+            lengths[n_p] = outer
+            n_p += 1
+        else:
+            starts[n_p] = y0
+            lengths[n_p] = length
+            n_p += 1
+    return n_p
+
+
+@jit
+def collision_operator(verts: np.ndarray, dofs: np.ndarray, order: int, coef: np.ndarray,
+                       xq: np.ndarray, wq: np.ndarray, eq: np.ndarray, ref_x: np.ndarray,
+                       ref_w: np.ndarray, alpha: float, density: float, with_jacobian: bool,
+                       energy_power: int, symmetric: bool, gamma: float, code: int,
+                       p0: float, p1: float, speed_scale: float, b_lo: float
+                       ) -> tuple[np.ndarray, np.ndarray, float, float]:
+    """Weak collision term ``C_i`` for ``P = exp(u_h)``, its Jacobian and pair moments.
+
+    Parameters
+    ----------
+    verts : ndarray, shape (E + 1,)
+        Increasing mesh vertices.
+    dofs : ndarray of int, shape (E, k)
+        Global dofs of each element (left vertex, right vertex[, midpoint]).
+    order : int
+        Element degree (1 or 2).
+    coef : ndarray, shape (N,)
+        Coefficients of :math:`u_h = \\ln P_h`.
+    xq, wq, eq : ndarray, shape (Q,)
+        Outer quadrature points, weights and their elements.
+    ref_x, ref_w : ndarray, shape (m,)
+        Reference rule on [0, 1] for the inner pieces.
+    alpha, density : float
+        Restitution coefficient (constant law) and number density.
+    with_jacobian : bool
+        Also assemble the dense Jacobian :math:`\\partial C_i/\\partial u_j`.
+    energy_power : int
+        ``p`` of the returned pair moment :math:`\\sum W |x-y|^p P(x) P(y)`.
+    symmetric : bool
+        Full bracket (exact conservation of mass, momentum and, with P2, the energy
+        identity, for any P; constant laws only).  Otherwise :math:`\\varphi_i(y')` is
+        replaced by :math:`\\varphi_i(x')` (equal after integration, by the x <-> y
+        symmetry): mass is still conserved exactly and momentum for even P on a
+        symmetric mesh, while the outer integrand stays smooth as alpha -> 1 (the
+        pre-images of the vertices under y -> y' sweep past the mesh at rate
+        (1+alpha)/(1-alpha)).
+    gamma : float
+        Kernel exponent, :math:`B(g) = |g|^\\gamma`.
+    code, p0, p1 : int, float, float
+        Restitution law (:func:`kinetic_fem.model.restitution_value`); with
+        ``code == CONSTANT`` the coefficient is ``alpha``.
+    speed_scale : float
+        Physical speed of a unit of the mesh velocity (the law is evaluated at
+        :math:`|x - y|` times this).
+    b_lo : float
+        :math:`(1 + \\min_g \\alpha(g))/2`, brackets the pre-images of a monotone law.
+
+    Returns
+    -------
+    residual : ndarray, shape (N,)
+    jacobian : ndarray, shape (N, N) (shape (1, 1) without ``with_jacobian``)
+    pair_moment : float
+        :math:`\\sum W |x-y|^p P(x) P(y)`.
+    loss_moment : float
+        :math:`\\sum W (1 - \\alpha(g)^2) B(g) g^2 P(x) P(y)`; the collisional energy
+        loss is ``density / 4`` times it.
+    """
+    n_dof = coef.size
+    k = dofs.shape[1]
+    constant = code == CONSTANT
+    graded = (gamma != 0.0 and gamma != 1.0 and gamma != 2.0) or code == VISCOELASTIC
+    a = 0.5 * (1.0 - alpha)
+    b = 0.5 * (1.0 + alpha)
+    res = np.zeros(n_dof)
+    jac = np.zeros((n_dof, n_dof)) if with_jacobian else np.zeros((1, 1))
+    bq = np.zeros(n_dof)
+    buf = np.empty(3 * verts.size + 3)
+    pre = np.empty(verts.size)
+    n_max = buf.size + 2 * (GRADING_LEVELS + 1)
+    starts = np.empty(n_max)
+    lengths = np.empty(n_max)
+    phx = np.empty(k)
+    phy = np.empty(k)
+    ph1 = np.empty(k)
+    ph2 = np.empty(k)
+    idx = np.empty(4 * k, dtype=np.int64)
+    val = np.empty(4 * k)
+    scale = verts[-1] - verts[0]
+    moment = 0.0
+    loss = 0.0
+    for q in range(xq.size):
+        x = xq[q]
+        ex = eq[q]
+        shape_values(order, (x - verts[ex]) / (verts[ex + 1] - verts[ex]), phx)
+        ux = 0.0
+        for j in range(k):
+            ux += coef[dofs[ex, j]] * phx[j]
+        px = np.exp(ux)
+        if constant:
+            n_br = _merge_breaks(verts, x, a, b, buf, symmetric)
+        else:
+            n_br = _law_breaks(verts, x, code, p0, p1, speed_scale, b_lo, pre, buf)
+        n_p = _pieces(buf, n_br, x, scale, graded, starts, lengths)
+        ey = 0
+        e1 = 0
+        e2 = 0
+        if with_jacobian:
+            bq[:] = 0.0
+        for s in range(n_p):
+            y0 = starts[s]
+            length = lengths[s]
+            mid = y0 + 0.5 * length
+            ey = _locate(verts, ey, mid)
+            if constant:
+                e1 = _locate(verts, e1, a * x + b * mid)
+            else:
+                bm = 0.5 * (1.0 + restitution_value(code, p0, p1, abs(x - mid) * speed_scale))
+                e1 = _locate(verts, e1, x - bm * (x - mid))
+            e2 = _locate(verts, e2, b * x + a * mid)
+            hy = verts[ey + 1] - verts[ey]
+            h1 = verts[e1 + 1] - verts[e1]
+            h2 = verts[e2 + 1] - verts[e2]
+            for r in range(ref_x.size):
+                y = y0 + length * ref_x[r]
+                shape_values(order, (y - verts[ey]) / hy, phy)
+                uy = 0.0
+                for j in range(k):
+                    uy += coef[dofs[ey, j]] * phy[j]
+                g = abs(x - y)
+                if constant:
+                    al = alpha
+                    x1 = a * x + b * y
+                else:
+                    al = restitution_value(code, p0, p1, g * speed_scale)
+                    x1 = x - 0.5 * (1.0 + al) * (x - y)
+                shape_values(order, (x1 - verts[e1]) / h1, ph1)
+                if symmetric:
+                    shape_values(order, (b * x + a * y - verts[e2]) / h2, ph2)
+                w = wq[q] * length * ref_w[r] * px * np.exp(uy)
+                rate = kernel_rate(gamma, g)
+                moment += w * g ** energy_power
+                loss += w * (1.0 - al * al) * rate * g * g
+                c = 0.5 * density * w * rate
+                for j in range(k):
+                    idx[j] = dofs[e1, j]
+                    val[j] = c * ph1[j]
+                    if symmetric:
+                        idx[k + j] = dofs[e2, j]
+                        val[k + j] = c * ph2[j]
+                    else:
+                        idx[k + j] = dofs[e1, j]
+                        val[k + j] = c * ph1[j]
+                    idx[2 * k + j] = dofs[ex, j]
+                    val[2 * k + j] = -c * phx[j]
+                    idx[3 * k + j] = dofs[ey, j]
+                    val[3 * k + j] = -c * phy[j]
+                for t in range(4 * k):
+                    res[idx[t]] += val[t]
+                if with_jacobian:
+                    for t in range(4 * k):
+                        bq[idx[t]] += val[t]
+                        for j in range(k):
+                            jac[idx[t], dofs[ey, j]] += val[t] * phy[j]
+        if with_jacobian:
+            for i in range(n_dof):
+                if bq[i] != 0.0:
+                    for j in range(k):
+                        jac[i, dofs[ex, j]] += bq[i] * phx[j]
+    return res, jac, moment, loss

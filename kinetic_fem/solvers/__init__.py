@@ -1,0 +1,21 @@
+"""Deterministic solvers, one module per method (registered in :mod:`kinetic_fem.solve`).
+
+- FEM (scikit-fem Galerkin): :mod:`~kinetic_fem.solvers.fem` (heated steady state),
+  :mod:`~kinetic_fem.solvers.fem_cooling` (homogeneous cooling state),
+  :mod:`~kinetic_fem.solvers.fem_evolution` and :mod:`~kinetic_fem.solvers.fem_transient`
+  (transients), :mod:`~kinetic_fem.solvers.fem_defaults` (meshes and cut-offs from the
+  model's scales).
+- The paper's finite differences (Biben): :mod:`~kinetic_fem.solvers.finite_difference`
+  (heated), :mod:`~kinetic_fem.solvers.fd_cooling` (cooling), with
+  :mod:`~kinetic_fem.solvers.fd_march`, :mod:`~kinetic_fem.solvers.fd_newton`,
+  :mod:`~kinetic_fem.solvers.hcs_newton`, :mod:`~kinetic_fem.solvers.fd_scales` and
+  :mod:`~kinetic_fem.solvers.richardson`.
+- Sonine spectral Galerkin: :mod:`~kinetic_fem.solvers.spectral`; the exact moment
+  hierarchy of the Maxwell model: :mod:`~kinetic_fem.solvers.maxwell`.
+- Quasi-elastic limits (phi, psi): :mod:`~kinetic_fem.solvers.scaling`, with
+  :mod:`~kinetic_fem.solvers.scaling_common` and :mod:`~kinetic_fem.solvers.scaling_psi`.
+
+Users call :func:`kinetic_fem.solve_heated`, :func:`kinetic_fem.solve_cooling`,
+:func:`kinetic_fem.evolve_heated` and :func:`kinetic_fem.evolve_cooling`, which pick the
+solver by its registry key (``"fem"``, ``"fd"``, ``"spectral"``).
+"""

@@ -1,0 +1,315 @@
+"""FEM transients of the heated and the freely cooling gas (method ``"fem"``).
+
+Sets up the velocity mesh, the initial state and the protocol for the adaptive
+integrator of :mod:`kinetic_fem.solvers.fem_transient`, and collects the output as an
+:class:`~kinetic_fem.evolution.Evolution`.
+
+* Heated gas: physical velocities; the mesh covers ``cutoff`` thermal velocities of
+  the hottest state met (initial state or a Gaussian-closure steady temperature
+  :meth:`HeatedProblem.temperature_estimate` of any protocol value) with elements of
+  ``spacing`` thermal velocities of the coldest.  The integrator stops exactly at the
+  output times and restarts (backward Euler, small step) at the protocol's
+  discontinuities.
+* Free cooling: scaled velocities :math:`c = v/\\sqrt{T}`; output at physical times by
+  interpolation in the scaled time (quadratic, the order of the scheme).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..distribution import RunInfo, VelocityDistribution
+from ..evolution import Evolution
+from ..model import (
+    CoolingProblem,
+    HeatedProblem,
+    InelasticGas,
+    UnsupportedModelError,
+    as_thermostat,
+)
+from ..model.protocol import Protocol
+from .fem_transient import (
+    Integrator,
+    Level,
+    TransientOptions,
+    build_mesh,
+    floor_log,
+    lagrange_weights,
+    make_discretisation,
+)
+
+__all__ = ["evolve_heated_fem", "evolve_cooling_fem", "default_transient_cutoff",
+           "initial_log_density", "check_normalised"]
+
+logger = logging.getLogger(__name__)
+
+COOLING_MIN_STEP = 0.01
+"""Smallest scaled-time step of a cooling run (see ``TransientOptions.min_step``)."""
+
+
+def default_transient_cutoff(gamma: float) -> float:
+    """Half-width of the mesh in thermal velocities: :math:`\\max(10, 26 - 11\\gamma)`.
+
+    Covers the steady tails to about 1e-20 relative (exponential for Maxwell
+    molecules, :math:`e^{-A c^{3/2}}` for hard rods), enough for moments up to
+    :math:`\\langle v^{12}\\rangle` at the tolerances of the tests.
+    """
+    return max(10.0, 26.0 - 11.0 * gamma)
+
+
+def check_normalised(dist: VelocityDistribution) -> None:
+    """Raise ``ValueError`` unless ``dist`` has unit mass (to 1e-6)."""
+    mass = float(dist.raw_moments[0])
+    if not abs(mass - 1.0) <= 1e-6:
+        raise ValueError(f"the initial distribution is not normalised: its mass is {mass:.8g}; "
+                         "pass a normalised VelocityDistribution (from_values normalises "
+                         "by default)")
+
+
+def initial_log_density(dist: VelocityDistribution, v: NDArray[np.float64], *,
+                        scale: float = 1.0) -> NDArray:
+    """``ln(scale P(scale v))`` of an even version of ``dist``, floored, Gaussian beyond.
+
+    Raises
+    ------
+    ValueError
+        If ``dist`` is not normalised (mass differs from 1 by more than 1e-6).
+    """
+    check_normalised(dist)
+    temp = dist.temperature
+    inner = 0.999 * min(abs(dist.v[0]), abs(dist.v[-1]))
+    av = np.abs(v) * scale
+    a_in = np.minimum(av, inner)
+    p = 0.5 * (dist.pdf(a_in) + dist.pdf(-a_in)) * scale
+    tiny = np.finfo(float).tiny
+    log_p = np.log(np.maximum(p, tiny)) - 0.5 * (av**2 - a_in**2) / temp
+    return floor_log(v, log_p)
+
+
+def _temperatures(problem: HeatedProblem, protocol: Protocol, t_end: float,
+                  times: NDArray) -> list[float]:
+    """Gaussian-closure steady temperatures of the protocol's states."""
+    samples = set(times.tolist()) | {0.0, t_end} | set(protocol.breakpoints(t_end))
+    samples |= set(np.linspace(0.0, t_end, 41).tolist())
+    gas = problem.gas
+    out = []
+    for t in sorted(samples):
+        d = protocol.diffusion_at(t, problem.diffusion)
+        xi = protocol.friction_at(t, problem.friction)
+        law = protocol.restitution_at(t, gas.restitution)
+        try:
+            state = HeatedProblem(InelasticGas(law, gas.density, gas.kernel),
+                                  as_thermostat(d, xi))
+        except ValueError as err:
+            raise ValueError(f"the protocol at t={t:g} (D={d:g}, friction={xi:g}, "
+                             f"{law!r}) is not a valid heated problem: {err}") from None
+        out.append(state.temperature_estimate())
+    return out
+
+
+def _evolution(outputs: list, grid_scale: list[float], integ: Integrator, times: NDArray,
+               params: dict, start: float, message: str, series: dict) -> Evolution:
+    xq, wq = integ.xq, integ.wq
+    grid = np.array([xq * s for s in grid_scale])
+    values = np.array([integ.disc.values(u) / s for u, s in zip(outputs, grid_scale,
+                                                                  strict=True)])
+    weights = np.array([wq * s for s in grid_scale])
+    st = integ.stats
+    info = RunInfo(converged=True, iterations=st.accepted, residual=float("nan"),
+                   wall_time=time.perf_counter() - start, message=message,
+                   extra={**st.as_dict(), "rtol": integ.opt.rtol,
+                          "n_dofs": int(integ.x.size), "order": integ.opt.order})
+    series = {**series, "mass": np.array([integ.moments(u)[0] for u in outputs])}
+    return Evolution(times, grid, values, weights, method="fem", params=params, info=info,
+                     series=series)
+
+
+def evolve_heated_fem(problem: HeatedProblem, *, times: NDArray, protocol: Protocol,
+                      initial: VelocityDistribution | None,
+                      initial_temperature: float | None, rtol: float = 1e-6, order: int = 2,
+                      spacing: float = 0.25, cutoff: float | None = None,
+                      first_step: float | None = None, max_step: float = math.inf,
+                      max_steps: int = 20000, newton_tol: float = 1e-11,
+                      max_newton: int = 12) -> Evolution:
+    """Transient of the heated gas under ``protocol`` by adaptive BDF2 (see the module)."""
+    start = time.perf_counter()
+    gas = problem.gas
+    if order not in (1, 2):
+        raise ValueError(f"order must be 1 or 2, got {order!r}")
+    t_end = float(times[-1])
+    temps = _temperatures(problem, protocol, t_end, times)
+    t_init = initial.temperature if initial is not None else (
+        initial_temperature if initial_temperature is not None else temps[0])
+    hot, cold = max(max(temps), t_init), min(min(temps), t_init)
+    c_cut = default_transient_cutoff(gas.gamma) if cutoff is None else cutoff
+    verts = build_mesh(c_cut * math.sqrt(hot), spacing * math.sqrt(cold))
+    laws = {}
+
+    def disc_at(t: float):
+        law = protocol.restitution_at(t, gas.restitution)
+        if law not in laws:
+            laws[law] = make_discretisation(law, gas.gamma, verts, order)
+        return laws[law]
+
+    def coefficients(t: float, left: bool = True) -> tuple[float, float, float]:
+        # implicit steps end at t: the value on the step is the left limit at a switch
+        return (gas.density, protocol.diffusion_at(t, problem.diffusion, left=left),
+                protocol.friction_at(t, problem.friction, left=left))
+
+    t_coll = 1.0 / (gas.density * math.sqrt(cold) ** gas.gamma)
+    # restarts from smooth states: a small step; the first step from the initial data
+    # spreads diffusion over a node at least (see fem_transient.floor_log)
+    h0 = first_step if first_step is not None else 0.1 * math.sqrt(rtol) * t_coll
+    node = spacing * math.sqrt(cold) / order
+    h_first = first_step if first_step is not None else max(
+        h0, node * node / (2.0 * protocol.diffusion_at(0.0, problem.diffusion)))
+    d_max = max(protocol.diffusion_at(t, problem.diffusion) for t in times)
+    opt = TransientOptions(rtol, min(h_first, node * node / (2.0 * d_max)), order, spacing,
+                           cutoff, first_step, max_step, max_steps, newton_tol, max_newton)
+    integ = Integrator(disc_at(0.0), coefficients, cooling=False, options=opt, gamma=gas.gamma)
+    x = integ.x
+    if initial is not None:
+        u = initial_log_density(initial, x)
+    else:
+        u = floor_log(x, -0.5 * x**2 / t_init - 0.5 * math.log(2.0 * math.pi * t_init))
+    u = u - math.log(integ.moments(u)[0])
+    hist = [Level(0.0, u, integ.masses(u), 0.0, np.zeros(2), integ.observables(u, np.zeros(2)))]
+    breaks = list(protocol.breakpoints(t_end))
+    stops = sorted(set(times.tolist()) | set(breaks))
+    outputs = [u] if times[0] == 0.0 else []
+    h = h_first
+    for stop in stops:
+        if stop == 0.0:
+            continue
+        reached = False
+        while not reached:
+            h, reached = integ.advance(hist, h, stop)
+        if times[np.searchsorted(times, stop)] == stop if stop <= t_end else False:
+            outputs.append(hist[-1].u)
+        if stop in breaks:
+            integ.stats.restarts += 1
+            integ.set_disc(disc_at(stop))
+            last = hist[-1]
+            hist[:] = [Level(stop, last.u, last.m, 0.0, last.y, last.obs)]
+            h = h0
+    params = {**problem.as_dict(), "problem": "heated transient",
+              "protocol": repr(protocol)}
+    series = {"diffusion": np.array([coefficients(t, False)[1] for t in times]),
+              "friction": np.array([coefficients(t, False)[2] for t in times])}
+    st = integ.stats
+    message = (f"adaptive BDF2, rtol={rtol:g}: {st.accepted} steps ({st.forced} at the minimum "
+               f"step {opt.min_step:.3g} above tolerance, {st.rejected} rejected, "
+               f"{st.newton_failures} Newton failures), {st.newton_iterations} Newton "
+               f"iterations, {st.restarts} restarts")
+    logger.info(message)
+    return _evolution(outputs, [1.0] * len(outputs), integ, times, params, start, message,
+                      series)
+
+
+def evolve_cooling_fem(problem: CoolingProblem, *, times: NDArray,
+                       initial: VelocityDistribution | None,
+                       initial_temperature: float | None, rtol: float = 1e-6, order: int = 2,
+                       spacing: float | None = None, cutoff: float | None = None,
+                       first_step: float | None = None, max_step: float = math.inf,
+                       max_steps: int = 20000, newton_tol: float = 1e-11,
+                       max_newton: int = 12) -> Evolution:
+    """Free cooling in scaled variables, T(t) in physical units (see the module)."""
+    start = time.perf_counter()
+    gas = problem.gas
+    if gas.restitution.constant is None:
+        raise UnsupportedModelError(
+            "evolve_cooling (method 'fem') needs a constant restitution coefficient: with a "
+            f"speed-dependent law {gas.restitution!r} the scaled state has no fixed law; use "
+            "evolve_heated with a protocol instead")
+    if order not in (1, 2):
+        raise ValueError(f"order must be 1 or 2, got {order!r}")
+    eps = 1.0 - gas.restitution.constant
+    zeta_est = (1.0 - (1.0 - eps) ** 2) / math.sqrt(math.pi)
+    if spacing is None:
+        spacing = min(0.25, max(eps, 1e-12) ** (1.0 / 3.0) / 6.0)
+    c_cut = max(12.0, 1.5 + 80.0 * zeta_est) if cutoff is None else cutoff
+    verts = build_mesh(c_cut, spacing)
+    disc = make_discretisation(gas.restitution, gas.gamma, verts, order)
+    # steps below ~0.01 collision times from a Gaussian start have no positive solution
+    # in the steep initial tail (as for the heated gas): they are the minimum step
+    h_min = COOLING_MIN_STEP if first_step is None else min(first_step, COOLING_MIN_STEP)
+    opt = TransientOptions(rtol, h_min, order, spacing, cutoff, first_step, max_step,
+                           max_steps, newton_tol, max_newton)
+    integ = Integrator(disc, lambda t, left=True: (gas.density, 0.0, 0.0), cooling=True,
+                       options=opt, gamma=gas.gamma)
+    x = integ.x
+    if initial is not None:
+        t0 = initial.temperature
+        u = initial_log_density(initial, x, scale=math.sqrt(t0))
+    else:
+        t0 = 1.0 if initial_temperature is None else initial_temperature
+        u = floor_log(x, -0.5 * x**2 - 0.5 * math.log(2.0 * math.pi))
+    # unit mass and unit temperature (the constraint x^2.m = 1, exact for P2):
+    # u -> u + a + b x^2, Newton on b
+    x2 = x**2
+    for _ in range(50):
+        m = integ.masses(u)
+        m0, m2, m4 = m.sum(), x2 @ m, (x2 * x2) @ m
+        u = u - math.log(m0)
+        if abs(m2 / m0 - 1.0) < 1e-14:
+            break
+        u = u - (m2 / m0 - 1.0) / (m4 / m0 - (m2 / m0) ** 2) * x2
+    y0 = np.array([math.log(t0), 0.0])
+    hist = [Level(0.0, u, integ.masses(u), integ.zeta_of(u), y0, integ.observables(u, y0))]
+    h = first_step if first_step is not None else h_min
+    outputs, temps, zetas, taus = [], [], [], []
+    k = 0
+    while k < times.size and times[k] <= 0.0:
+        outputs.append(u)
+        temps.append(t0)
+        zetas.append(hist[0].zeta)
+        taus.append(0.0)
+        k += 1
+    while k < times.size:
+        h, _ = integ.advance(hist, h, math.inf)
+        while k < times.size and hist[-1].y[1] >= times[k]:
+            levels = hist[-3:]
+            s_star = _invert(levels, times[k])
+            w = lagrange_weights([lv.s for lv in levels], s_star)
+            u_k = sum(c * lv.u for c, lv in zip(w, levels, strict=True))
+            log_t = sum(c * lv.y[0] for c, lv in zip(w, levels, strict=True))
+            outputs.append(u_k)
+            temps.append(math.exp(log_t))
+            zetas.append(sum(c * lv.zeta for c, lv in zip(w, levels, strict=True)))
+            taus.append(s_star)
+            k += 1
+    # cooling-rate convention dT/dt = -2 zeta n T^(1 + gamma/2): scaled zeta is that zeta
+    params = {**problem.as_dict(), "problem": "cooling transient"}
+    st = integ.stats
+    message = (f"adaptive BDF2 in scaled time, rtol={rtol:g}: {st.accepted} steps "
+               f"({st.rejected} rejected, {st.newton_failures} Newton failures), "
+               f"{st.newton_iterations} Newton iterations; tau_end={hist[-1].s:.4g}")
+    logger.info(message)
+    scales = [math.sqrt(t) for t in temps]
+    return _evolution(outputs, scales, integ, times, params, start, message,
+                      {"zeta": np.array(zetas), "scaled_time": np.array(taus)})
+
+
+def _invert(levels: list[Level], t_target: float) -> float:
+    """Scaled time at which the interpolated physical time equals ``t_target``."""
+    s = [lv.s for lv in levels]
+    lo, hi = (s[-2], s[-1]) if len(s) > 1 else (s[0], s[0])
+    f_lo = sum(c * lv.y[1] for c, lv in zip(lagrange_weights(s, lo), levels, strict=True))
+    f_hi = sum(c * lv.y[1] for c, lv in zip(lagrange_weights(s, hi), levels, strict=True))
+    if hi == lo or f_hi == f_lo:
+        return hi
+    # secant iterations on the (nearly linear) interpolant
+    a, b, fa, fb = lo, hi, f_lo - t_target, f_hi - t_target
+    for _ in range(50):
+        c = b - fb * (b - a) / (fb - fa)
+        fc = sum(w * lv.y[1] for w, lv in zip(lagrange_weights(s, c), levels,
+                                              strict=True)) - t_target
+        a, fa, b, fb = b, fb, c, fc
+        if abs(fc) <= 1e-15 * max(1.0, abs(t_target)) or fb == fa:
+            break
+    return b

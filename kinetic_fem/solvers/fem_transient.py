@@ -1,0 +1,471 @@
+"""Adaptive implicit time integration of the Galerkin system (heated and cooling gas).
+
+The semi-discrete system for :math:`u_h = \\ln P_h` (Lagrange basis
+:math:`\\varphi_i`, weak forms of :mod:`kinetic_fem.operators.fem_thermostat`) is
+
+.. math::
+
+    \\frac{d}{dt} m_i(P_h) = R_i = n\\,C_i[P_h] - D(t)\\int\\varphi_i' P_h'
+    - \\xi(t)\\int\\varphi_i'\\, v P_h, \\qquad m_i(P) = \\int\\varphi_i P,
+
+(heated gas, physical velocities), or, for free cooling in the scaled variables
+:math:`c = v/\\sqrt{T}`, :math:`d\\tau = n T^{\\gamma/2} dt`,
+
+.. math::
+
+    \\frac{d}{d\\tau} m_i(f_h) = C_i[f_h] + \\zeta(\\tau) \\int\\varphi_i'\\, c f_h,
+    \\qquad \\sum_i c_i^2 m_i(f_h) = 1,
+
+with the drift coefficient :math:`\\zeta` an unknown fixed by the unit temperature (with
+P2, :math:`\\sum_i c_i^2\\varphi_i \\equiv c^2` makes the constraint exact), and
+:math:`d\\ln T/d\\tau = -2\\zeta`, :math:`dt/d\\tau = T^{-\\gamma/2}/n` integrated by
+the same scheme, so :math:`T` is reported in physical units over many decades.
+
+Time stepping is variable-step BDF2 on :math:`m(P)`: with :math:`\\omega = h_k/h_{k-1}`
+
+.. math::
+
+    \\tfrac{1+2\\omega}{1+\\omega} m^{k+1} - (1+\\omega) m^k
+    + \\tfrac{\\omega^2}{1+\\omega} m^{k-1} = h_k R^{k+1};
+
+the coefficients sum to zero, so the mass is conserved to the Newton tolerance, and
+:math:`P = e^u > 0`.  The first two steps after a start or a discontinuity of the
+protocol are backward Euler.  The local error is estimated from the difference between
+the corrector and an explicit predictor (quadratic extrapolation of :math:`u` through
+the last three levels for BDF2, explicit Euler for backward Euler), scaled by the
+ratio of their error constants computed for the actual step sizes; it is measured on
+:math:`T` (relative) and :math:`a_2` (absolute), and steps are accepted when both are
+below ``rtol``.  A failed Newton iteration halves the step.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg
+import scipy.sparse.linalg
+from numpy.typing import NDArray
+from skfem import asm
+
+from ..model import RestitutionLaw
+from ..operators.fem_thermostat import (
+    diffusion,
+    diffusion_jacobian,
+    drift,
+    drift_jacobian,
+    mass,
+    weighted_mass,
+)
+from ..operators.grid import symmetric_grid, uniform_grid
+from .fem import EquilibratedLU, FEMDiscretisation, log_update
+
+__all__ = ["TransientOptions", "TransientStats", "EquilibratedLU", "log_update", "build_mesh",
+           "make_discretisation", "Integrator", "Level", "lagrange_weights", "lte_ratio",
+           "INITIAL_FLOOR", "ConvergenceError", "floor_log"]
+
+logger = logging.getLogger(__name__)
+
+INITIAL_FLOOR = 1e-45
+"""Initial data are floored at this fraction of their maximum (see :func:`floor_log`).
+
+A Gaussian's far tail lies hundreds of decades below the collisional tail that builds
+up within one collision time; Newton's method on ln P cannot bridge that gap in one
+step."""
+
+
+LOG_SMALLEST = math.log(1e-300)
+"""Initial tails stay above this (ln P), far from underflow of exp."""
+
+
+class ConvergenceError(RuntimeError):
+    """The time integration failed; the message says what to change."""
+
+
+@dataclass(frozen=True)
+class TransientOptions:
+    """Numerical options of a transient (all validated by the entry points).
+
+    Attributes
+    ----------
+    rtol : float
+        Local error tolerance per step: relative on T, absolute on a2.
+    min_step : float
+        Smallest step: below about (node spacing)^2 / (2 D) the implicit Galerkin step
+        of a state with steep ln P has no positive solution, so steps this short are
+        accepted whatever their error estimate (counted in ``forced``).
+    order : int
+        Lagrange degree of the elements (1 or 2).
+    spacing : float
+        Element size in thermal velocities of the coldest state.
+    cutoff : float, optional
+        Half-width of the velocity interval in thermal velocities of the hottest state.
+    first_step : float, optional
+        First step (and step after a discontinuity); default ``sqrt(rtol)`` collision times.
+    max_step : float
+        Largest step (time units of the problem; inf: no limit).
+    max_steps : int
+        Accepted plus rejected steps before giving up.
+    newton_tol : float
+        Newton tolerance on the update of ln P.
+    max_newton : int
+        Newton iterations per step before the step counts as failed.
+    """
+
+    rtol: float = 1e-6
+    min_step: float = 0.0
+    order: int = 2
+    spacing: float = 0.25
+    cutoff: float | None = None
+    first_step: float | None = None
+    max_step: float = math.inf
+    max_steps: int = 20000
+    newton_tol: float = 1e-11
+    max_newton: int = 12
+
+
+@dataclass
+class TransientStats:
+    """Counters of a run."""
+
+    accepted: int = 0
+    rejected: int = 0
+    newton_failures: int = 0
+    newton_iterations: int = 0
+    restarts: int = 0
+    forced: int = 0
+
+    def as_dict(self) -> dict[str, int]:
+        return dict(vars(self))
+
+
+def lte_ratio(steps: tuple[float, ...], order: int) -> float:
+    """Ratio ``E_c / (E_c - E_p)`` of corrector and predictor error constants.
+
+    The local error of the corrector is ``lte_ratio * (y_corrector - y_predictor)``.
+    ``steps = (h_k, h_{k-1}, h_{k-2})`` (BDF2 with a quadratic predictor) or
+    ``(h_k,)`` (backward Euler with an explicit Euler predictor).  Computed by applying
+    both formulas to :math:`t^{q+1}/(q+1)!`.
+
+    Examples
+    --------
+    >>> round(lte_ratio((1.0, 1.0, 1.0), 2), 12), lte_ratio((0.1,), 1)
+    (0.181818181818, 0.5)
+    """
+    if order == 1:
+        return 0.5
+    h, h1, h2 = steps
+    w = h / h1
+    c_new = (1.0 + 2.0 * w) / (1.0 + w)
+    # y = t^3/6 with t_{k+1} = 0: residual of c_new y - (1+w) y_k + w^2/(1+w) y_{k-1} - h y'
+    resid = -(1.0 + w) * (-h) ** 3 / 6.0 + w * w / (1.0 + w) * (-(h + h1)) ** 3 / 6.0
+    e_corr = -resid / c_new
+    e_pred = -h * (h + h1) * (h + h1 + h2) / 6.0
+    return e_corr / (e_corr - e_pred)
+
+
+def build_mesh(v_max: float, h: float) -> NDArray[np.float64]:
+    """Symmetric uniform vertices on ``[-v_max, v_max]`` with about ``h`` spacing."""
+    half = max(2, int(math.ceil(v_max / h)))
+    return symmetric_grid(uniform_grid(v_max, half + 1))
+
+
+def make_discretisation(law: RestitutionLaw, gamma: float, vertices: NDArray,
+                        order: int) -> FEMDiscretisation:
+    """The FEM discretisation of the collision operator with ``law`` and ``|g|^gamma``.
+
+    Velocities are physical (``speed_scale = 1``); the collision term is that of unit
+    density (the integrator multiplies it by ``n``).
+    """
+    alpha = law.constant if law.constant is not None else getattr(law, "alpha", 1.0)
+    if law.constant is not None and gamma == 1.0:
+        return FEMDiscretisation(alpha, vertices, order, 2 * order + 1)
+    return FEMDiscretisation(alpha, vertices, order, 2 * order + 1, gamma=gamma,
+                             law=None if law.constant is not None else law)
+
+
+def floor_log(x: NDArray[np.float64], u: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Even ``u = ln P`` at ``x``, continued below ``ln(INITIAL_FLOOR * max P)`` linearly.
+
+    Beyond the speed where ``u`` first falls below the floor, ``u`` continues with the
+    slope it has there (an exponential tail, exact in P1/P2): a kink or a plateau of
+    ln P within an element leaves the first implicit steps without a positive solution.
+    """
+    out = np.array(u, dtype=float)
+    level = out.max() + math.log(INITIAL_FLOOR)
+    speed = np.abs(x)
+    order = np.argsort(speed, kind="stable")
+    s_sorted, u_sorted = speed[order], out[order]
+    below = np.flatnonzero(u_sorted < level)
+    if below.size == 0:
+        return out
+    j = max(int(below[0]), 1)
+    i = j - 1
+    while i > 0 and s_sorted[i] == s_sorted[j]:
+        i -= 1
+    slope = min((u_sorted[j] - u_sorted[i]) / (s_sorted[j] - s_sorted[i]), -1e-3)
+    # no value below ln(1e-300) at the edge: P must stay a normal double
+    span = s_sorted[-1] - s_sorted[j]
+    if span > 0:
+        slope = max(slope, (LOG_SMALLEST - u_sorted[j]) / span)
+    beyond = speed > s_sorted[j]
+    out[beyond] = u_sorted[j] + slope * (speed[beyond] - s_sorted[j])
+    return out
+
+
+class Integrator:
+    """Adaptive BDF2 for one discretisation (see the module docstring).
+
+    Parameters
+    ----------
+    disc : FEMDiscretisation
+        The collision operator's discretisation (replace with :meth:`set_disc`).
+    coefficients : callable
+        ``(t, left) -> (n, D, xi)``: density, noise strength and friction at time ``t``
+        (left limits if ``left``); only ``n`` is used when ``cooling``.
+    cooling : bool
+        Scaled free cooling with the drift coefficient :math:`\\zeta` as an unknown.
+    options : TransientOptions
+    gamma : float
+        Kernel exponent (the time scale of a cooling run).
+    """
+
+    def __init__(self, disc: FEMDiscretisation, coefficients, *, cooling: bool,
+                 options: TransientOptions, gamma: float = 1.0) -> None:
+        self.coefficients = coefficients
+        self.gamma = gamma
+        self.cooling = cooling
+        self.opt = options
+        self.stats = TransientStats()
+        self.set_disc(disc)
+
+    def set_disc(self, disc: FEMDiscretisation) -> None:
+        """Use ``disc`` (same mesh, e.g. after a change of restitution)."""
+        self.disc = disc
+        self.sym = disc.symmetry
+        self.x = disc.dof_locations
+        self.xq, self.wq, _ = disc.points
+
+    # ------------------------------------------------------------------ the system
+    def masses(self, u: NDArray) -> NDArray:
+        """:math:`m_i(e^u)`."""
+        return asm(mass, self.disc.basis, u=self.disc.field(u))
+
+    def moments(self, u: NDArray) -> tuple[float, float, float]:
+        """Mass, :math:`T` and :math:`a_2` of :math:`e^{u}` by the outer quadrature."""
+        p = self.disc.values(u)
+        m0, m2, m4 = (float(np.sum(self.wq * p * self.xq**k)) for k in (0, 2, 4))
+        temp = m2 / m0
+        return m0, temp, m4 / m0 / (3.0 * temp * temp) - 1.0
+
+    def rhs(self, u: NDArray, zeta: float, t: float, jacobian: bool, left: bool = True
+            ) -> tuple[NDArray, NDArray | None, NDArray | None]:
+        """``R(u)``, ``dR/du`` (dense) and ``dR/dzeta`` (cooling) at time ``t``.
+
+        ``left``: protocol values as left limits (an implicit step ending at ``t``).
+        """
+        disc = self.disc
+        field = disc.field(u)
+        coll, cjac = disc.collision(u, jacobian=jacobian)[:2]
+        drift_vec = asm(drift, disc.basis, u=field)
+        if self.cooling:
+            res = coll + zeta * drift_vec
+            if not jacobian:
+                return res, None, drift_vec
+            jac = cjac + zeta * asm(drift_jacobian, disc.basis, u=field).toarray()
+            return res, jac, drift_vec
+        n, d, xi = self.coefficients(t, left)
+        res = n * coll - d * asm(diffusion, disc.basis, u=field) - xi * drift_vec
+        if not jacobian:
+            return res, None, None
+        jac = n * cjac - d * asm(diffusion_jacobian, disc.basis, u=field).toarray()
+        if xi != 0.0:
+            jac -= xi * asm(drift_jacobian, disc.basis, u=field).toarray()
+        return res, jac, None
+
+    def observables(self, u: NDArray, y: NDArray) -> NDArray:
+        """What the error is measured on: ``(T, a2)`` or, cooling, ``(ln T, t, a2)``."""
+        _, temp, a2 = self.moments(u)
+        return np.array([y[0], y[1], a2]) if self.cooling else np.array([temp, a2])
+
+    def observables_rate(self, level: Level) -> NDArray:
+        """Time derivative of :meth:`observables` at ``level`` (from :math:`\\dot u`)."""
+        if level.udot is None:
+            level.udot = self.derivative(level.u, level.zeta, level.s)
+        p = self.disc.values(level.u)
+        pdot = p * np.asarray(self.disc.field(level.udot)).ravel()
+        m = [float(np.sum(self.wq * p * self.xq**k)) for k in (0, 2, 4)]
+        dm = [float(np.sum(self.wq * pdot * self.xq**k)) for k in (0, 2, 4)]
+        m2, m4 = m[1] / m[0], m[2] / m[0]
+        dm2 = dm[1] / m[0] - m[1] * dm[0] / m[0] ** 2
+        dm4 = dm[2] / m[0] - m[2] * dm[0] / m[0] ** 2
+        da2 = dm4 / (3.0 * m2 * m2) - 2.0 * m4 * dm2 / (3.0 * m2**3)
+        if self.cooling:
+            return np.append(self.aux_rate(level.zeta, level.y[0]), da2)
+        return np.array([dm2, da2])
+
+    def zeta_of(self, u: NDArray) -> float:
+        """The drift coefficient keeping :math:`\\sum_i c_i^2 \\dot m_i = 0` (cooling)."""
+        coll = self.disc.collision(u)[0]
+        drift_vec = asm(drift, self.disc.basis, u=self.disc.field(u))
+        x2 = self.x**2
+        return float(-(x2 @ coll) / (x2 @ drift_vec))
+
+    def derivative(self, u: NDArray, zeta: float, t: float) -> NDArray:
+        """:math:`\\dot u = M_u^{-1} R(u)` (M the weighted mass matrix), for predictors."""
+        res = self.rhs(u, zeta, t, False, left=False)[0]
+        mw = asm(weighted_mass, self.disc.basis, u=self.disc.field(u)).tocsc()
+        return scipy.sparse.linalg.spsolve(mw, res)
+
+    def solve_step(self, u0: NDArray, zeta0: float, c_new: float, c_old: NDArray, h: float,
+                   t_new: float) -> tuple[NDArray, float] | None:
+        """Solve ``c_new m(u) - c_old = h R(u)`` (even ``u``; ``x^2.m = 1`` if cooling)."""
+        sym, x2 = self.sym, self.x**2
+        u, zeta = u0.copy(), zeta0
+        lu = None
+        for _ in range(self.opt.max_newton):
+            self.stats.newton_iterations += 1
+            field = self.disc.field(u)
+            fresh = lu is None
+            res, jac, dz = self.rhs(u, zeta, t_new, fresh)
+            m = asm(mass, self.disc.basis, u=field)
+            f = sym.T @ (c_new * m - c_old - h * res)
+            if self.cooling:
+                f = np.append(f, x2 @ m - 1.0)
+            if fresh:
+                mw = asm(weighted_mass, self.disc.basis, u=field).toarray()
+                full = c_new * mw - h * jac
+                red = (sym.T @ (sym.T @ full.T).T)
+                if self.cooling:
+                    col = -(h * (sym.T @ dz))[:, None]
+                    row = (x2 @ mw) @ sym
+                    red = np.block([[red, col], [row[None, :], np.zeros((1, 1))]])
+                lu = EquilibratedLU(red)
+            delta = lu.solve(-f)
+            if self.cooling:
+                zeta += delta[-1]
+                delta = delta[:-1]
+            size = float(np.abs(delta).max())
+            logger.debug("newton: max|du| = %.3e", size)
+            if not np.isfinite(size) or size > 1e100:
+                return None
+            u = u + sym @ log_update(delta)
+            if size < self.opt.newton_tol:
+                return u, zeta
+            if size > 0.1:  # far from converged: fresh Jacobian
+                lu = None
+        return None
+
+    # ------------------------------------------------------------------ stepping
+    def aux_rate(self, zeta: float, log_t: float) -> NDArray:
+        """Rates of ``(ln T, t)`` in the scaled time of a cooling run."""
+        n, gamma = self.coefficients(0.0)[0], self.gamma
+        return np.array([-2.0 * zeta, math.exp(-0.5 * gamma * log_t) / n])
+
+    def attempt(self, hist: list[Level], h: float) -> tuple[Level, float] | None:
+        """One step of size ``h`` from ``hist[-1]``: the new level and its error norm."""
+        last = hist[-1]
+        s_new = last.s + h
+        bdf2 = len(hist) >= 3
+        if bdf2:
+            h1, h2 = last.s - hist[-2].s, hist[-2].s - hist[-3].s
+            w = h / h1
+            c_new = (1.0 + 2.0 * w) / (1.0 + w)
+            c_old = (1.0 + w) * last.m - w * w / (1.0 + w) * hist[-2].m
+            ratio = lte_ratio((h, h1, h2), 2)
+            nodes = [lv.s for lv in hist[-3:]]
+            weights = lagrange_weights(nodes, s_new)
+            obs_pred = sum(c * lv.obs for c, lv in zip(weights, hist[-3:], strict=True))
+        else:
+            c_new, c_old, ratio = 1.0, last.m, lte_ratio((h,), 1)
+            obs_pred = last.obs + h * self.observables_rate(last)
+        solved = self.solve_step(last.u, last.zeta, c_new, c_old, h, s_new)
+        if solved is None:
+            return None
+        u, zeta = solved
+        y = last.y
+        if self.cooling:
+            if bdf2:
+                y_old = (1.0 + w) * last.y - w * w / (1.0 + w) * hist[-2].y
+            else:
+                y_old = last.y
+            log_t = (y_old[0] - 2.0 * h * zeta) / c_new
+            n = self.coefficients(0.0)[0]
+            t_phys = (y_old[1] + h * math.exp(-0.5 * self.gamma * log_t) / n) / c_new
+            y = np.array([log_t, t_phys])
+        obs = self.observables(u, y)
+        level = Level(s_new, u, self.masses(u), zeta, y, obs)
+        diff = np.abs(obs - obs_pred)
+        if self.cooling:
+            rate = 2.0 * abs(zeta) * self.coefficients(0.0)[0] * math.exp(0.5 * self.gamma * y[0])
+            err = max(diff[0], diff[1] * rate, diff[2])
+        else:
+            err = max(diff[0] / obs[0], diff[1])
+        return level, abs(ratio) * err / self.opt.rtol
+
+    def advance(self, hist: list[Level], h: float, s_stop: float
+                ) -> tuple[float, bool]:
+        """Take one accepted step (retrying smaller ones); returns the next ``h``.
+
+        The step is shortened to end exactly at ``s_stop``; the second value says
+        whether ``s_stop`` was reached.
+        """
+        while True:
+            if self.stats.accepted + self.stats.rejected + self.stats.newton_failures \
+                    >= self.opt.max_steps:
+                raise ConvergenceError(
+                    f"{self.opt.max_steps} steps taken before s={s_stop:.4g} (reached "
+                    f"{hist[-1].s:.4g}); increase max_steps or rtol={self.opt.rtol:g}")
+            h = h_wanted = min(h, self.opt.max_step)
+            hit = hist[-1].s + h >= s_stop - 1e-12 * max(1.0, abs(s_stop))
+            if hit:
+                h = s_stop - hist[-1].s
+            result = self.attempt(hist, h)
+            if result is None:
+                self.stats.newton_failures += 1
+                h = 0.5 * h if h > self.opt.min_step else 2.0 * h
+                if h < 1e-14 * max(1.0, abs(hist[-1].s)):
+                    raise ConvergenceError(
+                        f"Newton failed down to the step {h:.3g} at s={hist[-1].s:.6g}; "
+                        "refine the mesh (spacing) or loosen newton_tol")
+                continue
+            level, err = result
+            order = 2 if len(hist) >= 3 else 1
+            factor = 0.9 * max(err, 1e-10) ** (-1.0 / (order + 1))
+            forced = err > 1.0 and h <= self.opt.min_step * 1.000001
+            if err <= 1.0 or forced:
+                self.stats.forced += int(forced)
+                self.stats.accepted += 1
+                hist.append(level)
+                del hist[:-3]
+                h_next = h * min(2.0, max(0.2, factor))
+                return (max(h_next, h_wanted) if hit else h_next), hit
+            self.stats.rejected += 1
+            h = max(h * max(0.2, min(0.9, factor)), self.opt.min_step)
+
+
+@dataclass
+class Level:
+    """One accepted level: time ``s``, ``u``, masses, ``zeta``, aux ``y``, observables."""
+
+    s: float
+    u: NDArray[np.float64]
+    m: NDArray[np.float64]
+    zeta: float
+    y: NDArray[np.float64]
+    obs: NDArray[np.float64]
+    udot: NDArray[np.float64] | None = None
+
+
+def lagrange_weights(nodes: list[float], s: float) -> list[float]:
+    """Weights of the Lagrange interpolant through ``nodes`` evaluated at ``s``."""
+    out = []
+    for j, sj in enumerate(nodes):
+        w = 1.0
+        for k, sk in enumerate(nodes):
+            if k != j:
+                w *= (s - sk) / (sj - sk)
+        out.append(w)
+    return out

@@ -1,0 +1,201 @@
+"""Newton's method for the finite-difference homogeneous cooling state.
+
+The unknowns are :math:`u = \\ln f` on the half grid, the cooling rate :math:`\\zeta` and
+the mass-defect multiplier :math:`\\lambda`; the equations are those of
+:mod:`kinetic_fem.solvers.fd_cooling` (its module docstring derives them):
+
+.. math::
+
+    R_i = \\tilde Q_i - \\lambda f_i - \\zeta f_i (1 + c_i u'_i) = 0,\\qquad
+    \\sum_i w_i f_i = 1,\\qquad \\sum_i w_i c_i^2 f_i = 1,
+
+with the closure :math:`u'' = 0` at the cut-off in place of the last row.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.linalg import lu_factor, lu_solve
+
+from ..operators.collision import HalfGrid, gain_term, loss_frequency, pair_moment
+from .fd_newton import collision_jacobian, update_factor
+
+__all__ = ["HCSSolution", "drift_term", "hcs_residual", "newton_hcs", "MONITOR_FLOOR"]
+
+MONITOR_FLOOR = 1e-50
+"""Nodes with f above this are monitored for the convergence of Newton's method."""
+
+
+def _log_derivative(grid: HalfGrid, u: NDArray[np.float64]) -> NDArray[np.float64]:
+    """:math:`u'_i`: central differences, ``u' = 0`` at ``c = 0``, one-sided at the end."""
+    du = np.empty_like(u)
+    du[0] = 0.0
+    du[1:-1] = (u[2:] - u[:-2]) / (2.0 * grid.h)
+    du[-1] = (u[-1] - u[-2]) / grid.h
+    return du
+
+
+def drift_term(grid: HalfGrid, u: NDArray[np.float64]) -> NDArray[np.float64]:
+    """:math:`(cf)'_i = f_i (1 + c_i u'_i)` with :math:`f = e^u` on the half grid.
+
+    Examples
+    --------
+    >>> from kinetic_fem.operators.collision import half_grid
+    >>> g = half_grid(12.0, 1201)
+    >>> u = -g.v**2 / 2
+    >>> exact = np.exp(u) * (1 - g.v**2)
+    >>> bool(np.max(np.abs(drift_term(g, u)[:-1] - exact[:-1])) < 1e-4)
+    True
+    """
+    return np.exp(u) * (1.0 + grid.v * _log_derivative(grid, u))
+
+
+def _drift_jacobian(grid: HalfGrid, u: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Dense :math:`\\partial (cf)'_i / \\partial u_l`."""
+    n, h, c = grid.n, grid.h, grid.v
+    f = np.exp(u)
+    du = _log_derivative(grid, u)
+    jac = np.zeros((n, n))
+    idx = np.arange(n)
+    jac[idx, idx] = f * (1.0 + c * du)
+    inner = idx[1:-1]
+    jac[inner, inner + 1] += f[inner] * c[inner] / (2.0 * h)
+    jac[inner, inner - 1] -= f[inner] * c[inner] / (2.0 * h)
+    jac[n - 1, n - 1] += f[n - 1] * c[n - 1] / h
+    jac[n - 1, n - 2] -= f[n - 1] * c[n - 1] / h
+    return jac
+
+
+def hcs_residual(grid: HalfGrid, u: NDArray[np.float64], zeta: float, multiplier: float, *,
+                 alpha: float, order: int = 3) -> NDArray[np.float64]:
+    """:math:`R_i(u, \\zeta, \\lambda)` of the module docstring; the last row is the
+    closure :math:`u_{n-1} - 2u_{n-2} + u_{n-3} = 0` at the cut-off."""
+    f = np.exp(u)
+    q = (gain_term(grid, f, alpha=alpha, density=1.0, order=order)
+         - loss_frequency(grid, f, density=1.0) * f)
+    res = q - multiplier * f - zeta * drift_term(grid, u)
+    # closure at the cut-off: the gain there misses its partners beyond the grid, so
+    # the last row extrapolates ln f linearly instead (exact for an exponential tail)
+    res[-1] = u[-1] - 2.0 * u[-2] + u[-3]
+    return res
+
+
+@dataclass(frozen=True)
+class HCSSolution:
+    """A homogeneous cooling state on one half grid.
+
+    Attributes
+    ----------
+    grid : HalfGrid
+    f : ndarray, shape (n,)
+        Scaled distribution on ``grid.v`` (unit temperature).
+    zeta : float
+        Dimensionless cooling rate: :math:`dT/dt = -2\\zeta n T^{3/2}`.
+    multiplier : float
+        Mass-defect rate :math:`\\lambda` of the discrete operator (a discretisation
+        error, zero in the continuum).
+    iterations : int
+    residual : float
+        Largest scaled residual on the monitored nodes.
+    converged : bool
+    message : str
+    """
+
+    grid: HalfGrid
+    f: NDArray[np.float64]
+    zeta: float
+    multiplier: float
+    iterations: int
+    residual: float
+    converged: bool
+    message: str
+
+    def energy_identity(self, alpha: float) -> float:
+        """:math:`(1-\\alpha^2)\\langle|c-c'|^3\\rangle/8`, to compare with :attr:`zeta`."""
+        w = self.grid.weights
+        g3 = pair_moment(self.grid.v_full, self.grid.full(self.f), w, 3)
+        return (1.0 - alpha**2) * g3 / 8.0
+
+
+def newton_hcs(grid: HalfGrid, u0: NDArray[np.float64], zeta0: float, *, alpha: float,
+               order: int = 3, tol: float = 1e-10, max_iter: int = 60) -> HCSSolution:
+    """Solve the discrete HCS equations by damped Newton from ``(u0, zeta0)``.
+
+    Rows are scaled by :math:`f_i(\\nu_i + \\zeta(1 + c_i/h))`, so that tail equations
+    weigh as much as bulk ones; converged when the largest change of ``u`` on the
+    nodes with :math:`f > 10^{-50}` is below ``tol``.
+    """
+    w = grid.half_weights
+    c2w = w * grid.v**2
+    u = np.asarray(u0, dtype=float).copy()
+    zeta, lam = float(zeta0), 0.0
+
+    def evaluate(u_: NDArray[np.float64], zeta_: float, lam_: float,
+                 scale: NDArray[np.float64] | None = None):
+        """Residuals and their max norm, rows scaled by ``scale`` (default: own scale).
+
+        The line search compares norms with the scaling of the current iterate: a
+        scaling that moves with the trial point (through f and zeta) can grow while the
+        residual itself falls."""
+        f_ = np.exp(u_)
+        nu_ = loss_frequency(grid, f_, density=1.0)
+        res_ = hcs_residual(grid, u_, zeta_, lam_, alpha=alpha, order=order)
+        d_ = np.maximum(f_ * (nu_ + abs(zeta_) * (1.0 + grid.v / grid.h)), 1e-300)
+        d_[-1] = 1.0  # the closure row is already O(1)
+        mon_ = f_ > MONITOR_FLOOR
+        constraint = np.array([np.dot(w, f_) - 1.0, np.dot(c2w, f_) - 1.0])
+        s_ = d_ if scale is None else scale
+        norm_ = max(float(np.max(np.abs(res_[mon_] / s_[mon_]))),
+                    float(np.max(np.abs(constraint))))
+        return f_, nu_, res_, d_, mon_, constraint, norm_
+
+    f, nu, res, d, mon, cons, norm = evaluate(u, zeta, lam)
+    converged = False
+    message = "maximum iterations reached"
+    it = 0
+    n = grid.n
+    while it < max_iter:
+        it += 1
+        jac = collision_jacobian(grid, f, nu, alpha, True, order) * f[None, :]
+        jac[np.arange(n), np.arange(n)] -= lam * f
+        jac -= zeta * _drift_jacobian(grid, u)
+        big = np.zeros((n + 2, n + 2))
+        jac[-1, :] = 0.0
+        jac[-1, -3:] = [1.0, -2.0, 1.0]
+        drift = drift_term(grid, u)
+        drift[-1] = 0.0
+        big[:n, :n] = jac / d[:, None]
+        big[:n, n] = -drift / d
+        big[:n, n + 1] = -np.where(np.arange(n) < n - 1, f, 0.0) / d
+        big[n, :n] = w * f
+        big[n + 1, :n] = c2w * f
+        rhs = np.concatenate([-res / d, -cons])
+        step = lu_solve(lu_factor(big, check_finite=False), rhs, check_finite=False)
+        if not np.all(np.isfinite(step)):
+            message = "singular Newton system"
+            break
+        du, dzeta, dlam = step[:n], step[n], step[n + 1]
+        # the step du is applied as a relative change of f, f -> f * update_factor(du)
+        # (sublinear in ln f for large rises, exponential damping of large falls, as in
+        # the heated solver), then backtracking on the residual norm
+        theta = 1.0
+        for _ in range(12):
+            u_try = u + np.log(update_factor(theta * du))
+            trial = evaluate(u_try, zeta + theta * dzeta, lam + theta * dlam, d)
+            if trial[-1] < norm or theta < 1e-3:
+                break
+            theta *= 0.5
+        change = float(np.max(np.abs(u_try - u)[mon]))
+        u, zeta, lam = u_try, zeta + theta * dzeta, lam + theta * dlam
+        f, nu, res, d, mon, cons, norm = evaluate(u, zeta, lam)
+        if change < tol:
+            converged = True
+            message = f"Newton converged: max |d ln f| < {tol:g}"
+            break
+    if not math.isfinite(norm):
+        converged = False
+    return HCSSolution(grid, f, float(zeta), float(lam), it, norm, converged, message)

@@ -1,0 +1,177 @@
+"""Shared machinery of the quasi-elastic solvers in :mod:`kinetic_fem.solvers.scaling`.
+
+Both limit equations are fixed points :math:`u = \\mathcal T[u]` for the logarithm
+:math:`u = \\ln f` of a normalised density on a uniform grid.  They are solved by
+Newton's method with matrix-free GMRES (each Jacobian product is one O(N)
+cumulative-moment sum) and a backtracking line search on the max-norm residual.
+"""
+
+from __future__ import annotations
+
+import logging
+import numbers
+from dataclasses import dataclass
+from typing import Callable, ClassVar
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy.sparse.linalg import LinearOperator, gmres
+
+from ..distribution import VelocityDistribution
+from ..gas import check_positive
+
+__all__: list[str] = []
+
+logger = logging.getLogger(__name__)
+
+Evaluation = tuple[NDArray[np.float64], Callable[[NDArray[np.float64]], NDArray[np.float64]]]
+
+
+@dataclass(frozen=True)
+class NewtonResult:
+    """Outcome of :func:`newton_krylov`."""
+
+    z: NDArray[np.float64]
+    converged: bool
+    iterations: int
+    residual: float
+    message: str
+
+
+class LimitSolution:
+    """Shared behaviour of the phi and psi results (a mixin for frozen dataclasses)."""
+
+    distribution: VelocityDistribution
+    names: ClassVar[tuple[str, ...]] = ()
+
+    @property
+    def values(self) -> NDArray[np.float64]:
+        """The solution at the grid nodes."""
+        return self.distribution.values
+
+    def __call__(self, x: ArrayLike) -> NDArray[np.float64]:
+        """The solution at ``x``: cubic interpolation of its logarithm (zero outside)."""
+        return self.distribution.pdf(x)
+
+    def constants(self) -> dict[str, float]:
+        """The returned constants by name."""
+        return {k: float(getattr(self, k)) for k in self.names}
+
+
+def check_int(name: str, value: object, *, minimum: int) -> int:
+    """Validate an integer option ``>= minimum``."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise TypeError(f"{name} must be an integer, got {type(value).__name__} {value!r}")
+    if value < minimum:
+        raise ValueError(f"{name}={value} is not allowed; {name} must be >= {minimum}")
+    return int(value)
+
+
+def check_solver_options(tol: object, max_iter: object) -> tuple[float, int]:
+    """Validate the Newton tolerance and iteration cap."""
+    return check_positive("tol", tol), check_int("max_iter", max_iter, minimum=1)
+
+
+def newton_krylov(
+    z0: NDArray[np.float64],
+    evaluate: Callable[[NDArray[np.float64]], Evaluation],
+    *,
+    tol: float,
+    max_iter: int,
+    name: str,
+) -> NewtonResult:
+    """Solve ``r(z) = 0`` by Newton-GMRES with backtracking.
+
+    Parameters
+    ----------
+    z0 : ndarray, shape (m,)
+        Initial iterate.
+    evaluate : callable
+        ``evaluate(z) -> (r, jvp)``: the residual and the Jacobian-vector product at ``z``.
+    tol : float
+        Stop when ``max|r| < tol``.
+    max_iter : int
+        Newton iterations allowed.
+    name : str
+        Used in log messages.
+
+    Notes
+    -----
+    The step :math:`\\delta` solves :math:`J\\delta = -r` by GMRES to a relative
+    accuracy of :math:`10^{-14}`; the step is halved until ``max|r|`` decreases.
+    """
+    z = np.array(z0, dtype=float)
+    r, jvp = evaluate(z)
+    res = float(np.max(np.abs(r)))
+    for it in range(max_iter + 1):
+        logger.debug("%s: Newton iteration %d, residual %.3e", name, it, res)
+        if res < tol:
+            return NewtonResult(z, True, it, res, f"{name}: residual {res:.2e} < tol {tol:.1e}")
+        if it == max_iter:
+            break
+        op = LinearOperator((z.size, z.size), matvec=jvp, dtype=float)
+        dz, _ = gmres(op, -r, rtol=1e-14, atol=0.0, restart=80, maxiter=4)
+        step = 1.0
+        while True:
+            r_new, jvp_new = evaluate(z + step * dz)
+            res_new = float(np.max(np.abs(r_new)))
+            if res_new < res or step < 1e-4:
+                break
+            step *= 0.5
+        if not res_new < res:  # no descent: the round-off floor has been reached
+            break
+        z, r, jvp, res = z + step * dz, r_new, jvp_new, res_new
+    msg = f"{name}: not converged, residual {res:.2e} >= tol {tol:.1e} after {it} iterations"
+    logger.warning(msg)
+    return NewtonResult(z, False, it, res, msg)
+
+
+def log_normalise(e: NDArray[np.float64], w: NDArray[np.float64]) -> NDArray[np.float64]:
+    """:math:`e - \\ln\\sum_j w_j e^{e_j}`, evaluated without overflow."""
+    top = float(np.max(e))
+    return e - (top + float(np.log(np.sum(w * np.exp(e - top)))))
+
+
+def fourth_derivative(f: NDArray[np.float64], h: float, stride: int) -> NDArray[np.float64]:
+    """Central five-point fourth derivative with step ``stride * h`` (NaN at the ends).
+
+    .. math:: f'''' \\approx (f_{i-2s} - 4f_{i-s} + 6f_i - 4f_{i+s} + f_{i+2s})/(sh)^4
+    """
+    s = stride
+    out = np.full_like(f, np.nan)
+    out[2 * s:-2 * s] = (f[:-4 * s] - 4 * f[s:-3 * s] + 6 * f[2 * s:-2 * s]
+                         - 4 * f[3 * s:-s] + f[4 * s:]) / (s * h) ** 4
+    return out
+
+
+def fourth_derivative_extrapolated(f: NDArray[np.float64], h: float,
+                                   stride: int) -> NDArray[np.float64]:
+    """Richardson-extrapolated :func:`fourth_derivative`, :math:`(4D_s - D_{2s})/3`: O(h^4)."""
+    return (4 * fourth_derivative(f, h, stride) - fourth_derivative(f, h, 2 * stride)) / 3
+
+
+def first_derivative(f: NDArray[np.float64], h: float) -> NDArray[np.float64]:
+    """Fourth-order central first derivative (NaN at the two outer nodes of each end)."""
+    out = np.full_like(f, np.nan)
+    out[2:-2] = (f[:-4] - 8 * f[1:-3] + 8 * f[3:-1] - f[4:]) / (12 * h)
+    return out
+
+
+def line_fit(x: NDArray[np.float64], y: NDArray[np.float64]) -> tuple[float, float]:
+    """Least-squares ``y = intercept + slope * x``; returns ``(slope, intercept)``."""
+    slope, intercept = np.polyfit(x, y, 1)
+    return float(slope), float(intercept)
+
+
+def combine_errors(
+    base: dict[str, float], refined: dict[str, float], enlarged: dict[str, float]
+) -> tuple[dict[str, float], dict[str, dict[str, float]]]:
+    """Error estimates: grid part + |change on enlarging the domain|.
+
+    The grid part is the Richardson estimate :math:`|q_h - q_{h/2}|\\, 2^4/(2^4 - 1)`
+    of the error of :math:`q_h` for the fourth-order (Simpson) discretisations here.
+    """
+    h_err = {k: abs(refined[k] - base[k]) * 16.0 / 15.0 for k in base}
+    l_err = {k: abs(enlarged[k] - base[k]) for k in base}
+    return ({k: h_err[k] + l_err[k] for k in base},
+            {"grid_spacing": h_err, "domain_size": l_err})

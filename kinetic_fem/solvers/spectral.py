@@ -1,0 +1,483 @@
+"""Sonine spectral solver: Galerkin projection of the heated and cooling states.
+
+The scaled distribution is expanded in the orthonormal Sonine basis
+:math:`e_p(c) = S_p(c^2/2)/\\sqrt{N_p}` (:mod:`kinetic_fem.operators.sonine_tensors`),
+
+.. math::
+
+    f(c) = \\Phi(c)\\sum_{p=0}^{P} b_p e_p(c), \\qquad b_0 = 1,\\ b_1 = 0,\\qquad
+    a_p = b_p/\\sqrt{N_p},\\qquad P(v) = f(v/\\sqrt T)/\\sqrt T,
+
+and the homogeneous Boltzmann equation with kernel :math:`|g|^\\gamma`, constant
+:math:`\\alpha` and a thermostat :math:`\\partial_v(\\xi vP) + D\\partial_v^2P` is tested
+against :math:`e_q(v/\\sqrt T)`, ``q = 1 .. P`` (Galerkin).  Divided by
+:math:`nT^{\\gamma/2}`:
+
+.. math::
+
+    R_q = \\tfrac12 \\sum_{rs} A_{qrs} b_r b_s - \\delta\\,\\kappa_q b_{q-1}
+          - \\chi\\,(2q\\,b_q - \\kappa_q b_{q-1}) = 0,\\qquad
+    \\kappa_q = \\sqrt{2q(2q-1)},
+
+with :math:`\\delta = D/(nT^{1+\\gamma/2})`, :math:`\\chi = \\xi/(nT^{\\gamma/2})` (heated:
+unknowns :math:`b_2 .. b_P` and :math:`\\ln T`) and, for the homogeneous cooling state
+(:math:`dT/dt = -2\\zeta nT^{1+\\gamma/2}`), :math:`\\delta = 0`, :math:`\\chi = -\\zeta`
+(unknowns :math:`b_2..b_P` and :math:`\\zeta`).  ``q = 1`` is the energy balance C1.
+The collision tensor :math:`A_{qrs}` is exact to round-off (Gauss rules with the weight
+:math:`|g|^\\gamma`); the quadratic system is solved by Newton with a backtracking line
+search, continued in the order from ``P = 2``.
+
+For the Maxwell kernel (``gamma = 0``) the equation of order ``q`` involves the moments
+up to ``2q`` only, so every truncation gives the exact :math:`a_2 .. a_P`
+(:mod:`kinetic_fem.solvers.maxwell`).  The Maxwell cooling state has no fourth moment
+(:func:`kinetic_fem.solvers.maxwell.hcs_pdf`) and is refused.  The truncated series is not
+positive in the far tails; use ``"fem"`` for the tails.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ..distribution import RunInfo, VelocityDistribution
+from ..model import (
+    CoolingProblem,
+    FokkerPlanckBath,
+    HeatedProblem,
+    UnsupportedModelError,
+    WhiteNoise,
+)
+from ..operators.grid import simpson_weights
+from ..operators.sonine_tensors import (
+    collision_tensor,
+    dilation_coefficients,
+    laplacian_coefficients,
+    orthonormal_sonine,
+)
+from ..solve import register_solver
+
+__all__ = ["SonineSolution", "solve_sonine", "sonine_heated", "solve_sonine_cooling",
+           "sonine_cooling", "MAX_ORDER"]
+
+logger = logging.getLogger(__name__)
+
+MAX_ORDER = 80
+"""Highest truncation order (the tensor costs ~ ``P**3 * 4.5 P**2`` operations)."""
+
+
+@dataclass(frozen=True)
+class SonineSolution:
+    """Sonine coefficients and temperature of a Galerkin solution.
+
+    Attributes
+    ----------
+    order : int
+        Truncation order ``P``.
+    coefficients : ndarray, shape (order + 1,)
+        :math:`a_0 = 1, a_1 = 0, a_2 .. a_P` (the convention of
+        :meth:`VelocityDistribution.sonine_coefficient`).
+    temperature : float
+        Temperature (1 for the cooling state, which is scaled).
+    zeta : float
+        Cooling rate (cooling) or NaN.
+    residual : float
+        Largest Galerkin residual :math:`|R_q|` relative to the size of its terms.
+    condition_number : float
+        2-norm condition number of the Newton Jacobian at the solution, rows scaled
+        by the size of their terms and columns by the unknowns' magnitudes.
+    iterations : int
+        Newton iterations (all continuation stages).
+    """
+
+    order: int
+    coefficients: NDArray[np.float64]
+    temperature: float
+    zeta: float = math.nan
+    residual: float = 0.0
+    condition_number: float = math.nan
+    iterations: int = 0
+
+    @property
+    def orthonormal_coefficients(self) -> NDArray[np.float64]:
+        """:math:`b_p = a_p\\sqrt{N_p}`."""
+        return self.coefficients * _sqrt_norms(self.order)
+
+    def f(self, c: ArrayLike) -> NDArray[np.float64]:
+        """The truncated series :math:`f(c)` (may be negative in the far tails)."""
+        c = np.asarray(c, dtype=float)
+        basis = orthonormal_sonine(self.order, c)
+        series = np.tensordot(self.orthonormal_coefficients, basis, axes=1)
+        return np.exp(-0.5 * c**2) / math.sqrt(2.0 * math.pi) * series
+
+
+def _sqrt_norms(order: int) -> NDArray[np.float64]:
+    p = np.arange(order + 1)
+    return np.exp(0.5 * (np.array([math.lgamma(k + 0.5) - math.lgamma(k + 1.0) for k in p])
+                         - 0.5 * math.log(math.pi)))
+
+
+def _check_order(order: object) -> int:
+    if isinstance(order, bool) or not isinstance(order, int) or order < 2:
+        raise ValueError(f"Sonine order must be an integer >= 2, got {order!r}")
+    if order > MAX_ORDER:
+        raise ValueError(f"order={order} is not supported (2 <= order <= {MAX_ORDER})")
+    return order
+
+
+class _System:
+    """Galerkin residual and Jacobian in the unknowns ``x = (b_2 .. b_P, y)``.
+
+    Heated: ``y = ln T`` (units of ``n = D = 1``, friction ``chi0 = xi/(n u^gamma)``);
+    cooling: ``y = zeta``.
+    """
+
+    def __init__(self, order: int, alpha: float, gamma: float, *, cooling: bool,
+                 friction: float = 0.0, linearized: bool = False,
+                 reference: float = 1.0) -> None:
+        self.order, self.gamma, self.cooling = order, gamma, cooling
+        self.friction, self.linearized = friction, linearized
+        self.tensor = collision_tensor(order, alpha, gamma)
+        self.kappa = laplacian_coefficients(order)
+        self.dil = dilation_coefficients(order)
+        self.reference = reference   # y of the Gaussian state (linearised products)
+
+    def coefficients(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
+        return np.concatenate([[1.0, 0.0], x[:-1]])
+
+    def _drive(self, y: float) -> tuple[float, float, float, float]:
+        """``delta, chi`` and their derivatives in ``y``."""
+        if self.cooling:
+            return 0.0, -y, 0.0, -1.0
+        g = self.gamma
+        delta = float(np.exp(min(-(1.0 + 0.5 * g) * y, 700.0)))   # inf-free trial steps
+        chi = self.friction * float(np.exp(min(-0.5 * g * y, 700.0)))
+        return delta, chi, -(1.0 + 0.5 * g) * delta, -0.5 * g * chi
+
+    def __call__(self, x: NDArray[np.float64]
+                 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        p = self.order
+        b = self.coefficients(x)
+        a = self.tensor[1:]                                   # rows q = 1 .. P
+        delta, chi, d_delta, d_chi = self._drive(x[-1])
+        lap = self.kappa[1:] * b[:-1]                         # kappa_q b_{q-1}
+        dil = self.dil[1:] @ b                                # 2q b_q - kappa_q b_{q-1}
+        jac_b = np.zeros((p, p + 1))
+        if self.linearized:   # products of b_p (p >= 2) with b_r or with delta, chi dropped
+            b0 = np.zeros(p + 1)
+            b0[0] = 1.0
+            ab0 = a @ b0                                      # A_{q r 0}
+            coll = 0.5 * a[:, 0, 0] + ab0[:, 2:] @ b[2:]
+            jac_b[:, 2:] = ab0[:, 2:]
+            d0, c0, _, _ = self._drive(self.reference)
+            lap0, dil0 = self.kappa[1:] * b0[:-1], self.dil[1:] @ b0
+            res = coll - delta * lap0 - chi * dil0 - d0 * (lap - lap0) - c0 * (dil - dil0)
+            jac_b -= d0 * _lap_matrix(self.kappa)[1:] + c0 * self.dil[1:]
+            dres_dy = -d_delta * lap0 - d_chi * dil0
+        else:
+            ab = a @ b                                        # (P, P+1): sum_s A_qrs b_s
+            coll = 0.5 * ab @ b
+            res = coll - delta * lap - chi * dil
+            jac_b = ab - delta * _lap_matrix(self.kappa)[1:] - chi * self.dil[1:]
+            dres_dy = -d_delta * lap - d_chi * dil
+        jac = np.concatenate([jac_b[:, 2:], dres_dy[:, None]], axis=1)
+        return res, jac
+
+    def row_scale(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Size of the terms of each equation (sum of their absolute values)."""
+        b = np.abs(self.coefficients(x))
+        delta, chi, _, _ = self._drive(x[-1])
+        coll = 0.5 * (np.abs(self.tensor[1:]) @ b) @ b
+        lap = self.kappa[1:] * b[:-1]
+        dil = np.abs(self.dil[1:]) @ b
+        return coll + abs(delta) * lap + abs(chi) * dil + np.finfo(float).tiny
+
+
+def _lap_matrix(kappa: NDArray[np.float64]) -> NDArray[np.float64]:
+    n = len(kappa)
+    mat = np.zeros((n, n))
+    mat[np.arange(1, n), np.arange(n - 1)] = kappa[1:]
+    return mat
+
+
+def _newton(system: _System, x0: NDArray[np.float64], *, tol: float = 1e-14,
+            max_iter: int = 100) -> tuple[NDArray[np.float64], float, int, float]:
+    """Newton with backtracking on the row-scaled residual.
+
+    Each equation is divided by the size of its terms (:meth:`_System.row_scale`, frozen
+    during one step) and each unknown by its magnitude before the linear solve, so the
+    solution may span many decades (the Maxwell coefficients grow like ``p**p``).
+    Returns ``x``, the largest relative residual, the iterations and the condition
+    number of the equilibrated Jacobian.
+    """
+    x = x0.copy()
+    res, jac = system(x)
+    with np.errstate(over="ignore", invalid="ignore"):
+        return _newton_loop(system, x, res, jac, tol, max_iter)
+
+
+def _newton_loop(system: _System, x: NDArray[np.float64], res: NDArray[np.float64],
+                 jac: NDArray[np.float64], tol: float, max_iter: int
+                 ) -> tuple[NDArray[np.float64], float, int, float]:
+    it = 0
+    while it < max_iter:
+        it += 1
+        rows = system.row_scale(x)
+        cols = np.maximum(np.abs(x), 1.0)
+        scaled = jac * cols[None, :] / rows[:, None]
+        try:
+            step = cols * np.linalg.solve(scaled, -res / rows)
+        except np.linalg.LinAlgError:
+            step = cols * np.linalg.lstsq(scaled, -res / rows, rcond=None)[0]
+        norm = float(np.linalg.norm(res / rows))
+        lam = 1.0
+        while True:
+            trial = x + lam * step
+            res_t, jac_t = system(trial)
+            norm_t = float(np.linalg.norm(res_t / rows))
+            if np.isfinite(norm_t) and (norm_t < (1.0 - 1e-4 * lam) * norm or lam < 1e-3
+                                        or norm < 1e-13):
+                break
+            lam *= 0.5
+        x, res, jac = trial, res_t, jac_t
+        rel = float(np.max(np.abs(res) / system.row_scale(x)))
+        small_step = np.all(np.abs(lam * step) <= 4 * np.finfo(float).eps * np.abs(x))
+        if rel <= tol or small_step:
+            break
+    rows = system.row_scale(x)
+    cols = np.maximum(np.abs(x), 1.0)
+    cond = float(np.linalg.cond(jac * cols[None, :] / rows[:, None]))
+    return x, float(np.max(np.abs(res) / rows)), it, cond
+
+
+def _realisable(b: NDArray[np.float64]) -> bool:
+    """Stieltjes test: can :math:`\\nu_k = \\langle c^{2k}\\rangle`, ``k <= min(P, 4)``, be moments?
+
+    The moments of :math:`x = c^2 \\ge 0` need positive semidefinite Hankel matrices
+    :math:`[\\nu_{i+j}]` and :math:`[\\nu_{i+j+1}]`; e.g. :math:`a_2 \\ge -2/3`.  Only
+    the moments fixed by :math:`b_0 .. b_P` (order ``<= 2P``) enter.
+    """
+    t, w = np.polynomial.hermite_e.hermegauss(12)
+    w = w / w.sum()
+    m = min(4, len(b) - 1)
+    series = np.tensordot(b[: m + 1], orthonormal_sonine(m, t), axes=1)
+    nu = np.array([np.sum(w * series * t ** (2 * k)) for k in range(m + 1)])
+    n0, n1 = m // 2 + 1, (m - 1) // 2 + 1
+    h0 = np.array([[nu[i + j] for j in range(n0)] for i in range(n0)])
+    h1 = np.array([[nu[i + j + 1] for j in range(n1)] for i in range(n1)])
+    for h in (h0, h1):
+        d = np.diag(h)
+        if not (np.all(np.isfinite(h)) and np.all(d > 0)):
+            return False
+        if np.linalg.eigvalsh(h / np.sqrt(np.outer(d, d))).min() < -1e-12:
+            return False
+    return True
+
+
+def _solve(order: int, alpha: float, gamma: float, *, cooling: bool, friction: float,
+           linearized: bool, guess_y: float) -> SonineSolution:
+    stages = [2]
+    while stages[-1] < order:
+        stages.append(min(order, 2 * stages[-1]))
+    x = np.array([guess_y])
+    total = 0
+    for stage in stages:
+        system = _System(stage, alpha, gamma, cooling=cooling, friction=friction,
+                         linearized=linearized, reference=guess_y)
+        x = np.concatenate([x[:-1], np.zeros(stage - 1 - (len(x) - 1)), x[-1:]])
+        x, resid, its, cond = _newton(system, x)
+        total += its
+        logger.debug("Sonine order %d: relative residual %.2e after %d Newton steps",
+                     stage, resid, its)
+    if not (np.all(np.isfinite(x)) and resid <= 1e-10):
+        kind = "cooling" if cooling else "heated"
+        raise RuntimeError(
+            f"the Sonine Galerkin equations ({kind}, alpha={alpha}, gamma={gamma:g}, order "
+            f"{order}) have no solution Newton could find (relative residual {resid:.1e}); "
+            "the truncated series fails where f is far from a Gaussian: try another order "
+            "or method='fem'")
+    coef = system.coefficients(x) / _sqrt_norms(order)
+    if not _realisable(system.coefficients(x)):
+        kind = "cooling" if cooling else "heated"
+        raise RuntimeError(
+            f"the Sonine Galerkin equations ({kind}, alpha={alpha}, gamma={gamma:g}, order "
+            f"{order}) gave only a spurious root (a2 = {coef[2]:.3g}): no distribution has "
+            "its moments up to <c^8> (their Hankel matrices are not positive); the "
+            "truncated system has no physical solution here: try another order or "
+            "method='fem'")
+    if cooling:
+        return SonineSolution(order, coef, 1.0, float(x[-1]), resid, cond, total)
+    return SonineSolution(order, coef, math.exp(x[-1]), math.nan, resid, cond, total)
+
+
+def solve_sonine(alpha: float, order: int = 6, *, density: float = 1.0, diffusion: float = 1.0,
+                 friction: float = 0.0, kernel: float = 1.0,
+                 linearized: bool = False) -> SonineSolution:
+    """Heated steady state by the Sonine Galerkin method: :math:`a_2 .. a_P` and :math:`T`.
+
+    Parameters
+    ----------
+    alpha : float
+        Restitution coefficient in ``[0, 1)`` (``[0, 1]`` with friction).
+    order : int
+        Truncation order ``2 <= P <= MAX_ORDER``.
+    density, diffusion, friction : float
+        :math:`n > 0`, :math:`D > 0`, bath friction :math:`\\xi \\ge 0` (0: white noise).
+    kernel : float or PowerLawKernel
+        Kernel exponent :math:`\\gamma \\in [0, 2]`.
+    linearized : bool
+        Drop the products of :math:`a_p` (``p >= 2``) with each other and with the
+        thermostat terms: the first-order Sonine theory at ``P = 2``.
+
+    Returns
+    -------
+    SonineSolution
+
+    Raises
+    ------
+    RuntimeError
+        If Newton finds no solution of the truncated system.
+
+    Examples
+    --------
+    >>> from kinetic_fem.sonine import a2_first_order
+    >>> sol = solve_sonine(0.5, order=2, linearized=True)
+    >>> bool(abs(sol.coefficients[2] - a2_first_order(0.5)) < 1e-12)
+    True
+    """
+    problem = HeatedProblem.from_parameters(alpha, density=density, diffusion=diffusion,
+                                            friction=friction, kernel=kernel)
+    return _solve_problem(problem, _check_order(order), linearized)
+
+
+def _solve_problem(problem: HeatedProblem, order: int, linearized: bool) -> SonineSolution:
+    gas = problem.gas
+    u = problem.velocity_scale
+    chi0 = problem.friction / (gas.density * u**gas.gamma)
+    guess = math.log(problem.temperature_estimate() / u**2)
+    sol = _solve(order, gas.alpha, gas.gamma, cooling=False, friction=chi0,
+                 linearized=linearized, guess_y=guess)
+    return SonineSolution(order, sol.coefficients, sol.temperature * u**2, math.nan,
+                          sol.residual, sol.condition_number, sol.iterations)
+
+
+def solve_sonine_cooling(alpha: float, order: int = 6, *, kernel: float = 1.0,
+                         linearized: bool = False) -> tuple[SonineSolution, float]:
+    """Sonine coefficients of the homogeneous cooling state and its cooling rate.
+
+    Returns
+    -------
+    solution : SonineSolution
+        Coefficients at unit temperature.
+    zeta : float
+        Cooling rate in :math:`dT/dt = -2\\zeta n T^{1+\\gamma/2}`.
+
+    Raises
+    ------
+    UnsupportedModelError
+        For the Maxwell kernel (``gamma = 0``): its cooling state
+        :math:`2/(\\pi(1+c^2)^2)` has no fourth moment, hence no Sonine expansion (the
+        truncated system has only the spurious root :math:`a_2 = -2`).
+
+    Examples
+    --------
+    First order (linearised, ``P = 2``): :math:`a_2 = 16(1-2\\alpha^2)/(33+30\\alpha^2)`,
+    the 1D case of van Noije and Ernst's result.
+
+    >>> sol, zeta = solve_sonine_cooling(0.5, order=2, linearized=True)
+    >>> round(float(sol.coefficients[2]), 12), round(16 * 0.5 / (33 + 7.5), 12)
+    (0.197530864198, 0.197530864198)
+    """
+    problem = CoolingProblem.from_parameters(alpha, kernel=kernel)
+    return _solve_cooling_problem(problem, _check_order(order), linearized)
+
+
+def _solve_cooling_problem(problem: CoolingProblem, order: int, linearized: bool
+                           ) -> tuple[SonineSolution, float]:
+    gas = problem.gas
+    if gas.kernel.is_maxwell:
+        raise UnsupportedModelError(
+            "method 'spectral' cannot represent the cooling state of the Maxwell kernel "
+            "(gamma = 0): f(c) = 2/(pi (1 + c^2)^2) has an infinite fourth moment, so its "
+            "Sonine coefficients do not exist; use kinetic_fem.solvers.maxwell.hcs_pdf or 'fem'")
+    sol = _solve(order, gas.alpha, gas.gamma, cooling=True, friction=0.0,
+                 linearized=linearized, guess_y=problem.zeta_estimate())
+    return sol, sol.zeta
+
+
+def _output(sol: SonineSolution, problem: HeatedProblem | CoolingProblem,
+            cutoff: float | None, n_v: int | None, start: float,
+            kind: str) -> VelocityDistribution:
+    if cutoff is None:
+        cutoff = max(12.0, math.sqrt(4.0 * sol.order + 8.0) + 8.0)
+    if n_v is None:
+        n_v = 2 * int(math.ceil(cutoff / 0.01)) + 1
+    if n_v < 5 or n_v % 2 == 0:
+        raise ValueError(f"n_v={n_v} must be odd and >= 5 (Simpson weights)")
+    c = np.linspace(-cutoff, cutoff, n_v)
+    s = math.sqrt(sol.temperature)
+    extra = {"order": sol.order, "sonine": [float(x) for x in sol.coefficients],
+             "condition_number": sol.condition_number}
+    if kind == "cooling":
+        extra["zeta"] = sol.zeta
+    info = RunInfo(converged=True, iterations=sol.iterations, residual=sol.residual,
+                   wall_time=time.perf_counter() - start,
+                   message=f"Sonine Galerkin ({kind}), order {sol.order}", extra=extra)
+    return VelocityDistribution.from_values(
+        s * c, sol.f(c) / s, weights=s * simpson_weights(c), method="spectral",
+        params=problem.as_dict(), info=info)
+
+
+@register_solver("spectral", problem="heated")
+def sonine_heated(problem: HeatedProblem, *, order: int = 8, cutoff: float | None = None,
+                  n_v: int | None = None, linearized: bool = False) -> VelocityDistribution:
+    """Heated steady state by the Sonine Galerkin method (registry key ``"spectral"``).
+
+    Kernels :math:`|g|^\\gamma`, ``0 <= gamma <= 2``, constant restitution, white noise or
+    a Fokker-Planck bath.
+
+    Parameters
+    ----------
+    problem : HeatedProblem
+    order : int
+        Truncation order ``P``.
+    cutoff : float, optional
+        Output grid half-width in thermal speeds (default
+        :math:`\\max(12, \\sqrt{4P+8} + 8)`, beyond the last polynomial's Gaussian bulk).
+    n_v : int, optional
+        Odd number of output nodes (default spacing 0.01 thermal speeds).
+    linearized : bool
+        First-order (linearised) Sonine theory.
+
+    Returns
+    -------
+    VelocityDistribution
+        The truncated series on the grid; ``info.extra['sonine']`` holds
+        :math:`a_0 .. a_P`, ``info.extra['condition_number']`` the Jacobian's.
+    """
+    problem.require("spectral", constant_restitution=True,
+                    thermostats=(WhiteNoise, FokkerPlanckBath))
+    start = time.perf_counter()
+    sol = _solve_problem(problem, _check_order(order), linearized)
+    return _output(sol, problem, cutoff, n_v, start, "heated")
+
+
+@register_solver("spectral", problem="cooling")
+def sonine_cooling(problem: CoolingProblem, *, order: int = 8, cutoff: float | None = None,
+                   n_v: int | None = None, linearized: bool = False) -> VelocityDistribution:
+    """Homogeneous cooling state by the Sonine Galerkin method (key ``"spectral"``).
+
+    Kernels ``0 < gamma <= 2`` with constant restitution (the Maxwell cooling state has
+    no Sonine expansion: :func:`solve_sonine_cooling`).  Accurate while the state is
+    close to a Gaussian; the two humps of the near-elastic state (claims C10, C15)
+    need high orders.  Parameters as :func:`sonine_heated`; the result is at unit
+    temperature and ``info.extra`` holds ``zeta`` and the coefficients.
+    """
+    problem.require("spectral", constant_restitution=True)
+    start = time.perf_counter()
+    sol, _ = _solve_cooling_problem(problem, _check_order(order), linearized)
+    return _output(sol, problem, cutoff, n_v, start, "cooling")
