@@ -140,6 +140,11 @@ class MDEngine:
         self.heap = np.zeros(n, np.int32)
         self.hkey = np.full(n + K.HEAP_PAD, np.inf)
         self.where = np.full(n, -1, np.int32)
+        self.ptime = np.full(n, np.inf)
+        self.head = np.full(n, -1, np.int32)
+        self.nxt = np.full(n, -1, np.int32)
+        self.prv = np.full(n, -1, np.int32)
+        self.bkt = np.full(n, -1, np.int32)
         self.fstate = np.zeros(K.N_FSTATE)
         self.istate = np.zeros(K.N_ISTATE, np.int64)
         self.fstate[K.F_T_KICK] = kick_dt
@@ -153,18 +158,26 @@ class MDEngine:
         self._law = (law.code, *law.parameters, law.max_speed, o.elastic_below)
         self._temp_key: tuple[int, int] | None = None
         self._temp = math.nan
-        K.build_heap(0.0, kick_dt, self.x, self.v, self.tl, o.free_length, self.heap,
-                     self.hkey, self.where, self.istate)
+        # free cooling: calendar epochs of about N collisions, the first from T
+        # (collision rate N n_f sqrt(T/pi) of points at the reduced density n_f)
+        temp = float(np.var(self.v)) if n > 1 else 0.0
+        span = (o.free_length / n) * math.sqrt(math.pi / temp) if temp > 0.0 else 1.0
+        self.fstate[K.F_SPAN] = span
+        horizon = kick_dt if kick_dt < math.inf else span
+        K.build_heap(0.0, horizon, self.x, self.v, self.tl, o.free_length, self.heap,
+                     self.hkey, self.where, self.ptime, self.head, self.nxt, self.prv,
+                     self.bkt, self.fstate, self.istate)
 
-    _ARRAYS = ("x", "v", "tl", "heap", "hkey", "where", "fstate", "istate", "rng_state")
+    _ARRAYS = ("x", "v", "tl", "heap", "hkey", "where", "ptime", "head", "nxt", "prv", "bkt",
+               "fstate", "istate", "rng_state")
 
     def state(self) -> dict[str, NDArray]:
         return {f"md_{k}": getattr(self, k).copy() for k in self._ARRAYS}
 
     def restore(self, arrays: Mapping[str, NDArray]) -> None:
-        if "md_rng_state" not in arrays or arrays["md_hkey"].size != self.hkey.size:
+        if "md_head" not in arrays or arrays["md_fstate"].size != self.fstate.size:
             raise ValueError("the checkpoint was written by an older version of the MD "
-                             "engine (other heap and random-stream layout); it cannot be "
+                             "engine (other event calendar layout); it cannot be "
                              "resumed, rerun from the start")
         for k in self._ARRAYS:
             setattr(self, k, np.array(arrays[f"md_{k}"]))
@@ -190,7 +203,8 @@ class MDEngine:
         floor = o.collapse_tol * math.sqrt(max(self.temperature(), 1e-300))
         with np.errstate(over="ignore"):  # uint64 wrap-around of the generator (no-JIT mode)
             status = K.run_events(self.x, self.v, self.tl, self.heap, self.hkey,
-                                  self.where, self.fstate, self.istate, self.rng_state,
+                                  self.where, self.ptime, self.head, self.nxt, self.prv,
+                                  self.bkt, self.fstate, self.istate, self.rng_state,
                                   *K.ZIGGURAT, self.xi, self.free_length, *self._law,
                                   self.kick_dt, o.kicks.decay, o.kicks.amplitude, floor,
                                   o.max_stall, t_stop, coll_target)

@@ -63,23 +63,36 @@ import numpy as np
 from kinetic_fem.model import restitution_value
 
 from ._jit import jit, prefetch
-from .rng import normal_slow, xoshiro, ziggurat_tables
+from ._md_calendar import (
+    F_BASE,
+    F_HORIZON,
+    F_INV_W,
+    HEAP_PAD,
+    I_CUR,
+    I_HSIZE,
+    I_NB,
+    bucket_of,
+    calendar_start,
+)
+from ._md_kicks import fill_normals, kick_sweep
+from .rng import ziggurat_tables
 
-__all__ = ["F_T", "F_T_KICK", "F_DISS", "F_INJ", "I_NCOLL", "I_HSIZE", "I_STALL",
-           "I_NKICK", "I_NELASTIC", "I_BAD_PAIR", "STATUS_COLLISIONS", "STATUS_TIME",
+__all__ = ["F_T", "F_T_KICK", "F_DISS", "F_INJ", "F_BASE", "F_INV_W", "F_HORIZON", "F_SPAN",
+           "I_NCOLL", "I_HSIZE", "I_STALL", "I_NKICK", "I_NELASTIC", "I_BAD_PAIR", "I_CUR",
+           "I_NB", "I_EPOCH_C0", "STATUS_COLLISIONS", "STATUS_TIME",
            "STATUS_COLLAPSE_SPEED", "STATUS_COLLAPSE_STALL", "STATUS_NO_EVENTS",
-           "STATUS_LAW_RANGE", "N_FSTATE",
-           "N_ISTATE", "HEAP_PAD", "ZIGGURAT", "PREFETCH_MIN_N", "build_heap", "fill_normals",
-           "kick_sweep", "run_events"]
+           "STATUS_LAW_RANGE", "N_FSTATE", "N_ISTATE", "HEAP_PAD", "ZIGGURAT",
+           "PREFETCH_MIN_N", "bucket_of", "build_heap", "fill_normals", "kick_sweep",
+           "run_events"]
 
-# slots of the float state vector
+# slots of the float state vector (F_BASE, F_INV_W, F_HORIZON = 4, 5, 6: the calendar's)
 F_T, F_T_KICK, F_DISS, F_INJ = 0, 1, 2, 3
-N_FSTATE = 4
-# slots of the integer state vector
-I_NCOLL, I_HSIZE, I_STALL, I_NKICK, I_NELASTIC, I_BAD_PAIR = 0, 1, 2, 3, 4, 5
-N_ISTATE = 6
-HEAP_PAD = 4
-"""Slots of ``hkey`` beyond ``N`` (always ``inf``)."""
+F_SPAN = 7  # span of a free-cooling epoch
+N_FSTATE = 8
+# slots of the integer state vector (I_HSIZE = 1, I_CUR, I_NB = 6, 7: the calendar's)
+I_NCOLL, I_STALL, I_NKICK, I_NELASTIC, I_BAD_PAIR = 0, 2, 3, 4, 5
+I_EPOCH_C0 = 8  # collisions at the start of the epoch
+N_ISTATE = 9
 # return codes of run_events
 STATUS_COLLISIONS = 0  # reached the requested number of collisions
 STATUS_TIME = 1  # reached the requested time
@@ -95,247 +108,80 @@ PREFETCH_MIN_N = 1 << 14
 
 
 @jit
-def _sift_up(heap, hkey, where, pos, p, kp):  # pragma: no cover - compiled
-    """Place pair ``p`` with time ``kp`` at slot ``pos`` or above."""
-    while pos > 0:
-        parent = (pos - 1) >> 2
-        kq = hkey[parent]
-        if kq <= kp:
-            break
-        q = heap[parent]
-        heap[pos] = q
-        hkey[pos] = kq
-        where[q] = pos
-        pos = parent
-    heap[pos] = p
-    hkey[pos] = kp
-    where[p] = pos
+def _meet(t, xq, vq, tlq, xj, vj, tlj, shift):  # pragma: no cover - compiled
+    """Time rod ``q`` (lazy ``xq, vq, tlq``) meets its right neighbour, or inf.
 
-
-@jit
-def _sift_down(heap, hkey, where, pos, p, kp, size):  # pragma: no cover - compiled
-    """Place pair ``p`` with time ``kp`` at slot ``pos`` or below (heap of ``size``).
-
-    The children of slot ``k`` are ``4k + 1 ... 4k + 4``; the earliest is found by a
-    tournament (ties to the left) that reads the ``inf`` slots beyond the heap.
-    """
-    while True:
-        c = 4 * pos + 1
-        if c >= size:
-            break
-        c01 = c + (hkey[c + 1] < hkey[c])
-        c23 = c + 2 + (hkey[c + 3] < hkey[c + 2])
-        k01 = hkey[c01]
-        k23 = hkey[c23]
-        child = c01
-        kc = k01
-        if k23 < k01:
-            child = c23
-            kc = k23
-        if kp <= kc:
-            break
-        q = heap[child]
-        heap[pos] = q
-        hkey[pos] = kc
-        where[q] = pos
-        pos = child
-    heap[pos] = p
-    hkey[pos] = kp
-    where[p] = pos
-
-
-@jit
-def _heap_set(p, tp, t_cut, heap, hkey, where, istate):  # pragma: no cover - compiled
-    """Give pair ``p`` the time ``tp``: update, insert, or remove if ``tp >= t_cut``."""
-    pos = where[p]
-    size = istate[I_HSIZE]
-    if tp < t_cut:
-        if pos < 0:
-            istate[I_HSIZE] = size + 1
-            _sift_up(heap, hkey, where, size, p, tp)
-        elif pos > 0 and hkey[(pos - 1) >> 2] > tp:
-            _sift_up(heap, hkey, where, pos, p, tp)
-        else:
-            _sift_down(heap, hkey, where, pos, p, tp, size)
-    elif pos >= 0:
-        _heap_remove(pos, heap, hkey, where, istate)
-
-
-@jit
-def _heap_remove(pos, heap, hkey, where, istate):  # pragma: no cover - compiled
-    """Remove the pair at slot ``pos``."""
-    size = istate[I_HSIZE] - 1
-    istate[I_HSIZE] = size
-    where[heap[pos]] = -1
-    q = heap[size]
-    kq = hkey[size]
-    hkey[size] = np.inf  # keep the slots beyond the heap at inf
-    if pos < size:
-        if pos > 0 and hkey[(pos - 1) >> 2] > kq:
-            _sift_up(heap, hkey, where, pos, q, kq)
-        else:
-            _sift_down(heap, hkey, where, pos, q, kq, size)
-
-
-@jit
-def _pair_time(q, t, x, v, tl, free_length):  # pragma: no cover - compiled
-    """Predicted collision time of pair ``q`` = (q, q+1 mod N), or inf if receding.
-
+    The neighbour is ``xj, vj, tlj`` plus ``shift`` (``L_f`` across the seam).
     Selects instead of branches: approaching or not is a coin flip for the CPU.
+    Scalars only (no arrays: no reference counting when called in the event loop).
     """
-    n = x.shape[0]
-    j = q + 1
-    shift = 0.0
-    if j == n:
-        j = 0
-        shift = free_length
-    dv = v[q] - v[j]
-    gap = (x[j] + v[j] * (t - tl[j]) + shift) - (x[q] + v[q] * (t - tl[q]))
+    dv = vq - vj
+    gap = (xj + vj * (t - tlj) + shift) - (xq + vq * (t - tlq))
     approaching = dv > 0.0
     tq = t + max(gap, 0.0) / (dv if approaching else 1.0)
     return tq if approaching else np.inf
 
 
 @jit
-def _heapify(heap, hkey, where, size, old_size):  # pragma: no cover - compiled
-    """Heap order for the ``size`` entries in place (Floyd); clear the stale slots."""
-    for k in range(size, old_size + 1):
-        hkey[k] = np.inf
-    for pos in range((size - 2) // 4, -1, -1):
-        _sift_down(heap, hkey, where, pos, heap[pos], hkey[pos], size)
-
-
-@jit
-def build_heap(t, t_cut, x, v, tl, free_length, heap, hkey, where, istate):  # pragma: no cover
-    """Recompute every pair time at time ``t`` and heapify the pairs before ``t_cut``."""
+def _pair_time(q, t, x, v, tl, free_length):  # pragma: no cover - compiled
+    """Predicted collision time of pair ``q`` = (q, q+1 mod N), or inf if receding."""
     n = x.shape[0]
-    old = istate[I_HSIZE]
-    size = 0
-    for q in range(n):
-        tq = _pair_time(q, t, x, v, tl, free_length)
-        if tq < t_cut:
-            heap[size] = q
-            hkey[size] = tq
-            where[q] = size
-            size += 1
-        else:
-            where[q] = -1
-    istate[I_HSIZE] = size
-    _heapify(heap, hkey, where, size, max(old, n))
+    j = q + 1
+    shift = 0.0
+    if j == n:
+        j = 0
+        shift = free_length
+    return _meet(t, x[q], v[q], tl[q], x[j], v[j], tl[j], shift)
 
 
 @jit
-def fill_normals(out, rng, ki, wi, fi):  # pragma: no cover - compiled
-    """Fill ``out`` with standard normals: ziggurat on xoshiro256** from state ``rng``.
+def build_heap(t, t_cut, x, v, tl, free_length, heap, hkey, where, ptime, head, nxt, prv,
+               bkt, fstate, istate):  # pragma: no cover - compiled
+    """Recompute every pair time at ``t``; start a calendar epoch ``[t, t_cut)``.
 
-    The fast path (one 64-bit number, a table look-up, one comparison; 99 % of the
-    draws) is inlined with the generator state in registers; wedge and tail go to
-    :func:`particles.rng.normal_slow` with the state written back.
-    """
-    s0, s1, s2, s3 = rng[0], rng[1], rng[2], rng[3]
-    for i in range(out.shape[0]):
-        r, s0, s1, s2, s3 = xoshiro(s0, s1, s2, s3)
-        idx = int(r & np.uint64(0xFF))
-        r >>= np.uint64(8)
-        rabs = (r >> np.uint64(1)) & np.uint64(0x000FFFFFFFFFFFFF)
-        z = float(np.int64(rabs)) * wi[idx]  # rabs < 2^52: exact conversion
-        if r & np.uint64(1):
-            z = -z
-        if rabs >= ki[idx]:
-            rng[0], rng[1], rng[2], rng[3] = s0, s1, s2, s3
-            z = normal_slow(rng, idx, z, ki, wi, fi)
-            s0, s1, s2, s3 = rng[0], rng[1], rng[2], rng[3]
-        out[i] = z
-    rng[0], rng[1], rng[2], rng[3] = s0, s1, s2, s3
-
-
-@jit
-def kick_sweep(tk, t_cut, decay, amp, xi, x, v, tl, free_length, heap, hkey, where,
-               istate):  # pragma: no cover - compiled
-    """Kick every rod at ``tk``, recompute all pair times, heap those before ``t_cut``.
-
-    Rod ``i`` moves to ``tk`` and gets ``v[i] = decay * v[i] + amp * xi[i]`` (``decay``
-    1 for white noise: exactly ``v[i] + amp * xi[i]``); pair ``i - 1`` is then
-    screened at once by the conservative test
-    ``gap < dv ((t_cut - tk)(1 + 1e-12) + 1e-14 t_cut)`` (rounding of the exact test
-    is ~1e-16 relative), written without a branch: every pair is stored in ``heap``
-    and the count advances only for those passing.  A second pass over these few
-    candidates applies the exact rule of :func:`build_heap` (approaching and
-    ``tk + gap/dv < t_cut``) and divides.  Returns the energy injected (net: a bath's
-    friction can take energy out).
+    The calendar must be empty.  Returns the number of approaching pairs (due at any
+    time, queued or not).
     """
     n = x.shape[0]
     old = istate[I_HSIZE]
     for k in range(old):
         where[heap[k]] = -1
-    lim = (t_cut - tk) * (1.0 + 1e-12) + 1e-14 * abs(t_cut)
-    inj = 0.0
-    x_prev = x[0] + v[0] * (tk - tl[0])
-    x[0] = x_prev
-    tl[0] = tk
-    vo = v[0]
-    v_prev = vo * decay + amp * xi[0]
-    v[0] = v_prev
-    inj += 0.5 * (v_prev * v_prev - vo * vo)
-    cand = 0
-    for i in range(1, n):
-        xn = x[i] + v[i] * (tk - tl[i])
-        x[i] = xn
-        tl[i] = tk
-        vo = v[i]
-        vn = vo * decay + amp * xi[i]
-        v[i] = vn
-        inj += 0.5 * (vn * vn - vo * vo)
-        heap[cand] = i - 1
-        cand += xn - x_prev < (v_prev - vn) * lim
-        x_prev = xn
-        v_prev = vn
-    heap[cand] = n - 1  # pair N - 1 = (N - 1, 0) across the seam
-    cand += x[0] + free_length - x_prev < (v_prev - v[0]) * lim
+        hkey[k] = np.inf
     size = 0
-    for k in range(cand):
-        q = heap[k]
-        j = q + 1
-        shift = 0.0
-        if j == n:
-            j = 0
-            shift = free_length
-        dv = v[q] - v[j]
-        if dv > 0.0:
-            gap = (x[j] + shift) - x[q]
-            if gap < 0.0:
-                gap = 0.0
-            tq = tk + gap / dv
-            if tq < t_cut:
-                heap[size] = q
-                hkey[size] = tq
-                where[q] = size
-                size += 1
-    istate[I_HSIZE] = size
-    _heapify(heap, hkey, where, size, old)
-    return inj
+    approaching = 0
+    for q in range(n):
+        tq = _pair_time(q, t, x, v, tl, free_length)
+        approaching += tq < np.inf
+        if tq < t_cut:
+            heap[size] = q
+            hkey[size] = tq
+            size += 1
+    calendar_start(size, t, t_cut, heap, hkey, where, ptime, head, nxt, prv, bkt, fstate,
+                   istate)
+    return approaching
 
 
 @jit
-def run_events(x, v, tl, heap, hkey, where, fstate, istate, rng, ki, wi, fi, normals, free_length,
-               law, p0, p1, max_speed, threshold, kick_dt, kick_decay, kick_amp, speed_floor,
-               max_stall, t_stop, coll_stop):  # pragma: no cover - compiled
+def run_events(x, v, tl, heap, hkey, where, ptime, head, nxt, prv, bkt, fstate, istate, rng,
+               ki, wi, fi, normals, free_length, law, p0, p1, max_speed, threshold, kick_dt,
+               kick_decay, kick_amp, speed_floor, max_stall, t_stop,
+               coll_stop):  # pragma: no cover - compiled
     """Advance the event-driven dynamics until a stop condition; return a status code.
 
     Parameters
     ----------
     x, v, tl : ndarray, shape (N,)
         Lazy positions on the reduced ring, velocities, times of last update.
-    heap, where : ndarray of int32 (or int64), shape (N,)
-        Indexed min-heap: pair indices in heap order, and the slot of each pair (-1
-        if not queued).  The engine uses int32: less memory traffic at large N.
-    hkey : ndarray, shape (N + HEAP_PAD,)
-        The pairs' predicted times in heap order; ``inf`` from the heap size on.
+    heap, hkey, where, ptime, head, nxt, prv, bkt : ndarray
+        The event calendar of :mod:`particles._md_calendar` (int32 or int64 indices,
+        shape (N,); ``hkey`` shape (N + HEAP_PAD,)).
     fstate : ndarray, shape (N_FSTATE,)
-        Time, time of the next kick, energy dissipated, energy injected.
+        Time, time of the next kick, energy dissipated, energy injected, the
+        calendar's epoch, the span of a free-cooling epoch.
     istate : ndarray, shape (N_ISTATE,)
         Collisions, heap size, stall counter, kicks, threshold (elastic) collisions,
-        pair of the last collapse.
+        pair of the last collapse, calendar bucket and buckets, collisions at the
+        start of the epoch.
     rng : ndarray of uint64, shape (4,)
         xoshiro256** state of the kick normals (unused when ``kick_dt`` is inf).
     ki, wi, fi : ndarray, shape (256,)
@@ -361,6 +207,14 @@ def run_events(x, v, tl, heap, hkey, where, fstate, istate, rng, ki, wi, fi, nor
     t_stop, coll_stop : float, int
         Stop before the first event after ``t_stop`` or after ``coll_stop`` collisions
         in total.
+
+    Notes
+    -----
+    An epoch of the calendar ends when it holds no pair: in a heated run the kick
+    follows (all pairs due before it were processed); in free cooling every pair time
+    is recomputed (:func:`build_heap`) for a new epoch whose span is scaled by
+    ``N / c`` (within a factor 4) after ``c`` collisions in the last one, so that an
+    epoch holds about ``N`` collisions (the sweep then costs ~2 ns per collision).
     """
     n = x.shape[0]
     t = fstate[F_T]
@@ -369,35 +223,86 @@ def run_events(x, v, tl, heap, hkey, where, fstate, istate, rng, ki, wi, fi, nor
     n_coll = istate[I_NCOLL]
     stall = istate[I_STALL]
     n_elastic = istate[I_NELASTIC]
+    # the calendar in locals (arrays are touched only for the queued pairs); the code
+    # is written out here, not called: a call passing arrays costs numba's reference
+    # counting (atomic) per array, more than the heap operation itself
+    size = istate[I_HSIZE]
+    cur = istate[I_CUR]
+    nb = istate[I_NB]
+    base = fstate[F_BASE]
+    inv_w = fstate[F_INV_W]
+    horizon = fstate[F_HORIZON]
     status = STATUS_COLLISIONS
-    p = 0
     use_prefetch = n >= PREFETCH_MIN_N
     while True:
         if n_coll >= coll_stop:
             status = STATUS_COLLISIONS
             break
-        if istate[I_HSIZE] > 0:
-            p = heap[0]
-            tc = hkey[0]
-        else:
-            tc = np.inf
-        if tc >= t_kick and t_kick < np.inf:  # pairs beyond the next kick are not in the heap
-            if t_kick > t_stop:
-                status = STATUS_TIME
-                break
-            nk = istate[I_NKICK] + 1
-            t = t_kick
-            t_kick = (nk + 1) * kick_dt
-            fill_normals(normals, rng, ki, wi, fi)
-            fstate[F_INJ] += kick_sweep(t, t_kick, kick_decay, kick_amp, normals, x, v, tl,
-                                        free_length, heap, hkey, where, istate)
-            istate[I_NKICK] = nk
+        while size == 0 and cur + 1 < nb:  # heap the next non-empty bucket
+            cur += 1
+            q = head[cur]
+            head[cur] = -1
+            while q >= 0:
+                nq = nxt[q]
+                bkt[q] = -1
+                kq = ptime[q]
+                pos = size
+                size += 1
+                while pos > 0:
+                    parent = (pos - 1) >> 2
+                    kpar = hkey[parent]
+                    if kpar <= kq:
+                        break
+                    qq = heap[parent]
+                    heap[pos] = qq
+                    hkey[pos] = kpar
+                    where[qq] = pos
+                    pos = parent
+                heap[pos] = q
+                hkey[pos] = kq
+                where[q] = pos
+                q = nq
+        if size == 0:  # the epoch is over: every pair due before its horizon was processed
+            istate[I_HSIZE] = 0
+            istate[I_CUR] = cur
+            if t_kick < np.inf:
+                if t_kick > t_stop:
+                    status = STATUS_TIME
+                    break
+                nk = istate[I_NKICK] + 1
+                t = t_kick
+                t_kick = (nk + 1) * kick_dt
+                fill_normals(normals, rng, ki, wi, fi)
+                fstate[F_INJ] += kick_sweep(t, t_kick, kick_decay, kick_amp, normals, x, v, tl,
+                                            free_length, heap, hkey, where, ptime, head, nxt,
+                                            prv, bkt, fstate, istate)
+                istate[I_NKICK] = nk
+            else:
+                if horizon > t_stop:
+                    status = STATUS_TIME
+                    break
+                c = n_coll - istate[I_EPOCH_C0]
+                span = fstate[F_SPAN] * min(4.0, max(0.25, n / max(c, 1)))
+                fstate[F_SPAN] = span
+                istate[I_EPOCH_C0] = n_coll
+                if build_heap(t, t + span, x, v, tl, free_length, heap, hkey, where, ptime,
+                              head, nxt, prv, bkt, fstate, istate) == 0:
+                    status = STATUS_NO_EVENTS
+                    break
+            size = istate[I_HSIZE]
+            cur = istate[I_CUR]
+            nb = istate[I_NB]
+            base = fstate[F_BASE]
+            inv_w = fstate[F_INV_W]
+            horizon = fstate[F_HORIZON]
             continue
-        if tc > t_stop or tc == np.inf:
-            status = STATUS_TIME if tc < np.inf else STATUS_NO_EVENTS
+        p = heap[0]
+        tc = hkey[0]
+        if tc > t_stop:
+            status = STATUS_TIME
             break
         # --- collision of pair p = (i, j) at time tc
-        if use_prefetch and istate[I_HSIZE] > 4:
+        if use_prefetch and size > 4:
             # the earliest child of the root is likely the next collision: fetch its
             # rods while this one is processed (overlaps the cache misses of large N)
             c01 = 1 + (hkey[2] < hkey[1])
@@ -406,7 +311,6 @@ def run_events(x, v, tl, heap, hkey, where, fstate, istate, rng, ki, wi, fi, nor
             prefetch(x, q2)
             prefetch(v, q2)
             prefetch(tl, q2)
-            prefetch(where, q2)
         i = p
         j = p + 1
         shift = 0.0
@@ -453,36 +357,127 @@ def run_events(x, v, tl, heap, hkey, where, fstate, istate, rng, ki, wi, fi, nor
             diss += 0.25 * (1.0 - a * a) * g * g
         t = tc
         n_coll += 1
-        # pair p now recedes and leaves the root; its two neighbour pairs change.
-        # A neighbour not yet queued (the earlier one if both) takes over the root
-        # slot: one sift-down instead of a removal and an insertion.
+        # --- pair p recedes, its neighbour pairs get new times.  Three steps, each at
+        # most one heap repair (sift up, then down): the left pair, the right pair, and
+        # the removal of p from the root, unless a neighbour due in the heap and not yet
+        # in it took over the root slot.  While p sits at the root (its time is the
+        # smallest) the other repairs never reach slot 0.
         left = p - 1 if p > 0 else n - 1
-        t_left = _pair_time(left, t, x, v, tl, free_length)
-        t_right = _pair_time(j, t, x, v, tl, free_length)
-        where[p] = -1
-        right_first = t_right < t_left  # (selects, no branch)
-        first = j if right_first else left
-        second = left if right_first else j
-        t_first = min(t_left, t_right)
-        t_second = t_left if right_first else t_right
-        two = second != first  # (N = 2 has a single neighbour pair)
-        if t_first < t_kick and where[first] < 0:
-            _sift_down(heap, hkey, where, 0, first, t_first, istate[I_HSIZE])
-            if two:
-                _heap_set(second, t_second, t_kick, heap, hkey, where, istate)
-        elif two and t_second < t_kick and where[second] < 0:
-            # first is queued (and due before the kick, as t_first <= t_second)
-            _sift_down(heap, hkey, where, 0, second, t_second, istate[I_HSIZE])
-            _heap_set(first, t_first, t_kick, heap, hkey, where, istate)
-        else:
-            _heap_remove(0, heap, hkey, where, istate)
-            _heap_set(first, t_first, t_kick, heap, hkey, where, istate)
-            if two:
-                _heap_set(second, t_second, t_kick, heap, hkey, where, istate)
+        two = left != j  # (N = 2 has a single neighbour pair)
+        jr = j + 1 if j + 1 < n else 0
+        t_left = _meet(t, x[left], v[left], tl[left], x[i], v[i], tl[i],
+                       free_length if left == n - 1 else 0.0)
+        t_right = _meet(t, x[j], v[j], tl[j], x[jr], v[jr], tl[jr],
+                        free_length if j == n - 1 else 0.0)
+        root_free = True
+        for step in range(3):
+            fix = -1
+            fq = 0
+            fk = 0.0
+            if step < 2:
+                if step == 0:
+                    if not two:
+                        continue
+                    q = left
+                    tq = t_left
+                else:
+                    q = j
+                    tq = t_right
+                b = -1  # the bucket of tq (-1: not queued)
+                if tq < horizon:
+                    kf = (tq - base) * inv_w
+                    b = nb - 1 if kf >= nb - 1 else int(kf)
+                if bkt[q] >= 0:  # out of its bucket's list
+                    qa = prv[q]
+                    qz = nxt[q]
+                    if qa >= 0:
+                        nxt[qa] = qz
+                    else:
+                        head[bkt[q]] = qz
+                    if qz >= 0:
+                        prv[qz] = qa
+                    bkt[q] = -1
+                pos = where[q]
+                if 0 <= b <= cur:  # due in the heap
+                    fq = q
+                    fk = tq
+                    if pos >= 0:
+                        fix = pos
+                    elif root_free:
+                        where[p] = -1
+                        fix = 0
+                        root_free = False
+                    else:
+                        fix = size
+                        size += 1
+                else:
+                    if pos >= 0:  # out of the heap: the last entry fills the hole
+                        where[q] = -1
+                        size -= 1
+                        fq = heap[size]
+                        fk = hkey[size]
+                        hkey[size] = np.inf
+                        if pos < size:
+                            fix = pos
+                    if b > 0:  # into its bucket's list
+                        ptime[q] = tq
+                        h = head[b]
+                        nxt[q] = h
+                        prv[q] = -1
+                        if h >= 0:
+                            prv[h] = q
+                        head[b] = q
+                        bkt[q] = b
+            elif root_free:
+                where[p] = -1
+                size -= 1
+                fq = heap[size]
+                fk = hkey[size]
+                hkey[size] = np.inf
+                if size > 0:
+                    fix = 0
+            if fix >= 0:
+                pos = fix
+                while pos > 0:
+                    parent = (pos - 1) >> 2
+                    kpar = hkey[parent]
+                    if kpar <= fk:
+                        break
+                    qq = heap[parent]
+                    heap[pos] = qq
+                    hkey[pos] = kpar
+                    where[qq] = pos
+                    pos = parent
+                while True:
+                    c = 4 * pos + 1
+                    if c >= size:
+                        break
+                    h0 = hkey[c]
+                    h1 = hkey[c + 1]
+                    h2 = hkey[c + 2]
+                    h3 = hkey[c + 3]
+                    c01 = c + (h1 < h0)
+                    k01 = min(h0, h1)
+                    c23 = c + 2 + (h3 < h2)
+                    k23 = min(h2, h3)
+                    child = c23 if k23 < k01 else c01
+                    kc = min(k01, k23)
+                    if fk <= kc:
+                        break
+                    qq = heap[child]
+                    heap[pos] = qq
+                    hkey[pos] = kc
+                    where[qq] = pos
+                    pos = child
+                heap[pos] = fq
+                hkey[pos] = fk
+                where[fq] = pos
     fstate[F_T] = t
     fstate[F_T_KICK] = t_kick
     fstate[F_DISS] = diss
     istate[I_NCOLL] = n_coll
     istate[I_STALL] = stall
     istate[I_NELASTIC] = n_elastic
+    istate[I_HSIZE] = size
+    istate[I_CUR] = cur
     return status

@@ -257,11 +257,20 @@ def _ring_state(n, free, rng):
     return x, rng.normal(size=n), np.zeros(n)
 
 
+def _calendar(n, size_i=np.int64):
+    """Empty calendar arrays: heap, hkey, where, ptime, head, nxt, prv, bkt, fstate, istate."""
+    return [np.zeros(n, size_i), np.full(n + K.HEAP_PAD, np.inf), np.full(n, -1, size_i),
+            np.full(n, np.inf), np.full(n, -1, size_i), np.full(n, -1, size_i),
+            np.full(n, -1, size_i), np.full(n, -1, size_i), np.zeros(K.N_FSTATE),
+            np.zeros(K.N_ISTATE, np.int64)]
+
+
 def test_kick_sweep_heap_equals_full_rebuild():
     """The kick's filtered pair prediction queues exactly the pairs build_heap queues.
 
     A third of the pairs are placed to meet within a few ulp of the cut ``t_cut``;
     positions are lazy (``tl`` differs per rod).  ``amp = 0``: velocities unchanged.
+    Both start the same calendar epoch (heap, buckets, lists: equal arrays).
     """
     rng = np.random.default_rng(5)
     n, free, tk, t_cut = 600, 300.0, 0.3, 0.35
@@ -273,9 +282,7 @@ def test_kick_sweep_heap_equals_full_rebuild():
         x[q + 1] = x[q] + (v[q] - v[q + 1]) * (t_cut - tk) * (1 + rng.integers(-2, 3) * 2.2e-16)
         tl[q] = tl[q + 1] = tk
     x -= v * (tk - tl)  # lazy positions of the other rods
-    hk = np.full(n + K.HEAP_PAD, np.inf)
-    a = [x.copy(), v.copy(), tl.copy(), np.zeros(n, np.int64), hk.copy(),
-         np.full(n, -1, np.int64), np.zeros(K.N_ISTATE, np.int64)]
+    a = [x.copy(), v.copy(), tl.copy(), *_calendar(n)]
     b = [arr.copy() for arr in a]
     state = np.array([1, 2, 3, 4], np.uint64)
     with np.errstate(over="ignore"):  # uint64 generator arithmetic without JIT
@@ -283,55 +290,106 @@ def test_kick_sweep_heap_equals_full_rebuild():
         K.fill_normals(xi, state, *K.ZIGGURAT)
         K.kick_sweep(tk, t_cut, 1.0, 0.0, xi, a[0], a[1], a[2], free, *a[3:])
     K.build_heap(tk, t_cut, b[0], b[1], b[2], free, *b[3:])
-    size = int(a[6][K.I_HSIZE])
-    assert 20 < size == b[6][K.I_HSIZE] < n
-    for name, ua, ub in zip(("x", "v", "heap", "hkey", "where"), a[:2] + a[3:6],
-                            b[:2] + b[3:6], strict=True):
+    cal_a, cal_b = _queued(*a[3:]), _queued(*b[3:])
+    assert 20 < len(cal_a) == len(cal_b) < n
+    assert cal_a == cal_b
+    names = ("x", "v", "tl", "heap", "hkey", "where", "ptime", "head", "nxt", "prv", "bkt",
+             "fstate", "istate")
+    size = int(a[-1][K.I_HSIZE])
+    for name, ua, ub in zip(names, a, b, strict=True):
         if name == "x":
             ub = ub + b[1] * (tk - b[2])  # build_heap leaves positions lazy
+        if name == "tl":
+            continue
         if name == "heap":  # slots beyond the heap size are scratch
             ua, ub = ua[:size], ub[:size]
+        if name == "ptime":  # meaningful for the pairs in bucket lists only
+            ua, ub = ua[a[10] >= 0], ub[b[10] >= 0]
         assert np.array_equal(ua, ub), name
-    assert np.all(a[4][size:] == np.inf) and np.all(a[4][:size] < t_cut)
-    assert np.array_equal(np.sort(a[3][:size]), np.flatnonzero(a[5] >= 0))
-    k = np.arange(1, size)
-    assert np.all(a[4][(k - 1) // 4] <= a[4][k])  # 4-ary heap order
-    queued = a[5][edge] >= 0
+    _check_calendar(*a[3:])
+    assert all(t < t_cut for t in cal_a.values())
+    queued = np.array([q in cal_a for q in edge])
     assert 10 < queued.sum() < len(edge) - 10  # the cut falls among the edge pairs
 
 
-@pytest.mark.parametrize("kick, n", [(False, 300), (True, 300), (False, K.PREFETCH_MIN_N)])
-def test_heap_invariants_after_many_events(kick, n):
-    """After 2e4 events: heap order, slots consistent, exactly the right pairs queued.
+def _queued(heap, hkey, where, ptime, head, nxt, prv, bkt, fstate, istate):
+    """Pair -> time of every queued pair (heap and bucket lists)."""
+    size = int(istate[K.I_HSIZE])
+    out = {int(heap[k]): float(hkey[k]) for k in range(size)}
+    for b in range(int(istate[K.I_NB])):
+        q = int(head[b])
+        while q >= 0:
+            assert q not in out
+            out[q] = float(ptime[q])
+            q = int(nxt[q])
+    return out
 
-    Cooling queues every approaching pair; heated runs those meeting before the kick.
-    (``n = PREFETCH_MIN_N``: the loop that prefetches the next pair's rods.)
+
+def _check_calendar(heap, hkey, where, ptime, head, nxt, prv, bkt, fstate, istate):
+    """Heap order and slots, list links, every pair in the bucket its time gives."""
+    size, cur, nb = (int(istate[k]) for k in (K.I_HSIZE, K.I_CUR, K.I_NB))
+    assert np.array_equal(where[heap[:size]], np.arange(size))
+    assert np.sum(where >= 0) == size and np.all(hkey[size:] == np.inf)
+    k = np.arange(1, size)
+    assert np.all(hkey[(k - 1) // 4] <= hkey[k])  # 4-ary heap order
+    base, inv_w, horizon = fstate[K.F_BASE], fstate[K.F_INV_W], fstate[K.F_HORIZON]
+
+    def bucket(tp):
+        return K.bucket_of(tp, base, inv_w, horizon, nb)
+
+    assert all(0 <= bucket(hkey[s]) <= cur for s in range(size))
+    n_listed = 0
+    for b in range(nb):
+        q, prev = int(head[b]), -1
+        if b <= cur:
+            assert q == -1  # buckets up to the current one are in the heap
+        while q >= 0:
+            assert bkt[q] == b and prv[q] == prev and where[q] == -1
+            assert bucket(ptime[q]) == b and ptime[q] < horizon
+            n_listed += 1
+            prev, q = q, int(nxt[q])
+    assert np.sum(bkt >= 0) == n_listed
+
+
+@pytest.mark.parametrize("kick, n", [(False, 300), (True, 300), (False, K.PREFETCH_MIN_N),
+                                     (False, 2), (True, 2)])
+def test_heap_invariants_after_many_events(kick, n):
+    """After 2e4 events: calendar consistent, exactly the right pairs queued.
+
+    Heated runs queue the pairs meeting before the kick, free cooling those before
+    the epoch's horizon.  (``n = PREFETCH_MIN_N``: the loop that prefetches the next
+    pair's rods; ``n = 2``: a single neighbour pair.)
     """
     rng = np.random.default_rng(8)
     y, v = md.initial_state(n, density=1.0, sigma=0.5, temperature=1.0, rng=rng)
     kicks = md.Kicks(0.1, 1.0, 0.2) if kick else md.Kicks()
     opts = md.EngineOptions(0.5 * n, 0.5, ConstantRestitution(0.9), 1e-3, kicks)
     eng = md.MDEngine(y, v, opts, rng)
-    eng.advance(20_000)
-    size = int(eng.istate[K.I_HSIZE])
-    heap, hkey, where = eng.heap, eng.hkey, eng.where
-    assert np.array_equal(where[heap[:size]], np.arange(size))
-    assert np.sum(where >= 0) == size and np.all(hkey[size:] == np.inf)
-    k = np.arange(1, size)
-    assert np.all(hkey[(k - 1) // 4] <= hkey[k]) and hkey[0] >= eng.fstate[K.F_T]
+    eng.advance(20_000 if n > 2 else 300)
+    cal = (eng.heap, eng.hkey, eng.where, eng.ptime, eng.head, eng.nxt, eng.prv, eng.bkt,
+           eng.fstate, eng.istate)
+    _check_calendar(*cal)
+    queued = _queued(*cal)
     t = eng.fstate[K.F_T]
+    assert min(queued.values(), default=np.inf) >= t
     y_now = eng.x + eng.v * (t - eng.tl)
     gaps = np.append(np.diff(y_now), y_now[0] + eng.free_length - y_now[-1])
     assert gaps.min() > -1e-9
     dv = eng.v - np.roll(eng.v, -1)
     with np.errstate(divide="ignore"):
         due = np.where(dv > 0, t + np.maximum(gaps, 0) / dv, np.inf)
-    cut = eng.fstate[K.F_T_KICK]
+    cut = eng.fstate[K.F_HORIZON]
+    assert cut == (eng.fstate[K.F_T_KICK] if kick else cut)
     expected = due < cut
+    is_queued = np.zeros(n, bool)
+    is_queued[list(queued)] = True
     # a pair within round-off of the cut may go either way
-    unsure = np.isfinite(due) & (np.abs(due - cut) < 1e-9) if kick else np.zeros(n, bool)
-    assert np.array_equal((where >= 0)[~unsure], expected[~unsure])
-    assert size > (5 if kick else 50)
+    unsure = np.isfinite(due) & (np.abs(due - cut) < 1e-9 * max(1.0, abs(cut)))
+    assert np.array_equal(is_queued[~unsure], expected[~unsure])
+    for q, tq in queued.items():
+        assert abs(tq - due[q]) <= 1e-9 * max(1.0, abs(tq))
+    if n > 2:
+        assert len(queued) > 5
 
 
 def test_kick_normals_are_standard_normal():
