@@ -32,9 +32,13 @@ import os
 import resource
 import shutil
 import subprocess
+import sys
 import tempfile
 import time
 from pathlib import Path
+
+# measure the working tree (the installed copy may be older)
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from kinetic_fem.model import HeatedProblem, InelasticGas, WhiteNoise
 from particles import dsmc, md

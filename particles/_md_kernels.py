@@ -10,28 +10,29 @@ across the seam, where :math:`y_0 + L_f` is the right partner's position).
 
 Positions are stored *lazily*: particle ``i`` is at ``x[i] + v[i] (t - tl[i])`` and
 only ``x``, ``tl`` of the two colliding particles change at a collision.  One
-predicted time per pair sits in an indexed 4-ary min-heap (``heap`` of pair
-indices, ``hkey`` their times in heap order, ``where[p]`` the slot of pair ``p`` or
--1; ``hkey`` has ``N + HEAP_PAD`` slots and every slot at or beyond the heap size
-holds ``inf``, so a sift-down needs no bounds test for the children).  Four
-children per node halve the depth of a binary heap; their four times share one or
-two cache lines, which matters once the heap no longer fits in the cache.  After a
-collision only three pair times change: the collided pair recedes, and one of its
-two neighbour pairs not yet queued (the earlier if both) takes over the root slot,
-each update costing :math:`O(\\log N)`.
+predicted time per pair sits in the event calendar of :mod:`particles._md_calendar`
+(a small 4-ary heap for the current bucket, unsorted bucket lists for the rest of
+the epoch: :math:`O(1)` per update however large N is).  After a collision only
+three pair times change: the collided pair recedes, and one of its two neighbour
+pairs due in the heap (if any) takes over the root slot.  The calendar operations
+are written out inside :func:`run_events`: a numba call passing arrays increfs and
+decrefs each of them atomically, which cost more than the heap operation itself
+(80 ns per collision at N = 5000 with calls, 30 ns without).
 
-For ``N >= PREFETCH_MIN_N`` the rods of the root's earliest child (most often the
-next collision) are prefetched while a collision is processed.
+For ``N >= PREFETCH_MIN_N`` the rods of the root's earliest child (often the next
+collision) are prefetched while a collision is processed.
 
-Pairs whose time lies beyond the next random kick never enter the heap.  A kick
-(:func:`kick_sweep`, inside :func:`run_events`: no return to Python) draws the N
-normals in one loop, then moves every rod to the kick time, adds the kicks and
-screens every pair in a second, branch-free loop; only the pairs that meet before
-the following kick (a few per cent at the default interval) are divided out and
-heapified (:math:`O(\\text{size})`).  Its cost, about 4 ns per rod on this machine
-(half of it the normals), is paid every kick: with ``(dt_k/tau) N/2`` collisions
-between kicks it adds ``8 ns / (dt_k/tau)`` per collision (80 ns at the default
-0.1 mean free times, against ~120 ns for the collision itself at N = 5000).
+Pairs whose time lies beyond the end of the calendar's epoch never enter it.  In a
+heated run the epoch ends at the next random kick (:func:`kick_sweep`, inside
+:func:`run_events`: no return to Python), which draws the N normals in one loop, then
+moves every rod to the kick time, adds the kicks and screens every pair in a second,
+branch-free loop; only the pairs that meet before the following kick (a few per cent
+at the default interval) start the next epoch.  Its cost, about 4 ns per rod on this
+machine (half of it the normals), is paid every kick: with ``(dt_k/tau) N/2``
+collisions between kicks it adds ``8 ns / (dt_k/tau)`` per collision (80 ns at the
+default 0.1 mean free times).  In free cooling an epoch spans about ``N``
+collisions (its length adapted to the measured collision rate) and ends with a
+recomputation of every pair time (:func:`build_heap`, ~2 ns per collision).
 
 Collision rule (relative speed :math:`g = v_i - v_j > 0`):
 
