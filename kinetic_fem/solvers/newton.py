@@ -1,0 +1,386 @@
+"""One damped Newton driver for every deterministic solver.
+
+Solves :math:`r(x) = 0` for :math:`x \\in \\mathbb R^m` by Newton's method with Armijo
+backtracking.  Each iteration
+
+1. linearises: :math:`J(x_k)\\,\\delta = -r(x_k)` (dense LU, sparse LU, GMRES for a
+   matrix-free Jacobian, or a solver the caller passes), optionally equilibrated by row
+   scales :math:`s_i(x_k)` and column scales :math:`t_j(x_k)`:
+   :math:`(S^{-1} J T)\\,\\tilde\\delta = -S^{-1} r`, :math:`\\delta = T\\tilde\\delta`;
+2. backtracks: the damping :math:`\\theta = 1, 1/2, 1/4, \\ldots` is accepted at the first
+   trial :math:`x_k \\oplus \\theta\\delta` whose residual norm, with the row scales of
+   :math:`x_k` frozen, satisfies the Armijo condition
+
+   .. math:: \\|S_k^{-1} r(x_k \\oplus \\theta\\delta)\\| \\le (1 - c\\,\\theta)
+             \\|S_k^{-1} r(x_k)\\|
+
+   (``armijo`` is :math:`c`); below ``min_damping`` the search gives up and either takes
+   the smallest step (``on_failure="accept"``, as a globalised Newton must to leave a
+   local minimum of the norm) or stops (``on_failure="stop"``);
+3. stops on the residual norm (``criterion="residual"``) or on the size of the full
+   Newton step (``criterion="step"``), whichever the caller names, below ``tol``.
+
+:math:`x \\oplus \\delta` is ``x + delta`` unless an ``update`` map is given (a relative
+update :math:`P \\to P(1 + \\delta)` that keeps a density positive, a step in the
+logarithm, a projection onto constraints).
+
+**Stall at round-off.**  Quadratic convergence ends at the round-off floor of the
+residual, which can lie above a tolerance chosen for the well-conditioned case.  When the
+stopping measure is below ``stall_level`` and stopped decreasing (it exceeds a quarter of
+the smaller of the previous two), or the step is below round-off relative to ``x``, the
+iteration stops and reports *converged* with the measure it reached, saying so in the
+message.  ``stall_level = 0`` (the default) disables the rule.
+
+A non-finite residual at the start raises :class:`ValueError`; a non-finite trial
+residual counts as no decrease (the step is halved), and a non-finite step (singular
+system) stops the iteration, not converged.  :func:`run_info` turns the result into the
+fields of :class:`~kinetic_fem.run_info.RunInfo` that a solver attaches to its result.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+import warnings
+from dataclasses import dataclass
+from typing import Any, Callable, Literal, Mapping, Union
+
+import numpy as np
+import scipy.linalg
+import scipy.sparse
+import scipy.sparse.linalg
+from numpy.typing import ArrayLike, NDArray
+
+from ..run_info import RunInfo
+
+__all__ = ["NewtonResult", "newton", "run_info", "Jacobian"]
+
+logger = logging.getLogger(__name__)
+
+Array = NDArray[np.float64]
+Jacobian = Union[Array, scipy.sparse.spmatrix, scipy.sparse.sparray,
+                 scipy.sparse.linalg.LinearOperator, Callable[[Array], Array]]
+"""A dense matrix, a scipy sparse matrix, a ``LinearOperator`` or a callable ``v -> J v``."""
+
+System = Callable[[Array, bool], tuple[Array, Union[Jacobian, None]]]
+
+
+@dataclass(frozen=True)
+class NewtonResult:
+    """Outcome of :func:`newton`.
+
+    Parameters
+    ----------
+    x : ndarray, shape (m,)
+        The last accepted iterate.
+    converged : bool
+        The stopping criterion was met, or the iteration stalled at round-off below
+        ``stall_level``.
+    iterations : int
+        Newton steps taken (linear solves).
+    residual : float
+        Norm of the residual at ``x`` (with the row scales of ``x``).
+    step : float
+        Size ``step_norm(delta, x)`` of the last full Newton step (NaN before the first).
+    history : tuple of float
+        The stopping measure (residual norm or step size, as ``criterion`` says) after
+        each iteration; for ``criterion="residual"`` it starts with the initial residual.
+    message : str
+        Human-readable status.
+    """
+
+    x: Array
+    converged: bool
+    iterations: int
+    residual: float
+    step: float
+    history: tuple[float, ...]
+    message: str
+
+
+def _max_norm(r: Array, x: Array) -> float:
+    return float(np.max(np.abs(r))) if r.size else 0.0
+
+
+def _step_max(dx: Array, x: Array) -> float:
+    return float(np.max(np.abs(dx))) if dx.size else 0.0
+
+
+def _add(x: Array, dx: Array) -> Array:
+    return x + dx
+
+
+def _solve_default(jac: Jacobian, rhs: Array) -> Array:
+    """``J^{-1} rhs`` by the solver that fits the Jacobian's type."""
+    if isinstance(jac, np.ndarray):
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
+                lu = scipy.linalg.lu_factor(jac, check_finite=False)
+            return np.asarray(scipy.linalg.lu_solve(lu, rhs, check_finite=False))
+        except (np.linalg.LinAlgError, ValueError):
+            return np.full_like(rhs, np.nan)
+    if scipy.sparse.issparse(jac):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", scipy.sparse.linalg.MatrixRankWarning)
+            return np.asarray(scipy.sparse.linalg.spsolve(scipy.sparse.csc_matrix(jac), rhs))
+    op = scipy.sparse.linalg.aslinearoperator(jac) if not callable(jac) or isinstance(
+        jac, scipy.sparse.linalg.LinearOperator) else scipy.sparse.linalg.LinearOperator(
+        (rhs.size, rhs.size), matvec=jac, dtype=float)
+    step, _ = scipy.sparse.linalg.gmres(op, rhs, rtol=1e-14, atol=0.0, restart=80, maxiter=4)
+    return np.asarray(step)
+
+
+def _equilibrated(jac: Jacobian, rows: Array | None, cols: Array | None) -> Jacobian:
+    """:math:`S^{-1} J T` for dense, sparse and matrix-free Jacobians."""
+    if rows is None and cols is None:
+        return jac
+    r = np.ones(1) if rows is None else rows
+    c = np.ones(1) if cols is None else cols
+    if isinstance(jac, np.ndarray):
+        return np.asarray(jac * c[None, :] / r[:, None])
+    if scipy.sparse.issparse(jac):
+        n_r, n_c = jac.shape  # type: ignore[union-attr]
+        rs = scipy.sparse.diags(np.broadcast_to(1.0 / r, (n_r,)))
+        cs = scipy.sparse.diags(np.broadcast_to(c, (n_c,)))
+        return scipy.sparse.csr_matrix(rs @ jac @ cs)
+    op = scipy.sparse.linalg.aslinearoperator(jac) if isinstance(
+        jac, scipy.sparse.linalg.LinearOperator) else None
+    apply = op.matvec if op is not None else jac
+    assert callable(apply)
+    return lambda v: np.asarray(apply(v * c)) / r
+
+
+def _check_options(tol: float, max_iter: int, criterion: str, armijo: float,
+                   min_damping: float, on_failure: str, stall_level: float) -> None:
+    if not (isinstance(tol, (int, float)) and math.isfinite(tol) and tol > 0):
+        raise ValueError(f"tol={tol!r} is not allowed; tol must be a finite number > 0")
+    if isinstance(max_iter, bool) or not isinstance(max_iter, (int, np.integer)) \
+            or max_iter < 0:
+        raise ValueError(f"max_iter={max_iter!r} is not allowed; it must be an integer >= 0")
+    if criterion not in ("residual", "step"):
+        raise ValueError(f"criterion={criterion!r} is not allowed; use 'residual' or 'step'")
+    if not 0.0 <= armijo < 1.0:
+        raise ValueError(f"armijo={armijo!r} is not allowed; it must be in [0, 1)")
+    if not 0.0 < min_damping <= 1.0:
+        raise ValueError(f"min_damping={min_damping!r} is not allowed; it must be in (0, 1]")
+    if on_failure not in ("accept", "stop"):
+        raise ValueError(f"on_failure={on_failure!r} is not allowed; use 'accept' or 'stop'")
+    if not stall_level >= 0.0:
+        raise ValueError(f"stall_level={stall_level!r} is not allowed; it must be >= 0")
+
+
+def newton(fun: System, x0: ArrayLike, *, tol: float, max_iter: int = 50,
+           criterion: Literal["residual", "step"] = "residual",
+           norm: Callable[[Array, Array], float] | None = None,
+           step_norm: Callable[[Array, Array], float] | None = None,
+           update: Callable[[Array, Array], Array] | None = None,
+           linear_solver: Callable[[Any, Array], Array] | None = None,
+           row_scale: Callable[[Array], Array] | None = None,
+           column_scale: Callable[[Array], Array] | None = None,
+           line_search: bool = True, armijo: float = 1e-4, min_damping: float = 1e-3,
+           on_failure: Literal["accept", "stop"] = "accept", stall_level: float = 0.0,
+           name: str = "Newton") -> NewtonResult:
+    """Solve ``r(x) = 0`` by Newton's method with Armijo backtracking.
+
+    Parameters
+    ----------
+    fun : callable
+        ``fun(x, jacobian) -> (r, J)``: the residual, shape (n,), at ``x`` and, when
+        ``jacobian`` is true, its Jacobian ``dr/dx`` (a dense array, a scipy sparse matrix,
+        a ``LinearOperator`` or a callable ``v -> J v``); with ``jacobian`` false the
+        second item is ignored (trial points of the line search need only ``r``).
+        ``n`` may differ from ``x.size`` when ``update`` maps a reduced step (e.g. on the
+        active nodes) to ``x``.
+    x0 : array_like, shape (m,)
+        Initial iterate.
+    tol : float
+        Tolerance on the stopping measure named by ``criterion``.
+    max_iter : int
+        Newton steps allowed.
+    criterion : {"residual", "step"}
+        Stop when ``norm(r, x) < tol`` (checked before the first step too), or when the
+        Newton step ``step_norm(delta, x) < tol`` (the full step is then taken).
+    norm : callable, optional
+        ``norm(r, x) -> float`` of a (row-scaled) residual; default the max norm.
+    step_norm : callable, optional
+        ``step_norm(dx, x) -> float`` of the damped step ``dx`` taken from ``x``; default
+        the max norm.  ``criterion="step"`` measures the full (undamped) Newton step, so
+        a step shortened by the line search never counts as convergence.
+    update : callable, optional
+        ``update(x, dx) -> x_new``; default ``x + dx``.  Use it for positivity-keeping
+        relative updates, steps in the logarithm, or projections onto constraints.
+    linear_solver : callable, optional
+        ``linear_solver(J, b) -> J^{-1} b`` for the (equilibrated) Jacobian; default:
+        dense LU, sparse LU (``spsolve``) or GMRES (relative accuracy 1e-14) by type.
+    row_scale, column_scale : callable, optional
+        ``x -> s`` (shape (n,)) and ``x -> t`` (shape (m,)), positive: the linear solve
+        uses :math:`S^{-1}JT` and the line search compares :math:`\\|S^{-1}r\\|` with the
+        row scales of the current iterate frozen.
+    line_search : bool
+        Backtrack (``True``) or always take the full step.
+    armijo : float
+        Sufficient-decrease constant :math:`c \\in [0, 1)` (0: any decrease).
+    min_damping : float
+        Smallest damping tried; below it the search fails.
+    on_failure : {"accept", "stop"}
+        When the search fails: take the smallest step anyway, or stop (converged only if
+        the stall rule applies).
+    stall_level : float
+        Stall rule threshold (module docstring); 0 disables it.
+    name : str
+        Prefix of log messages and of the result message.
+
+    Returns
+    -------
+    NewtonResult
+
+    Raises
+    ------
+    ValueError
+        An option is out of range, or the residual at ``x0`` is not finite.
+
+    Examples
+    --------
+    Newton converges quadratically on :math:`x^2 = 2`:
+
+    >>> res = newton(lambda x, jac: (x**2 - 2.0, np.diag(2.0 * x)), [1.0], tol=1e-14)
+    >>> res.converged, float(res.x[0]) == math.sqrt(2.0), res.iterations
+    (True, True, 5)
+    >>> ["%.0e" % h for h in res.history]
+    ['1e+00', '2e-01', '7e-03', '6e-06', '5e-12', '0e+00']
+    """
+    _check_options(tol, max_iter, criterion, armijo, min_damping, on_failure, stall_level)
+    norm_ = norm or _max_norm
+    step_norm_ = step_norm or _step_max
+    update_ = update or _add
+    solve = linear_solver or _solve_default
+    x = np.array(x0, dtype=float, ndmin=1)
+
+    def scaled_norm(r: Array, rows: Array | None, at: Array) -> float:
+        return norm_(r if rows is None else r / rows, at)
+
+    r, jac = fun(x, True)
+    r = np.asarray(r, dtype=float)
+    if not np.all(np.isfinite(r)):
+        bad = np.flatnonzero(~np.isfinite(r))
+        raise ValueError(f"{name}: the residual at the initial iterate is not finite "
+                         f"(at {bad.size} of {r.size} equations, first index {bad[0]}); "
+                         "start from a point where the equations can be evaluated")
+    rows = row_scale(x) if row_scale is not None else None
+    res = scaled_norm(r, rows, x)
+    history: list[float] = [res] if criterion == "residual" else []
+    step_size = math.nan
+    it = 0
+    message = ""
+    converged = False
+    while True:
+        if criterion == "residual" and res < tol:
+            converged = True
+            message = f"{name} converged: residual {res:.2e} < tol {tol:.1e}"
+            break
+        if it >= max_iter:
+            message = (f"{name} not converged: {max_iter} iterations reached, residual "
+                       f"{res:.2e}, last step {step_size:.2e} (tol {tol:.1e})")
+            break
+        it += 1
+        cols = column_scale(x) if column_scale is not None else None
+        assert jac is not None, "fun(x, True) must return a Jacobian"
+        delta = np.asarray(solve(_equilibrated(jac, rows, cols),
+                                 -(r if rows is None else r / rows)), dtype=float)
+        if cols is not None:
+            delta = delta * cols
+        if not np.all(np.isfinite(delta)):
+            message = f"{name} stopped: singular Newton system at iteration {it}"
+            break
+        # backtracking with the row scales of x frozen
+        newton_step = step_norm_(delta, x)
+        small = criterion == "step" and newton_step < tol
+        theta, accepted = 1.0, False
+        x_t = x
+        while True:
+            x_try = update_(x, theta * delta)
+            r_try = np.asarray(fun(x_try, False)[0], dtype=float)
+            res_try = scaled_norm(r_try, rows, x_try)
+            finite = math.isfinite(res_try) and bool(np.all(np.isfinite(x_try)))
+            if finite:
+                x_t = x_try
+            if finite and (not line_search or small
+                           or res_try <= (1.0 - armijo * theta) * res):
+                accepted = True
+                break
+            if theta * 0.5 < min_damping:
+                break
+            theta *= 0.5
+        if not accepted and (on_failure == "stop" or x_t is x):
+            why = ("no finite residual along the step" if x_t is x
+                   else f"no decrease of the residual down to damping {theta:.1e}")
+            converged = res < stall_level
+            message = (f"{name} stalled at round-off: {why}, residual {res:.2e} "
+                       f"(tol {tol:.1e})" if converged else
+                       f"{name} stopped: {why}, residual {res:.2e} (tol {tol:.1e})")
+            break
+        step_size = newton_step
+        x_old = x
+        x = x_t
+        r, jac = fun(x, True)
+        r = np.asarray(r, dtype=float)
+        rows = row_scale(x) if row_scale is not None else None
+        res = scaled_norm(r, rows, x)
+        measure = res if criterion == "residual" else step_size
+        history.append(measure)
+        logger.debug("%s %d: residual %.3e, step %.3e, damping %.3g", name, it, res,
+                     step_size, theta)
+        if criterion == "step" and step_size < tol:
+            converged = True
+            message = f"{name} converged: step {step_size:.2e} < tol {tol:.1e}"
+            break
+        roundoff = bool(np.all(np.abs(x - x_old) <= 4 * np.finfo(float).eps * np.abs(x_old)))
+        flat = len(history) >= 3 and measure > 0.25 * min(history[-3:-1])
+        if stall_level > 0 and measure < stall_level and (flat or roundoff):
+            converged = True
+            message = (f"{name} stalled at round-off: {criterion} {measure:.2e} "
+                       f"(tol {tol:.1e})")
+            logger.info("%s", message)
+            break
+        if roundoff and criterion == "residual" and res >= tol:
+            message = f"{name} stopped: step below round-off, residual {res:.2e}"
+            break
+    if not converged:
+        logger.info("%s", message)
+    return NewtonResult(x, converged, it, res, step_size, tuple(history), message)
+
+
+def run_info(result: NewtonResult, *, start: float | None = None,
+             wall_time: float | None = None,
+             extra: Mapping[str, Any] | None = None) -> RunInfo:
+    """The :class:`~kinetic_fem.run_info.RunInfo` fields of a Newton solve.
+
+    Parameters
+    ----------
+    result : NewtonResult
+    start : float, optional
+        ``time.perf_counter()`` when the solver started; the wall time is measured to now.
+    wall_time : float, optional
+        Seconds spent, when known otherwise (``start`` wins if both are given).
+    extra : mapping, optional
+        Method-specific figures for ``RunInfo.extra``.
+
+    Returns
+    -------
+    RunInfo
+        ``converged``, ``iterations``, ``residual``, ``message`` from ``result``.
+
+    Examples
+    --------
+    >>> res = newton(lambda x, jac: (x - 1.0, np.eye(1)), [0.0], tol=1e-12)
+    >>> info = run_info(res, wall_time=0.5)
+    >>> info.converged, info.iterations, info.residual, info.wall_time
+    (True, 1, 0.0, 0.5)
+    """
+    seconds = (time.perf_counter() - start if start is not None
+               else math.nan if wall_time is None else wall_time)
+    return RunInfo(converged=result.converged, iterations=result.iterations,
+                   residual=result.residual, wall_time=seconds, message=result.message,
+                   extra=dict(extra or {}))

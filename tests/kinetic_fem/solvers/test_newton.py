@@ -1,0 +1,170 @@
+"""Tests of the shared Newton driver :mod:`kinetic_fem.solvers.newton`."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import scipy.sparse
+from scipy.sparse.linalg import LinearOperator
+
+from kinetic_fem.run_info import RunInfo
+from kinetic_fem.solvers.newton import NewtonResult, newton, run_info
+
+
+def rosenbrock_system(x, jacobian):
+    """``r = (10 (x1 - x0^2), 1 - x0)``: root (1, 1), Jacobian known."""
+    r = np.array([10.0 * (x[1] - x[0] ** 2), 1.0 - x[0]])
+    jac = np.array([[-20.0 * x[0], 10.0], [-1.0, 0.0]]) if jacobian else None
+    return r, jac
+
+
+def test_quadratic_convergence_on_a_known_system():
+    """Newton on ``x0^2 + x1^2 = 4, x0 = x1`` (root sqrt2 (1, 1)): errors square each step."""
+    root = math.sqrt(2.0)
+
+    def fun(x, jacobian):
+        r = np.array([x[0] ** 2 + x[1] ** 2 - 4.0, x[0] - x[1]])
+        return r, np.array([[2 * x[0], 2 * x[1]], [1.0, -1.0]])
+
+    res = newton(fun, [3.0, 1.0], tol=1e-15, max_iter=20)
+    assert res.converged and isinstance(res, NewtonResult)
+    assert np.max(np.abs(res.x - root)) < 4e-16
+    h = [v for v in res.history if v > 1e-13]
+    # quadratic: r_{k+1} <= C r_k^2 with a modest C once in the basin
+    ratios = [h[k + 1] / h[k] ** 2 for k in range(1, len(h) - 1)]
+    assert max(ratios) < 1.0
+    assert res.iterations <= 7
+
+
+def test_sparse_matrix_free_and_user_solvers_agree():
+    """Dense, sparse, LinearOperator and callable Jacobians, and a user solver."""
+    n = 30
+    lap = scipy.sparse.diags([-1.0, 2.2, -1.0], [-1, 0, 1], shape=(n, n)).tocsr()
+    b = np.linspace(1.0, 2.0, n)
+
+    def make(kind):
+        def fun(x, jacobian):
+            r = lap @ x + x**3 - b
+            d = scipy.sparse.diags(3 * x**2)
+            jac = (lap + d).tocsr()
+            if kind == "dense":
+                return r, jac.toarray()
+            if kind == "operator":
+                return r, LinearOperator((n, n), matvec=lambda v: jac @ v, dtype=float)
+            if kind == "callable":
+                return r, lambda v: jac @ v
+            return r, jac
+        return fun
+
+    results = {k: newton(make(k), np.zeros(n), tol=1e-13)
+               for k in ("dense", "sparse", "operator", "callable")}
+    results["user"] = newton(make("dense"), np.zeros(n), tol=1e-13,
+                             linear_solver=lambda j, rhs: np.linalg.solve(j, rhs))
+    ref = results["dense"].x
+    for key, res in results.items():
+        assert res.converged, key
+        assert np.max(np.abs(res.x - ref)) < 1e-12, key
+
+
+def test_line_search_rescues_a_divergent_newton():
+    """``arctan x = 0`` from ``x = 3``: full steps overshoot and diverge, Armijo converges."""
+    def fun(x, jacobian):
+        with np.errstate(over="ignore"):   # the undamped run overflows x**2
+            return np.arctan(x), np.diag(1.0 / (1.0 + x**2))
+
+    plain = newton(fun, [3.0], tol=1e-12, max_iter=30, line_search=False)
+    assert not plain.converged
+    damped = newton(fun, [3.0], tol=1e-12, max_iter=30)
+    assert damped.converged and abs(damped.x[0]) < 1e-12
+    assert damped.iterations < 15
+
+
+def test_rosenbrock_with_column_and_row_scales():
+    res = newton(rosenbrock_system, [-1.2, 1.0], tol=1e-14,
+                 row_scale=lambda x: np.array([10.0, 1.0]),
+                 column_scale=lambda x: np.maximum(np.abs(x), 1.0))
+    assert res.converged
+    assert np.allclose(res.x, 1.0, rtol=0, atol=1e-14)
+
+
+def noisy(x, jacobian):
+    """``x^2 - 2`` plus a deterministic +-1e-10 'round-off' that flips sign every 1e-12 in x.
+
+    Near the root ``x^2 - 2`` changes by 3e-12 per cell, so ``|r|`` never falls below
+    about 1e-10: the floor Newton must recognise."""
+    r = x**2 - 2.0 + 1e-10 * np.where(np.floor(x * 1e12) % 2 == 0, 1.0, -1.0)
+    return r, np.diag(2.0 * x)
+
+
+@pytest.mark.parametrize("criterion", ["residual", "step"])
+def test_stall_at_round_off_reported_converged(criterion):
+    """Below ``stall_level`` a measure that stops decreasing is the floor: converged."""
+    res = newton(noisy, [1.0], tol=1e-15, max_iter=40, criterion=criterion,
+                 stall_level=1e-6)
+    assert res.converged
+    assert "stalled at round-off" in res.message
+    assert abs(res.x[0] - math.sqrt(2.0)) < 1e-9
+    assert res.residual < 1e-9
+    # without the stall rule the same run is not converged (tolerance out of reach)
+    strict = newton(noisy, [1.0], tol=1e-15, max_iter=40, criterion=criterion)
+    assert not strict.converged
+    assert "not converged" in strict.message or "stopped" in strict.message
+
+
+def test_step_criterion_and_update_hook():
+    """A multiplicative update ``x -> x e^dx`` (Newton in ln x) keeps x positive."""
+    def fun(x, jacobian):
+        return np.log(x) - 1.0, np.eye(1)   # derivative in ln x is 1
+
+    res = newton(fun, [1e-3], tol=1e-12, criterion="step",
+                 update=lambda x, dx: x * np.exp(dx))
+    assert res.converged and abs(res.x[0] - math.e) < 1e-12
+    assert res.step < 1e-12
+
+
+def test_non_finite_residual_raises_a_clear_error():
+    def fun(x, jacobian):
+        return np.array([np.nan, 1.0]), np.eye(2)
+
+    with pytest.raises(ValueError, match="not finite"):
+        newton(fun, [0.0, 0.0], tol=1e-10)
+
+
+def test_non_finite_trial_is_backtracked():
+    """``sqrt(x) - 1`` is NaN for x < 0: the first full step from x = 9 lands there."""
+    def fun(x, jacobian):
+        with np.errstate(invalid="ignore"):
+            return np.sqrt(x) - 1.0, np.diag(0.5 / np.sqrt(np.abs(x)))
+
+    res = newton(fun, [9.0], tol=1e-13, max_iter=40)
+    assert res.converged and abs(res.x[0] - 1.0) < 1e-12
+
+
+def test_singular_system_stops_not_converged():
+    def fun(x, jacobian):
+        return np.array([1.0, 1.0]), np.zeros((2, 2))
+
+    res = newton(fun, [0.0, 0.0], tol=1e-10)
+    assert not res.converged and "singular" in res.message
+
+
+@pytest.mark.parametrize("kw", [{"tol": 0.0}, {"tol": 1e-8, "max_iter": -1},
+                                {"tol": 1e-8, "criterion": "both"},
+                                {"tol": 1e-8, "armijo": 1.0},
+                                {"tol": 1e-8, "min_damping": 0.0},
+                                {"tol": 1e-8, "on_failure": "retry"},
+                                {"tol": 1e-8, "stall_level": -1.0}])
+def test_bad_options_raise(kw):
+    with pytest.raises(ValueError, match="not allowed"):
+        newton(rosenbrock_system, [0.0, 0.0], **kw)
+
+
+def test_run_info_fields():
+    res = newton(rosenbrock_system, [0.5, 0.5], tol=1e-12)
+    info = run_info(res, wall_time=0.25, extra={"n": 2})
+    assert isinstance(info, RunInfo)
+    assert (info.converged, info.iterations, info.residual, info.wall_time) == \
+        (res.converged, res.iterations, res.residual, 0.25)
+    assert info.extra == {"n": 2} and info.message == res.message
