@@ -328,7 +328,11 @@ def collision_operator(verts: np.ndarray, dofs: np.ndarray, order: int, coef: np
     b = 0.5 * (1.0 + alpha)
     res = np.zeros(n_dof)
     jac = np.zeros((n_dof, n_dof)) if with_jacobian else np.zeros((1, 1))
-    bq = np.zeros(n_dof)
+    # per outer point: sum of c * phi(x') over its pairs by dof (x-derivative rows) and
+    # sum of c * phi(y) by dof (the y-dependence of the -phi(x) rows)
+    bq = np.zeros(n_dof) if with_jacobian else np.zeros(1)
+    cy = np.zeros(n_dof) if with_jacobian else np.zeros(1)
+    jac_x = np.zeros((n_dof, n_dof)) if with_jacobian else np.zeros((1, 1))
     buf = np.empty(3 * verts.size + 3)
     pre = np.empty(verts.size)
     n_max = buf.size + 2 * (GRADING_LEVELS + 1)
@@ -338,8 +342,14 @@ def collision_operator(verts: np.ndarray, dofs: np.ndarray, order: int, coef: np
     phy = np.empty(k)
     ph1 = np.empty(k)
     ph2 = np.empty(k)
-    idx = np.empty(4 * k, dtype=np.int64)
-    val = np.empty(4 * k)
+    # per-piece sums over its inner points (the elements of y, x', y' are fixed on a piece)
+    v1 = np.empty(k)
+    v2 = np.empty(k)
+    vy = np.empty(k)
+    m1 = np.empty((k, k))
+    m2 = np.empty((k, k))
+    my = np.empty((k, k))
+    n_ref = ref_x.size
     scale = verts[-1] - verts[0]
     moment = 0.0
     loss = 0.0
@@ -359,8 +369,10 @@ def collision_operator(verts: np.ndarray, dofs: np.ndarray, order: int, coef: np
         ey = 0
         e1 = 0
         e2 = 0
+        c_total = 0.0
         if with_jacobian:
             bq[:] = 0.0
+            cy[:] = 0.0
         for s in range(n_p):
             y0 = starts[s]
             length = lengths[s]
@@ -375,12 +387,26 @@ def collision_operator(verts: np.ndarray, dofs: np.ndarray, order: int, coef: np
             hy = verts[ey + 1] - verts[ey]
             h1 = verts[e1 + 1] - verts[e1]
             h2 = verts[e2 + 1] - verts[e2]
-            for r in range(ref_x.size):
+            u0 = coef[dofs[ey, 0]]
+            u1 = coef[dofs[ey, 1]]
+            u2 = coef[dofs[ey, 2]] if k == 3 else 0.0
+            wm = wq[q] * length * px
+            c_piece = 0.0
+            for j in range(k):
+                v1[j] = 0.0
+                v2[j] = 0.0
+                vy[j] = 0.0
+                if with_jacobian:
+                    for i in range(k):
+                        m1[j, i] = 0.0
+                        m2[j, i] = 0.0
+                        my[j, i] = 0.0
+            for r in range(n_ref):
                 y = y0 + length * ref_x[r]
                 shape_values(order, (y - verts[ey]) / hy, phy)
-                uy = 0.0
-                for j in range(k):
-                    uy += coef[dofs[ey, j]] * phy[j]
+                uy = u0 * phy[0] + u1 * phy[1]
+                if k == 3:
+                    uy += u2 * phy[2]
                 g = abs(x - y)
                 if constant:
                     al = alpha
@@ -391,34 +417,70 @@ def collision_operator(verts: np.ndarray, dofs: np.ndarray, order: int, coef: np
                 shape_values(order, (x1 - verts[e1]) / h1, ph1)
                 if symmetric:
                     shape_values(order, (b * x + a * y - verts[e2]) / h2, ph2)
-                w = wq[q] * length * ref_w[r] * px * np.exp(uy)
+                w = wm * ref_w[r] * np.exp(uy)
                 rate = kernel_rate(gamma, g)
-                moment += w * g ** energy_power
+                gp = 1.0
+                for _ in range(energy_power):
+                    gp *= g
+                moment += w * gp
                 loss += w * (1.0 - al * al) * rate * g * g
                 c = 0.5 * density * w * rate
+                c_piece += c
                 for j in range(k):
-                    idx[j] = dofs[e1, j]
-                    val[j] = c * ph1[j]
+                    v1[j] += c * ph1[j]
+                    vy[j] += c * phy[j]
                     if symmetric:
-                        idx[k + j] = dofs[e2, j]
-                        val[k + j] = c * ph2[j]
-                    else:
-                        idx[k + j] = dofs[e1, j]
-                        val[k + j] = c * ph1[j]
-                    idx[2 * k + j] = dofs[ex, j]
-                    val[2 * k + j] = -c * phx[j]
-                    idx[3 * k + j] = dofs[ey, j]
-                    val[3 * k + j] = -c * phy[j]
-                for t in range(4 * k):
-                    res[idx[t]] += val[t]
+                        v2[j] += c * ph2[j]
                 if with_jacobian:
-                    for t in range(4 * k):
-                        bq[idx[t]] += val[t]
-                        for j in range(k):
-                            jac[idx[t], dofs[ey, j]] += val[t] * phy[j]
-        if with_jacobian:
-            for i in range(n_dof):
-                if bq[i] != 0.0:
                     for j in range(k):
-                        jac[i, dofs[ex, j]] += bq[i] * phx[j]
+                        cph = c * phy[j]
+                        for i in range(k):
+                            m1[i, j] += ph1[i] * cph
+                            my[i, j] += phy[i] * cph
+                            if symmetric:
+                                m2[i, j] += ph2[i] * cph
+            c_total += c_piece
+            for i in range(k):
+                di1 = dofs[e1, i]
+                diy = dofs[ey, i]
+                if symmetric:
+                    di2 = dofs[e2, i]
+                    res[di1] += v1[i]
+                    res[di2] += v2[i]
+                else:
+                    res[di1] += 2.0 * v1[i]
+                res[diy] -= vy[i]
+                if with_jacobian:
+                    if symmetric:
+                        bq[di1] += v1[i]
+                        bq[di2] += v2[i]
+                    else:
+                        bq[di1] += 2.0 * v1[i]
+                    bq[diy] -= vy[i]
+                    cy[diy] += vy[i]
+                    for j in range(k):
+                        djy = dofs[ey, j]
+                        if symmetric:
+                            jac[di1, djy] += m1[i, j]
+                            jac[di2, djy] += m2[i, j]
+                        else:
+                            jac[di1, djy] += 2.0 * m1[i, j]
+                        jac[diy, djy] -= my[i, j]
+        for i in range(k):
+            res[dofs[ex, i]] -= c_total * phx[i]
+        if with_jacobian:
+            for i in range(k):
+                dix = dofs[ex, i]
+                bq[dix] -= c_total * phx[i]
+                # the -phi_i(x) rows depend on u through P(y)
+                for col in range(n_dof):
+                    jac[dix, col] -= phx[i] * cy[col]
+            # every row depends on u through P(x): the columns of x's element, kept
+            # transposed (contiguous) and added once at the end
+            for j in range(k):
+                djx = dofs[ex, j]
+                for row in range(n_dof):
+                    jac_x[djx, row] += bq[row] * phx[j]
+    if with_jacobian:
+        jac += jac_x.T
     return res, jac, moment, loss
