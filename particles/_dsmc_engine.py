@@ -23,7 +23,12 @@ from kinetic_fem.distribution import MAX_MOMENT, RunInfo, VelocityDistribution
 
 from . import _dsmc_segments as seg
 from .rng import ziggurat_tables
-from .sampling import accumulate_kernel, load_checkpoint, save_checkpoint
+from .sampling import (
+    accumulate_kernel,
+    integrated_autocorrelation_time,
+    load_checkpoint,
+    save_checkpoint,
+)
 
 __all__ = ["DSMCRun", "DSMCOptions", "Engine"]
 
@@ -157,6 +162,10 @@ class DSMCOptions:
         ``"auto"`` or collisions per particle before averaging.
     sample_every : float
         Collisions per particle between measurements (cooling; heated: ``steps``).
+    average_every : "auto" or float
+        Collisions per particle between measurements once averaging has started
+        (rounded to a multiple of ``sample_every``); "auto": from the integrated
+        autocorrelation time of ``a2`` over the first batch (:meth:`Engine.cadence`).
     n_batches, n_samples, bins, window : int
         Batches, averaging samples, histogram bins, relaxation window (samples).
     lo, hi : float
@@ -180,6 +189,7 @@ class DSMCOptions:
     n: int
     relax: str | float
     sample_every: float
+    average_every: str | float
     n_batches: int
     n_samples: int
     bins: int
@@ -221,7 +231,10 @@ class Engine:
         self.tables = ziggurat_tables()
         self.c = {"accepted": 0, "candidates": 0, "debt": 0.0, "log_t": -math.inf,
                   "log_scale": 0.0, "relaxed_at": -1.0, "avg_start_acc": 0,
-                  "n_samples": 0, "windows": 0, "converged": False}
+                  "n_samples": 0, "windows": 0, "converged": False,
+                  # averaging clock in units of sample_every (ticks): tick of the last
+                  # sample, ticks per segment, and the measured a2 correlation time
+                  "tick": -1, "k": 1, "k_set": False, "tau_a2": float("nan")}
         self.series: dict[str, list[float]] = {k: [] for k in _SERIES}
         nb = opts.n_batches
         self.counts = np.zeros((nb, opts.bins))
@@ -232,28 +245,30 @@ class Engine:
         self.seg_time = 0.0
 
     # ----------------------------------------------------------------- dynamics
-    def _segment(self) -> None:
+    def _segment(self, k: int) -> None:
         with np.errstate(over="ignore"):  # uint64 wrap-around of the generator (no-JIT mode)
-            self._segment_kernels()
+            self._segment_kernels(k)
 
-    def _segment_kernels(self) -> None:
+    def _segment_kernels(self, k: int) -> None:
+        """Advance ``k`` ticks: ``k * steps`` Strang steps, or ``k`` sample intervals."""
         o = self.opts
         model = (o.kcode, o.gamma, o.lcode, o.p0, o.p1)
         if self.kind == "heated":
+            steps = k * o.steps
             acc, loss, debt, done, g_max = seg.heated_segment(
-                self.v, o.steps, o.dt, o.decay, o.amp, o.half_decay, o.half_amp,
+                self.v, steps, o.dt, o.decay, o.amp, o.half_decay, o.half_amp,
                 0.5 * self.n * self.gas.density, *model, o.g_limit, self.c["debt"],
                 self.state, *self.tables)
-            if done < o.steps:
+            if done < steps:
                 self.gas.restitution.check_speed(
                     g_max, where="the DSMC velocities (max - min after a thermostat kick)")
             self.c["debt"] = debt
-            t = o.steps * o.dt
+            t = steps * o.dt
             self.c["log_t"] = float(np.logaddexp(self.c["log_t"], math.log(t)))
             self.c["accepted"] += int(acc)
             self.seg_loss, self.seg_time = loss, t
             return
-        target = self.c["accepted"] + max(1, int(round(0.5 * o.sample_every * self.n)))
+        target = self.c["accepted"] + k * max(1, int(round(0.5 * o.sample_every * self.n)))
         while self.c["accepted"] < target:
             ratio = self.c["accepted"] / self.c["candidates"] if self.c["candidates"] else 0.1
             need = int((target - self.c["accepted"]) / max(ratio, 1e-3)) + 1
@@ -314,15 +329,37 @@ class Engine:
         return False
 
     def _accumulate(self) -> None:
+        """Add the current sample to the batch of its tick (batches are equal in time)."""
         o = self.opts
-        k = int(self.c["n_samples"])
-        b = k * o.n_batches // o.n_samples
+        tick = int(self.c["tick"])
+        b = tick * o.n_batches // o.n_samples
         x = self.v if self.kind == "heated" else self.v / math.sqrt(np.mean(self.v**2))
         accumulate_kernel(x, o.lo, o.hi, self.counts[b], self.sums[b])
-        if k > 0:  # energy of the segment that led to this sample
+        if tick > 0:  # energy of the segment that led to this sample
             self.batch_loss[b] += self.seg_loss
             self.batch_time[b] += self.seg_time
-        self.c["n_samples"] = k + 1
+        self.c["n_samples"] += 1
+
+    def cadence(self) -> int:
+        """Ticks (``sample_every``) between samples once averaging has started.
+
+        A number ``average_every`` gives ``round(average_every / sample_every)``.  "auto"
+        keeps one tick during the first batch, then takes half the integrated
+        autocorrelation time of ``a2`` measured over it
+        (:func:`particles.sampling.integrated_autocorrelation_time`, at least 50
+        samples, else one tick): samples closer than that add little information but
+        cost a measurement each.  Capped so that every batch keeps 10 samples.
+        """
+        o, c = self.opts, self.c
+        per_batch = o.n_samples // o.n_batches
+        cap = max(1, per_batch // 10)
+        if o.average_every != "auto":
+            return int(min(max(1, round(float(o.average_every) / o.sample_every)), cap))
+        if c["tick"] + 1 < per_batch or per_batch < 50:
+            return 1
+        a2 = np.asarray(self.series["a2"][-(int(c["tick"]) + 1):], dtype=float)
+        c["tau_a2"] = integrated_autocorrelation_time(a2) * o.sample_every
+        return int(min(max(1, math.floor(0.5 * c["tau_a2"] / o.sample_every)), cap))
 
     # ----------------------------------------------------------------- checkpoints
     def save(self, path: Path) -> None:
@@ -337,7 +374,11 @@ class Engine:
         if meta["key"] != self.opts.key:
             raise ValueError(f"checkpoint {path} belongs to a different run: {meta['key']} "
                              f"!= {self.opts.key}")
-        self.c.update(meta["counters"])
+        counters = dict(meta["counters"])
+        if "tick" not in counters:  # checkpoints before the averaging cadence: one tick each
+            counters.update(tick=counters["n_samples"] - 1, k=1, k_set=False,
+                            tau_a2=float("nan"))
+        self.c.update(counters)
         if "batch_g2" in arrays:  # checkpoints before restitution laws: hard rods, constant
             arrays["batch_loss"] = (1.0 - self.gas.alpha**2) * arrays["batch_g2"]
         for name in ("v", "state", "counts", "sums", "batch_loss", "batch_time"):
@@ -355,23 +396,37 @@ class Engine:
         if not self.series["a2"]:
             self._measure()
         interrupted = False
+        c = self.c
         with tqdm(total=o.n_samples, disable=not o.progress, desc=f"DSMC {self.kind}",
-                  initial=self.c["n_samples"]) as bar:
-            while self.c["n_samples"] < o.n_samples:
-                self._segment()
+                  initial=c["tick"] + 1) as bar:
+            while c["tick"] + c["k"] < o.n_samples:
+                averaging = c["relaxed_at"] >= 0
+                self._segment(int(c["k"]) if averaging else 1)
                 self._measure()
-                if self.c["relaxed_at"] < 0 and self._relaxed():
-                    self.c["relaxed_at"] = 2.0 * self.c["accepted"] / self.n
-                    self.c["avg_start_acc"] = self.c["accepted"]
-                if self.c["relaxed_at"] >= 0:
+                if averaging:
+                    c["tick"] += c["k"]
+                elif self._relaxed():
+                    c["relaxed_at"] = 2.0 * c["accepted"] / self.n
+                    c["avg_start_acc"] = c["accepted"]
+                    c["tick"] = 0
+                if c["relaxed_at"] >= 0:
                     self._accumulate()
-                    bar.update(1)
+                    bar.update(c["k"] if c["tick"] else 1)
+                    if not c["k_set"]:
+                        c["k"] = self.cadence()
+                        c["k_set"] = c["k"] > 1 or o.average_every != "auto" or \
+                            c["tick"] + 1 >= o.n_samples // o.n_batches
+                        if c["k"] > 1 and o.average_every == "auto":
+                            # the first batch was sampled every tick: weight its samples
+                            # 1/k, so that every batch weighs its length in time
+                            self.counts[0] /= c["k"]
+                            self.sums[0] /= c["k"]
                 now = time.perf_counter()
                 if path is not None and now - last_ckpt >= o.checkpoint_every:
                     self.save(Path(path))
                     last_ckpt = now
                 if o.max_wall_time is not None and now - t_start >= o.max_wall_time:
-                    interrupted = self.c["n_samples"] < o.n_samples
+                    interrupted = c["tick"] + c["k"] < o.n_samples
                     break
         if path is not None:
             self.save(Path(path))
@@ -409,7 +464,9 @@ class Engine:
                        residual=abs(diss / inj - 1.0) if self.kind == "heated" else float("nan"),
                        wall_time=wall, message=msg,
                        extra={"seed_entropy": str(o.entropy), "n_collisions": c["accepted"],
-                              "relaxed_at": c["relaxed_at"], "samples": c["n_samples"]})
+                              "relaxed_at": c["relaxed_at"], "samples": c["n_samples"],
+                              "average_every": c["k"] * o.sample_every,
+                              "a2_correlation_time": c["tau_a2"]})
         series = {k: np.asarray(s, dtype=float) for k, s in self.series.items()}
         edges = np.linspace(o.lo, o.hi, o.bins + 1)
         if not keep.any():

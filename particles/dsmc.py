@@ -193,7 +193,8 @@ def _seeds(seed: int | np.random.SeedSequence | None) -> tuple[Any, Any, str]:
 
 
 def _common(n_particles: int, collisions_per_particle: float, relax: str | float,
-            sample_every: float, n_batches: int, bins: int, c_max: float,
+            sample_every: float, average_every: str | float, n_batches: int, bins: int,
+            c_max: float,
             checkpoint: str | Path | None, checkpoint_every: float, resume: bool,
             max_wall_time: float | None, progress: bool, w: float) -> dict[str, Any]:
     """Validate the run options shared by both problems; ``w``: :func:`_window`."""
@@ -209,6 +210,11 @@ def _common(n_particles: int, collisions_per_particle: float, relax: str | float
                                 and math.isfinite(relax) and relax >= 0)):
         raise ValueError(f"relax must be 'auto' or a number of collisions per particle >= 0, "
                          f"got {relax!r}")
+    if not (average_every == "auto" or (isinstance(average_every, numbers.Real)
+                                        and not isinstance(average_every, bool)
+                                        and math.isfinite(average_every) and average_every > 0)):
+        raise ValueError(f"average_every must be 'auto' or a positive number of collisions per "
+                         f"particle, got {average_every!r}")
     if resume and checkpoint is None:
         raise ValueError("resume=True needs a checkpoint path")
     if max_wall_time is not None:
@@ -221,6 +227,7 @@ def _common(n_particles: int, collisions_per_particle: float, relax: str | float
                        "batches", cpp / nb, w)
     return {"n": n, "relax": relax if relax == "auto" else float(relax),
             "sample_every": every, "n_batches": nb, "n_samples": n_samples,
+            "average_every": average_every if average_every == "auto" else float(average_every),
             "bins": _check_int("bins", bins, 1),
             "window": max(10, int(math.ceil(w / every))), "checkpoint": checkpoint,
             "checkpoint_every": float(checkpoint_every), "resume": bool(resume),
@@ -282,6 +289,7 @@ def simulate_heated(alpha: float | RestitutionLaw, n_particles: int, *, density:
                     seed: int | np.random.SeedSequence | None = None,
                     collisions_per_particle: float = 100.0, dt: float | None = None,
                     relax: str | float = "auto", sample_every: float = 1.0,
+                    average_every: str | float = "auto",
                     n_batches: int = 20, bins: int = 200, c_max: float = 10.0,
                     initial_velocities: ArrayLike | None = None,
                     checkpoint: str | Path | None = None, checkpoint_every: float = 300.0,
@@ -320,7 +328,18 @@ def simulate_heated(alpha: float | RestitutionLaw, n_particles: int, *, density:
         Start of averaging: the detector of the module docstring, or a fixed number
         of collisions per particle.
     sample_every : float
-        Collisions per particle between measurements (time series and histogram).
+        Collisions per particle between measurements (time series and histogram)
+        until averaging starts.
+    average_every : "auto" or float
+        Collisions per particle between measurements while averaging (a multiple of
+        ``sample_every``; batches and the run length count time, not samples).
+        "auto": ``sample_every`` over the first batch, then half the integrated
+        autocorrelation time of ``a2`` measured over it (at least 50 samples in a
+        batch, else ``sample_every``; every batch keeps at least 10 samples); it is
+        reported in ``info.extra["average_every"]`` and ``["a2_correlation_time"]``.
+        Measured at N = 25000 (``sample_every=1``): about 21 collisions per particle
+        in the cooling state at alpha = 0.9, 1.3 and 2.8 in the heated state at 0.6
+        and 0.9.
     n_batches, bins, c_max : int, int, float
         Consecutive batches for error bars (each should be longer than the correlation
         time, about ``2/(1-alpha^2)`` collisions per particle near ``alpha = 1``, where
@@ -368,9 +387,9 @@ def simulate_heated(alpha: float | RestitutionLaw, n_particles: int, *, density:
                                             friction=friction, kernel=kernel)
     gas = problem.gas
     t_ref = problem.temperature_estimate()
-    o = _common(n_particles, collisions_per_particle, relax, sample_every, n_batches, bins,
-                c_max, checkpoint, checkpoint_every, resume, max_wall_time, progress,
-                _window(gas, t_ref, problem.friction))
+    o = _common(n_particles, collisions_per_particle, relax, sample_every, average_every,
+                n_batches, bins, c_max, checkpoint, checkpoint_every, resume, max_wall_time,
+                progress, _window(gas, t_ref, problem.friction))
     c_max = check_positive("c_max", c_max)
     init_seq, run_seq, entropy = _seeds(seed)
     paper = gas.gamma == 1.0 and gas.restitution.constant is not None and problem.friction == 0
@@ -400,7 +419,7 @@ def simulate_heated(alpha: float | RestitutionLaw, n_particles: int, *, density:
     key = {"kind": "heated", **_key_model(gas, xi), "diffusion": problem.diffusion,
            "n": o["n"], "dt": dt, "steps": steps, "samples": o["n_samples"],
            "batches": o["n_batches"], "bins": o["bins"], "lo": -half, "relax": o["relax"],
-           "seed": entropy}
+           "average_every": o["average_every"], "seed": entropy}
     opts = DSMCOptions(kind="heated", lo=-half, hi=half, entropy=entropy, key=key, dt=dt,
                        steps=steps, **kicks, **_model(gas), **o)
     return Engine(problem, v, run_seq, opts).run()
@@ -410,7 +429,8 @@ def simulate_cooling(alpha: float | RestitutionLaw, n_particles: int, *, density
                      kernel: float | PowerLawKernel = 1.0,
                      seed: int | np.random.SeedSequence | None = None,
                      collisions_per_particle: float = 100.0, relax: str | float = "auto",
-                     sample_every: float = 1.0, n_batches: int = 20, bins: int = 240,
+                     sample_every: float = 1.0, average_every: str | float = "auto",
+                     n_batches: int = 20, bins: int = 240,
                      c_max: float = 6.0, initial_velocities: ArrayLike | None = None,
                      checkpoint: str | Path | None = None, checkpoint_every: float = 300.0,
                      resume: bool = False, max_wall_time: float | None = None,
@@ -446,9 +466,9 @@ def simulate_cooling(alpha: float | RestitutionLaw, n_particles: int, *, density
     """
     problem = CoolingProblem.from_parameters(alpha, density=density, kernel=kernel)
     gas = problem.gas
-    o = _common(n_particles, collisions_per_particle, relax, sample_every, n_batches, bins,
-                c_max, checkpoint, checkpoint_every, resume, max_wall_time, progress,
-                _window(gas, 1.0))
+    o = _common(n_particles, collisions_per_particle, relax, sample_every, average_every,
+                n_batches, bins, c_max, checkpoint, checkpoint_every, resume, max_wall_time,
+                progress, _window(gas, 1.0))
     c_max = check_positive("c_max", c_max)
     init_seq, run_seq, entropy = _seeds(seed)
     v = _initial(initial_velocities, o["n"], 1.0, init_seq)
@@ -457,7 +477,8 @@ def simulate_cooling(alpha: float | RestitutionLaw, n_particles: int, *, density
     _check_range(gas, v, "the initial velocities")
     key = {"kind": "cooling", **_key_model(gas), "n": o["n"], "every": o["sample_every"],
            "samples": o["n_samples"], "batches": o["n_batches"], "bins": o["bins"],
-           "lo": -c_max, "relax": o["relax"], "seed": entropy}
+           "lo": -c_max, "relax": o["relax"], "average_every": o["average_every"],
+           "seed": entropy}
     opts = DSMCOptions(kind="cooling", lo=-c_max, hi=c_max, entropy=entropy, key=key,
                        **_model(gas), **o)
     return Engine(problem, v, run_seq, opts).run()

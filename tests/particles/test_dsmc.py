@@ -294,6 +294,51 @@ def test_checkpoint_resume_is_bit_identical(tmp_path, simulate):
         simulate(0.7, 400, checkpoint=path, resume=True, **kw)
 
 
+@pytest.mark.parametrize("simulate, every", [(dsmc.simulate_cooling, "auto"),
+                                             (dsmc.simulate_heated, 3.0)])
+def test_cadence_change_resumes_bit_identically(tmp_path, simulate, every):
+    """Interrupted after every segment, across the switch to the averaging cadence."""
+    kw = dict(seed=3, collisions_per_particle=600, relax=0.0, n_batches=4,
+              average_every=every)
+    whole = simulate(0.9, 400, **kw)
+    assert whole.info.extra["average_every"] > 1.0
+    path = tmp_path / "run.npz"
+    run = simulate(0.9, 400, checkpoint=path, max_wall_time=1e-9, **kw)
+    calls = 1
+    while "interrupted" in run.info.message:
+        run = simulate(0.9, 400, checkpoint=path, resume=True, max_wall_time=1e-9, **kw)
+        calls += 1
+    assert calls > 20
+    np.testing.assert_array_equal(run.counts, whole.counts)
+    np.testing.assert_array_equal(run.power_sums, whole.power_sums)
+    for key in whole.series:
+        np.testing.assert_array_equal(run.series[key], whole.series[key])
+
+
+def test_average_cadence_from_the_correlation_time():
+    """Cooling at alpha = 0.9: a2 decorrelates over several collisions per particle, so
+    the auto cadence samples every few after the first batch (here 6: the estimate from
+    the 100 samples of a batch ranges over 4-12 with the seed, 2.5-6 per particle from
+    seeds 5-12); batches weigh equal times and a2 agrees with sampling every collision
+    per particle (seeds 5-12: within 2.5 combined standard errors)."""
+    kw = dict(seed=5, collisions_per_particle=1000, n_batches=10)
+    run = dsmc.simulate_cooling(0.9, 1000, **kw)
+    dense = dsmc.simulate_cooling(0.9, 1000, average_every=1.0, **kw)
+    extra = run.info.extra
+    assert 2.0 < extra["a2_correlation_time"] < 60.0
+    assert extra["average_every"] == max(1, min(10, int(extra["a2_correlation_time"] / 2)))
+    assert extra["average_every"] > 2.0
+    assert dense.info.extra["average_every"] == 1.0
+    assert extra["samples"] < 0.4 * dense.info.extra["samples"]
+    weights = run.power_sums[:, 0]
+    assert np.all(np.abs(weights / weights.mean() - 1.0) < 0.25)
+    assert abs(run.a2 - dense.a2) < 4.0 * math.hypot(run.a2_error, dense.a2_error)
+    with pytest.raises(ValueError, match="average_every"):
+        dsmc.simulate_cooling(0.9, 100, average_every=0.0)
+    with pytest.raises(ValueError, match="average_every"):
+        dsmc.simulate_heated(0.9, 100, average_every="fast")
+
+
 def test_replicas_run_in_parallel_and_combine():
     seeds = spawn_seeds(2, 2)
     kw = dict(alpha=0.5, n_particles=1000, collisions_per_particle=20, relax=5.0,
