@@ -29,27 +29,15 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.linalg import lu_factor, lu_solve
 
 from ..operators.collision import HalfGrid, gain_term, kernel_power, loss_frequency
 from ..operators.fd_kernels import gain_jacobian
+from .newton import NewtonResult, newton
 
-__all__ = ["NewtonResult", "laplacian", "drift", "steady_residual", "collision_jacobian",
+__all__ = ["FDSteadyState", "laplacian", "drift", "steady_residual", "collision_jacobian",
            "newton_steady", "update_factor", "UNDERFLOW"]
 
 UNDERFLOW = 1e-290
-
-
-@dataclass(frozen=True)
-class NewtonResult:
-    """Outcome of :func:`newton_steady`."""
-
-    p: NDArray[np.float64]
-    multiplier: float
-    iterations: int
-    residual: float
-    converged: bool
-    message: str
 
 
 def update_factor(y: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -140,91 +128,141 @@ def _jacobian(grid: HalfGrid, p: NDArray[np.float64], nu: NDArray[np.float64],
     return jac
 
 
+@dataclass(frozen=True)
+class FDSteadyState:
+    """A steady state of the finite-difference equations and how Newton found it.
+
+    Parameters
+    ----------
+    p : ndarray, shape (n,)
+        :math:`P_i` on the half grid of the unit problem, :math:`\\sum_i w_i P_i = 1`.
+    multiplier : float
+        The mass-defect rate :math:`\\lambda` of the module docstring.
+    newton : NewtonResult
+        The report of :func:`kinetic_fem.solvers.newton.newton`: ``x`` is
+        ``(P, lambda)``, ``residual`` the largest scaled residual
+        :math:`|R_i|/(P_i(\\nu_i+2/h^2))` on the monitored nodes.
+    """
+
+    p: NDArray[np.float64]
+    multiplier: float
+    newton: NewtonResult
+
+    @property
+    def converged(self) -> bool:
+        """Newton's stopping criterion was met."""
+        return self.newton.converged
+
+    @property
+    def iterations(self) -> int:
+        """Newton iterations."""
+        return self.newton.iterations
+
+    @property
+    def residual(self) -> float:
+        """Largest scaled residual on the monitored nodes."""
+        return self.newton.residual
+
+    @property
+    def message(self) -> str:
+        """Newton's status message."""
+        return self.newton.message
+
+
 def newton_steady(grid: HalfGrid, p0: NDArray[np.float64], *, alpha: float,
                   log_interp: bool = True, order: int = 2, tol: float = 1e-10,
                   max_iter: int = 60, monitor_floor: float = 1e-50, gamma: float = 1.0,
-                  friction: float = 0.0) -> NewtonResult:
+                  friction: float = 0.0) -> FDSteadyState:
     """Solve :math:`R(P,\\lambda) = 0`, :math:`\\sum w P = 1` from ``p0`` (positive).
+
+    The shared driver :func:`kinetic_fem.solvers.newton.newton` runs on
+    :math:`x = (P, \\lambda)`: the step is the relative change :math:`y` on the active
+    nodes (:data:`UNDERFLOW`) and :math:`\\delta\\lambda`, applied by
+    :func:`update_factor`; backtracking accepts any decrease of the scaled residual
+    (halving down to :math:`2^{-10}`).
 
     Parameters
     ----------
     grid : HalfGrid
+        The half grid :math:`v_i = i h \\ge 0`.
     p0 : ndarray, shape (n,)
         Positive start (a Gaussian is enough for every alpha tried, 0 to 0.9999).
     alpha : float
+        Coefficient of restitution.
     log_interp : bool
+        Interpolate :math:`\\ln P` (not :math:`P`) at the pre-collision velocities.
+    order : int
+        Order of that interpolation.
     tol : float
         Converged when the largest relative Newton update is below ``tol`` on the
         monitored nodes.
     max_iter : int
-    gamma, friction : float
-        Kernel exponent (1 or 0) and bath friction of the unit problem.
+        Newton iterations allowed.
     monitor_floor : float
         Nodes with :math:`f = \\sqrt{T} P >` ``monitor_floor`` are monitored for
         convergence (20 decades below the resolved 1e-30); deeper, under-resolved
         tail nodes are updated but do not hold up convergence.
+    gamma, friction : float
+        Kernel exponent (1 or 0) and bath friction of the unit problem.
 
     Returns
     -------
-    NewtonResult
-        ``residual`` is the largest scaled residual :math:`|R_i|/(P_i(\\nu_i+2/h^2))` on
-        the monitored nodes.
+    FDSteadyState
     """
     w = grid.half_weights
-    p = np.asarray(p0, dtype=float) / np.dot(w, p0)
-    lam = 0.0
+    n = grid.n
+    cache: dict[str, object] = {}
 
-    def scaled(p_: NDArray[np.float64], lam_: float) -> tuple[NDArray[np.float64], ...]:
+    def evaluate(x: NDArray[np.float64]) -> tuple[NDArray[np.float64], ...]:
+        """``nu, R, row scale d, active nodes`` at ``x`` (the last one cached)."""
+        if cache.get("x") is not None and np.array_equal(cache["x"], x):  # type: ignore[arg-type]
+            return cache["out"]  # type: ignore[return-value]
+        p_, lam_ = x[:n], float(x[n])
         nu_ = loss_frequency(grid, p_, density=1.0, gamma=gamma)
-        res_ = steady_residual(grid, p_, lam_, alpha=alpha, log_interp=log_interp, order=order,
-                               gamma=gamma, friction=friction)
+        res_ = steady_residual(grid, p_, lam_, alpha=alpha, log_interp=log_interp,
+                               order=order, gamma=gamma, friction=friction)
         act_ = p_ > UNDERFLOW
         d_ = np.where(act_, p_ * (nu_ + 2.0 / grid.h**2 + friction), 1.0)
+        cache["x"], cache["out"] = x.copy(), (nu_, res_, d_, act_)
         return nu_, res_, d_, act_
 
-    def monitored(p_: NDArray[np.float64]) -> NDArray[np.bool_]:
+    def monitored_active(x: NDArray[np.float64]) -> NDArray[np.bool_]:
+        """The monitored nodes among the active ones (the rows of the step)."""
+        p_ = x[:n]
         temperature = np.dot(w, grid.v**2 * p_) / np.dot(w, p_)
-        return math.sqrt(temperature) * p_ > monitor_floor
+        return (math.sqrt(temperature) * p_ > monitor_floor)[p_ > UNDERFLOW]
 
-    nu, res, d, act = scaled(p, lam)
-    mon = monitored(p)
-    norm = float(np.max(np.abs(res[mon] / d[mon])))
-    message = "maximum iterations reached"
-    converged = False
-    it = 0
-    while it < max_iter:
-        it += 1
-        jac = _jacobian(grid, p, nu, lam, alpha, log_interp, order, gamma, friction)
-        a = np.flatnonzero(act)
+    def system(x: NDArray[np.float64], jacobian: bool
+               ) -> tuple[NDArray[np.float64], NDArray[np.float64] | None]:
+        p_, lam_ = x[:n], float(x[n])
+        nu_, res_, d_, act_ = evaluate(x)
+        a = np.flatnonzero(act_)
+        r = np.concatenate([res_[a] / d_[a], [np.dot(w, p_) - 1.0]])
+        if not jacobian:
+            return r, None
+        jac = _jacobian(grid, p_, nu_, lam_, alpha, log_interp, order, gamma, friction)
         m = a.size
         big = np.zeros((m + 1, m + 1))
-        big[:m, :m] = jac[np.ix_(a, a)] * p[a][None, :] / d[a][:, None]
-        big[:m, m] = -p[a] / d[a]
-        big[m, :m] = w[a] * p[a]
-        rhs = np.concatenate([-res[a] / d[a], [1.0 - np.dot(w, p)]])
-        step = lu_solve(lu_factor(big, check_finite=False), rhs, check_finite=False)
-        y, dlam = step[:m], step[m]
-        if not np.all(np.isfinite(step)):
-            message = "singular Newton system"
-            break
-        theta = 1.0
-        for _ in range(12):
-            p_try = p.copy()
-            p_try[a] = p[a] * update_factor(theta * y)
-            p_try[p_try < UNDERFLOW] = 0.0
-            nu_t, res_t, d_t, act_t = scaled(p_try, lam + theta * dlam)
-            mon_t = monitored(p_try)
-            norm_t = float(np.max(np.abs(res_t[mon_t] / d_t[mon_t])))
-            if norm_t < norm or theta < 1e-3 or np.max(np.abs(y[mon[a]])) * theta < tol:
-                break
-            theta *= 0.5
-        change = theta * float(np.max(np.abs(y[mon[a]])))
-        p, lam = p_try, lam + theta * dlam
-        nu, res, d, act, mon, norm = nu_t, res_t, d_t, act_t, mon_t, norm_t
-        if change < tol:
-            converged = True
-            message = f"Newton converged: max |d ln P| < {tol:g}"
-            break
-    if not math.isfinite(norm):
-        converged = False
-    return NewtonResult(p, lam, it, norm, converged, message)
+        big[:m, :m] = jac[np.ix_(a, a)] * p_[a][None, :] / d_[a][:, None]
+        big[:m, m] = -p_[a] / d_[a]
+        big[m, :m] = w[a] * p_[a]
+        return r, big
+
+    def norm(r: NDArray[np.float64], x: NDArray[np.float64]) -> float:
+        return float(np.max(np.abs(r[:-1][monitored_active(x)])))
+
+    def step_norm(dx: NDArray[np.float64], x: NDArray[np.float64]) -> float:
+        return float(np.max(np.abs(dx[:-1][monitored_active(x)])))
+
+    def update(x: NDArray[np.float64], dx: NDArray[np.float64]) -> NDArray[np.float64]:
+        p_ = x[:n].copy()
+        a = np.flatnonzero(p_ > UNDERFLOW)
+        p_[a] = p_[a] * update_factor(dx[:-1])
+        p_[p_ < UNDERFLOW] = 0.0
+        return np.concatenate([p_, [x[n] + dx[-1]]])
+
+    p = np.asarray(p0, dtype=float) / np.dot(w, p0)
+    out = newton(system, np.concatenate([p, [0.0]]), tol=tol, max_iter=max_iter,
+                 criterion="step", norm=norm, step_norm=step_norm, update=update,
+                 armijo=0.0, min_damping=2.0**-10, name="fd Newton")
+    return FDSteadyState(out.x[:n], float(out.x[n]), out)
