@@ -43,15 +43,11 @@ from __future__ import annotations
 
 import logging
 import math
-import time
 import warnings
 from dataclasses import dataclass, replace
 
 import numpy as np
-import scipy.linalg
-import scipy.sparse
 from numpy.typing import NDArray
-from skfem import asm
 
 from .. import sonine
 from ..distribution import RunInfo, VelocityDistribution
@@ -80,10 +76,21 @@ from .fem_defaults import (
     scaled_model,
     tail_exponent,
 )
+from .fem_newton import (
+    CHORD_LEVEL,
+    CHORD_RATE,
+    STALL_LEVEL,
+    EquilibratedLU,
+    log_update,
+    newton_info,
+    newton_steady,
+    stalled,
+)
 
 __all__ = ["FEMDiscretisation", "SteadyState", "ResolutionWarning", "ConvergenceError",
            "default_cutoff", "default_spacing", "steady_state", "solve_fem", "ELEMENTS",
-           "newton_steady", "discretisation", "STALL_LEVEL", "EquilibratedLU", "log_update",
+           "newton_steady", "discretisation", "state_distribution", "STALL_LEVEL",
+           "CHORD_LEVEL", "CHORD_RATE", "EquilibratedLU", "log_update",
            "newton_info", "stalled", "bath_drift", "bath_drift_jacobian", "mass", "weighted_mass",
            "fokker_planck", "fokker_planck_jacobian"]
 
@@ -97,8 +104,6 @@ CUTOFF_TARGET = 1e-33
 MAX_WIDENINGS = 4
 CONTINUATION_ALPHA = 0.95
 """Above this alpha Newton starts from the solution at ten times the inelasticity."""
-STALL_LEVEL = 1e-8
-"""A Newton update that stops decreasing below this is round-off: converged."""
 
 
 class ConvergenceError(RuntimeError):
@@ -133,98 +138,6 @@ def _mesh(alpha: float, *, cutoff: float | None, spacing: float, vertices,
     return math.sqrt(model.temperature) * graded_vertices(c_max, spacing, grading=grading)
 
 
-def log_update(delta: NDArray, limit: float = 10.0) -> NDArray:
-    """Map a Newton step on ``u`` to ``ln(1 + delta)``: the Newton step on ``P``.
-
-    Exact for the linear tail equation and equal to ``delta`` to second order, so
-    the iteration stays quadratic; decreases are limited to ``-limit``.
-    """
-    return np.log1p(np.maximum(delta, math.expm1(-limit)))
-
-
-class EquilibratedLU:
-    """LU factors of ``J`` scaled to unit row and column maxima.
-
-    Rows and columns of far-tail dofs scale with :math:`P \\sim 10^{-30}` (or much less
-    in a first iterate), so the plain matrix is numerically singular; the scaled one
-    is well conditioned.
-    """
-
-    def __init__(self, jac: NDArray) -> None:
-        tiny = np.finfo(float).tiny  # an all-zero row or column stays finite
-        self.rows = np.maximum(np.abs(jac).max(axis=1), tiny)
-        scaled = jac / self.rows[:, None]
-        self.cols = np.maximum(np.abs(scaled).max(axis=0), tiny)
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
-            self.lu = scipy.linalg.lu_factor(scaled / self.cols[None, :])
-
-    def solve(self, rhs: NDArray) -> NDArray:
-        """``J^{-1} rhs``."""
-        return scipy.linalg.lu_solve(self.lu, rhs / self.rows) / self.cols
-
-
-def newton_steady(disc: FEMDiscretisation, u0: NDArray[np.float64], *, tol: float = 1e-11,
-                  max_iter: int = 40, step_limit: float = 10.0) -> tuple[NDArray, RunInfo]:
-    """Newton iteration for the even steady state with :math:`\\int P_h = 1`.
-
-    The update of each dof is :math:`\\ln(1 + \\delta)` (see :func:`log_update`).
-    """
-    start = time.perf_counter()
-    sym = disc.symmetry
-    # the dof at v = 0 carries the normalisation instead of its (redundant) equation
-    red_x = np.zeros(sym.shape[1])
-    red_x[sym.indices] = np.abs(disc.dof_locations)
-    row0 = int(np.argmin(red_x))
-
-    def system(u_red: NDArray, jacobian: bool) -> tuple[NDArray, NDArray | None]:
-        u = sym @ u_red
-        res, jac = disc.residual(u, jacobian=jacobian)
-        grad_mass = asm(mass, disc.basis, u=disc.field(u))
-        r = sym.T @ res
-        r[row0] = grad_mass.sum() - 1.0
-        if not jacobian:
-            return r, None
-        j = sym.T @ (sym.T @ jac.T).T
-        j[row0] = sym.T @ grad_mass
-        return r, j
-
-    u_red = (sym.T @ u0) / np.asarray(sym.sum(axis=0)).ravel()
-    step = np.inf
-    history = []
-    r, j = system(u_red, True)
-    for it in range(1, max_iter + 1):
-        delta = EquilibratedLU(j).solve(-r)
-        step = float(np.abs(delta).max())
-        u_red = u_red + log_update(delta, step_limit)
-        history.append(step)
-        logger.debug("newton %d: max|du| = %.3e", it, step)
-        if step < tol or stalled(history):
-            break
-        r, j = system(u_red, True)
-    return sym @ u_red, newton_info(history, tol, it, start)
-
-
-def stalled(history: list[float]) -> bool:
-    """The update stopped decreasing below :data:`STALL_LEVEL`: round-off reached."""
-    return len(history) >= 3 and history[-1] < STALL_LEVEL and \
-        history[-1] > 0.25 * min(history[-3:-1])
-
-
-def newton_info(history: list[float], tol: float, iterations: int, start: float) -> RunInfo:
-    """Run info of a Newton iteration: converged below ``tol`` or stalled at round-off."""
-    step = history[-1]
-    text = f"Newton max|du| history {['%.1e' % s for s in history]}"
-    if step >= tol and stalled(history):
-        text = (f"Newton stalled at round-off, max|du| = {step:.1e} (tol {tol:.0e}); "
-                + text)
-        logger.info("%s", text)
-    return RunInfo(converged=step < tol or stalled(history), iterations=iterations,
-                   residual=step, wall_time=time.perf_counter() - start, message=text)
-
-
-_Equilibrated = EquilibratedLU  # former private names, still imported by fem_transient
-_log_update = log_update
 
 
 @dataclass(frozen=True, eq=False)
@@ -299,14 +212,16 @@ def discretisation(model: ScaledModel, vertices: NDArray, order: int = 2,
 def steady_state(model: float | HeatedProblem, *, order: int = 2,
                  spacing: float | None = None, cutoff: float | None = None, vertices=None,
                  intorder: int | None = None, symmetric: bool = False, tol: float = 1e-11,
-                 max_iter: int = 40) -> SteadyState:
+                 max_iter: int = 40, initial: SteadyState | None = None) -> SteadyState:
     """Newton steady state at ``n = D = 1`` (see :func:`solve_fem` for the options).
 
     ``model`` is a heated problem (solved at ``n = D = 1``, see
     :func:`kinetic_fem.solvers.fem_defaults.scaled_model`) or a restitution coefficient of
     the paper's model (hard rods, white noise).  With the default cut-off, the
     interval is widened (by 15 %, from the current solution) until :math:`f` at the
-    cut-off is below :data:`CUTOFF_TARGET`.
+    cut-off is below :data:`CUTOFF_TARGET`.  ``initial`` (a state of a nearby model,
+    e.g. the previous point of a curve) gives the starting :math:`f(c)` in place of the
+    Gaussian and of the near-elastic continuation (see :mod:`kinetic_fem.solvers.fem_curve`).
     """
     problem = model if isinstance(model, HeatedProblem) else \
         HeatedProblem.from_parameters(model)
@@ -332,7 +247,11 @@ def steady_state(model: float | HeatedProblem, *, order: int = 2,
     disc = discretisation(scaled, verts, order, intorder, symmetric)
     u0 = disc.gaussian(scaled.temperature) if paper else \
         initial_log_density(disc.dof_locations, scaled)
-    if alpha_eff > CONTINUATION_ALPHA and vertices is None and scaled.law.constant is not None:
+    if initial is not None:
+        u0 = initial.initial_guess(disc.dof_locations, scaled.temperature,
+                                   linear_tail=not paper)
+    elif alpha_eff > CONTINUATION_ALPHA and vertices is None and \
+            scaled.law.constant is not None:
         # start from the solution at eps' = 10 eps, rescaled to f(c) (quasi-elastic
         # limits are approached smoothly in c; Newton from a Gaussian is not robust there)
         coarse_problem = HeatedProblem.from_parameters(
@@ -432,6 +351,22 @@ def solve_fem(problem: HeatedProblem, *, order: int = 2, spacing: float | None =
     state = steady_state(problem, order=order, spacing=spacing, cutoff=cutoff,
                          vertices=vertices, intorder=intorder, symmetric=symmetric, tol=tol,
                          max_iter=max_iter)
+    return state_distribution(problem, state, order)
+
+
+def state_distribution(problem: HeatedProblem, state: SteadyState,
+                       order: int = 2) -> VelocityDistribution:
+    """The :class:`VelocityDistribution` of a steady state, in the problem's units.
+
+    Parameters
+    ----------
+    problem : HeatedProblem
+        The problem the state solves (at ``n = D = 1``).
+    state : SteadyState
+        The state from :func:`steady_state`.
+    order : int
+        Lagrange degree of the state, recorded in ``info.extra``.
+    """
     injection, loss = state.energy_terms()
     info = replace(state.info, extra={"n_dofs": int(state.u.size), "order": order,
                                       "c1_injection": injection, "c1_loss": loss})
