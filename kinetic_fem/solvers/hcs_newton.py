@@ -19,10 +19,10 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.linalg import lu_factor, lu_solve
 
 from ..operators.collision import HalfGrid, gain_term, loss_frequency, pair_moment
 from .fd_newton import collision_jacobian, update_factor
+from .newton import NewtonResult, newton
 
 __all__ = ["HCSSolution", "drift_term", "hcs_residual", "newton_hcs", "MONITOR_FLOOR"]
 
@@ -98,21 +98,36 @@ class HCSSolution:
     multiplier : float
         Mass-defect rate :math:`\\lambda` of the discrete operator (a discretisation
         error, zero in the continuum).
-    iterations : int
-    residual : float
-        Largest scaled residual on the monitored nodes.
-    converged : bool
-    message : str
+    newton : NewtonResult
+        The report of :func:`kinetic_fem.solvers.newton.newton` (``x = (ln f, zeta,
+        lambda)``; ``residual``: the largest scaled residual on the monitored nodes).
     """
 
     grid: HalfGrid
     f: NDArray[np.float64]
     zeta: float
     multiplier: float
-    iterations: int
-    residual: float
-    converged: bool
-    message: str
+    newton: NewtonResult
+
+    @property
+    def iterations(self) -> int:
+        """Newton iterations."""
+        return self.newton.iterations
+
+    @property
+    def residual(self) -> float:
+        """Largest scaled residual on the monitored nodes."""
+        return self.newton.residual
+
+    @property
+    def converged(self) -> bool:
+        """Newton's stopping criterion was met."""
+        return self.newton.converged
+
+    @property
+    def message(self) -> str:
+        """Newton's status message."""
+        return self.newton.message
 
     def energy_identity(self, alpha: float) -> float:
         """:math:`(1-\\alpha^2)\\langle|c-c'|^3\\rangle/8`, to compare with :attr:`zeta`."""
@@ -125,77 +140,96 @@ def newton_hcs(grid: HalfGrid, u0: NDArray[np.float64], zeta0: float, *, alpha: 
                order: int = 3, tol: float = 1e-10, max_iter: int = 60) -> HCSSolution:
     """Solve the discrete HCS equations by damped Newton from ``(u0, zeta0)``.
 
-    Rows are scaled by :math:`f_i(\\nu_i + \\zeta(1 + c_i/h))`, so that tail equations
-    weigh as much as bulk ones; converged when the largest change of ``u`` on the
-    nodes with :math:`f > 10^{-50}` is below ``tol``.
+    The shared driver :func:`kinetic_fem.solvers.newton.newton` on
+    :math:`x = (u, \\zeta, \\lambda)`. Rows are scaled by
+    :math:`f_i(\\nu_i + \\zeta(1 + c_i/h))`, so that tail equations weigh as much as
+    bulk ones (the scales of the current iterate are frozen during the line search: a
+    scaling that moves with the trial point through f and zeta can grow while the
+    residual falls); converged when the largest change of ``u`` on the nodes with
+    :math:`f > 10^{-50}` is below ``tol``.
+
+    Parameters
+    ----------
+    grid : HalfGrid
+        The half grid :math:`c_i = i h \\ge 0` (unit temperature).
+    u0 : ndarray, shape (n,)
+        Start for :math:`\\ln f`.
+    zeta0 : float
+        Start for the cooling rate.
+    alpha : float
+        Coefficient of restitution.
+    order : int
+        Order of the interpolation of :math:`\\ln f` at pre-collision velocities.
+    tol : float
+        Tolerance on the change of ``u`` on the monitored nodes.
+    max_iter : int
+        Newton iterations allowed.
+
+    Returns
+    -------
+    HCSSolution
     """
     w = grid.half_weights
     c2w = w * grid.v**2
-    u = np.asarray(u0, dtype=float).copy()
-    zeta, lam = float(zeta0), 0.0
+    n = grid.n
+    last: dict[str, object] = {}
 
-    def evaluate(u_: NDArray[np.float64], zeta_: float, lam_: float,
-                 scale: NDArray[np.float64] | None = None):
-        """Residuals and their max norm, rows scaled by ``scale`` (default: own scale).
-
-        The line search compares norms with the scaling of the current iterate: a
-        scaling that moves with the trial point (through f and zeta) can grow while the
-        residual itself falls."""
+    def evaluate(x: NDArray[np.float64]) -> tuple[NDArray[np.float64], ...]:
+        """``f, nu, R, row scale d, constraints`` at ``x = (u, zeta, lambda)`` (cached)."""
+        if last.get("x") is not None and np.array_equal(last["x"], x):  # type: ignore[arg-type]
+            return last["out"]  # type: ignore[return-value]
+        u_, zeta_, lam_ = x[:n], float(x[n]), float(x[n + 1])
         f_ = np.exp(u_)
         nu_ = loss_frequency(grid, f_, density=1.0)
         res_ = hcs_residual(grid, u_, zeta_, lam_, alpha=alpha, order=order)
         d_ = np.maximum(f_ * (nu_ + abs(zeta_) * (1.0 + grid.v / grid.h)), 1e-300)
         d_[-1] = 1.0  # the closure row is already O(1)
-        mon_ = f_ > MONITOR_FLOOR
-        constraint = np.array([np.dot(w, f_) - 1.0, np.dot(c2w, f_) - 1.0])
-        s_ = d_ if scale is None else scale
-        norm_ = max(float(np.max(np.abs(res_[mon_] / s_[mon_]))),
-                    float(np.max(np.abs(constraint))))
-        return f_, nu_, res_, d_, mon_, constraint, norm_
+        cons_ = np.array([np.dot(w, f_) - 1.0, np.dot(c2w, f_) - 1.0])
+        last["x"], last["out"] = x.copy(), (f_, nu_, res_, d_, cons_)
+        return f_, nu_, res_, d_, cons_
 
-    f, nu, res, d, mon, cons, norm = evaluate(u, zeta, lam)
-    converged = False
-    message = "maximum iterations reached"
-    it = 0
-    n = grid.n
-    while it < max_iter:
-        it += 1
-        jac = collision_jacobian(grid, f, nu, alpha, True, order) * f[None, :]
-        jac[np.arange(n), np.arange(n)] -= lam * f
-        jac -= zeta * _drift_jacobian(grid, u)
-        big = np.zeros((n + 2, n + 2))
+    def system(x: NDArray[np.float64], jacobian: bool
+               ) -> tuple[NDArray[np.float64], NDArray[np.float64] | None]:
+        f_, nu_, res_, _, cons_ = evaluate(x)
+        r = np.concatenate([res_, cons_])
+        if not jacobian:
+            return r, None
+        u_, zeta_, lam_ = x[:n], float(x[n]), float(x[n + 1])
+        jac = collision_jacobian(grid, f_, nu_, alpha, True, order) * f_[None, :]
+        jac[np.arange(n), np.arange(n)] -= lam_ * f_
+        jac -= zeta_ * _drift_jacobian(grid, u_)
         jac[-1, :] = 0.0
         jac[-1, -3:] = [1.0, -2.0, 1.0]
-        drift = drift_term(grid, u)
+        drift = drift_term(grid, u_)
         drift[-1] = 0.0
-        big[:n, :n] = jac / d[:, None]
-        big[:n, n] = -drift / d
-        big[:n, n + 1] = -np.where(np.arange(n) < n - 1, f, 0.0) / d
-        big[n, :n] = w * f
-        big[n + 1, :n] = c2w * f
-        rhs = np.concatenate([-res / d, -cons])
-        step = lu_solve(lu_factor(big, check_finite=False), rhs, check_finite=False)
-        if not np.all(np.isfinite(step)):
-            message = "singular Newton system"
-            break
-        du, dzeta, dlam = step[:n], step[n], step[n + 1]
+        big = np.zeros((n + 2, n + 2))
+        big[:n, :n] = jac
+        big[:n, n] = -drift
+        big[:n, n + 1] = -np.where(np.arange(n) < n - 1, f_, 0.0)
+        big[n, :n] = w * f_
+        big[n + 1, :n] = c2w * f_
+        return r, big
+
+    def row_scale(x: NDArray[np.float64]) -> NDArray[np.float64]:
+        return np.concatenate([evaluate(x)[3], [1.0, 1.0]])
+
+    def norm(r: NDArray[np.float64], x: NDArray[np.float64]) -> float:
+        mon = x[:n] > math.log(MONITOR_FLOOR)
+        return max(float(np.max(np.abs(r[:n][mon]))), float(np.max(np.abs(r[n:]))))
+
+    def step_norm(dx: NDArray[np.float64], x: NDArray[np.float64]) -> float:
+        mon = x[:n] > math.log(MONITOR_FLOOR)
+        return float(np.max(np.abs(np.log(update_factor(dx[:n]))[mon])))
+
+    def update(x: NDArray[np.float64], dx: NDArray[np.float64]) -> NDArray[np.float64]:
         # the step du is applied as a relative change of f, f -> f * update_factor(du)
         # (sublinear in ln f for large rises, exponential damping of large falls, as in
-        # the heated solver), then backtracking on the residual norm
-        theta = 1.0
-        for _ in range(12):
-            u_try = u + np.log(update_factor(theta * du))
-            trial = evaluate(u_try, zeta + theta * dzeta, lam + theta * dlam, d)
-            if trial[-1] < norm or theta < 1e-3:
-                break
-            theta *= 0.5
-        change = float(np.max(np.abs(u_try - u)[mon]))
-        u, zeta, lam = u_try, zeta + theta * dzeta, lam + theta * dlam
-        f, nu, res, d, mon, cons, norm = evaluate(u, zeta, lam)
-        if change < tol:
-            converged = True
-            message = f"Newton converged: max |d ln f| < {tol:g}"
-            break
-    if not math.isfinite(norm):
-        converged = False
-    return HCSSolution(grid, f, float(zeta), float(lam), it, norm, converged, message)
+        # the heated solver)
+        return np.concatenate([x[:n] + np.log(update_factor(dx[:n])), x[n:] + dx[n:]])
+
+    x0 = np.concatenate([np.asarray(u0, dtype=float), [float(zeta0), 0.0]])
+    out = newton(system, x0, tol=tol, max_iter=max_iter, criterion="step", norm=norm,
+                 step_norm=step_norm, update=update, row_scale=row_scale, armijo=0.0,
+                 min_damping=2.0**-10, name="HCS Newton")
+    u = out.x[:n]
+    return HCSSolution(grid, np.exp(u), float(out.x[n]), float(out.x[n + 1]), out)
