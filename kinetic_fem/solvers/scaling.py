@@ -55,6 +55,7 @@ from scipy.optimize import brentq
 from ..distribution import RunInfo, VelocityDistribution
 from ..gas import check_positive
 from ..operators.grid import abs_power_convolution, simpson_weights
+from .newton import run_info
 from .scaling_common import (
     Evaluation,
     LimitSolution,
@@ -240,11 +241,9 @@ def _solve_phi_on(x: NDArray[np.float64], u0: NDArray[np.float64], tol: float,
 
     start = time.perf_counter()
     out = newton_krylov(u0[mid:], evaluate, tol=tol, max_iter=max_iter, name="solve_phi")
-    u = full(out.z)
+    u = full(out.x)
     ln_c = float(np.mean(u + abs_power_convolution(x, w * np.exp(u), 3) / 6.0))
-    info = RunInfo(converged=out.converged, iterations=out.iterations, residual=out.residual,
-                   wall_time=time.perf_counter() - start, message=out.message)
-    return u, ln_c, info
+    return u, ln_c, run_info(out, start=start)
 
 
 def _phi_constants(x: NDArray[np.float64], phi: NDArray[np.float64], ln_c: float) -> dict:

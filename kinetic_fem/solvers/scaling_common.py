@@ -3,39 +3,28 @@
 Both limit equations are fixed points :math:`u = \\mathcal T[u]` for the logarithm
 :math:`u = \\ln f` of a normalised density on a uniform grid.  They are solved by
 Newton's method with matrix-free GMRES (each Jacobian product is one O(N)
-cumulative-moment sum) and a backtracking line search on the max-norm residual.
+cumulative-moment sum) and a backtracking line search on the max-norm residual: the
+shared driver :func:`kinetic_fem.solvers.newton.newton` through :func:`newton_krylov`.
 """
 
 from __future__ import annotations
 
 import logging
 import numbers
-from dataclasses import dataclass
 from typing import Callable, ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.sparse.linalg import LinearOperator, gmres
 
 from ..distribution import VelocityDistribution
 from ..gas import check_positive
+from .newton import NewtonResult, newton
 
 __all__: list[str] = []
 
 logger = logging.getLogger(__name__)
 
 Evaluation = tuple[NDArray[np.float64], Callable[[NDArray[np.float64]], NDArray[np.float64]]]
-
-
-@dataclass(frozen=True)
-class NewtonResult:
-    """Outcome of :func:`newton_krylov`."""
-
-    z: NDArray[np.float64]
-    converged: bool
-    iterations: int
-    residual: float
-    message: str
 
 
 class LimitSolution:
@@ -80,7 +69,7 @@ def newton_krylov(
     max_iter: int,
     name: str,
 ) -> NewtonResult:
-    """Solve ``r(z) = 0`` by Newton-GMRES with backtracking.
+    """Solve ``r(z) = 0`` by Newton-GMRES with backtracking (the shared driver).
 
     Parameters
     ----------
@@ -95,35 +84,28 @@ def newton_krylov(
     name : str
         Used in log messages.
 
+    Returns
+    -------
+    NewtonResult
+        Of :func:`kinetic_fem.solvers.newton.newton`; the solution is ``x``.
+
     Notes
     -----
-    The step :math:`\\delta` solves :math:`J\\delta = -r` by GMRES to a relative
-    accuracy of :math:`10^{-14}`; the step is halved until ``max|r|`` decreases.
+    :func:`kinetic_fem.solvers.newton.newton` with a matrix-free Jacobian: the step
+    :math:`\\delta` solves :math:`J\\delta = -r` by GMRES to a relative accuracy of
+    :math:`10^{-14}`; the step is halved (down to 1/16384) until ``max|r|`` decreases,
+    and the iteration stops when it does not (the round-off floor).
     """
-    z = np.array(z0, dtype=float)
-    r, jvp = evaluate(z)
-    res = float(np.max(np.abs(r)))
-    for it in range(max_iter + 1):
-        logger.debug("%s: Newton iteration %d, residual %.3e", name, it, res)
-        if res < tol:
-            return NewtonResult(z, True, it, res, f"{name}: residual {res:.2e} < tol {tol:.1e}")
-        if it == max_iter:
-            break
-        op = LinearOperator((z.size, z.size), matvec=jvp, dtype=float)
-        dz, _ = gmres(op, -r, rtol=1e-14, atol=0.0, restart=80, maxiter=4)
-        step = 1.0
-        while True:
-            r_new, jvp_new = evaluate(z + step * dz)
-            res_new = float(np.max(np.abs(r_new)))
-            if res_new < res or step < 1e-4:
-                break
-            step *= 0.5
-        if not res_new < res:  # no descent: the round-off floor has been reached
-            break
-        z, r, jvp, res = z + step * dz, r_new, jvp_new, res_new
-    msg = f"{name}: not converged, residual {res:.2e} >= tol {tol:.1e} after {it} iterations"
-    logger.warning(msg)
-    return NewtonResult(z, False, it, res, msg)
+    def system(z: NDArray[np.float64], jacobian: bool
+               ) -> tuple[NDArray[np.float64], Callable[[NDArray[np.float64]],
+                                                        NDArray[np.float64]]]:
+        return evaluate(z)
+
+    out = newton(system, z0, tol=tol, max_iter=max_iter, criterion="residual", armijo=0.0,
+                 min_damping=2.0**-14, on_failure="stop", name=name)
+    if not out.converged:
+        logger.warning("%s", out.message)
+    return out
 
 
 def log_normalise(e: NDArray[np.float64], w: NDArray[np.float64]) -> NDArray[np.float64]:
