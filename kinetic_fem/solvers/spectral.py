@@ -60,6 +60,7 @@ from ..operators.sonine_tensors import (
     orthonormal_sonine,
 )
 from ..solve import register_solver
+from .newton import newton
 
 __all__ = ["SonineSolution", "solve_sonine", "sonine_heated", "solve_sonine_cooling",
            "sonine_cooling", "MAX_ORDER"]
@@ -68,6 +69,8 @@ logger = logging.getLogger(__name__)
 
 MAX_ORDER = 80
 """Highest truncation order (the tensor costs ~ ``P**3 * 4.5 P**2`` operations)."""
+ROUNDOFF_FLOOR = 1e-10
+"""Largest relative residual accepted as a solution (Newton's round-off floor)."""
 
 
 @dataclass(frozen=True)
@@ -204,54 +207,41 @@ def _lap_matrix(kappa: NDArray[np.float64]) -> NDArray[np.float64]:
     return mat
 
 
+def _solve_or_lstsq(jac: NDArray[np.float64], rhs: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``jac^{-1} rhs``, least squares where ``jac`` is singular."""
+    try:
+        return np.linalg.solve(jac, rhs)
+    except np.linalg.LinAlgError:
+        return np.linalg.lstsq(jac, rhs, rcond=None)[0]
+
+
 def _newton(system: _System, x0: NDArray[np.float64], *, tol: float = 1e-14,
             max_iter: int = 100) -> tuple[NDArray[np.float64], float, int, float]:
-    """Newton with backtracking on the row-scaled residual.
+    """Newton with backtracking on the row-scaled residual (the shared driver).
 
     Each equation is divided by the size of its terms (:meth:`_System.row_scale`, frozen
     during one step) and each unknown by its magnitude before the linear solve, so the
-    solution may span many decades (the Maxwell coefficients grow like ``p**p``).
+    solution may span many decades (the Maxwell coefficients grow like ``p**p``); a
+    residual that stops falling below :data:`ROUNDOFF_FLOOR` is the round-off floor.
     Returns ``x``, the largest relative residual, the iterations and the condition
     number of the equilibrated Jacobian.
     """
-    x = x0.copy()
-    res, jac = system(x)
+    def fun(x: NDArray[np.float64], jacobian: bool
+            ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        return system(x)
+
+    def cols(x: NDArray[np.float64]) -> NDArray[np.float64]:
+        return np.maximum(np.abs(x), 1.0)
+
     with np.errstate(over="ignore", invalid="ignore"):
-        return _newton_loop(system, x, res, jac, tol, max_iter)
-
-
-def _newton_loop(system: _System, x: NDArray[np.float64], res: NDArray[np.float64],
-                 jac: NDArray[np.float64], tol: float, max_iter: int
-                 ) -> tuple[NDArray[np.float64], float, int, float]:
-    it = 0
-    while it < max_iter:
-        it += 1
+        out = newton(fun, x0, tol=tol, max_iter=max_iter, row_scale=system.row_scale,
+                     column_scale=cols, linear_solver=_solve_or_lstsq,
+                     min_damping=2.0**-10, stall_level=ROUNDOFF_FLOOR, name="Sonine Newton")
+        x = out.x
+        res, jac = system(x)
         rows = system.row_scale(x)
-        cols = np.maximum(np.abs(x), 1.0)
-        scaled = jac * cols[None, :] / rows[:, None]
-        try:
-            step = cols * np.linalg.solve(scaled, -res / rows)
-        except np.linalg.LinAlgError:
-            step = cols * np.linalg.lstsq(scaled, -res / rows, rcond=None)[0]
-        norm = float(np.linalg.norm(res / rows))
-        lam = 1.0
-        while True:
-            trial = x + lam * step
-            res_t, jac_t = system(trial)
-            norm_t = float(np.linalg.norm(res_t / rows))
-            if np.isfinite(norm_t) and (norm_t < (1.0 - 1e-4 * lam) * norm or lam < 1e-3
-                                        or norm < 1e-13):
-                break
-            lam *= 0.5
-        x, res, jac = trial, res_t, jac_t
-        rel = float(np.max(np.abs(res) / system.row_scale(x)))
-        small_step = np.all(np.abs(lam * step) <= 4 * np.finfo(float).eps * np.abs(x))
-        if rel <= tol or small_step:
-            break
-    rows = system.row_scale(x)
-    cols = np.maximum(np.abs(x), 1.0)
-    cond = float(np.linalg.cond(jac * cols[None, :] / rows[:, None]))
-    return x, float(np.max(np.abs(res) / rows)), it, cond
+        cond = float(np.linalg.cond(jac * cols(x)[None, :] / rows[:, None]))
+    return x, float(np.max(np.abs(res) / rows)), out.iterations, cond
 
 
 def _realisable(b: NDArray[np.float64]) -> bool:
@@ -293,7 +283,7 @@ def _solve(order: int, alpha: float, gamma: float, *, cooling: bool, friction: f
         total += its
         logger.debug("Sonine order %d: relative residual %.2e after %d Newton steps",
                      stage, resid, its)
-    if not (np.all(np.isfinite(x)) and resid <= 1e-10):
+    if not (np.all(np.isfinite(x)) and resid <= ROUNDOFF_FLOOR):
         kind = "cooling" if cooling else "heated"
         raise RuntimeError(
             f"the Sonine Galerkin equations ({kind}, alpha={alpha}, gamma={gamma:g}, order "
