@@ -267,7 +267,8 @@ def collision_operator(verts: np.ndarray, dofs: np.ndarray, order: int, coef: np
                        xq: np.ndarray, wq: np.ndarray, eq: np.ndarray, ref_x: np.ndarray,
                        ref_w: np.ndarray, alpha: float, density: float, with_jacobian: bool,
                        energy_power: int, symmetric: bool, gamma: float, code: int,
-                       p0: float, p1: float, speed_scale: float, b_lo: float
+                       p0: float, p1: float, speed_scale: float, b_lo: float,
+                       mirror: np.ndarray | None = None
                        ) -> tuple[np.ndarray, np.ndarray, float, float]:
     """Weak collision term ``C_i`` for ``P = exp(u_h)``, its Jacobian and pair moments.
 
@@ -309,6 +310,12 @@ def collision_operator(verts: np.ndarray, dofs: np.ndarray, order: int, coef: np
         :math:`|x - y|` times this).
     b_lo : float
         :math:`(1 + \\min_g \\alpha(g))/2`, brackets the pre-images of a monotone law.
+    mirror : ndarray of int, shape (N,), optional
+        For an even :math:`u_h` on a mesh symmetric about 0: the dof at :math:`-v` of
+        each dof.  The pairs with :math:`x < 0` are then the mirror images of those with
+        :math:`x > 0` (breaks, pieces and rule are symmetric), so only the outer points
+        :math:`x > 0` are visited and their contributions are added at the mirrored dofs
+        too: half the cost, equal to the full sum to round-off.
 
     Returns
     -------
@@ -355,6 +362,10 @@ def collision_operator(verts: np.ndarray, dofs: np.ndarray, order: int, coef: np
     loss = 0.0
     for q in range(xq.size):
         x = xq[q]
+        if mirror is not None and x <= 0.0:
+            if x == 0.0:
+                raise ValueError("mirror needs outer points off v = 0 (a vertex at 0)")
+            continue
         ex = eq[q]
         shape_values(order, (x - verts[ex]) / (verts[ex + 1] - verts[ex]), phx)
         ux = 0.0
@@ -483,4 +494,15 @@ def collision_operator(verts: np.ndarray, dofs: np.ndarray, order: int, coef: np
                     jac_x[djx, row] += bq[row] * phx[j]
     if with_jacobian:
         jac += jac_x.T
+    if mirror is not None:
+        full = res.copy()
+        for i in range(n_dof):
+            full[i] += res[mirror[i]]
+        if with_jacobian:
+            half = jac.copy()
+            for i in range(n_dof):
+                mi = mirror[i]
+                for j in range(n_dof):
+                    jac[i, j] += half[mi, mirror[j]]
+        return full, jac, 2.0 * moment, 2.0 * loss
     return res, jac, moment, loss

@@ -180,7 +180,7 @@ class SteadyState:
         """
         x = self.disc.dof_locations
         heat, _ = self.disc.transport(self.u)
-        return float(np.sum(x**2 * heat)), float(self.disc.energy_loss(self.u))
+        return float(np.sum(x**2 * heat)), float(self.disc.energy_loss(self.u, even=True))
 
 
 def _check_energy_input(disc: FEMDiscretisation, u: NDArray, temperature: float,
