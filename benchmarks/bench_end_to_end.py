@@ -8,25 +8,33 @@ program under ``benchmarks/c/`` built here with ``gcc -O3 -march=native`` (the b
 to a temporary directory, never into the tree) that does the same work: the same number
 of collisions with the same algorithm (DSMC: the same candidate/acceptance scheme, the
 rescaling or the ziggurat kicks, and the measurements of the default call: central
-moments, histogram and power sums at every collision per particle; MD: event-driven hard
+moments, histogram and power sums at every collision per particle, or at the averaging
+cadence the call chose from its measured correlation time for the whole C run (the
+Python call measures every collision per particle until relaxation and through its first
+batch: the C side measures less); MD: event-driven hard
 rods on a ring with a binary-heap event calendar, see ``benchmarks/c/md.c``).  The Python
 and C runs are interleaved and repeated ``K`` times; the best of each is printed, as wall
 time and as CPU time (``time.process_time`` / ``getrusage`` of the child): on a shared
 machine the CPU time is closer to the cost on an idle core; the load average is printed.
 
 ``--growth``: collisions per CPU second and the peak memory per particle (tracemalloc)
-of the DSMC (N = 1e3 .. 1e7) and MD (1e3 .. 1e6) cooling calls at 20 collisions per
-particle.
+of the DSMC (N = 1e3 .. 1e7) and MD (1e3 .. 1e6) cooling calls, at least 2e7 collisions
+a call (20 collisions per particle from N = 2e6 on).
 
 Then the figure of merit of a user (issue 13, item 3): the standard error of the heated
 ``a2`` times the square root of the CPU seconds of the call (the error bar one CPU second
 would give, as the error falls like one over the square root of the length), at
-alpha = 0.6 and 0.9.
+alpha = 0.6 and 0.9, DSMC and MD.
+
+``--before REV``: the same rows and figure of merit with the code of git revision
+``REV`` (``kinetic_fem`` and ``particles`` extracted by ``git archive`` into a temporary
+directory, run in a subprocess), interleaved with this tree's and the C runs.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import os
 import resource
@@ -37,8 +45,9 @@ import tempfile
 import time
 from pathlib import Path
 
-# measure the working tree (the installed copy may be older)
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+# measure the working tree (the installed copy may be older), or the tree of another
+# revision extracted by --before (its worker process gets BENCH_SOURCE)
+sys.path.insert(0, os.environ.get("BENCH_SOURCE", str(Path(__file__).resolve().parents[1])))
 
 from kinetic_fem.model import HeatedProblem, InelasticGas, WhiteNoise
 from particles import dsmc, md
@@ -85,11 +94,13 @@ def build(tmp: Path) -> dict[str, Path]:
 def c_args(name: str, run) -> list[str]:
     """Arguments of the C program doing the work of ``run`` (row ``name``)."""
     n, coll = SIZES[name], run.n_collisions
+    # the averaging cadence the call chose (collisions per particle, sample_every = 1)
+    every = str(int(round(run.info.extra.get("average_every", 1.0))))
     if name == "dsmc_cooling":
-        return ["dsmc", "cooling", str(n), "0.9", str(coll), "1"]
+        return ["dsmc", "cooling", str(n), "0.9", str(coll), "1", every]
     if name == "dsmc_heated":
         t_ref = HeatedProblem.from_parameters(0.6).temperature_estimate()
-        return ["dsmc", "heated", str(n), "0.6", str(coll), "1", repr(t_ref)]
+        return ["dsmc", "heated", str(n), "0.6", str(coll), "1", repr(t_ref), every]
     alpha = {"md_cooling": 0.9, "md_heated": 0.9, "md_large": 0.99}[name]
     kind = "heated" if name == "md_heated" else "cooling"
     if kind == "cooling":
@@ -129,93 +140,179 @@ def warm_up() -> None:
     md.simulate_heated(0.9, 200, collisions_per_particle=20, seed=0)
 
 
-def table(names: list[str], repeat: int, exes: dict[str, Path]) -> None:
-    best: dict[str, dict[str, float]] = {k: {} for k in names}
-    for rep in range(repeat):
-        for name in names:  # interleaved: Python, then C, row by row
-            wall, cpu, run = time_py(ROWS[name][1])
-            coll = run.n_collisions
-            b = best[name]
-            b["coll"] = coll
-            b["py_wall"] = min(b.get("py_wall", math.inf), wall)
-            b["py_cpu"] = min(b.get("py_cpu", math.inf), cpu)
-            if c_args(name, run)[0] in exes:
-                cw, cc, ccoll = time_c(exes, c_args(name, run))
-                b["c_coll"] = ccoll
-                b["c_wall"] = min(b.get("c_wall", math.inf), cw)
-                b["c_cpu"] = min(b.get("c_cpu", math.inf), cc)
-            print(f"  [{rep + 1}/{repeat}] {name}: {coll} collisions, python {wall:.2f} s "
-                  f"wall / {cpu:.2f} s cpu" + (f", C {cw:.2f} / {cc:.2f}" if "c_cpu" in b
-                                               else ""), flush=True)
-    print(f"\nload average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores; "
-          f"best of {repeat}; collisions per second (wall | CPU)")
-    print(f"{'call':<78} {'python':>17} {'C':>17} {'py/C (cpu)':>10}")
+def measure_rows(names: list[str]) -> dict[str, list[float]]:
+    """name -> [collisions, wall, cpu] of one call of each row (this process's code)."""
+    out = {}
     for name in names:
-        b = best[name]
-        py = f"{b['coll'] / b['py_wall']:.2e}|{b['coll'] / b['py_cpu']:.2e}"
-        if "c_cpu" in b:
-            c = f"{b['c_coll'] / b['c_wall']:.2e}|{b['c_coll'] / b['c_cpu']:.2e}"
-            ratio = (b["coll"] / b["py_cpu"]) / (b["c_coll"] / b["c_cpu"])
-            print(f"{ROWS[name][0]:<78} {py:>17} {c:>17} {ratio:>10.2f}")
-        else:
-            print(f"{ROWS[name][0]:<78} {py:>17} {'-':>17} {'-':>10}")
+        wall, cpu, run = time_py(ROWS[name][1])
+        out[name] = [run.n_collisions, wall, cpu]
+        out[name + ":c_args"] = c_args(name, run)  # type: ignore[assignment]
+    return out
 
 
-def error_per_cpu_second(cpp: float) -> None:
-    """Standard error of the heated a2 scaled to one CPU second, alpha = 0.6 and 0.9."""
-    print(f"\nheated DSMC, N = 25000, {cpp:g} collisions per particle, default options")
-    print(f"{'alpha':>6} {'a2':>10} {'se(a2)':>10} {'cpu s':>7} {'se*sqrt(cpu)':>13}")
-    for alpha in (0.6, 0.9):
+MERIT = {
+    "dsmc 0.6": lambda cpp: dsmc.simulate_heated(0.6, 25000, collisions_per_particle=cpp,
+                                                 seed=2),
+    "dsmc 0.9": lambda cpp: dsmc.simulate_heated(0.9, 25000, collisions_per_particle=cpp,
+                                                 seed=2),
+    "md 0.6": lambda cpp: md.simulate_heated(0.6, 5000, collisions_per_particle=2 * cpp,
+                                             seed=2),
+    "md 0.9": lambda cpp: md.simulate_heated(0.9, 5000, collisions_per_particle=2 * cpp,
+                                             seed=2),
+}
+
+
+def measure_merit(cpp: float) -> dict[str, list[float]]:
+    """label -> [a2, se(a2), cpu] of the heated runs of the figure of merit."""
+    out = {}
+    for label, call in MERIT.items():
         c0 = time.process_time()
-        run = dsmc.simulate_heated(alpha, 25000, collisions_per_particle=cpp, seed=2)
-        cpu = time.process_time() - c0
-        print(f"{alpha:>6} {run.a2:>10.5f} {run.a2_error:>10.2e} {cpu:>7.2f} "
-              f"{run.a2_error * math.sqrt(cpu):>13.2e}")
+        run = call(cpp)
+        out[label] = [run.a2, run.a2_error, time.process_time() - c0]
+    return out
 
 
-def growth(kind: str, sizes: list[int], cpp: float) -> None:
+def before_worker(ref: str, tmp: Path) -> Path:
+    """Extract ``kinetic_fem`` and ``particles`` of git revision ``ref`` into ``tmp``."""
+    root = Path(__file__).resolve().parents[1]
+    archive = subprocess.run(["git", "-C", str(root), "archive", ref, "kinetic_fem",
+                              "particles"], check=True, capture_output=True).stdout
+    subprocess.run(["tar", "-x", "-C", str(tmp)], input=archive, check=True)
+    return tmp
+
+
+def run_before(src: Path, names: list[str], merit_cpp: float) -> dict:
+    """The rows (and the figure of merit) with the code under ``src``, in a subprocess."""
+    env = {**os.environ, "BENCH_SOURCE": str(src)}
+    out = subprocess.run([sys.executable, __file__, "--json", "--only", *names,
+                          "--error-cpp", str(merit_cpp)], env=env, check=True,
+                         capture_output=True, text=True).stdout
+    return json.loads(out.splitlines()[-1])
+
+
+def table(names: list[str], repeat: int, exes: dict[str, Path], before: Path | None,
+          merit_cpp: float) -> None:
+    """Interleaved repetitions: before (subprocess), this tree, C; best of each."""
+    best: dict[str, dict[str, float]] = {k: {} for k in names}
+    merit: dict[str, dict[str, list[float]]] = {"before": {}, "after": {}}
+
+    def keep(b: dict[str, float], key: str, coll: float, wall: float, cpu: float) -> None:
+        b[key + "_coll"] = coll
+        b[key + "_wall"] = min(b.get(key + "_wall", math.inf), wall)
+        b[key + "_cpu"] = min(b.get(key + "_cpu", math.inf), cpu)
+
+    def keep_merit(which: str, res: dict[str, list[float]]) -> None:
+        for label, row in res.items():
+            old = merit[which].get(label)
+            if old is None or row[2] < old[2]:
+                merit[which][label] = row
+
+    for rep in range(repeat):
+        if before is not None:
+            res = run_before(before, names, merit_cpp if rep == 0 else 0.0)
+            for name in names:
+                keep(best[name], "before", *res["rows"][name])
+            keep_merit("before", res["merit"])
+        rows = measure_rows(names)
+        if merit_cpp > 0 and rep == 0:
+            keep_merit("after", measure_merit(merit_cpp))
+        for name in names:
+            coll, wall, cpu = rows[name]
+            keep(best[name], "py", coll, wall, cpu)
+            args = rows[name + ":c_args"]
+            line = f"  [{rep + 1}/{repeat}] {name}: {coll} collisions, python {cpu:.2f} s cpu"
+            if args[0] in exes:
+                cw, cc, ccoll = time_c(exes, args)
+                keep(best[name], "c", ccoll, cw, cc)
+                line += f", C {cc:.2f}"
+            if before is not None:
+                line += f", before {best[name]['before_cpu']:.2f}"
+            print(line, flush=True)
+    print(f"\nload average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores; "
+          f"best of {repeat}; collisions per CPU second (wall in brackets for python)")
+    head = f"{'call':<78} {'before':>9} {'python':>9} {'C':>9} {'before/C':>8} {'py/C':>6}"
+    print(head)
+    for name in names:
+        r = {key: best[name][key + "_coll"] / best[name][key + "_cpu"]
+             if key + "_cpu" in best[name] else math.nan for key in ("before", "py", "c")}
+        print(f"{ROWS[name][0]:<78} {r['before']:>9.3g} {r['py']:>9.3g} {r['c']:>9.3g} "
+              f"{r['before'] / r['c']:>8.2f} {r['py'] / r['c']:>6.2f}")
+    if merit_cpp > 0:
+        print(f"\nfigure of merit: standard error of the heated a2 after one CPU second "
+              f"(se * sqrt(cpu s)); DSMC N = 25000, {merit_cpp:g} collisions per particle; "
+              f"MD N = 5000, {2 * merit_cpp:g}; seed 2, default options")
+        print(f"{'run':>9} {'a2':>9} {'se before':>10} {'cpu before':>10} {'se after':>9} "
+              f"{'cpu after':>9} {'se/sqrt(s) before':>17} {'after':>9} {'gain':>6}")
+        for label in MERIT:
+            af = merit["after"][label]
+            bf = merit["before"].get(label, [math.nan] * 3)
+            m_b, m_a = bf[1] * math.sqrt(bf[2]), af[1] * math.sqrt(af[2])
+            print(f"{label:>9} {af[0]:>9.5f} {bf[1]:>10.2e} {bf[2]:>10.2f} {af[1]:>9.2e} "
+                  f"{af[2]:>9.2f} {m_b:>17.2e} {m_a:>9.2e} {m_b / m_a:>6.2f}")
+
+
+def growth(kind: str, sizes: list[int], cpp: float, total: float = 2e7) -> None:
     """Collisions per CPU second against N, and the peak traced memory per particle.
 
-    The memory is the peak of ``tracemalloc`` (numpy's arrays are traced) over the whole
-    call, divided by N; the rate is from a second, untraced call.
+    The rate is from a call of ``max(cpp, 2 total / N)`` collisions per particle (at
+    least ``total`` collisions, so that the fixed cost of a call does not dominate at
+    small N); the memory is the peak of ``tracemalloc`` (numpy's arrays are traced) over
+    a call of ``cpp`` collisions per particle, divided by N.
     """
     import tracemalloc
-    call = {"dsmc": lambda n: dsmc.simulate_cooling(0.9, n, collisions_per_particle=cpp,
-                                                      seed=3),
-            "md": lambda n: md.simulate_cooling(0.9, n, collisions_per_particle=cpp,
-                                                threshold=1e-6, seed=3)}[kind]
-    print(f"\n{kind} cooling alpha = 0.9, {cpp:g} collisions per particle, default options")
-    print(f"{'N':>9} {'coll/s (cpu)':>13} {'ns/coll':>8} {'peak B/particle':>16}")
+
+    def call(n: int, c: float):
+        if kind == "dsmc":
+            return dsmc.simulate_cooling(0.9, n, collisions_per_particle=c, seed=3)
+        return md.simulate_cooling(0.9, n, collisions_per_particle=c, threshold=1e-6, seed=3)
+
+    print(f"\n{kind} cooling alpha = 0.9, default options, max({cpp:g}, 2 x {total:g} / N) "
+          f"collisions per particle (memory: {cpp:g})")
+    print(f"{'N':>9} {'coll/particle':>13} {'coll/s (cpu)':>13} {'ns/coll':>8} "
+          f"{'peak B/particle':>16}")
     for n in sizes:
         tracemalloc.start()
-        call(n)
+        call(n, cpp)
         peak = tracemalloc.get_traced_memory()[1]
         tracemalloc.stop()
-        wall, cpu, run = time_py(lambda n=n: call(n))
+        c = max(cpp, 2.0 * total / n)
+        wall, cpu, run = time_py(lambda n=n, c=c: call(n, c))
         rate = run.n_collisions / cpu
-        print(f"{n:>9} {rate:>13.3e} {1e9 / rate:>8.1f} {peak / n:>16.1f}", flush=True)
+        print(f"{n:>9} {c:>13.4g} {rate:>13.3e} {1e9 / rate:>8.1f} {peak / n:>16.1f}",
+              flush=True)
 
 
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--repeat", type=int, default=2)
     p.add_argument("--only", nargs="*", default=list(ROWS), choices=list(ROWS))
-    p.add_argument("--error-cpp", type=float, default=1000.0)
+    p.add_argument("--error-cpp", type=float, default=1000.0,
+                   help="collisions per particle of the figure-of-merit runs (0: skip)")
+    p.add_argument("--before", metavar="REV",
+                   help="also time the code of git revision REV (same run, interleaved)")
+    p.add_argument("--json", action="store_true", help=argparse.SUPPRESS)  # --before worker
     p.add_argument("--growth", action="store_true",
                    help="also collisions/s and memory per particle against N")
     p.add_argument("--growth-max", type=float, default=1e7,
                    help="largest N of the growth table (DSMC; MD stops at a tenth)")
     args = p.parse_args()
     warm_up()
+    if args.json:
+        rows = measure_rows(args.only)
+        out = {"rows": {k: v for k, v in rows.items() if ":" not in k},
+               "merit": measure_merit(args.error_cpp) if args.error_cpp > 0 else {}}
+        print(json.dumps(out))
+        return
     if args.growth:
         top = int(args.growth_max)
         growth("dsmc", [n for n in (10**3, 10**4, 10**5, 10**6, 10**7) if n <= top], 20.0)
         growth("md", [n for n in (10**3, 10**4, 10**5, 10**6) if n <= top // 10], 20.0)
     with tempfile.TemporaryDirectory() as tmp:
         exes = build(Path(tmp))
-        table(args.only, args.repeat, exes)
-    if args.error_cpp > 0:
-        error_per_cpu_second(args.error_cpp)
+        before = None
+        if args.before:
+            before = before_worker(args.before, Path(tmp))
+        table(args.only, args.repeat, exes, before, args.error_cpp)
 
 
 if __name__ == "__main__":

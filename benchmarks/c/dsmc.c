@@ -11,9 +11,13 @@
  * collisions, 0.05 mean free times per step, a measurement every collision per particle
  * (central moments up to 6, 200-bin histogram, power sums up to 12).
  * Runs until `collisions` collisions are done; prints "collisions seconds checksum".
+ * The optional last argument `every` (default 1) measures every `every` collisions per
+ * particle instead: the averaging cadence the Python call chose (it measures every
+ * collision per particle until relaxation and over its first batch, so the C program
+ * then does less measuring than the Python call).
  *
- * usage: dsmc cooling N alpha collisions seed
- *        dsmc heated  N alpha collisions seed T_ref
+ * usage: dsmc cooling N alpha collisions seed [every]
+ *        dsmc heated  N alpha collisions seed T_ref [every]
  */
 #include <math.h>
 #include <stdint.h>
@@ -98,6 +102,9 @@ int main(int argc, char **argv) {
     long n = atol(argv[2]); double alpha = atof(argv[3]);
     long total = atol(argv[4]); uint64_t seed = strtoull(argv[5], 0, 10);
     double t_ref = heated ? atof(argv[6]) : 1.0;
+    int every_arg = heated ? 7 : 6;
+    long every = argc > every_arg ? atol(argv[every_arg]) : 1;
+    if (every < 1) every = 1;
     double t0 = now();
     for (int k = 0; k < 4; k++) s[k] = splitmix(&seed);
     zig_init();
@@ -111,7 +118,7 @@ int main(int argc, char **argv) {
     if (heated) {
         double rate1 = 2.0 * sqrt(t_ref / M_PI);  /* n <|g|> at T_ref, n = 1 */
         double dt = 0.05 / rate1, amp = sqrt(2.0 * dt), hamp = amp / sqrt(2.0);
-        long steps = lround(1.0 / (dt * rate1));
+        long steps = every * lround(1.0 / (dt * rate1));
         double rate = 0.5 * n, debt = 0.0, hw = 10.0 * sqrt(t_ref);
         while (accepted < total) {
             double gmax = kick(v, n, hamp);
@@ -126,7 +133,7 @@ int main(int argc, char **argv) {
     } else {
         long refresh = n, cand = 0;
         while (accepted < total) {
-            long target = accepted + (n / 2 > 1 ? n / 2 : 1);
+            long target = accepted + every * (n / 2 > 1 ? n / 2 : 1);
             while (accepted < target) {
                 double ratio = cand ? (double)accepted / cand : 0.1;
                 long need = (long)((target - accepted) / (ratio > 1e-3 ? ratio : 1e-3)) + 1;
