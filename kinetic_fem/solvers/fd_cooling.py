@@ -68,6 +68,7 @@ from ..distribution import RunInfo, VelocityDistribution
 from ..exceptions import ResolutionWarning
 from ..gas import CoolingProblem, check_alpha, check_positive
 from ..model import UnsupportedModelError
+from ..model.scales import cooling_cutoff, cooling_rate_estimate
 from ..operators.collision import HalfGrid, half_grid
 from ..solve import register_solver
 from .hcs_newton import HCSSolution, drift_term, hcs_residual, newton_hcs
@@ -84,21 +85,37 @@ _CONTINUATION_RATIO = 3.0  # eps ratio of one continuation step (halved on failu
 
 
 def sonine_zeta_estimate(alpha: float) -> float:
-    """Gaussian estimate :math:`\\zeta \\approx (1-\\alpha^2)\\,\\langle|g|^3\\rangle_G/8`,
-    :math:`\\langle|g|^3\\rangle_G = 8/\\sqrt\\pi` for unit temperature."""
-    return (1.0 - alpha**2) / math.sqrt(math.pi)
+    """Gaussian estimate :math:`\\zeta \\approx (1-\\alpha^2)/\\sqrt\\pi` of the cooling rate.
+
+    Parameters
+    ----------
+    alpha : float
+        Constant restitution coefficient.
+
+    Returns
+    -------
+    float
+        :func:`kinetic_fem.model.scales.cooling_rate_estimate`.
+    """
+    return cooling_rate_estimate(alpha)
 
 
 def default_cutoff(alpha: float) -> float:
     """Cut-off :math:`c_{max}` (thermal velocities) below :math:`f \\approx 10^{-35}`.
 
-    The larger of the exponential tail :math:`e^{-c/\\zeta}` (80 decay lengths past
-    :math:`c = 1.5`) and, near elastic collisions, the outer edge of the humps
-    :math:`c = 1 + 12\\varepsilon^{1/3}` (where :math:`\\psi \\sim e^{y^3/3}` has fallen
-    below 1e-35, claim C12).
+    The model's rule :func:`kinetic_fem.model.scales.cooling_cutoff`: the larger of the
+    exponential tail :math:`e^{-c/\\zeta}` and the outer edge of the near-elastic humps.
+
+    Parameters
+    ----------
+    alpha : float
+        Constant restitution coefficient.
+
+    Returns
+    -------
+    float
     """
-    eps = 1.0 - alpha
-    return max(1.0 + 12.0 * eps ** (1.0 / 3.0), 1.5 + 80.0 * sonine_zeta_estimate(alpha))
+    return cooling_cutoff(alpha)
 
 
 def default_spacing(alpha: float) -> float:

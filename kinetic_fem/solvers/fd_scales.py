@@ -9,9 +9,10 @@ Every heated steady state maps onto one at :math:`n = D = 1`: with
     \\xi' = \\frac{\\xi}{n u^\\gamma},
 
 so the solver works with ``(alpha, gamma, xi')`` only.  Its numerical defaults derive
-from the model's scales: the grid spacing and the cut-off are given in units of the
-estimated thermal speed :math:`\\sqrt{T}`, and the cut-off is where the tail of the
-steady state falls below :data:`TAIL_TARGET`:
+from the model's scales (:mod:`kinetic_fem.model.scales`, which owns the rule): the grid
+spacing and the cut-off are given in units of the estimated thermal speed
+:math:`\\sqrt{T}`, and the cut-off is where the tail of the steady state falls below
+:data:`TAIL_TARGET`:
 
 * hard rods, white noise: the far tail :math:`e^{-\\frac23 v^{3/2}}` (claim C4) or,
   if reached first, the core (the Gaussian or the quasi-elastic :math:`e^{-x^3/6}`,
@@ -25,17 +26,14 @@ steady state falls below :data:`TAIL_TARGET`:
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 from ..model import HeatedProblem
+from ..model.scales import TAIL_TARGET, ModelScales, heated_cutoff
 from ..operators.collision import kernel_power
-from ..sonine import relaxation_time, steady_temperature
+from ..sonine import relaxation_time
 
 __all__ = ["TAIL_TARGET", "UnitModel", "default_cutoff"]
-
-TAIL_TARGET = 1e-60
-"""Value of f(c) at the default cut-off."""
 
 
 @dataclass(frozen=True)
@@ -69,18 +67,23 @@ class UnitModel:
 
     @classmethod
     def from_problem(cls, problem: HeatedProblem) -> UnitModel:
-        """The unit problem of ``problem`` (constant restitution, gamma 0 or 1)."""
-        alpha = problem.gas.alpha
-        gamma = problem.gas.gamma
-        kernel_power(gamma)
-        u = problem.velocity_scale
-        xi = problem.friction / (problem.gas.density * u**gamma)
-        if gamma == 1.0 and xi == 0.0:
-            return cls(alpha, gamma, 0.0, steady_temperature(alpha), relaxation_time(alpha))
-        unit = HeatedProblem.from_parameters(alpha, density=1.0, diffusion=1.0, friction=xi,
-                                             kernel=gamma)
-        temperature = unit.temperature_estimate()
-        return cls(alpha, gamma, xi, temperature, temperature)
+        """The unit problem of ``problem`` (constant restitution, gamma 0 or 1).
+
+        Parameters
+        ----------
+        problem : HeatedProblem
+            The heated problem; the scales are those of
+            :meth:`kinetic_fem.model.scales.ModelScales.from_problem`.
+
+        Returns
+        -------
+        UnitModel
+        """
+        kernel_power(problem.gas.gamma)
+        s = ModelScales.from_problem(problem)
+        hard_rods_white = s.gamma == 1.0 and s.friction == 0.0
+        tau = relaxation_time(s.alpha) if hard_rods_white else s.temperature
+        return cls(s.alpha, s.gamma, s.friction, s.temperature, tau)
 
     def spacing(self) -> float:
         """Default coarsest spacing (units of :math:`\\sqrt{T}`) of the extrapolated solve.
@@ -99,49 +102,38 @@ class UnitModel:
             return min(0.08, max(0.02, 0.2 * (1.0 - self.alpha) ** (1.0 / 3.0)))
         return 0.08
 
+    def scales(self) -> ModelScales:
+        """The model's scales of this unit problem (:mod:`kinetic_fem.model.scales`)."""
+        return ModelScales(self.alpha, self.gamma, self.friction, self.temperature)
+
     def cutoff(self) -> float:
-        """Default cut-off in units of :math:`\\sqrt{T}` (module docstring).
+        """Default cut-off in units of :math:`\\sqrt{T}`: the model's rule
+        (:meth:`kinetic_fem.model.scales.ModelScales.cutoff`) at :data:`TAIL_TARGET`.
 
         Examples
         --------
         >>> round(UnitModel(0.5, 0.0, 0.0, 16 / 3, 16 / 3).cutoff(), 1)  # Maxwell
         59.8
         """
-        s = math.sqrt(self.temperature)
-        log_target = -math.log(TAIL_TARGET)
-        gauss = math.sqrt(2.0 * log_target)
-        if self.gamma == 1.0:
-            tail = (log_target / (2.0 / 3.0 * self.temperature**0.75)) ** (2.0 / 3.0)
-            if self.friction == 0.0 and self.alpha < 1.0:
-                x_core = (6.0 * log_target) ** (1.0 / 3.0)
-                quasi_elastic = 1.25 * x_core / ((1.0 - self.alpha) ** (1.0 / 3.0) * s)
-                core = min(gauss, quasi_elastic)
-            else:
-                core = gauss
-        else:
-            tail, core = log_target / s, gauss
-        white = max(tail, core)
-        if self.friction > 0.0:
-            bath = math.sqrt(2.0 * log_target / (self.friction * self.temperature))
-            return max(min(white, bath), gauss)
-        return white
+        return self.scales().cutoff(TAIL_TARGET)
 
 
 def default_cutoff(alpha: float) -> float:
     """Cut-off in units of :math:`\\sqrt{T}` where f(c) is below about 1e-60 (hard rods,
-    white noise).
+    white noise): :func:`kinetic_fem.model.scales.heated_cutoff`.
 
-    The far tail :math:`e^{-A_c c^{3/2}}` (claim C4, :math:`A_c = \\tfrac23 T^{3/4}` at
-    ``n = D = 1``) or, if that is reached first, the core: the smaller of the Gaussian
-    :math:`e^{-c^2/2}` and the quasi-elastic :math:`e^{-x^3/6}` (claim C5,
-    :math:`x = \\varepsilon^{1/3} v`, with a margin of 1.25 for the crossover).  The
-    quasi-elastic estimate keeps the cut-off short of double-precision underflow as
-    :math:`\\alpha \\to 1`.
+    Parameters
+    ----------
+    alpha : float
+        Constant restitution coefficient.
+
+    Returns
+    -------
+    float
 
     Examples
     --------
     >>> [round(default_cutoff(a), 1) for a in (0.0, 0.9, 0.99, 0.9999)]
     [29.2, 16.6, 12.1, 12.1]
     """
-    return UnitModel(alpha, 1.0, 0.0, steady_temperature(alpha),
-                     relaxation_time(alpha)).cutoff()
+    return heated_cutoff(alpha, TAIL_TARGET)

@@ -1,0 +1,237 @@
+"""The model's own scales: thermal speed, mean free time, and where the tail ends.
+
+Numerical defaults (cut-offs, spacings, time steps) of every deterministic solver derive
+from these scales, so that they follow the kernel and the thermostat instead of the
+hard-rod formulas they began as.  All scales refer to the *unit problem*
+:math:`n = D = 1` of a heated gas (:attr:`HeatedProblem.velocity_scale` maps back), or to
+the scaled homogeneous cooling state (unit temperature).
+
+**Thermal speed** :math:`\\sqrt T`, with :math:`T` the estimated steady temperature:
+first-order Sonine for hard rods under white noise (the paper's scale,
+:func:`kinetic_fem.sonine.steady_temperature`), otherwise the Gaussian closure of the
+energy balance (:meth:`HeatedProblem.temperature_estimate`; exact for the Maxwell kernel).
+
+**Mean free time** :math:`1/(n\\langle|g|^\\gamma\\rangle)`, the average over a Gaussian at
+:math:`T` of the collision rate, :math:`g \\sim N(0, 2T)`:
+
+.. math::
+
+    \\langle |g|^\\gamma \\rangle = \\frac{(4T)^{\\gamma/2}}{\\sqrt\\pi}\\,
+        \\Gamma\\Big(\\frac{\\gamma+1}{2}\\Big).
+
+**Cut-off** (in units of :math:`\\sqrt T`): where the tail of the steady state falls below
+a target value of :math:`f(c)` (:data:`TAIL_TARGET` by default):
+
+* hard rods, white noise: the far tail :math:`e^{-A_c c^{3/2}}`,
+  :math:`A_c = \\tfrac23 T^{3/4}` (claim C4), or, if reached first, the core: the smaller
+  of the Gaussian :math:`e^{-c^2/2}` and the quasi-elastic :math:`e^{-x^3/6}` (claim C5,
+  :math:`x = \\varepsilon^{1/3} v`, a margin of 1.25 for the crossover; it keeps the
+  cut-off short of double-precision underflow as :math:`\\alpha \\to 1`);
+* Maxwell kernel, white noise: the loss frequency is :math:`n`, so :math:`D P'' \\approx
+  n P` gives the exponential tail :math:`e^{-v}`; the core is Gaussian;
+* other kernels (:math:`0 < \\gamma \\le 2`, :math:`\\gamma \\ne 1`): the loss frequency
+  grows like :math:`|v|^\\gamma`, so :math:`P'' \\approx n|v|^\\gamma P` gives the tail
+  :math:`e^{-\\frac{2}{2+\\gamma}|v|^{1+\\gamma/2}}` (WKB), which reduces to both cases
+  above;
+* Fokker-Planck bath: the friction adds the Gaussian :math:`e^{-\\xi v^2/2}` of the bath
+  temperature, which bounds the cut-off from above.
+
+**Cooling state** (hard rods, scaled to unit temperature): the exponential tail
+:math:`e^{-c/\\zeta}` and, near elastic collisions, the outer edge of the humps of
+claim C12, with the Gaussian estimate :math:`\\zeta \\approx (1-\\alpha^2)/\\sqrt\\pi`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from ..sonine import steady_temperature
+from .problem import HeatedProblem
+from .validation import check_alpha, check_positive
+
+__all__ = ["TAIL_TARGET", "ModelScales", "heated_cutoff", "cooling_cutoff",
+           "cooling_rate_estimate"]
+
+TAIL_TARGET = 1e-60
+"""Value of f(c) at the default cut-off of the heated state."""
+
+
+@dataclass(frozen=True)
+class ModelScales:
+    """Scales of the heated steady state of the unit problem ``n = D = 1``.
+
+    Parameters
+    ----------
+    alpha : float
+        Constant restitution coefficient, :math:`0 \\le \\alpha \\le 1`.
+    gamma : float
+        Kernel exponent, :math:`0 \\le \\gamma \\le 2` (1: hard rods, 0: Maxwell).
+    friction : float
+        Bath friction of the unit problem, :math:`\\xi/(n u^\\gamma)` (0: white noise).
+    temperature : float
+        Estimated steady temperature of the unit problem (module docstring), > 0.
+
+    Examples
+    --------
+    >>> s = ModelScales(0.5, 0.0, 0.0, 16 / 3)      # Maxwell, exact T = 16/3
+    >>> round(s.cutoff(), 1), s.mean_free_time
+    (59.8, 1.0)
+    """
+
+    alpha: float
+    gamma: float
+    friction: float
+    temperature: float
+
+    def __post_init__(self) -> None:
+        check_alpha(self.alpha, allow_elastic=True)
+        if not 0.0 <= self.gamma <= 2.0:
+            raise ValueError(f"gamma={self.gamma!r} is not allowed; the kernel exponent must "
+                             "be in [0, 2]")
+        if not self.friction >= 0.0:
+            raise ValueError(f"friction={self.friction!r} is not allowed; it must be >= 0")
+        check_positive("temperature", self.temperature)
+
+    @classmethod
+    def from_problem(cls, problem: HeatedProblem) -> ModelScales:
+        """The scales of the unit problem of ``problem`` (constant restitution).
+
+        Parameters
+        ----------
+        problem : HeatedProblem
+            The heated problem; its restitution must be a constant ``alpha``.
+
+        Returns
+        -------
+        ModelScales
+        """
+        alpha = problem.gas.alpha
+        gamma = problem.gas.gamma
+        xi = problem.friction / (problem.gas.density * problem.velocity_scale**gamma)
+        if gamma == 1.0 and xi == 0.0:
+            return cls(alpha, gamma, 0.0, steady_temperature(alpha))
+        unit = HeatedProblem.from_parameters(alpha, density=1.0, diffusion=1.0, friction=xi,
+                                             kernel=gamma)
+        return cls(alpha, gamma, xi, unit.temperature_estimate())
+
+    @property
+    def thermal_speed(self) -> float:
+        """:math:`\\sqrt T` of the unit problem."""
+        return math.sqrt(self.temperature)
+
+    @property
+    def mean_free_time(self) -> float:
+        """:math:`1/\\langle|g|^\\gamma\\rangle` over a Gaussian at :math:`T` (``n = 1``)."""
+        rate = (4.0 * self.temperature) ** (0.5 * self.gamma) \
+            * math.gamma(0.5 * (self.gamma + 1.0)) / math.sqrt(math.pi)
+        return 1.0 / rate
+
+    def cutoff(self, target: float = TAIL_TARGET) -> float:
+        """Where :math:`f(c)` falls below ``target``, in units of :math:`\\sqrt T`.
+
+        Parameters
+        ----------
+        target : float
+            Value of :math:`f(c)` at the cut-off, in (0, 1).
+
+        Returns
+        -------
+        float
+            The cut-off :math:`c_{max}` (module docstring).
+
+        Examples
+        --------
+        >>> [round(ModelScales(0.9, g, 0.0, 1.0).cutoff(), 1) for g in (0.0, 1.0, 2.0)]
+        [138.2, 35.0, 16.6]
+        """
+        if not 0.0 < target < 1.0:
+            raise ValueError(f"target={target!r} is not allowed; it must be in (0, 1)")
+        s = self.thermal_speed
+        log_target = -math.log(target)
+        gauss = math.sqrt(2.0 * log_target)
+        if self.gamma == 1.0:
+            tail = (log_target / (2.0 / 3.0 * self.temperature**0.75)) ** (2.0 / 3.0)
+            if self.friction == 0.0 and self.alpha < 1.0:
+                x_core = (6.0 * log_target) ** (1.0 / 3.0)
+                quasi_elastic = 1.25 * x_core / ((1.0 - self.alpha) ** (1.0 / 3.0) * s)
+                core = min(gauss, quasi_elastic)
+            else:
+                core = gauss
+        else:
+            power = 1.0 + 0.5 * self.gamma
+            tail = (log_target / (1.0 / power)) ** (1.0 / power) / s
+            core = gauss
+        white = max(tail, core)
+        if self.friction > 0.0:
+            bath = math.sqrt(2.0 * log_target / (self.friction * self.temperature))
+            return max(min(white, bath), gauss)
+        return white
+
+
+def heated_cutoff(alpha: float, target: float = TAIL_TARGET) -> float:
+    """Cut-off (units of :math:`\\sqrt T`) of the heated hard-rod gas under white noise.
+
+    Parameters
+    ----------
+    alpha : float
+        Constant restitution coefficient.
+    target : float
+        Value of :math:`f(c)` at the cut-off.
+
+    Returns
+    -------
+    float
+        :meth:`ModelScales.cutoff` with the first-order Sonine temperature.
+
+    Examples
+    --------
+    >>> [round(heated_cutoff(a), 1) for a in (0.0, 0.9, 0.99, 0.9999)]
+    [29.2, 16.6, 12.1, 12.1]
+    """
+    return ModelScales(alpha, 1.0, 0.0, steady_temperature(alpha)).cutoff(target)
+
+
+def cooling_rate_estimate(alpha: float) -> float:
+    """Gaussian estimate of the hard-rod cooling rate, :math:`(1-\\alpha^2)/\\sqrt\\pi`.
+
+    :math:`\\zeta \\approx (1-\\alpha^2)\\langle|g|^3\\rangle_G/8` with
+    :math:`\\langle|g|^3\\rangle_G = 8/\\sqrt\\pi` at unit temperature.
+
+    Parameters
+    ----------
+    alpha : float
+        Constant restitution coefficient.
+
+    Returns
+    -------
+    float
+    """
+    return (1.0 - alpha**2) / math.sqrt(math.pi)
+
+
+def cooling_cutoff(alpha: float) -> float:
+    """Cut-off :math:`c_{max}` (thermal velocities) of the hard-rod cooling state.
+
+    The larger of the exponential tail :math:`e^{-c/\\zeta}` (80 decay lengths past
+    :math:`c = 1.5`, :math:`f \\approx 10^{-35}`) and, near elastic collisions, the outer
+    edge of the humps :math:`c = 1 + 12\\varepsilon^{1/3}` (where
+    :math:`\\psi \\sim e^{y^3/3}` has fallen below 1e-35, claim C12).
+
+    Parameters
+    ----------
+    alpha : float
+        Constant restitution coefficient.
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> [round(cooling_cutoff(a), 2) for a in (0.3, 0.9, 0.999)]
+    [42.57, 10.08, 2.2]
+    """
+    check_alpha(alpha)
+    eps = 1.0 - alpha
+    return max(1.0 + 12.0 * eps ** (1.0 / 3.0), 1.5 + 80.0 * cooling_rate_estimate(alpha))
