@@ -118,7 +118,13 @@ class DSMCRun:
         the float range).  :math:`\\gamma = 0`: :math:`\\ln T` falls linearly in t, and
         each sample after the start of averaging gives
         :math:`-\\ln(T/T_r)/(2n(t - t_r))`.  The error is from ``n_batches`` consecutive
-        batches of samples (each batch: its first-to-last slope for :math:`\\gamma = 0`).
+        batches equal in collisions per particle (each batch: its first-to-last slope for
+        :math:`\\gamma = 0`).
+
+        Parameters
+        ----------
+        n_batches : int
+            Batches of the error estimate.
 
         Returns
         -------
@@ -136,14 +142,19 @@ class DSMCRun:
         gamma, density = float(params.get("gamma", 1.0)), float(params.get("density", 1.0))
         late = s["collisions_per_particle"] >= self.relaxed_at
         log_temp, log_t = s["log_temperature"][late], s["log_t"][late]
+        # batches equal in collisions per particle (the sampling cadence may change)
+        cpp = s["collisions_per_particle"][late]
+        span = max(float(cpp[-1] - cpp[0]), 1e-300)
+        which = np.minimum((n_batches * (cpp - cpp[0]) / span).astype(np.int64), n_batches - 1)
+        groups = [g for g in (np.flatnonzero(which == b) for b in range(n_batches))
+                  if g.size >= (1 if gamma > 0.0 else 2)]
         if gamma > 0.0:
             z = np.exp(-0.5 * gamma * log_temp - log_t) / (gamma * density)
-            means = np.array([b.mean() for b in np.array_split(z, n_batches)])
+            means = np.array([z[g].mean() for g in groups])
         else:
             t = np.exp(log_t - log_t[-1])  # relative times (Maxwell: t grows linearly)
-            means = np.array([-(b_lt[-1] - b_lt[0]) / (2.0 * density * (b_t[-1] - b_t[0]))
-                              for b_lt, b_t in zip(np.array_split(log_temp, n_batches),
-                                                   np.array_split(t, n_batches), strict=True)])
+            means = np.array([-(log_temp[g[-1]] - log_temp[g[0]])
+                              / (2.0 * density * (t[g[-1]] - t[g[0]])) for g in groups])
             means *= math.exp(-log_t[-1])
         return float(means.mean()), float(means.std(ddof=1) / math.sqrt(means.size))
 
