@@ -96,10 +96,15 @@ def newton_krylov(
     :math:`10^{-14}`; the step is halved (down to 1/16384) until ``max|r|`` decreases,
     and the iteration stops when it does not (the round-off floor).
     """
-    def system(z: NDArray[np.float64], jacobian: bool
-               ) -> tuple[NDArray[np.float64], Callable[[NDArray[np.float64]],
-                                                        NDArray[np.float64]]]:
-        return evaluate(z)
+    last: list[tuple[NDArray[np.float64], Evaluation]] = []
+
+    def system(z: NDArray[np.float64], jacobian: bool) -> Evaluation:
+        # the accepted trial point is evaluated again for its Jacobian: reuse it
+        if last and np.array_equal(last[0][0], z):
+            return last[0][1]
+        out = evaluate(z)
+        last[:] = [(z.copy(), out)]
+        return out
 
     out = newton(system, z0, tol=tol, max_iter=max_iter, criterion="residual", armijo=0.0,
                  min_damping=2.0**-14, on_failure="stop", name=name)
