@@ -45,7 +45,7 @@ discrete operators (as in the heated solver).  Near elastic collisions
 
 Accuracy.  The scheme is second order in the spacing: one grid of
 :func:`default_spacing` misses zeta by ~3e-5 relative (alpha = 0.5, 0.9; ~1e-4 at
-alpha = 0.999) and f by ~1e-3.  The registered solver (:func:`hcs_fd`) therefore
+alpha = 0.999) and f by ~1e-3.  The registered solver (:func:`solve_fd_cooling`) therefore
 extrapolates by default over three nested grids (:mod:`kinetic_fem.solvers.richardson`) and
 reports ``order`` and the ``estimated_error_*`` of its result in ``info.extra``.
 
@@ -75,7 +75,8 @@ from .hcs_newton import HCSSolution, drift_term, hcs_residual, newton_hcs
 from .richardson import richardson_log, richardson_scalar
 
 __all__ = ["HCSSolution", "ResolutionWarning", "default_cutoff", "default_spacing",
-           "drift_term", "hcs_residual", "initial_guess", "newton_hcs", "solve_hcs", "hcs_fd",
+           "drift_term", "hcs_residual", "initial_guess", "newton_hcs", "solve_hcs",
+           "solve_fd_cooling",
            "sonine_zeta_estimate"]
 
 logger = logging.getLogger(__name__)
@@ -286,9 +287,10 @@ def _unsupported(problem: CoolingProblem) -> None:
 
 
 @register_solver("fd", problem="cooling")
-def hcs_fd(problem: CoolingProblem, *, spacing: float | None = None,
-           cutoff: float | None = None, interpolation_order: int = 3, tol: float = 1e-10,
-           max_iter: int = 60, richardson: bool | int = 2) -> VelocityDistribution:
+def solve_fd_cooling(problem: CoolingProblem, *, spacing: float | None = None,
+                     cutoff: float | None = None, interpolation_order: int = 3,
+                     tol: float = 1e-10, max_iter: int = 60,
+                     richardson: bool | int = 2) -> VelocityDistribution:
     """Homogeneous cooling state by Newton on the finite-difference grid (key ``"fd"``).
 
     A second-order scheme; by default the state is computed on three nested grids of

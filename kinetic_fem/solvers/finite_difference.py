@@ -99,7 +99,7 @@ from .fd_newton import newton_steady
 from .fd_scales import UnitModel, default_cutoff
 from .richardson import richardson_log
 
-__all__ = ["ConvergenceWarning", "default_cutoff", "march", "MarchResult", "solve_fd",
+__all__ = ["ConvergenceWarning", "default_cutoff", "march", "MarchResult", "solve_fd_heated",
            "F_FLOOR", "ORDER"]
 
 logger = logging.getLogger(__name__)
@@ -255,13 +255,13 @@ def _richardson_levels(richardson: bool | int) -> int:
 
 
 @register_solver("fd", problem="heated")
-def solve_fd(problem: HeatedProblem, *, spacing: float | None = None,
-             cutoff: float | None = None,
-             steady: str = "newton", richardson: bool | int = 2, dt: float | None = None,
-             courant: float = 0.5, implicit_loss: bool = False, log_interp: bool = True,
-             interpolation_order: int = 3, tol: float = 1e-10, max_time: float | None = None,
-             max_steps: int = 10**6,
-             initial_temperature: float = 1.0, progress: bool = False) -> VelocityDistribution:
+def solve_fd_heated(problem: HeatedProblem, *, spacing: float | None = None,
+                    cutoff: float | None = None,
+                    steady: str = "newton", richardson: bool | int = 2, dt: float | None = None,
+                    courant: float = 0.5, implicit_loss: bool = False, log_interp: bool = True,
+                    interpolation_order: int = 3, tol: float = 1e-10, max_time: float | None = None,
+                    max_steps: int = 10**6, initial_temperature: float = 1.0,
+                    progress: bool = False) -> VelocityDistribution:
     """Heated steady state by the paper's finite-difference scheme.
 
     A second-order method; the default extrapolates over three grids (module

@@ -62,8 +62,8 @@ from ..operators.sonine_tensors import (
 from ..solve import register_solver
 from .newton import newton
 
-__all__ = ["SonineSolution", "solve_sonine", "sonine_heated", "solve_sonine_cooling",
-           "sonine_cooling", "MAX_ORDER"]
+__all__ = ["SonineSolution", "solve_sonine", "solve_spectral_heated", "solve_sonine_cooling",
+           "solve_spectral_cooling", "MAX_ORDER"]
 
 logger = logging.getLogger(__name__)
 
@@ -423,8 +423,9 @@ def _output(sol: SonineSolution, problem: HeatedProblem | CoolingProblem,
 
 
 @register_solver("spectral", problem="heated")
-def sonine_heated(problem: HeatedProblem, *, order: int = 8, cutoff: float | None = None,
-                  n_v: int | None = None, linearized: bool = False) -> VelocityDistribution:
+def solve_spectral_heated(problem: HeatedProblem, *, order: int = 8,
+                          cutoff: float | None = None, n_v: int | None = None,
+                          linearized: bool = False) -> VelocityDistribution:
     """Heated steady state by the Sonine Galerkin method (registry key ``"spectral"``).
 
     Kernels :math:`|g|^\\gamma`, ``0 <= gamma <= 2``, constant restitution, white noise or
@@ -457,15 +458,33 @@ def sonine_heated(problem: HeatedProblem, *, order: int = 8, cutoff: float | Non
 
 
 @register_solver("spectral", problem="cooling")
-def sonine_cooling(problem: CoolingProblem, *, order: int = 8, cutoff: float | None = None,
-                   n_v: int | None = None, linearized: bool = False) -> VelocityDistribution:
+def solve_spectral_cooling(problem: CoolingProblem, *, order: int = 8,
+                           cutoff: float | None = None, n_v: int | None = None,
+                           linearized: bool = False) -> VelocityDistribution:
     """Homogeneous cooling state by the Sonine Galerkin method (key ``"spectral"``).
 
     Kernels ``0 < gamma <= 2`` with constant restitution (the Maxwell cooling state has
     no Sonine expansion: :func:`solve_sonine_cooling`).  Accurate while the state is
     close to a Gaussian; the two humps of the near-elastic state (claims C10, C15)
-    need high orders.  Parameters as :func:`sonine_heated`; the result is at unit
-    temperature and ``info.extra`` holds ``zeta`` and the coefficients.
+    need high orders.
+
+    Parameters
+    ----------
+    problem : CoolingProblem
+        The cooling problem (constant restitution, kernel exponent ``0 < gamma <= 2``).
+    order : int
+        Truncation order ``P``.
+    cutoff : float, optional
+        Output grid half-width in thermal speeds (as :func:`solve_spectral_heated`).
+    n_v : int, optional
+        Odd number of output nodes (default spacing 0.01 thermal speeds).
+    linearized : bool
+        First-order (linearised) Sonine theory.
+
+    Returns
+    -------
+    VelocityDistribution
+        At unit temperature; ``info.extra`` holds ``zeta`` and the coefficients.
     """
     problem.require("spectral", constant_restitution=True)
     start = time.perf_counter()

@@ -35,7 +35,7 @@ def half():
 
 
 def test_registered():
-    assert kf.HEATED_SOLVERS["fd"] is fd.solve_fd
+    assert kf.HEATED_SOLVERS["fd"] is fd.solve_fd_heated
 
 
 def test_normalised_symmetric_positive(half):
