@@ -393,7 +393,11 @@ def collision_operator(verts: np.ndarray, dofs: np.ndarray, order: int, coef: np
                 e1 = _locate(verts, e1, a * x + b * mid)
             else:
                 bm = 0.5 * (1.0 + restitution_value(code, p0, p1, abs(x - mid) * speed_scale))
-                e1 = _locate(verts, e1, x - bm * (x - mid))
+                target = x - bm * (x - mid)
+                # x'(y) jumps back where the threshold law switches (y = x -+ g_th)
+                while e1 > 0 and verts[e1] > target:
+                    e1 -= 1
+                e1 = _locate(verts, e1, target)
             e2 = _locate(verts, e2, b * x + a * mid)
             hy = verts[ey + 1] - verts[ey]
             h1 = verts[e1 + 1] - verts[e1]
