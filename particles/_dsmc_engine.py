@@ -23,6 +23,7 @@ from kinetic_fem.distribution import MAX_MOMENT, RunInfo, VelocityDistribution
 
 from . import _dsmc_segments as seg
 from .rng import ziggurat_tables
+from .run import ParticleRun
 from .sampling import (
     accumulate_kernel,
     integrated_autocorrelation_time,
@@ -38,8 +39,8 @@ _SERIES = ("collisions_per_particle", "t", "log_t", "temperature", "log_temperat
 
 
 @dataclass(frozen=True)
-class DSMCRun:
-    """Result of a DSMC run.
+class DSMCRun(ParticleRun):
+    """Result of a DSMC run (the properties shared with MD: :class:`ParticleRun`).
 
     Attributes
     ----------
@@ -88,26 +89,11 @@ class DSMCRun:
     info: RunInfo = field(default_factory=RunInfo)
 
     @property
-    def a2(self) -> float:
-        """Kurtosis coefficient of the averaged distribution."""
-        return self.distribution.a2
-
-    @property
-    def a2_error(self) -> float:
-        """Standard error of :attr:`a2` from the batch spread."""
-        return self.distribution.a2_error
-
-    @property
     def temperature(self) -> float:
         """Heated: time-averaged steady T.  Cooling: physical T at the end."""
         if self.problem == "heated":
             return self.distribution.temperature
         return float(math.exp(self.series["log_temperature"][-1]))
-
-    @property
-    def collisions_per_particle(self) -> float:
-        """Total collisions per particle, ``2 n_collisions / N``."""
-        return 2.0 * self.n_collisions / self.n_particles
 
     def cooling_rate(self, n_batches: int = 20) -> tuple[float, float]:
         """Cooling rate :math:`\\zeta` of :math:`dT/dt = -2\\zeta n T^{1+\\gamma/2}`, error.

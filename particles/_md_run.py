@@ -37,6 +37,7 @@ from kinetic_fem.model import check_nonnegative, check_positive
 from . import _md_kernels as K
 from ._jit import jit
 from ._md_engine import EngineOptions, MDEngine
+from .run import ParticleRun
 from .sampling import Accumulator, load_checkpoint, save_checkpoint
 
 __all__ = ["MDRun", "Snapshot", "DensityFluctuations", "density_fluctuations",
@@ -73,8 +74,8 @@ class DensityFluctuations:
 
 
 @dataclass(frozen=True)
-class MDRun:
-    """Result of an MD run.
+class MDRun(ParticleRun):
+    """Result of an MD run (the properties shared with DSMC: :class:`ParticleRun`).
 
     Attributes
     ----------
@@ -91,8 +92,8 @@ class MDRun:
         Averaged over the sample points.
     positions, velocities : ndarray, shape (N,)
         Final rod positions (left ends in ``[0, L)``, ring order) and velocities.
-    n_collisions, n_elastic, n_kicks : int
-        Binary collisions, those made elastic by the threshold, kicks.
+    n_collisions, n_elastic, n_kicks, n_particles : int
+        Binary collisions, those made elastic by the threshold, kicks; rods.
     info : RunInfo
     params : dict
     """
@@ -106,18 +107,9 @@ class MDRun:
     n_collisions: int
     n_elastic: int
     n_kicks: int
+    n_particles: int
     info: RunInfo
     params: Mapping[str, Any] = field(default_factory=dict)
-
-    @property
-    def a2(self) -> float:
-        """Kurtosis coefficient of :attr:`distribution`."""
-        return self.distribution.a2
-
-    @property
-    def a2_error(self) -> float:
-        """Its standard error from the batch spread."""
-        return self.distribution.a2_error
 
     @property
     def temperature(self) -> float:
@@ -125,11 +117,6 @@ class MDRun:
         if self.params["problem"] == "heated":
             return self.distribution.temperature
         return float(self.series["temperature"][-1])
-
-    @property
-    def collisions_per_particle(self) -> float:
-        """``2 * n_collisions / N``."""
-        return 2.0 * self.n_collisions / self.params["n_particles"]
 
     @property
     def energy_balance_error(self) -> float:
@@ -431,7 +418,7 @@ def _result(params, seed, eng, acc, records, snaps, dens, n_sampled, e0, p0, big
                  density_fluctuations=fluct, positions=eng.rod_positions(),
                  velocities=eng.v.copy(), n_collisions=eng.n_collisions,
                  n_elastic=int(eng.istate[K.I_NELASTIC]), n_kicks=int(eng.istate[K.I_NKICK]),
-                 info=info, params=params)
+                 n_particles=int(n), info=info, params=params)
 
 
 def json_params(params: Mapping[str, Any]) -> dict[str, Any]:
