@@ -345,3 +345,36 @@ def test_newton_stall_at_round_off_counts_as_converged():
     assert not fem.stalled([1e-3, 1e-5, 1e-7])
     info = fem.newton_info([1e-3, 1e-7, 7e-11, 6e-11, 7e-11], 1e-11, 5, 0.0)
     assert info.converged and "stalled" in info.message
+
+
+@pytest.mark.parametrize("alpha", [0.0, 0.9])
+def test_chord_steps_reach_the_newton_state_with_fewer_jacobians(alpha):
+    """Chord steps (one factorisation reused below an update of 1e-3) end at plain
+    Newton's state: measured max |du| 6e-14 at spacing 0.3 (alpha = 0, 0.9); the stopping
+    rule is on the update (tol 1e-11), so the tolerance is 1e-11."""
+    state = fem.steady_state(alpha, spacing=0.3)
+    u0 = state.disc.gaussian(sonine.steady_temperature(alpha))
+    u_newton, info_newton = fem.newton_steady(state.disc, u0, chord=False)
+    u_chord, info_chord = fem.newton_steady(state.disc, u0, chord=True)
+    assert info_newton.converged and info_chord.converged
+    assert np.abs(u_chord - u_newton).max() < 1e-11
+    n_newton = int(info_newton.message.rsplit("; ", 1)[1].split()[0])
+    n_chord = int(info_chord.message.rsplit("; ", 1)[1].split()[0])
+    assert n_chord < n_newton
+
+
+def test_heated_curve_warm_start_equals_pointwise_solutions():
+    """Warm-started states equal the pointwise ones to the Newton tolerance (measured
+    |dT/T| 1e-15, |da2| 1e-15 on the 25-point default curve; tolerance 1e-10)."""
+    from kinetic_fem.solvers.fem_curve import heated_curve
+
+    alphas = [0.3, 0.5, 0.7]
+    warm = heated_curve(alphas, spacing=0.3)
+    cold = heated_curve(alphas, spacing=0.3, warm_start=False)
+    np.testing.assert_allclose(warm.temperature, cold.temperature, rtol=1e-10)
+    np.testing.assert_allclose(warm.a2, cold.a2, rtol=0, atol=1e-10)
+    direct = kf.solve_heated(0.5, spacing=0.3)
+    assert warm.a2[1] == pytest.approx(direct.a2, abs=1e-10)
+    assert warm.newton_iterations.shape == (3,)
+    with pytest.raises(ValueError, match="non-empty"):
+        heated_curve([])
