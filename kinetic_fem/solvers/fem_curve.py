@@ -108,8 +108,11 @@ def heated_curve(alphas: ArrayLike, *, density: float = 1.0, diffusion: float = 
         raise ValueError(f"alphas must be a non-empty 1-D list of restitution coefficients, "
                          f"got shape {values.shape}")
     start = time.perf_counter()
-    options = {"order": order, "spacing": spacing, "cutoff": cutoff, "tol": tol,
-               "max_iter": max_iter}
+
+    def solve(problem: HeatedProblem, initial: SteadyState | None) -> SteadyState:
+        return steady_state(problem, order=order, spacing=spacing, cutoff=cutoff, tol=tol,
+                            max_iter=max_iter, initial=initial)
+
     previous: SteadyState | None = None
     dists = []
     for alpha in values:
@@ -120,11 +123,11 @@ def heated_curve(alphas: ArrayLike, *, density: float = 1.0, diffusion: float = 
         state = None
         if warm_start and previous is not None:
             try:
-                state = steady_state(problem, initial=previous, **options)
+                state = solve(problem, previous)
             except ConvergenceError as err:
                 logger.info("warm start failed at alpha=%g (%s); default start", alpha, err)
         if state is None:
-            state = steady_state(problem, **options)
+            state = solve(problem, None)
         dists.append(state_distribution(problem, state, order))
         previous = state
     return HeatedCurve(values, tuple(dists), time.perf_counter() - start)

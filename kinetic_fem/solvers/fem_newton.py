@@ -122,7 +122,7 @@ def newton_steady(disc: FEMDiscretisation, u0: NDArray[np.float64], *, tol: floa
         grad_mass = asm(mass, disc.basis, u=disc.field(u))
         r = sym.T @ res
         r[row0] = grad_mass.sum() - 1.0
-        if not jacobian:
+        if jac is None:
             return r, None
         j = sym.T @ (sym.T @ jac.T).T
         j[row0] = sym.T @ grad_mass
