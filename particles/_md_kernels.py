@@ -303,15 +303,26 @@ def run_events(x, v, tl, heap, hkey, where, ptime, head, nxt, prv, bkt, fstate, 
             status = STATUS_TIME
             break
         # --- collision of pair p = (i, j) at time tc
-        if use_prefetch and size > 4:
-            # the earliest child of the root is likely the next collision: fetch its
-            # rods while this one is processed (overlaps the cache misses of large N)
-            c01 = 1 + (hkey[2] < hkey[1])
-            c23 = 3 + (hkey[4] < hkey[3])
-            q2 = heap[c23] if hkey[c23] < hkey[c01] else heap[c01]
-            prefetch(x, q2)
-            prefetch(v, q2)
-            prefetch(tl, q2)
+        if use_prefetch:
+            # the next collision is likely the root's earliest child, or with a single
+            # pair in the heap the first pair of the next bucket: fetch its rods and
+            # calendar entries while this one is processed (overlaps the cache misses
+            # of large N; slots beyond the heap hold inf)
+            q2 = -1
+            if size > 1:
+                c01 = 1 + (hkey[2] < hkey[1])
+                c23 = 3 + (hkey[4] < hkey[3])
+                q2 = heap[c23] if hkey[c23] < hkey[c01] else heap[c01]
+            elif cur + 1 < nb:
+                q2 = head[cur + 1]
+            if q2 >= 0:
+                prefetch(x, q2)
+                prefetch(v, q2)
+                prefetch(tl, q2)
+                prefetch(where, q2)
+                prefetch(bkt, q2)
+                prefetch(nxt, q2)
+                prefetch(prv, q2)
         i = p
         j = p + 1
         shift = 0.0
