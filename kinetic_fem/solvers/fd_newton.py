@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -213,7 +214,7 @@ def newton_steady(grid: HalfGrid, p0: NDArray[np.float64], *, alpha: float,
     n = grid.n
     cache: dict[str, object] = {}
 
-    def evaluate(x: NDArray[np.float64]) -> tuple[NDArray[np.float64], ...]:
+    def evaluate(x: NDArray[np.float64]) -> tuple[NDArray[Any], ...]:
         """``nu, R, row scale d, active nodes`` at ``x`` (the last one cached)."""
         if cache.get("x") is not None and np.array_equal(cache["x"], x):  # type: ignore[arg-type]
             return cache["out"]  # type: ignore[return-value]
@@ -222,7 +223,8 @@ def newton_steady(grid: HalfGrid, p0: NDArray[np.float64], *, alpha: float,
         res_ = steady_residual(grid, p_, lam_, alpha=alpha, log_interp=log_interp,
                                order=order, gamma=gamma, friction=friction)
         act_ = p_ > UNDERFLOW
-        d_ = np.where(act_, p_ * (nu_ + 2.0 / grid.h**2 + friction), 1.0)
+        d_ = np.asarray(np.where(act_, p_ * (nu_ + 2.0 / grid.h**2 + friction), 1.0),
+                        dtype=np.float64)
         cache["x"], cache["out"] = x.copy(), (nu_, res_, d_, act_)
         return nu_, res_, d_, act_
 

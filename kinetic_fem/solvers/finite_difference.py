@@ -84,6 +84,7 @@ import math
 import time
 import warnings
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -148,7 +149,10 @@ def _solve_unit(model: UnitModel, *, spacing: float, intervals: int, steady: str
     extra: dict[str, float | int | str] = {"n_v_half": n_v, "dv": grid.h,
                                            "cutoff_v": float(grid.v[-1]), "steady": steady}
     nu_bound = grid.v[-1] + math.sqrt(max(t0, 2.0 * temp_est)) if gamma == 1.0 else 1.0
-    model_kw = dict(alpha=alpha, log_interp=log_interp, order=order, gamma=gamma, friction=xi)
+    model_kw: dict[str, Any] = dict(alpha=alpha, log_interp=log_interp, order=order,
+                                    gamma=gamma, friction=xi)
+    series: dict[str, NDArray[np.float64]] = {}
+    info: dict[str, Any]
     warm = None
     if steady == "newton" and start is not None:
         # a finer grid of a Richardson sequence, started from the coarser solution; if
@@ -159,7 +163,7 @@ def _solve_unit(model: UnitModel, *, spacing: float, intervals: int, steady: str
                          warm.message)
             warm = None
     if warm is not None:
-        p, series = warm.p, {}
+        p = warm.p
         extra["mass_defect_rate"] = float(warm.multiplier)
         extra["newton_iterations"] = f"{warm.iterations} (all, from the coarser grid)"
         info = dict(converged=warm.converged, iterations=warm.iterations,
@@ -181,7 +185,7 @@ def _solve_unit(model: UnitModel, *, spacing: float, intervals: int, steady: str
                            tau=model.relaxation_time, **model_kw)
         res = newton_steady(grid, bulk.p if polish is None else polish.p,
                             monitor_floor=_MONITOR_TAIL, **model_kw)
-        p, series = res.p, {}
+        p = res.p
         extra["mass_defect_rate"] = float(res.multiplier)
         extra["newton_iterations"] = f"{bulk.iterations} (f > 1e-50) + {res.iterations} (all)"
         extra["polish_steps"] = 0 if polish is None else polish.steps
@@ -195,14 +199,17 @@ def _solve_unit(model: UnitModel, *, spacing: float, intervals: int, steady: str
                              f"dt*nu_max can reach {dt * nu_bound:.3g} > 1 and make P negative. "
                              f"Use dt <= {0.5 / nu_bound:.3g} or implicit_loss=True")
         tau = model.relaxation_time
-        res = march(grid, np.exp(-grid.v**2 / (2.0 * t0)), dt=dt, implicit_loss=implicit_loss,
-                    tol=tol, max_time=200.0 * tau if max_time is None else max_time,
-                    max_steps=max_steps, progress=progress, tau=tau, **model_kw)
-        p, series = res.p, res.series
+        marched = march(grid, np.exp(-grid.v**2 / (2.0 * t0)), dt=dt,
+                        implicit_loss=implicit_loss, tol=tol,
+                        max_time=200.0 * tau if max_time is None else max_time,
+                        max_steps=max_steps, progress=progress, tau=tau, **model_kw)
+        p, series = marched.p, marched.series
         extra["dt"] = dt
-        info = dict(converged=res.converged, iterations=res.steps, residual=res.rate,
-                    message=("steady: tau*max|d ln P/dt| < tol" if res.converged else
-                             f"not converged after {res.steps} steps, t={res.time:.4g}"))
+        info = dict(converged=marched.converged, iterations=marched.steps,
+                    residual=marched.rate,
+                    message=("steady: tau*max|d ln P/dt| < tol" if marched.converged else
+                             f"not converged after {marched.steps} steps, "
+                             f"t={marched.time:.4g}"))
     if not info["converged"]:
         warnings.warn(f"fd solver (steady={steady!r}) did not converge at alpha={alpha}: "
                       f"{info['message']}", ConvergenceWarning, stacklevel=4)
@@ -373,10 +380,10 @@ def solve_fd_heated(problem: HeatedProblem, *, spacing: float | None = None,
     # the cut-off is rounded up to a multiple of the spacing, so that the grids of
     # spacing/2 and spacing/4 (Richardson) have exactly 2 and 4 times as many intervals
     intervals = int(math.ceil(cutoff / spacing - 1e-9))
-    options = dict(steady=steady, courant=courant, implicit_loss=implicit_loss,
-                   log_interp=log_interp, order=interpolation_order, tol=tol,
-                   max_time=max_time, max_steps=max_steps,
-                   initial_temperature=initial_temperature, progress=progress)
+    options: dict[str, Any] = dict(
+        steady=steady, courant=courant, implicit_loss=implicit_loss, log_interp=log_interp,
+        order=interpolation_order, tol=tol, max_time=max_time, max_steps=max_steps,
+        initial_temperature=initial_temperature, progress=progress)
     sols: list[_UnitSolution] = []
     for k in range(levels + 1):
         start = _refine(sols[-1]) if sols and steady == "newton" else None

@@ -210,9 +210,9 @@ def _lap_matrix(kappa: NDArray[np.float64]) -> NDArray[np.float64]:
 def _solve_or_lstsq(jac: NDArray[np.float64], rhs: NDArray[np.float64]) -> NDArray[np.float64]:
     """``jac^{-1} rhs``, least squares where ``jac`` is singular."""
     try:
-        return np.linalg.solve(jac, rhs)
+        return np.asarray(np.linalg.solve(jac, rhs), dtype=np.float64)
     except np.linalg.LinAlgError:
-        return np.linalg.lstsq(jac, rhs, rcond=None)[0]
+        return np.asarray(np.linalg.lstsq(jac, rhs, rcond=None)[0], dtype=np.float64)
 
 
 def _newton(system: _System, x0: NDArray[np.float64], *, tol: float = 1e-14,
