@@ -127,13 +127,16 @@ class ModelScales:
             * math.gamma(0.5 * (self.gamma + 1.0)) / math.sqrt(math.pi)
         return 1.0 / rate
 
-    def cutoff(self, target: float = TAIL_TARGET) -> float:
+    def cutoff(self, target: float = TAIL_TARGET, *, core_margin: float = 1.25) -> float:
         """Where :math:`f(c)` falls below ``target``, in units of :math:`\\sqrt T`.
 
         Parameters
         ----------
         target : float
             Value of :math:`f(c)` at the cut-off, in (0, 1).
+        core_margin : float
+            Factor (>= 1) on the quasi-elastic core :math:`e^{-x^3/6}` for the crossover
+            to the far tail (hard rods, white noise).
 
         Returns
         -------
@@ -147,6 +150,8 @@ class ModelScales:
         """
         if not 0.0 < target < 1.0:
             raise ValueError(f"target={target!r} is not allowed; it must be in (0, 1)")
+        if not core_margin >= 1.0:
+            raise ValueError(f"core_margin={core_margin!r} is not allowed; it must be >= 1")
         s = self.thermal_speed
         log_target = -math.log(target)
         gauss = math.sqrt(2.0 * log_target)
@@ -154,7 +159,7 @@ class ModelScales:
             tail = (log_target / (2.0 / 3.0 * self.temperature**0.75)) ** (2.0 / 3.0)
             if self.friction == 0.0 and self.alpha < 1.0:
                 x_core = (6.0 * log_target) ** (1.0 / 3.0)
-                quasi_elastic = 1.25 * x_core / ((1.0 - self.alpha) ** (1.0 / 3.0) * s)
+                quasi_elastic = core_margin * x_core / ((1.0 - self.alpha) ** (1.0 / 3.0) * s)
                 core = min(gauss, quasi_elastic)
             else:
                 core = gauss
@@ -169,7 +174,8 @@ class ModelScales:
         return white
 
 
-def heated_cutoff(alpha: float, target: float = TAIL_TARGET) -> float:
+def heated_cutoff(alpha: float, target: float = TAIL_TARGET, *,
+                  core_margin: float = 1.25) -> float:
     """Cut-off (units of :math:`\\sqrt T`) of the heated hard-rod gas under white noise.
 
     Parameters
@@ -178,6 +184,8 @@ def heated_cutoff(alpha: float, target: float = TAIL_TARGET) -> float:
         Constant restitution coefficient.
     target : float
         Value of :math:`f(c)` at the cut-off.
+    core_margin : float
+        As in :meth:`ModelScales.cutoff`.
 
     Returns
     -------
@@ -189,7 +197,8 @@ def heated_cutoff(alpha: float, target: float = TAIL_TARGET) -> float:
     >>> [round(heated_cutoff(a), 1) for a in (0.0, 0.9, 0.99, 0.9999)]
     [29.2, 16.6, 12.1, 12.1]
     """
-    return ModelScales(alpha, 1.0, 0.0, steady_temperature(alpha)).cutoff(target)
+    return ModelScales(alpha, 1.0, 0.0, steady_temperature(alpha)).cutoff(
+        target, core_margin=core_margin)
 
 
 def cooling_rate_estimate(alpha: float) -> float:

@@ -107,3 +107,20 @@ def test_bad_scales_raise(kw, match):
 def test_bad_target_raises(target):
     with pytest.raises(ValueError, match="target"):
         ModelScales(0.5, 1.0, 0.0, 1.0).cutoff(target)
+
+
+def test_fem_rule_is_the_model_rule_at_its_target():
+    """The FEM default (1e-33, no crossover margin, one thermal speed added) is the
+    model's rule: ``heated_cutoff(alpha, 1e-33, core_margin=1) + 1`` to round-off."""
+    from kinetic_fem.solvers.fem_defaults import default_cutoff as fem_cutoff
+
+    for a in np.linspace(0.0, 0.99999, 60):
+        model = heated_cutoff(a, 1e-33, core_margin=1.0) + 1.0
+        assert model == pytest.approx(fem_cutoff(a), rel=1e-14, abs=0)
+
+
+def test_core_margin_widens_only_near_elastic():
+    assert heated_cutoff(0.5, core_margin=1.0) == heated_cutoff(0.5)
+    assert heated_cutoff(0.999, core_margin=1.0) < heated_cutoff(0.999)
+    with pytest.raises(ValueError, match="core_margin"):
+        heated_cutoff(0.9, core_margin=0.5)
