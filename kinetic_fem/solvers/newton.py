@@ -198,7 +198,9 @@ def newton(fun: System, x0: ArrayLike, *, tol: float, max_iter: int = 50,
         a ``LinearOperator`` or a callable ``v -> J v``); with ``jacobian`` false the
         second item is ignored (trial points of the line search need only ``r``).
         ``n`` may differ from ``x.size`` when ``update`` maps a reduced step (e.g. on the
-        active nodes) to ``x``.
+        active nodes) to ``x``.  The residual of an accepted trial point is reused and its
+        Jacobian requested only if another step is needed (``fun(x, True)`` at the same
+        ``x`` again, so a ``fun`` that caches its last residual evaluates it once).
     x0 : array_like, shape (m,)
         Initial iterate.
     tol : float
@@ -291,8 +293,12 @@ def newton(fun: System, x0: ArrayLike, *, tol: float, max_iter: int = 50,
                        f"{res:.2e}, last step {step_size:.2e} (tol {tol:.1e})")
             break
         it += 1
+        if jac is None:   # the accepted trial point was evaluated without its Jacobian
+            r, jac = fun(x, True)
+            r = np.asarray(r, dtype=float)
+        if jac is None:
+            raise TypeError(f"{name}: fun(x, True) returned no Jacobian")
         cols = column_scale(x) if column_scale is not None else None
-        assert jac is not None, "fun(x, True) must return a Jacobian"
         delta = np.asarray(solve(_equilibrated(jac, rows, cols),
                                  -(r if rows is None else r / rows)), dtype=float)
         if cols is not None:
@@ -304,14 +310,16 @@ def newton(fun: System, x0: ArrayLike, *, tol: float, max_iter: int = 50,
         newton_step = step_norm_(delta, x)
         small = criterion == "step" and newton_step < tol
         theta, accepted = 1.0, False
-        x_t = x
+        x_t, r_t, jac_t = x, r, None
         while True:
             x_try = update_(x, theta * delta)
-            r_try = np.asarray(fun(x_try, False)[0], dtype=float)
+            # without a line search the trial is the next iterate: take its Jacobian now
+            r_try, jac_try = fun(x_try, not line_search)
+            r_try = np.asarray(r_try, dtype=float)
             res_try = scaled_norm(r_try, rows, x_try)
             finite = math.isfinite(res_try) and bool(np.all(np.isfinite(x_try)))
             if finite:
-                x_t = x_try
+                x_t, r_t, jac_t = x_try, r_try, jac_try if not line_search else None
             if finite and (not line_search or small
                            or res_try <= (1.0 - armijo * theta) * res):
                 accepted = True
@@ -329,9 +337,7 @@ def newton(fun: System, x0: ArrayLike, *, tol: float, max_iter: int = 50,
             break
         step_size = newton_step
         x_old = x
-        x = x_t
-        r, jac = fun(x, True)
-        r = np.asarray(r, dtype=float)
+        x, r, jac = x_t, r_t, jac_t
         rows = row_scale(x) if row_scale is not None else None
         res = scaled_norm(r, rows, x)
         measure = res if criterion == "residual" else step_size

@@ -168,3 +168,22 @@ def test_run_info_fields():
     assert (info.converged, info.iterations, info.residual, info.wall_time) == \
         (res.converged, res.iterations, res.residual, 0.25)
     assert info.extra == {"n": 2} and info.message == res.message
+
+
+@pytest.mark.parametrize("line_search", [True, False])
+def test_jacobian_only_where_a_step_follows(line_search):
+    """One Jacobian per linear solve: none at the converged point."""
+    calls = {True: 0, False: 0}
+
+    def fun(x, jacobian):
+        calls[jacobian] += 1
+        return x**2 - 2.0, np.diag(2.0 * x) if jacobian else None
+
+    res = newton(fun, [1.0], tol=1e-14, line_search=line_search)
+    assert res.converged
+    if line_search:   # x0, then one per further step; trial residuals are reused
+        assert calls[True] == res.iterations
+        assert calls[False] == res.iterations
+    else:             # the full step is the next iterate: its Jacobian comes with it
+        assert calls[True] == res.iterations + 1
+        assert calls[False] == 0
