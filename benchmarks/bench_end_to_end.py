@@ -155,6 +155,8 @@ MERIT = {
                                                  seed=2),
     "dsmc 0.9": lambda cpp: dsmc.simulate_heated(0.9, 25000, collisions_per_particle=cpp,
                                                  seed=2),
+    "dsmc cool": lambda cpp: dsmc.simulate_cooling(0.9, 25000,
+                                                   collisions_per_particle=4 * cpp, seed=2),
     "md 0.6": lambda cpp: md.simulate_heated(0.6, 5000, collisions_per_particle=2 * cpp,
                                              seed=2),
     "md 0.9": lambda cpp: md.simulate_heated(0.9, 5000, collisions_per_particle=2 * cpp,
@@ -229,7 +231,7 @@ def table(names: list[str], repeat: int, exes: dict[str, Path], before: Path | N
                 line += f", before {best[name]['before_cpu']:.2f}"
             print(line, flush=True)
     print(f"\nload average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores; "
-          f"best of {repeat}; collisions per CPU second (wall in brackets for python)")
+          f"best of {repeat}; collisions per CPU second")
     head = f"{'call':<78} {'before':>9} {'python':>9} {'C':>9} {'before/C':>8} {'py/C':>6}"
     print(head)
     for name in names:
@@ -239,8 +241,9 @@ def table(names: list[str], repeat: int, exes: dict[str, Path], before: Path | N
               f"{r['before'] / r['c']:>8.2f} {r['py'] / r['c']:>6.2f}")
     if merit_cpp > 0:
         print(f"\nfigure of merit: standard error of the heated a2 after one CPU second "
-              f"(se * sqrt(cpu s)); DSMC N = 25000, {merit_cpp:g} collisions per particle; "
-              f"MD N = 5000, {2 * merit_cpp:g}; seed 2, default options")
+              f"(se * sqrt(cpu s)); DSMC N = 25000, {merit_cpp:g} collisions per particle "
+              f"(dsmc cool: the cooling a2 at alpha = 0.9, {4 * merit_cpp:g}); MD N = 5000, "
+              f"{2 * merit_cpp:g}; seed 2, default options")
         print(f"{'run':>9} {'a2':>9} {'se before':>10} {'cpu before':>10} {'se after':>9} "
               f"{'cpu after':>9} {'se/sqrt(s) before':>17} {'after':>9} {'gain':>6}")
         for label in MERIT:

@@ -95,8 +95,10 @@ def _kick_cost(alpha: float, n: int, kick_fraction: float, repeats: int = 200) -
         start = time.process_time()
         for _ in range(repeats):
             K.fill_normals(eng.xi, eng.rng_state, ki, wi, fi)
+            eng.head[:eng.istate[K.I_NB]] = -1  # (the previous sweep's buckets: empty)
             K.kick_sweep(tk, tk + dt, 1.0, 0.0, eng.xi, eng.x, eng.v, eng.tl, eng.free_length,
-                         eng.heap, eng.hkey, eng.where, eng.istate)
+                         eng.heap, eng.hkey, eng.where, eng.ptime, eng.head, eng.nxt, eng.prv,
+                         eng.bkt, eng.fstate, eng.istate)
         best = min(best, (time.process_time() - start) / repeats)
     return best
 

@@ -342,10 +342,16 @@ class Engine:
 
         A number ``average_every`` gives ``round(average_every / sample_every)``.  "auto"
         keeps one tick during the first batch, then takes half the integrated
-        autocorrelation time of ``a2`` measured over it
-        (:func:`particles.sampling.integrated_autocorrelation_time`, at least 50
-        samples, else one tick): samples closer than that add little information but
-        cost a measurement each.  Capped so that every batch keeps 10 samples.
+        autocorrelation time of ``a2`` measured over it (at least 50 samples, else one
+        tick): samples closer than that add little information but cost a measurement
+        each.  The time is the larger of Sokal's windowed sum
+        (:func:`particles.sampling.integrated_autocorrelation_time`) and the AR(1)
+        value :math:`(1+\\rho_1)/(1-\\rho_1)` of the lag-one autocorrelation: over a
+        batch of a few hundred samples the windowed sum of a slowly decaying
+        correlation is biased low (cooling at alpha = 0.9, N = 25000: 4 and 10 from
+        200 samples against about 20 from 900), the lag-one value is not.  Capped so
+        that every batch keeps 10 samples.  (With samples every half correlation time
+        the variance of the mean grows by a few per cent.)
         """
         o, c = self.opts, self.c
         per_batch = o.n_samples // o.n_batches
@@ -355,7 +361,11 @@ class Engine:
         if c["tick"] + 1 < per_batch or per_batch < 50:
             return 1
         a2 = np.asarray(self.series["a2"][-(int(c["tick"]) + 1):], dtype=float)
-        c["tau_a2"] = integrated_autocorrelation_time(a2) * o.sample_every
+        d = a2 - a2.mean()
+        var = float(np.dot(d, d))
+        rho1 = min(float(np.dot(d[1:], d[:-1])) / var, 0.98) if var > 0.0 else 0.0
+        tau = max(integrated_autocorrelation_time(a2), (1.0 + rho1) / (1.0 - rho1))
+        c["tau_a2"] = tau * o.sample_every
         return int(min(max(1, math.floor(0.5 * c["tau_a2"] / o.sample_every)), cap))
 
     # ----------------------------------------------------------------- checkpoints
