@@ -23,7 +23,7 @@ from kinetic_fem.distribution import MAX_MOMENT, RunInfo, VelocityDistribution
 
 from . import _dsmc_segments as seg
 from .rng import ziggurat_tables
-from .run import ParticleRun
+from .run import Checkpointing, ParticleRun
 from .sampling import (
     accumulate_kernel,
     integrated_autocorrelation_time,
@@ -178,7 +178,9 @@ class DSMCOptions:
         Heated: time step and steps per measurement.
     decay, amp, half_decay, half_amp : float
         Heated: kick of a full and of a half step, :math:`v \\to d v + b \\xi`.
-    checkpoint, checkpoint_every, resume, max_wall_time, progress
+    checkpointing : Checkpointing
+        Checkpoints, resume and wall-time limit (the spelling shared with MD).
+    progress : bool
         As in :func:`particles.dsmc.simulate_heated`.
     """
 
@@ -207,10 +209,7 @@ class DSMCOptions:
     amp: float = 0.0
     half_decay: float = 1.0
     half_amp: float = 0.0
-    checkpoint: str | Path | None = None
-    checkpoint_every: float = 300.0
-    resume: bool = False
-    max_wall_time: float | None = None
+    checkpointing: Checkpointing = field(default_factory=Checkpointing)
     progress: bool = False
 
 
@@ -396,9 +395,10 @@ class Engine:
     def run(self) -> DSMCRun:
         o = self.opts
         t_start = last_ckpt = time.perf_counter()
-        path = o.checkpoint
-        if path is not None and o.resume and Path(path).with_suffix(".npz").exists():
-            self.load(Path(path).with_suffix(".npz"))
+        ck = o.checkpointing
+        path = ck.path
+        if path is not None and ck.resume and path.exists():
+            self.load(path)
             logger.info("resumed from %s at %d collisions", path, self.c["accepted"])
         if not self.series["a2"]:
             self._measure()
@@ -429,14 +429,14 @@ class Engine:
                             self.counts[0] /= c["k"]
                             self.sums[0] /= c["k"]
                 now = time.perf_counter()
-                if path is not None and now - last_ckpt >= o.checkpoint_every:
-                    self.save(Path(path))
+                if path is not None and now - last_ckpt >= ck.every:
+                    self.save(path)
                     last_ckpt = now
-                if o.max_wall_time is not None and now - t_start >= o.max_wall_time:
+                if ck.max_wall_time is not None and now - t_start >= ck.max_wall_time:
                     interrupted = c["tick"] + c["k"] < o.n_samples
                     break
         if path is not None:
-            self.save(Path(path))
+            self.save(path)
         return self._result(time.perf_counter() - t_start, interrupted)
 
     def _result(self, wall: float, interrupted: bool) -> DSMCRun:

@@ -24,7 +24,6 @@ import logging
 import math
 import time
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any, Mapping, Sequence
 
 import numpy as np
@@ -32,12 +31,11 @@ from numpy.typing import NDArray
 from tqdm.auto import tqdm
 
 from kinetic_fem.distribution import RunInfo, VelocityDistribution
-from kinetic_fem.model import check_nonnegative, check_positive
 
 from . import _md_kernels as K
 from ._jit import jit
 from ._md_engine import EngineOptions, MDEngine
-from .run import ParticleRun
+from .run import Checkpointing, ParticleRun
 from .sampling import Accumulator, load_checkpoint, save_checkpoint
 
 __all__ = ["MDRun", "Snapshot", "DensityFluctuations", "density_fluctuations",
@@ -221,52 +219,6 @@ class RunPlan:
     n_records: int = 200
     box_counts: tuple[int, ...] = (2,)
     sample_dt: float | None = None
-
-
-@dataclass(frozen=True)
-class Checkpointing:
-    """Checkpoints and wall-time limit: the spelling and semantics of :mod:`particles.dsmc`.
-
-    Attributes
-    ----------
-    path : Path, optional
-        Checkpoint file (``.npz`` is appended if missing); None: no checkpoints.
-    every : float
-        Write the state every ``every`` seconds of wall time (at the next stop point)
-        and at the end of the run.
-    resume : bool
-        Continue from ``path`` if it exists (bit-identical to an uninterrupted run).
-    max_wall_time : float, optional
-        Stop after this many seconds (checkpoint written; ``info.message`` says so).
-    """
-
-    path: Path | None = None
-    every: float = 300.0
-    resume: bool = False
-    max_wall_time: float | None = None
-
-    @classmethod
-    def from_arguments(cls, checkpoint: str | Path | None, checkpoint_every: float,
-                       resume: bool, max_wall_time: float | None) -> Checkpointing:
-        """Validate the public arguments ``checkpoint=``, ``checkpoint_every=``, ...
-
-        Raises
-        ------
-        TypeError
-            If ``resume`` is not a bool (it once was a path: pass the path as
-            ``checkpoint``).
-        ValueError
-            For ``resume=True`` without a path, negative intervals or wall times.
-        """
-        if not isinstance(resume, (bool, np.bool_)):
-            raise TypeError(f"resume must be True or False (as in particles.dsmc), got "
-                            f"{resume!r}; pass the file as checkpoint=<path>, resume=True")
-        if resume and checkpoint is None:
-            raise ValueError("resume=True needs a checkpoint path")
-        every = check_nonnegative("checkpoint_every", checkpoint_every)
-        wall = None if max_wall_time is None else check_positive("max_wall_time", max_wall_time)
-        path = None if checkpoint is None else Path(checkpoint).with_suffix(".npz")
-        return cls(path, every, bool(resume), wall)
 
 
 def _schedule(n: int, plan: RunPlan) -> tuple[NDArray[np.int64], set, dict, set]:

@@ -113,6 +113,7 @@ from kinetic_fem.sonine import a2_first_order
 
 from ._dsmc_engine import DSMCOptions, DSMCRun, Engine
 from ._dsmc_kernels import kernel_code
+from .run import Checkpointing
 
 __all__ = ["DSMCRun", "simulate_heated", "simulate_cooling", "combine_runs",
            "MAX_COLLISIONS_PER_STEP"]
@@ -215,10 +216,7 @@ def _common(n_particles: int, collisions_per_particle: float, relax: str | float
                                         and math.isfinite(average_every) and average_every > 0)):
         raise ValueError(f"average_every must be 'auto' or a positive number of collisions per "
                          f"particle, got {average_every!r}")
-    if resume and checkpoint is None:
-        raise ValueError("resume=True needs a checkpoint path")
-    if max_wall_time is not None:
-        check_positive("max_wall_time", max_wall_time)
+    ck = Checkpointing.from_arguments(checkpoint, checkpoint_every, resume, max_wall_time)
     if cpp / nb < w:
         logger.warning("batches of %.3g collisions per particle are shorter than the "
                        "relaxation window %.3g (2/(1-alpha^2) for hard rods): consecutive "
@@ -229,9 +227,8 @@ def _common(n_particles: int, collisions_per_particle: float, relax: str | float
             "sample_every": every, "n_batches": nb, "n_samples": n_samples,
             "average_every": average_every if average_every == "auto" else float(average_every),
             "bins": _check_int("bins", bins, 1),
-            "window": max(10, int(math.ceil(w / every))), "checkpoint": checkpoint,
-            "checkpoint_every": float(checkpoint_every), "resume": bool(resume),
-            "max_wall_time": max_wall_time, "progress": bool(progress)}
+            "window": max(10, int(math.ceil(w / every))), "checkpointing": ck,
+            "progress": bool(progress)}
 
 
 def _window(gas: InelasticGas, temperature: float, friction: float = 0.0) -> float:

@@ -1,4 +1,8 @@
-"""What every particle run returns: :class:`ParticleRun`, the base of DSMC and MD results.
+"""What every particle run returns and how it is checkpointed.
+
+:class:`ParticleRun` is the base of the DSMC and MD results; :class:`Checkpointing`
+the one spelling of checkpoints, resume and the wall-time limit of both
+(``checkpoint=``, ``checkpoint_every=``, ``resume=``, ``max_wall_time=``).
 
 :class:`particles.dsmc.DSMCRun` and :class:`particles.md.MDRun` are frozen dataclasses
 deriving from it; it holds the properties they share, so that a study can treat a
@@ -10,9 +14,15 @@ DSMC and an MD run alike (``run.distribution``, ``run.a2``, ``run.a2_error``,
 
 from __future__ import annotations
 
-from kinetic_fem.distribution import RunInfo, VelocityDistribution
+from dataclasses import dataclass
+from pathlib import Path
 
-__all__ = ["ParticleRun"]
+import numpy as np
+
+from kinetic_fem.distribution import RunInfo, VelocityDistribution
+from kinetic_fem.model import check_nonnegative, check_positive
+
+__all__ = ["ParticleRun", "Checkpointing"]
 
 
 class ParticleRun:
@@ -48,3 +58,60 @@ class ParticleRun:
     def temperature(self) -> float:
         """Temperature of the run (the subclass says which: averaged or final)."""
         raise NotImplementedError
+
+
+@dataclass(frozen=True)
+class Checkpointing:
+    """Checkpoints and wall-time limit of a DSMC or MD run.
+
+    Attributes
+    ----------
+    path : Path, optional
+        Checkpoint file (``.npz`` is appended if missing); None: no checkpoints.
+    every : float
+        Write the state every ``every`` seconds of wall time (at the next stop point)
+        and at the end of the run.
+    resume : bool
+        Continue from ``path`` if it exists (bit-identical to an uninterrupted run).
+    max_wall_time : float, optional
+        Stop after this many seconds (checkpoint written; ``info.message`` says so).
+    """
+
+    path: Path | None = None
+    every: float = 300.0
+    resume: bool = False
+    max_wall_time: float | None = None
+
+    @classmethod
+    def from_arguments(cls, checkpoint: str | Path | None, checkpoint_every: float,
+                       resume: bool, max_wall_time: float | None) -> Checkpointing:
+        """Validate the public arguments of :mod:`particles.dsmc` and :mod:`particles.md`.
+
+        Parameters
+        ----------
+        checkpoint : str or Path, optional
+            Checkpoint file (``.npz`` replaces any other suffix); None: no checkpoints.
+        checkpoint_every : float
+            Seconds of wall time between checkpoints (``>= 0``).
+        resume : bool
+            Continue from ``checkpoint`` if the file exists.
+        max_wall_time : float, optional
+            Seconds after which the run stops (``> 0``).
+
+        Raises
+        ------
+        TypeError
+            If ``resume`` is not a bool (it once was a path: pass the path as
+            ``checkpoint``).
+        ValueError
+            For ``resume=True`` without a path, negative intervals or wall times.
+        """
+        if not isinstance(resume, (bool, np.bool_)):
+            raise TypeError(f"resume must be True or False (as in particles.dsmc), got "
+                            f"{resume!r}; pass the file as checkpoint=<path>, resume=True")
+        if resume and checkpoint is None:
+            raise ValueError("resume=True needs a checkpoint path")
+        every = check_nonnegative("checkpoint_every", checkpoint_every)
+        wall = None if max_wall_time is None else check_positive("max_wall_time", max_wall_time)
+        path = None if checkpoint is None else Path(checkpoint).with_suffix(".npz")
+        return cls(path, every, bool(resume), wall)
