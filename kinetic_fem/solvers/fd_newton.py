@@ -43,18 +43,54 @@ UNDERFLOW = 1e-290
 
 def update_factor(y: NDArray[np.float64]) -> NDArray[np.float64]:
     """:math:`1 + y` (the Newton step in ``P``), continued by :math:`0.1 e^{y + 0.9}` below
-    ``y = -0.9`` so that :math:`P` stays positive."""
+    ``y = -0.9`` so that :math:`P` stays positive.
+
+    Parameters
+    ----------
+    y : ndarray
+        Relative Newton step :math:`\\delta P / P`.
+
+    Returns
+    -------
+    ndarray
+        The factor applied to :math:`P`, positive.
+    """
     return np.where(y > -0.9, 1.0 + y, 0.1 * np.exp(np.clip(y, -700.0, -0.9) + 0.9))
 
 
 def laplacian(p: NDArray[np.float64], h: float) -> NDArray[np.float64]:
-    """Three-point Laplacian with :math:`P_{-1} = P_1` and :math:`P_N = 0`."""
+    """Three-point Laplacian with :math:`P_{-1} = P_1` and :math:`P_N = 0`.
+
+    Parameters
+    ----------
+    p : ndarray, shape (n,)
+        :math:`P_i` on the half grid.
+    h : float
+        Grid spacing.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+    """
     ext = np.concatenate([[p[1]], p, [0.0]])
     return (ext[2:] - 2.0 * p + ext[:-2]) / h**2
 
 
 def drift(p: NDArray[np.float64], v: NDArray[np.float64], h: float) -> NDArray[np.float64]:
     """:math:`\\partial_v (v P)` by central differences, :math:`P(-v) = P(v)`, :math:`P_N = 0`.
+
+    Parameters
+    ----------
+    p : ndarray, shape (n,)
+        :math:`P_i` on the half grid.
+    v : ndarray, shape (n,)
+        The nodes :math:`v_i = i h`.
+    h : float
+        Grid spacing.
+
+    Returns
+    -------
+    ndarray, shape (n,)
 
     Examples
     --------
@@ -72,7 +108,29 @@ def drift(p: NDArray[np.float64], v: NDArray[np.float64], h: float) -> NDArray[n
 def steady_residual(grid: HalfGrid, p: NDArray[np.float64], multiplier: float, *,
                     alpha: float, log_interp: bool = True, order: int = 2,
                     gamma: float = 1.0, friction: float = 0.0) -> NDArray[np.float64]:
-    """:math:`R_i(P, \\lambda)` of the module docstring (unit problem)."""
+    """:math:`R_i(P, \\lambda)` of the module docstring (unit problem).
+
+    Parameters
+    ----------
+    grid : HalfGrid
+        The half grid :math:`v_i = i h \\ge 0` of the unit problem.
+    p : ndarray, shape (n,)
+        :math:`P_i`.
+    multiplier : float
+        The mass-defect rate :math:`\\lambda`.
+    alpha : float
+        Coefficient of restitution.
+    log_interp : bool
+        Interpolate :math:`\\ln P` at the pre-collision velocities.
+    order : int
+        Order of that interpolation.
+    gamma, friction : float
+        Kernel exponent (1 or 0) and bath friction of the unit problem.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+    """
     nu = loss_frequency(grid, p, density=1.0, gamma=gamma)
     gain = gain_term(grid, p, alpha=alpha, density=1.0, log_interp=log_interp, order=order,
                      gamma=gamma)
@@ -86,7 +144,29 @@ def collision_jacobian(grid: HalfGrid, p: NDArray[np.float64], nu: NDArray[np.fl
                        alpha: float, log_interp: bool, order: int, gamma: float = 1.0
                        ) -> NDArray[np.float64]:
     """Dense :math:`\\partial Q_i / \\partial P_l` of the strong collision term
-    :math:`Q_i = G_i[P] - \\nu_i[P] P_i` on the half grid (unit density)."""
+    :math:`Q_i = G_i[P] - \\nu_i[P] P_i` on the half grid (unit density).
+
+    Parameters
+    ----------
+    grid : HalfGrid
+        The half grid :math:`v_i = i h \\ge 0` of the unit problem.
+    p : ndarray, shape (n,)
+        :math:`P_i`.
+    nu : ndarray, shape (n,)
+        The loss frequency :math:`\\nu_i[P]`.
+    alpha : float
+        Coefficient of restitution.
+    log_interp : bool
+        Interpolate :math:`\\ln P` at the pre-collision velocities.
+    order : int
+        Order of that interpolation.
+    gamma : float
+        Kernel exponent, 1 or 0.
+
+    Returns
+    -------
+    ndarray, shape (n, n)
+    """
     n, h = grid.n, grid.h
     idx = np.arange(n)
     power = kernel_power(gamma)

@@ -42,6 +42,17 @@ def _log_derivative(grid: HalfGrid, u: NDArray[np.float64]) -> NDArray[np.float6
 def drift_term(grid: HalfGrid, u: NDArray[np.float64]) -> NDArray[np.float64]:
     """:math:`(cf)'_i = f_i (1 + c_i u'_i)` with :math:`f = e^u` on the half grid.
 
+    Parameters
+    ----------
+    grid : HalfGrid
+        The half grid :math:`c_i = i h \\ge 0`.
+    u : ndarray, shape (n,)
+        :math:`\\ln f` on the grid.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+
     Examples
     --------
     >>> from kinetic_fem.operators.collision import half_grid
@@ -73,7 +84,27 @@ def _drift_jacobian(grid: HalfGrid, u: NDArray[np.float64]) -> NDArray[np.float6
 def hcs_residual(grid: HalfGrid, u: NDArray[np.float64], zeta: float, multiplier: float, *,
                  alpha: float, order: int = 3) -> NDArray[np.float64]:
     """:math:`R_i(u, \\zeta, \\lambda)` of the module docstring; the last row is the
-    closure :math:`u_{n-1} - 2u_{n-2} + u_{n-3} = 0` at the cut-off."""
+    closure :math:`u_{n-1} - 2u_{n-2} + u_{n-3} = 0` at the cut-off.
+
+    Parameters
+    ----------
+    grid : HalfGrid
+        The half grid :math:`c_i = i h \\ge 0` (unit temperature).
+    u : ndarray, shape (n,)
+        :math:`\\ln f`.
+    zeta : float
+        Cooling rate.
+    multiplier : float
+        Mass-defect rate :math:`\\lambda`.
+    alpha : float
+        Coefficient of restitution.
+    order : int
+        Order of the interpolation of :math:`\\ln f` at pre-collision velocities.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+    """
     f = np.exp(u)
     q = (gain_term(grid, f, alpha=alpha, density=1.0, order=order)
          - loss_frequency(grid, f, density=1.0) * f)
