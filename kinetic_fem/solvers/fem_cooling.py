@@ -56,55 +56,51 @@ own speed scale, so the state changes as the gas cools); such problems are refus
 
 from __future__ import annotations
 
+import functools
 import logging
 import math
-import time
 from dataclasses import replace
 
 import numpy as np
 from numpy.typing import NDArray
-from skfem import LinearForm, asm
 
 from ..distribution import VelocityDistribution
 from ..model import CoolingProblem, UnsupportedModelError, check_positive
+from ..operators.adaptive import hump_vertices
 from ..solve import register_solver
 from .fem import (
     ELEMENTS,
     ConvergenceError,
-    EquilibratedLU,
     FEMDiscretisation,
-    bath_drift,
-    bath_drift_jacobian,
-    log_update,
-    mass,
-    newton_info,
-    stalled,
-    weighted_mass,
 )
+from .fem_cooling_mesh import (
+    MAXWELL_CUTOFF,
+    hcs_cutoff,
+    hcs_spacing,
+    hcs_vertices,
+    initial_log_f,
+)
+from .fem_cooling_newton import CoolingState, newton_cooling
 
-__all__ = ["solve_fem_cooling", "cooling_state", "CoolingState", "hcs_cutoff", "hcs_spacing",
-           "hcs_vertices", "maxwell_hcs", "initial_log_f", "newton_cooling",
+__all__ = ["solve_fem_cooling", "cooling_state", "CoolingState", "continued_state",
+           "hump_chain", "uses_hump_mesh", "HUMP_EPS", "HUMP_RESOLUTION", "hcs_cutoff",
+           "hcs_spacing", "hcs_vertices", "maxwell_hcs", "initial_log_f", "newton_cooling",
            "MAXWELL_CUTOFF"]
 
 logger = logging.getLogger(__name__)
 
-MAXWELL_CUTOFF = 1e8
-"""Cut-off of the Maxwell-model mesh: the energy beyond, 4/(pi V), is 1e-8."""
-DECADES = 33.0
-CONTINUATION_EPS = 0.01
-"""Below this inelasticity the state is reached by continuation (steps of CONTINUATION_RATIO)."""
-CONTINUATION_RATIO = 2.0
+HUMP_EPS = 0.1
+"""Below this inelasticity (hard rods) the state is reached by continuation in eps on
+meshes that follow the humps (:func:`kinetic_fem.operators.adaptive.hump_vertices`)."""
+HUMP_RATIO = 2.0
+"""Largest ratio of successive inelasticities of the continuation."""
+HUMP_RESOLUTION = 0.04
+"""Default element size in the humps, in hump widths eps^(1/3) (convergence study in
+``benchmarks/convergence_fem_cooling.py``)."""
 STRONG_ALPHA = 0.5
 """Below this alpha (long exponential tails, far from the Gaussian start) the state is
 reached by continuation in alpha from here, in steps of at most STRONG_STEP."""
 STRONG_STEP = 0.125
-PSEUDO_TIME_STEP = 1.0
-"""First pseudo-time step of the globalised Newton iteration (scaled collision times)."""
-INCREASE_LIMIT = 2.0
-"""Largest increase of ln f in one Newton step (unbounded increases of the tail, where
-the starting guess is many decades off, make the iteration diverge)."""
-
-
 def maxwell_hcs(c: NDArray[np.float64]) -> NDArray[np.float64]:
     """:math:`f(c) = 2/(\\pi(1+c^2)^2)`, the Maxwell-model HCS at unit temperature.
 
@@ -118,204 +114,104 @@ def maxwell_hcs(c: NDArray[np.float64]) -> NDArray[np.float64]:
     return 2.0 / (math.pi * (1.0 + c * c) ** 2)
 
 
-@LinearForm
-def second_moment(v, w):
-    """:math:`\\int c^2 \\varphi_i e^{u}` (the gradient of the temperature)."""
-    return w.x[0] ** 2 * np.exp(w.u) * v
-
-
-def hcs_cutoff(problem: CoolingProblem) -> float:
-    """Cut-off :math:`V` (thermal velocities) of the HCS mesh.
-
-    The tail :math:`\\zeta c f' \\approx -c^\\gamma f` gives
-    :math:`\\ln f \\approx -c^\\gamma/(\\gamma\\zeta)`; :math:`V` is where that reaches 33
-    decades, at least the outer edge :math:`1 + 12\\varepsilon^{1/3}` of the near-elastic
-    humps and 12 (a Gaussian's 1e-33), plus 1.5; :data:`MAXWELL_CUTOFF` for the Maxwell
-    model's power law.
-    """
-    gamma = problem.gas.gamma
-    if gamma == 0.0:
-        return MAXWELL_CUTOFF
-    zeta = problem.zeta_estimate()
-    eps = problem.gas.epsilon
-    tail = (DECADES * math.log(10.0) * gamma * zeta) ** (1.0 / gamma)
-    return min(max(tail, 1.0 + 12.0 * eps ** (1.0 / 3.0), 12.0) + 1.5, MAXWELL_CUTOFF)
-
-
-def hcs_spacing(problem: CoolingProblem) -> float:
-    """Bulk P2 element size: :math:`\\min(0.05, \\varepsilon^{1/3}/10)` (0.02 for the
-    Maxwell model), from ``benchmarks/convergence_fem_cooling.py`` (alpha = 0.85:
-    zeta 1.8e-9, a2 8e-9 at 0.05; 3.1e-8, 1.4e-7 at 0.1; fourth order)."""
-    if problem.gas.gamma == 0.0:
-        return 0.02
-    return min(0.05, problem.gas.epsilon ** (1.0 / 3.0) / 10.0)
-
-
-def hcs_vertices(c_max: float, spacing: float, *, gamma: float,
-                 bulk: float = 3.0) -> NDArray[np.float64]:
-    """Symmetric HCS vertices: uniform ``spacing`` up to ``bulk``, then graded.
-
-    Element size :math:`h(c) = h_0 \\max(1, c/c_b)^{\\kappa}` with
-    :math:`\\kappa = (3 - \\gamma)/3` (P2 error :math:`h^3 (\\ln f)'''` constant in the
-    tail :math:`\\ln f \\sim -c^\\gamma`); for the Maxwell model a geometric mesh, ratio
-    :math:`1 + h_0/2` up to :math:`c = 30` and 1.1 beyond (the far tail only feeds mass
-    and energy back to the bulk).
-
-    Examples
-    --------
-    >>> v = hcs_vertices(20.0, 0.1, gamma=1.0)
-    >>> bool(v[0] == -20.0 and v[-1] == 20.0 and np.all(np.diff(v) > 0))
-    True
-    """
-    half = [0.0]
-    c = 0.0
-    kappa = (3.0 - gamma) / 3.0
-    while c < c_max:
-        if gamma == 0.0:
-            h = max(spacing, 0.5 * spacing * c if c < 30.0 else 0.1 * c)
-        else:
-            h = spacing * max(1.0, c / bulk) ** kappa
-        c = c + h
-        half.append(c)
-    half = np.array(half)
-    if half[-1] - c_max > 0.5 * (half[-1] - half[-2]):
-        half = half[:-1]
-    half[-1] = c_max
-    return np.concatenate([-half[:0:-1], half])
-
-
-def initial_log_f(c: NDArray, gamma: float, zeta: float) -> NDArray:
-    """A starting :math:`\\ln f`: Gaussian bulk continued by the tail
-    :math:`-c^\\gamma/(\\gamma\\zeta)` matched in value and slope (a :math:`c^{-4}` power
-    law for the Maxwell model); normalised on a fine grid."""
-    c = np.abs(np.asarray(c, dtype=float))
-    fine = np.concatenate([np.linspace(0.0, 20.0, 20001)[:-1],
-                           np.geomspace(20.0, max(float(c.max()), 21.0), 4000)])
-    if gamma == 0.0:
-        log_f = -2.0 * np.log1p(0.5 * fine**2)  # a c^-4 law at temperature 2
-    elif gamma >= 2.0:
-        log_f = -0.5 * fine**2
-    else:
-        # the tangent continuation: slopes -c and -c^(gamma-1)/zeta meet at c0
-        c0 = zeta ** (-1.0 / (2.0 - gamma))
-        log_f = np.where(fine < c0, -0.5 * fine**2,
-                         -0.5 * c0**2 - (fine**gamma - c0**gamma) / (gamma * zeta))
-    vals = np.exp(log_f)
-    norm = 2.0 * float(np.sum(0.5 * (vals[1:] + vals[:-1]) * np.diff(fine)))
-    return np.interp(c, fine, log_f) - math.log(norm)
-
-
-class CoolingState:
-    """A converged HCS: discretisation, ``u_h = ln f_h``, ``zeta`` and run info."""
-
-    def __init__(self, disc: FEMDiscretisation, u: NDArray, zeta: float, info) -> None:
-        self.disc = disc
-        self.u = u
-        self.zeta = zeta
-        self.info = info
-
-    def energy_identity(self) -> float:
-        """:math:`\\tfrac18\\langle(1-\\alpha^2)|g|^{\\gamma+2}\\rangle` by the pair rule."""
-        return 0.5 * self.disc.energy_loss(self.u)
-
-    def log_f(self, c: NDArray) -> NDArray:
-        """:math:`\\ln f_h` at ``c`` (clipped to the mesh; linear continuation beyond)."""
-        verts = self.disc.vertices
-        edge = 0.999 * verts[-1]
-        c = np.asarray(c, dtype=float)
-        c_in = np.clip(c, -edge, edge)
-        order = np.argsort(c_in)
-        out = np.empty_like(c)
-        out[order] = np.log(self.disc.evaluate(self.u, c_in[order]))
-        ends = np.log(self.disc.evaluate(self.u, np.array([0.97, 1.0]) * edge))
-        slope = min((ends[1] - ends[0]) / (0.03 * edge), 0.0)
-        return out + slope * (np.abs(c) - np.abs(c_in))
-
-
-def newton_cooling(disc: FEMDiscretisation, u0: NDArray, zeta0: float, *, tol: float = 1e-11,
-                   max_iter: int = 40, step_limit: float = 10.0) -> CoolingState:
-    """Newton's method for :math:`(u_h, \\zeta)` with unit mass and temperature."""
-    start = time.perf_counter()
-    sym = disc.symmetry
-    basis = disc.basis
-    red_x = np.zeros(sym.shape[1])
-    red_x[sym.indices] = np.abs(disc.dof_locations)
-    row0 = int(np.argmin(red_x))
-    n_red = sym.shape[1]
-    edges = np.array([np.argmin(disc.dof_locations), np.argmax(disc.dof_locations)])
-
-    def system(u_red: NDArray, zeta: float, jacobian: bool = True
-               ) -> tuple[NDArray, NDArray | None]:
-        u = sym @ u_red
-        field = disc.field(u)
-        coll, cjac, _ = disc.collision(u, jacobian=jacobian)
-        outflow = np.zeros(u.size)
-        outflow[edges] = np.abs(disc.dof_locations[edges]) * np.exp(u[edges])
-        drift = asm(bath_drift, basis, u=field) - outflow
-        grad_mass = asm(mass, basis, u=field)
-        grad_temp = asm(second_moment, basis, u=field)
-        r = np.empty(n_red + 1)
-        r[:n_red] = sym.T @ (coll + zeta * drift)
-        r[row0] = grad_mass.sum() - 1.0
-        r[n_red] = grad_temp.sum() - 1.0
-        if not jacobian:
-            return r, None
-        djac = asm(bath_drift_jacobian, basis, u=field).toarray()
-        djac[edges, edges] -= outflow[edges]
-        j = np.zeros((n_red + 1, n_red + 1))
-        j[:n_red, :n_red] = sym.T @ (sym.T @ (cjac + zeta * djac).T).T
-        j[:n_red, n_red] = sym.T @ drift
-        j[row0, :n_red] = sym.T @ grad_mass
-        j[row0, n_red] = 0.0
-        j[n_red, :n_red] = sym.T @ grad_temp
-        return r, j
-
-    def size(delta: NDArray, zeta: float) -> float:
-        return max(float(np.abs(delta[:n_red]).max()), abs(delta[n_red]) / max(abs(zeta), 1e-3))
-
-    def trial(u_red: NDArray, zeta: float, delta: NDArray, lam: float) -> tuple[NDArray, float]:
-        update = np.minimum(log_update(lam * delta[:n_red], step_limit), INCREASE_LIMIT)
-        return u_red + update, zeta + lam * delta[n_red]
-
-    u_red = (sym.T @ u0) / np.asarray(sym.sum(axis=0)).ravel()
-    zeta = zeta0
-    history: list[float] = []
-    dtau = PSEUDO_TIME_STEP
-    for it in range(1, max_iter + 1):
-        r, j = system(u_red, zeta)
-        if dtau < np.inf:
-            # pseudo-transient continuation: implicit Euler in the scaled time of
-            # d f/d tau = Q[f] - zeta (c f)', whose attractor is the HCS; the step grows
-            # geometrically and becomes Newton's method near the solution
-            weight = asm(weighted_mass, basis, u=disc.field(sym @ u_red)).toarray()
-            damp = sym.T @ (sym.T @ weight.T).T / dtau
-            damp[row0] = 0.0
-            j[:n_red, :n_red] -= damp
-        delta = EquilibratedLU(j).solve(-r)
-        step = size(delta, zeta)
-        history.append(step)
-        logger.debug("HCS newton %d: max|du| = %.3e, zeta = %.15g, dtau = %.3g", it, step,
-                     zeta, dtau)
-        if not np.isfinite(step):
-            break
-        u_red, zeta = trial(u_red, zeta, delta, 1.0)
-        if dtau == np.inf and (step < tol or stalled(history)):
-            break
-        # switched evolution relaxation: grow the step while the updates shrink
-        ratio = history[-2] / step if len(history) > 1 else 2.0
-        dtau = np.inf if step < 1e-2 else dtau * min(max(ratio, 0.5), 3.0)
-    return CoolingState(disc, sym @ u_red, zeta, newton_info(history, tol, it, start))
-
-
 def _discretisation(problem: CoolingProblem, vertices: NDArray, order: int,
                     intorder: int | None) -> FEMDiscretisation:
     return FEMDiscretisation(problem.gas.alpha, vertices, order, intorder or 2 * order + 1,
                              gamma=problem.gas.gamma)
 
 
+def uses_hump_mesh(problem: CoolingProblem) -> bool:
+    """Hard rods below :data:`HUMP_EPS`: the default mesh follows the humps."""
+    return problem.gas.gamma == 1.0 and problem.gas.epsilon < HUMP_EPS * (1.0 - 1e-12)
+
+
+def hump_chain(eps: float) -> list[float]:
+    """Inelasticities of the continuation from :data:`HUMP_EPS` down to ``eps``: steps of
+    at most :data:`HUMP_RATIO`, equal on a log scale, ending exactly at ``eps``.
+
+    Examples
+    --------
+    >>> [round(e, 6) for e in hump_chain(1e-3)]
+    [0.05, 0.025, 0.0125, 0.00625, 0.003125, 0.001]
+    """
+    n = max(1, math.ceil(math.log(HUMP_EPS / eps) / math.log(HUMP_RATIO) - 1e-9))
+    chain = [HUMP_EPS / HUMP_RATIO**k for k in range(1, n)]
+    return [*chain, eps]
+
+
+@functools.lru_cache(maxsize=4)
+def _hump_start(order: int, intorder: int | None) -> CoolingState:
+    """The state at :data:`HUMP_EPS` from the Gaussian start (cached: it starts every chain)."""
+    problem = CoolingProblem.from_parameters(1.0 - HUMP_EPS)
+    return cooling_state(problem, order=order, intorder=intorder, tol=1e-9, spacing=0.1,
+                         cutoff=12.0)
+
+
+def continued_state(prev: CoolingState, eps_prev: float, eps: float, *,
+                    resolution: float = HUMP_RESOLUTION, order: int = 2,
+                    intorder: int | None = None, tol: float = 1e-11,
+                    max_iter: int = 100) -> CoolingState:
+    """One continuation step: the hard-rod HCS at ``eps`` from ``prev`` at ``eps_prev``.
+
+    Parameters
+    ----------
+    prev : CoolingState
+        A converged state at ``eps_prev``.
+    eps_prev, eps : float
+        Inelasticities :math:`1 - \\alpha` of ``prev`` and of the new state.
+    resolution : float
+        Element size in the humps, in hump widths :math:`\\varepsilon^{1/3}`.
+    order : int
+        Lagrange degree.
+    intorder : int, optional
+        Gauss degree; default ``2 * order + 1``.
+    tol : float
+        Newton tolerance (step of :math:`\\ln f` and relative step of :math:`\\zeta`).
+    max_iter : int
+        Newton iteration limit.
+
+    Returns
+    -------
+    CoolingState
+        Converged or not (``info.converged``); the caller decides.
+    """
+    alpha = 1.0 - eps
+    zeta0 = prev.zeta * (1.0 - alpha**2) / (1.0 - (1.0 - eps_prev) ** 2)
+    verts = hump_vertices(eps, zeta0, resolution=resolution)
+    disc = _discretisation(CoolingProblem.from_parameters(alpha), verts, order, intorder)
+    u0 = prev.rescaled_log_f(eps_prev, eps, disc.dof_locations)
+    state = newton_cooling(disc, u0, zeta0, tol=tol, max_iter=max_iter, pseudo_time=np.inf)
+    logger.info("HCS continuation eps = %.3g: %d dofs, %d Newton steps, zeta/eps = %.12g",
+                eps, state.u.size, state.info.iterations, state.zeta / eps)
+    return state
+
+
+def _hump_state(problem: CoolingProblem, *, order: int, intorder: int | None, tol: float,
+                max_iter: int, resolution: float) -> CoolingState:
+    """Continuation in eps on meshes that follow the humps (module notes)."""
+    eps = problem.gas.epsilon
+    prev, eps_prev = _hump_start(order, intorder), HUMP_EPS
+    for step in hump_chain(eps):
+        final = step == eps
+        res = resolution if final else min(resolution, HUMP_RESOLUTION)
+        state = continued_state(prev, eps_prev, step, resolution=res, order=order,
+                                intorder=intorder, tol=tol if final else 1e-8,
+                                max_iter=max_iter)
+        if not state.info.converged:
+            raise ConvergenceError(
+                f"FEM cooling Newton did not converge at eps = {step:.3g} on the way to "
+                f"alpha = {problem.gas.alpha} (hump mesh of {state.disc.vertices.size - 1} "
+                f"elements, {res:g} hump widths eps^(1/3) = {step ** (1 / 3):.3g}; "
+                f"{state.info.message}): the mesh does not resolve the humps; pass a "
+                f"smaller resolution (e.g. resolution={res / 2:g})")
+        prev, eps_prev = state, step
+    return prev
+
+
 def cooling_state(problem: CoolingProblem, *, order: int = 2, spacing: float | None = None,
                   cutoff: float | None = None, vertices=None, intorder: int | None = None,
-                  tol: float = 1e-11, max_iter: int = 100) -> CoolingState:
+                  tol: float = 1e-11, max_iter: int = 100,
+                  resolution: float | None = None) -> CoolingState:
     """The HCS by Newton's method (see :func:`solve_fem_cooling` for the options)."""
     if problem.gas.restitution.constant is None:
         raise UnsupportedModelError(
@@ -325,6 +221,17 @@ def cooling_state(problem: CoolingProblem, *, order: int = 2, spacing: float | N
             "use particles.dsmc.simulate_cooling for the transient")
     if order not in ELEMENTS:
         raise ValueError(f"order must be one of {sorted(ELEMENTS)}, got {order!r}")
+    if resolution is not None:
+        resolution = check_positive("resolution", resolution)
+    if uses_hump_mesh(problem) and vertices is None and spacing is None and cutoff is None:
+        return _hump_state(problem, order=order, intorder=intorder, tol=tol,
+                           max_iter=max_iter,
+                           resolution=HUMP_RESOLUTION if resolution is None else resolution)
+    if resolution is not None:
+        raise ValueError(f"resolution is the element size of the near-elastic hump mesh "
+                         f"(hard rods, eps < {HUMP_EPS}, no spacing/cutoff/vertices), not "
+                         f"used at eps = {problem.gas.epsilon:g}, gamma = {problem.gas.gamma:g};"
+                         " pass spacing instead")
     spacing = hcs_spacing(problem) if spacing is None else check_positive("spacing", spacing)
     if vertices is None:
         c_max = hcs_cutoff(problem) if cutoff is None else check_positive("cutoff", cutoff)
@@ -336,18 +243,9 @@ def cooling_state(problem: CoolingProblem, *, order: int = 2, spacing: float | N
                 or not np.any(verts == 0.0):
             raise ValueError("vertices must be symmetric about 0 and include c = 0")
     disc = _discretisation(problem, verts, order, intorder)
-    eps = problem.gas.epsilon
     zeta0 = problem.zeta_estimate()
     u0 = initial_log_f(disc.dof_locations, problem.gas.gamma, zeta0)
-    if eps < CONTINUATION_EPS * (1.0 - 1e-9):
-        eps_prev = min(CONTINUATION_EPS, CONTINUATION_RATIO * eps)
-        coarse_problem = CoolingProblem.from_parameters(1.0 - eps_prev,
-                                                        kernel=problem.gas.kernel)
-        coarse = cooling_state(coarse_problem, order=order, tol=1e-7, max_iter=max_iter,
-                               spacing=2.0 * hcs_spacing(coarse_problem))
-        u0 = coarse.log_f(disc.dof_locations)
-        zeta0 = coarse.zeta * (1.0 - (1.0 - eps) ** 2) / (1.0 - (1.0 - eps_prev) ** 2)
-    elif problem.gas.alpha < STRONG_ALPHA and problem.gas.gamma > 0.0:
+    if problem.gas.alpha < STRONG_ALPHA and problem.gas.gamma > 0.0:
         n_steps = math.ceil((STRONG_ALPHA - problem.gas.alpha) / STRONG_STEP - 1e-9)
         alpha_prev = problem.gas.alpha + (STRONG_ALPHA - problem.gas.alpha) / n_steps
         coarse_problem = CoolingProblem.from_parameters(alpha_prev, kernel=problem.gas.kernel)
@@ -368,7 +266,8 @@ def cooling_state(problem: CoolingProblem, *, order: int = 2, spacing: float | N
 def solve_fem_cooling(problem: CoolingProblem, *, order: int = 2,
                       spacing: float | None = None, cutoff: float | None = None,
                       vertices=None, intorder: int | None = None, tol: float = 1e-11,
-                      max_iter: int = 100) -> VelocityDistribution:
+                      max_iter: int = 100, resolution: float | None = None
+                      ) -> VelocityDistribution:
     """Homogeneous cooling state by Galerkin FEM and Newton's method.
 
     Parameters
@@ -390,6 +289,11 @@ def solve_fem_cooling(problem: CoolingProblem, *, order: int = 2,
         :math:`\\zeta`) is below ``tol``, or when it stalls at round-off.
     max_iter : int
         Newton iteration limit.
+    resolution : float, optional
+        Near elastic collisions (hard rods, :math:`\\varepsilon <` :data:`HUMP_EPS`, no
+        ``spacing``, ``cutoff`` or ``vertices``): element size in the humps, in hump
+        widths :math:`\\varepsilon^{1/3}`; default :data:`HUMP_RESOLUTION`.  The state
+        is then reached by continuation in :math:`\\varepsilon` from :data:`HUMP_EPS`.
 
     Returns
     -------
@@ -407,7 +311,8 @@ def solve_fem_cooling(problem: CoolingProblem, *, order: int = 2,
         If Newton's method does not converge.
     """
     state = cooling_state(problem, order=order, spacing=spacing, cutoff=cutoff,
-                          vertices=vertices, intorder=intorder, tol=tol, max_iter=max_iter)
+                          vertices=vertices, intorder=intorder, tol=tol, max_iter=max_iter,
+                          resolution=resolution)
     info = replace(state.info, extra={"zeta": float(state.zeta),
                                       "zeta_identity": float(state.energy_identity()),
                                       "n_dofs": int(state.u.size), "order": order,

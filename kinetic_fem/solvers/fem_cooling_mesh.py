@@ -1,0 +1,110 @@
+"""Default meshes and starting guesses of the FEM homogeneous cooling state.
+
+The scaled cooling state :math:`f(c)` (unit temperature) of
+:mod:`kinetic_fem.solvers.fem_cooling` is resolved on a symmetric mesh: uniform P2
+elements in the bulk, graded in the tail :math:`\\ln f \\simeq -c^\\gamma/(\\gamma\\zeta)`
+out to the cut-off where it has fallen 33 decades (:func:`hcs_vertices`); the inelastic
+Maxwell model's :math:`c^{-4}` tail on a geometric mesh out to :data:`MAXWELL_CUTOFF`.
+Near elastic collisions the meshes of :mod:`kinetic_fem.operators.adaptive` follow the
+two humps instead.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..model import CoolingProblem
+
+__all__ = ["hcs_cutoff", "hcs_spacing", "hcs_vertices", "initial_log_f", "MAXWELL_CUTOFF",
+           "DECADES"]
+
+MAXWELL_CUTOFF = 1e8
+"""Cut-off of the Maxwell-model mesh: the energy beyond, 4/(pi V), is 1e-8."""
+DECADES = 33.0
+"""The default cut-off is where the tail estimate has fallen this many decades."""
+
+
+def hcs_cutoff(problem: CoolingProblem) -> float:
+    """Cut-off :math:`V` (thermal velocities) of the HCS mesh.
+
+    The tail :math:`\\zeta c f' \\approx -c^\\gamma f` gives
+    :math:`\\ln f \\approx -c^\\gamma/(\\gamma\\zeta)`; :math:`V` is where that reaches 33
+    decades, at least the outer edge :math:`1 + 12\\varepsilon^{1/3}` of the near-elastic
+    humps and 12 (a Gaussian's 1e-33), plus 1.5; :data:`MAXWELL_CUTOFF` for the Maxwell
+    model's power law.
+    """
+    gamma = problem.gas.gamma
+    if gamma == 0.0:
+        return MAXWELL_CUTOFF
+    zeta = problem.zeta_estimate()
+    eps = problem.gas.epsilon
+    tail = (DECADES * math.log(10.0) * gamma * zeta) ** (1.0 / gamma)
+    return min(max(tail, 1.0 + 12.0 * eps ** (1.0 / 3.0), 12.0) + 1.5, MAXWELL_CUTOFF)
+
+
+def hcs_spacing(problem: CoolingProblem) -> float:
+    """Bulk P2 element size: :math:`\\min(0.05, \\varepsilon^{1/3}/10)` (0.02 for the
+    Maxwell model), from ``benchmarks/convergence_fem_cooling.py`` (alpha = 0.85:
+    zeta 1.8e-9, a2 8e-9 at 0.05; 3.1e-8, 1.4e-7 at 0.1; fourth order)."""
+    if problem.gas.gamma == 0.0:
+        return 0.02
+    return min(0.05, problem.gas.epsilon ** (1.0 / 3.0) / 10.0)
+
+
+def hcs_vertices(c_max: float, spacing: float, *, gamma: float,
+                 bulk: float = 3.0) -> NDArray[np.float64]:
+    """Symmetric HCS vertices: uniform ``spacing`` up to ``bulk``, then graded.
+
+    Element size :math:`h(c) = h_0 \\max(1, c/c_b)^{\\kappa}` with
+    :math:`\\kappa = (3 - \\gamma)/3` (P2 error :math:`h^3 (\\ln f)'''` constant in the
+    tail :math:`\\ln f \\sim -c^\\gamma`); for the Maxwell model a geometric mesh, ratio
+    :math:`1 + h_0/2` up to :math:`c = 30` and 1.1 beyond (the far tail only feeds mass
+    and energy back to the bulk).
+
+    Examples
+    --------
+    >>> v = hcs_vertices(20.0, 0.1, gamma=1.0)
+    >>> bool(v[0] == -20.0 and v[-1] == 20.0 and np.all(np.diff(v) > 0))
+    True
+    """
+    half = [0.0]
+    c = 0.0
+    kappa = (3.0 - gamma) / 3.0
+    while c < c_max:
+        if gamma == 0.0:
+            h = max(spacing, 0.5 * spacing * c if c < 30.0 else 0.1 * c)
+        else:
+            h = spacing * max(1.0, c / bulk) ** kappa
+        c = c + h
+        half.append(c)
+    half = np.array(half)
+    if half[-1] - c_max > 0.5 * (half[-1] - half[-2]):
+        half = half[:-1]
+    half[-1] = c_max
+    return np.concatenate([-half[:0:-1], half])
+
+
+def initial_log_f(c: NDArray, gamma: float, zeta: float) -> NDArray:
+    """A starting :math:`\\ln f`: Gaussian bulk continued by the tail
+    :math:`-c^\\gamma/(\\gamma\\zeta)` matched in value and slope (a :math:`c^{-4}` power
+    law for the Maxwell model); normalised on a fine grid."""
+    c = np.abs(np.asarray(c, dtype=float))
+    fine = np.concatenate([np.linspace(0.0, 20.0, 20001)[:-1],
+                           np.geomspace(20.0, max(float(c.max()), 21.0), 4000)])
+    if gamma == 0.0:
+        log_f = -2.0 * np.log1p(0.5 * fine**2)  # a c^-4 law at temperature 2
+    elif gamma >= 2.0:
+        log_f = -0.5 * fine**2
+    else:
+        # the tangent continuation: slopes -c and -c^(gamma-1)/zeta meet at c0
+        c0 = zeta ** (-1.0 / (2.0 - gamma))
+        log_f = np.where(fine < c0, -0.5 * fine**2,
+                         -0.5 * c0**2 - (fine**gamma - c0**gamma) / (gamma * zeta))
+    vals = np.exp(log_f)
+    norm = 2.0 * float(np.sum(0.5 * (vals[1:] + vals[:-1]) * np.diff(fine)))
+    return np.interp(c, fine, log_f) - math.log(norm)
+
+

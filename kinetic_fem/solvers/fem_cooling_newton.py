@@ -1,0 +1,290 @@
+"""Newton's method for the FEM homogeneous cooling state and the converged state.
+
+The equations are those of :mod:`kinetic_fem.solvers.fem_cooling` (its module docstring
+derives them): on the even P2 dofs of :math:`u_h = \\ln f_h` and :math:`\\zeta`,
+
+.. math::
+
+    R_i = C_i[f_h] + \\zeta \\int \\varphi_i'\\, c\\, f_h \\,dc
+          - \\zeta \\big[\\varphi_i\\, c f_h\\big]_{-V}^{V} = 0 ,\\qquad
+    \\int f_h = 1,\\quad \\int c^2 f_h = 1,
+
+the first replacing the equation at :math:`c = 0`.  Two globalisations: pseudo-transient
+continuation from a Gaussian start, and Newton's method with Armijo backtracking (the
+shared :func:`kinetic_fem.solvers.newton.newton`) from a close start (continuation in
+:math:`\\varepsilon`).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+
+import numpy as np
+from numpy.typing import NDArray
+from skfem import LinearForm, asm
+
+from ..operators.adaptive import PSI_Y2, element_indicator
+from ..run_info import RunInfo
+from .fem import (
+    EquilibratedLU,
+    FEMDiscretisation,
+    bath_drift,
+    bath_drift_jacobian,
+    log_update,
+    mass,
+    newton_info,
+    stalled,
+    weighted_mass,
+)
+from .newton import newton
+
+__all__ = ["CoolingState", "newton_cooling", "second_moment", "PSEUDO_TIME_STEP",
+           "INCREASE_LIMIT", "MONITOR_LOG_F", "RESIDUAL_STALL"]
+
+logger = logging.getLogger(__name__)
+
+PSEUDO_TIME_STEP = 1.0
+"""First pseudo-time step of the globalised Newton iteration (scaled collision times)."""
+INCREASE_LIMIT = 2.0
+"""Largest increase of ln f in one Newton step (unbounded increases of the tail, where
+the starting guess is many decades off, make the iteration diverge)."""
+
+
+@LinearForm
+def second_moment(v, w):
+    """:math:`\\int c^2 \\varphi_i e^{u}` (the gradient of the temperature)."""
+    return w.x[0] ** 2 * np.exp(w.u) * v
+
+
+class CoolingState:
+    """A converged HCS: discretisation, ``u_h = ln f_h``, ``zeta`` and run info."""
+
+    def __init__(self, disc: FEMDiscretisation, u: NDArray, zeta: float, info) -> None:
+        self.disc = disc
+        self.u = u
+        self.zeta = zeta
+        self.info = info
+
+    def energy_identity(self) -> float:
+        """:math:`\\tfrac18\\langle(1-\\alpha^2)|g|^{\\gamma+2}\\rangle` by the pair rule."""
+        return 0.5 * self.disc.energy_loss(self.u)
+
+    def log_f(self, c: NDArray) -> NDArray:
+        """:math:`\\ln f_h` at ``c`` (clipped to the mesh; linear continuation beyond)."""
+        verts = self.disc.vertices
+        edge = 0.999 * verts[-1]
+        c = np.asarray(c, dtype=float)
+        c_in = np.clip(c, -edge, edge)
+        order = np.argsort(c_in)
+        out = np.empty_like(c)
+        out[order] = np.log(self.disc.evaluate(self.u, c_in[order]))
+        ends = np.log(self.disc.evaluate(self.u, np.array([0.97, 1.0]) * edge))
+        slope = min((ends[1] - ends[0]) / (0.03 * edge), 0.0)
+        return out + slope * (np.abs(c) - np.abs(c_in))
+
+
+    def indicator(self) -> NDArray:
+        """The a posteriori error estimate of :math:`\\ln f_h` per element
+        (:func:`kinetic_fem.operators.adaptive.element_indicator`; P2 only)."""
+        verts = self.disc.vertices
+        mids = 0.5 * (verts[1:] + verts[:-1])
+        u_v = np.log(self.disc.evaluate(self.u, verts))
+        u_m = np.log(self.disc.evaluate(self.u, mids))
+        return element_indicator(verts, u_v, u_m)
+
+    def rescaled_log_f(self, eps_from: float, eps_to: float, c: NDArray) -> NDArray:
+        """A starting :math:`\\ln f` at inelasticity ``eps_to`` from this state at
+        ``eps_from``, by the hump scaling :math:`f(c) \\approx [\\psi((1-c)/w) +
+        \\psi((1+c)/w)]/(2w)`, :math:`w = \\varepsilon^{1/3}`.
+
+        The right hump :math:`U(y) = \\ln(2 w f(1 - w y))` of this state is kept for
+        :math:`y \\le 1/(2w)` and continued beyond by the inner tail of :math:`\\psi`,
+        :math:`e^{-\\langle y^2\\rangle_\\psi y}` (the state's own slope there is not yet
+        asymptotic, and would be extrapolated over a range that grows as
+        :math:`\\varepsilon^{-1/3}`);
+        the other hump is added for :math:`|c| < 1/2`.
+        """
+        w_from = eps_from ** (1.0 / 3.0)
+        w_to = eps_to ** (1.0 / 3.0)
+        y_mid = 0.5 / w_from
+        slope = -PSI_Y2  # the inner tail of psi, exp(-<y^2> y)
+
+        def hump(y: NDArray) -> NDArray:
+            inner = np.minimum(y, y_mid)
+            return (self.log_f(1.0 - w_from * inner) + math.log(2.0 * w_from)
+                    + slope * (y - inner))
+
+        c = np.abs(np.asarray(c, dtype=float))
+        right = hump((1.0 - c) / w_to)
+        both = np.where(c < 0.5, np.logaddexp(right, hump((1.0 + c) / w_to)), right)
+        return both - math.log(2.0 * w_to)
+
+
+class _CoolingSystem:
+    """The residual and Jacobian of the HCS equations on the even dofs, plus ``zeta``."""
+
+    def __init__(self, disc: FEMDiscretisation) -> None:
+        self.disc = disc
+        self.sym = disc.symmetry
+        red_x = np.zeros(self.sym.shape[1])
+        red_x[self.sym.indices] = np.abs(disc.dof_locations)
+        self.row0 = int(np.argmin(red_x))
+        self.n_red = self.sym.shape[1]
+        self.edges = np.array([np.argmin(disc.dof_locations), np.argmax(disc.dof_locations)])
+
+    def __call__(self, x: NDArray, jacobian: bool = True) -> tuple[NDArray, NDArray | None]:
+        disc, sym, basis, n_red, row0 = self.disc, self.sym, self.disc.basis, self.n_red, self.row0
+        u_red, zeta = x[:n_red], float(x[n_red])
+        u = sym @ u_red
+        field = disc.field(u)
+        coll, cjac, _ = disc.collision(u, jacobian=jacobian)
+        outflow = np.zeros(u.size)
+        edges = self.edges
+        outflow[edges] = np.abs(disc.dof_locations[edges]) * np.exp(u[edges])
+        drift = asm(bath_drift, basis, u=field) - outflow
+        grad_mass = asm(mass, basis, u=field)
+        grad_temp = asm(second_moment, basis, u=field)
+        r = np.empty(n_red + 1)
+        r[:n_red] = sym.T @ (coll + zeta * drift)
+        r[row0] = grad_mass.sum() - 1.0
+        r[n_red] = grad_temp.sum() - 1.0
+        if not jacobian:
+            return r, None
+        djac = asm(bath_drift_jacobian, basis, u=field).toarray()
+        djac[edges, edges] -= outflow[edges]
+        j = np.zeros((n_red + 1, n_red + 1))
+        j[:n_red, :n_red] = sym.T @ (sym.T @ (cjac + zeta * djac).T).T
+        j[:n_red, n_red] = sym.T @ drift
+        j[row0, :n_red] = sym.T @ grad_mass
+        j[row0, n_red] = 0.0
+        j[n_red, :n_red] = sym.T @ grad_temp
+        return r, j
+
+    def row_scale(self, x: NDArray) -> NDArray:
+        """Natural size of each equation: :math:`\\int\\varphi_i f_h` (1 for the constraints)."""
+        u = self.sym @ x[:self.n_red]
+        scale = np.empty(self.n_red + 1)
+        scale[:self.n_red] = self.sym.T @ asm(mass, self.disc.basis, u=self.disc.field(u))
+        scale[self.row0] = scale[self.n_red] = 1.0
+        return np.maximum(np.abs(scale), 1e-300)
+
+    def reduce(self, u: NDArray) -> NDArray:
+        """Even dofs of a full coefficient vector (averaged over the pairs)."""
+        return (self.sym.T @ u) / np.asarray(self.sym.sum(axis=0)).ravel()
+
+
+MONITOR_LOG_F = math.log(1e-40)
+"""Newton's step is measured where :math:`f_h > 10^{-40}` (and on :math:`\\zeta`): near
+elastic collisions the far outer edge carries a near-null mode of the Jacobian (the
+drift dominates there), whose step stays above round-off at residuals of 1e-15 while
+changing nothing where the accuracy is asked (f > 1e-30)."""
+
+
+RESIDUAL_STALL = 1e-7
+"""A residual (relative to zeta) that stops decreasing below this is round-off: Newton
+reports converged with the residual it reached."""
+
+
+def _step_size(delta: NDArray, x: NDArray) -> float:
+    watched = x[:-1] > MONITOR_LOG_F
+    du = float(np.abs(delta[:-1][watched]).max()) if watched.any() else 0.0
+    return max(du, abs(delta[-1]) / max(abs(x[-1]), 1e-3))
+
+
+def newton_cooling(disc: FEMDiscretisation, u0: NDArray, zeta0: float, *, tol: float = 1e-11,
+                   max_iter: int = 40, step_limit: float = 10.0,
+                   pseudo_time: float = PSEUDO_TIME_STEP,
+                   log_steps: bool | None = None) -> CoolingState:
+    """Newton's method for :math:`(u_h, \\zeta)` with unit mass and temperature.
+
+    Parameters
+    ----------
+    disc : FEMDiscretisation
+        The discretisation (symmetric mesh).
+    u0 : ndarray, shape (n_dofs,)
+        Starting :math:`\\ln f_h`.
+    zeta0 : float
+        Starting cooling rate.
+    tol : float
+        Stop when the update of :math:`\\ln f` and the relative update of
+        :math:`\\zeta` are below ``tol`` (or stall at round-off: reported converged).
+    max_iter : int
+        Iteration limit.
+    step_limit : float
+        Largest decrease of :math:`\\ln f` in one step.
+    pseudo_time : float
+        First step of the pseudo-transient globalisation (scaled collision times), for a
+        start far from the state; ``inf``: Newton's method with Armijo backtracking on
+        the row-scaled residual (the shared :func:`kinetic_fem.solvers.newton.newton`),
+        for a start close to it (continuation); it stops when the row-scaled residual
+        (a rate) is below ``tol * zeta0``, or stalls below ``RESIDUAL_STALL * zeta0``
+        (reported converged, with the residual reached).
+    log_steps : bool, optional
+        Map the Newton step on :math:`\\ln f` to the step on :math:`f`
+        (:func:`kinetic_fem.solvers.fem.log_update`); default: with pseudo-time steps.
+
+    Returns
+    -------
+    CoolingState
+    """
+    start = time.perf_counter()
+    system = _CoolingSystem(disc)
+    n_red, row0, sym = system.n_red, system.row0, system.sym
+
+    def update(x: NDArray, delta: NDArray) -> NDArray:
+        # the pseudo-transient start: the Newton step on f (log_update); Newton from a
+        # close start: the step on ln f itself (a step below -1 on f would be cut to
+        # e^-10, which throws the outer edge of the near-elastic humps 10 e-folds down)
+        out = x.copy()
+        step = log_update(delta[:n_red], step_limit) if log_steps else \
+            np.maximum(delta[:n_red], -step_limit)
+        out[:n_red] += np.minimum(step, INCREASE_LIMIT)
+        out[n_red] += delta[n_red]
+        return out
+
+    if log_steps is None:
+        log_steps = pseudo_time < np.inf
+    x = np.append(system.reduce(u0), zeta0)
+    if pseudo_time == np.inf:
+        # the row-scaled residual is a rate; the balance it tests is zeta (c f)' = Q,
+        # so tolerances scale with zeta (round-off of Q's gain-loss cancellation ~1e-15)
+        scale = abs(zeta0)
+        res = newton(system, x, tol=tol * scale, max_iter=max_iter, criterion="residual",
+                     step_norm=_step_size, update=update, row_scale=system.row_scale,
+                     linear_solver=lambda j, b: EquilibratedLU(j).solve(b),
+                     stall_level=RESIDUAL_STALL * scale, name="FEM cooling Newton")
+        info = RunInfo(converged=res.converged, iterations=res.iterations,
+                       residual=res.residual / scale, wall_time=time.perf_counter() - start,
+                       message=f"{res.message} (residual / zeta {res.residual / scale:.1e}, "
+                               f"last step {res.step:.1e})")
+        return CoolingState(disc, sym @ res.x[:n_red], float(res.x[n_red]), info)
+    history: list[float] = []
+    dtau = pseudo_time
+    for it in range(1, max_iter + 1):
+        r, j = system(x)
+        assert j is not None
+        # pseudo-transient continuation: implicit Euler in the scaled time of
+        # d f/d tau = Q[f] - zeta (c f)', whose attractor is the HCS; the step grows
+        # geometrically and becomes Newton's method near the solution
+        if dtau < np.inf:
+            weight = asm(weighted_mass, disc.basis, u=disc.field(sym @ x[:n_red])).toarray()
+            damp = sym.T @ (sym.T @ weight.T).T / dtau
+            damp[row0] = 0.0
+            j[:n_red, :n_red] -= damp
+        delta = EquilibratedLU(j).solve(-r)
+        step = _step_size(delta, x)
+        history.append(step)
+        logger.debug("HCS newton %d: max|du| = %.3e, zeta = %.15g, dtau = %.3g", it, step,
+                     x[n_red], dtau)
+        if not np.isfinite(step):
+            break
+        x = update(x, delta)
+        if dtau == np.inf and (step < tol or stalled(history)):
+            break
+        # switched evolution relaxation: grow the step while the updates shrink
+        ratio = history[-2] / step if len(history) > 1 else 2.0
+        dtau = np.inf if step < 1e-2 else dtau * min(max(ratio, 0.5), 3.0)
+    return CoolingState(disc, sym @ x[:n_red], float(x[n_red]),
+                        newton_info(history, tol, it, start))
