@@ -211,9 +211,8 @@ def _common(n_particles: int, collisions_per_particle: float, relax: str | float
                                 and math.isfinite(relax) and relax >= 0)):
         raise ValueError(f"relax must be 'auto' or a number of collisions per particle >= 0, "
                          f"got {relax!r}")
-    if not (average_every == "auto" or (isinstance(average_every, numbers.Real)
-                                        and not isinstance(average_every, bool)
-                                        and math.isfinite(average_every) and average_every > 0)):
+    if not (average_every == "auto" or (isinstance(average_every, numbers.Real) and not
+            isinstance(average_every, bool) and 0 < average_every < math.inf)):
         raise ValueError(f"average_every must be 'auto' or a positive number of collisions per "
                          f"particle, got {average_every!r}")
     ck = Checkpointing.from_arguments(checkpoint, checkpoint_every, resume, max_wall_time)
@@ -329,14 +328,10 @@ def simulate_heated(alpha: float | RestitutionLaw, n_particles: int, *, density:
         until averaging starts.
     average_every : "auto" or float
         Collisions per particle between measurements while averaging (a multiple of
-        ``sample_every``; batches and the run length count time, not samples).
-        "auto": ``sample_every`` over the first batch, then half the integrated
-        autocorrelation time of ``a2`` measured over it (at least 50 samples in a
-        batch, else ``sample_every``; every batch keeps at least 10 samples); it is
-        reported in ``info.extra["average_every"]`` and ``["a2_correlation_time"]``.
-        Measured at N = 25000 (``sample_every=1``): about 21 collisions per particle
-        in the cooling state at alpha = 0.9, 1.3 and 2.8 in the heated state at 0.6
-        and 0.9.
+        ``sample_every``; batches and run length count time).  "auto": half the
+        correlation time of ``a2`` measured over the first batch (in
+        ``info.extra["a2_correlation_time"]``; N = 25000: ~2 heated, 10-20 cooling
+        at alpha = 0.9), see ``particles._dsmc_engine.Engine.cadence``.
     n_batches, bins, c_max : int, int, float
         Consecutive batches for error bars (each should be longer than the correlation
         time, about ``2/(1-alpha^2)`` collisions per particle near ``alpha = 1``, where
