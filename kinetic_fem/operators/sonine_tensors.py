@@ -82,6 +82,15 @@ def laplacian_coefficients(order: int) -> NDArray[np.float64]:
     From :math:`\\partial_c^2 S_q(c^2/2) = -(2q-1)S_{q-1}(c^2/2)`:
     :math:`\\kappa_q = \\sqrt{2q(2q-1)}` (:math:`\\kappa_0 = 0`), with
     :math:`f = \\Phi\\sum_p b_p e_p`.
+
+    Parameters
+    ----------
+    order : int
+        Truncation order ``P`` (coefficients ``0 .. P``).
+
+    Returns
+    -------
+    ndarray, shape (order + 1,)
     """
     q = np.arange(order + 1, dtype=float)
     return np.sqrt(2.0 * q * (2.0 * q - 1.0)).clip(0.0) * (q > 0)
@@ -92,6 +101,15 @@ def dilation_coefficients(order: int) -> NDArray[np.float64]:
 
     :math:`c\\,\\partial_c S_q = 2qS_q - (2q-1)S_{q-1}` gives
     :math:`(Lb)_q = 2q\\,b_q - \\kappa_q b_{q-1}`.
+
+    Parameters
+    ----------
+    order : int
+        Truncation order ``P`` (coefficients ``0 .. P``).
+
+    Returns
+    -------
+    ndarray, shape (order + 1, order + 1)
     """
     q = np.arange(order + 1)
     mat = np.diag(2.0 * q)
@@ -142,6 +160,17 @@ def maxwell_tensor(order: int, alpha: float) -> NDArray[np.float64]:
     round-off at any order, where the quadrature of :func:`collision_tensor` loses
     the small entries relative to the fast-growing coefficients of the Maxwell state.
 
+    Parameters
+    ----------
+    order : int
+        Truncation order ``P`` (coefficients ``0 .. P``).
+    alpha : float
+        Coefficient of restitution.
+
+    Returns
+    -------
+    ndarray, shape (order + 1, order + 1, order + 1)
+
     Examples
     --------
     >>> t = maxwell_tensor(2, 0.5)
@@ -169,6 +198,15 @@ def collision_tensor(order: int, alpha: float, gamma: float) -> NDArray[np.float
     Tensors are cached per ``(alpha, gamma)`` at the highest order computed; lower
     orders are its leading blocks (the basis does not depend on the order).  For
     ``gamma = 0`` the closed form :func:`maxwell_tensor` is used.
+
+    Parameters
+    ----------
+    order : int
+        Truncation order ``P`` (coefficients ``0 .. P``).
+    alpha : float
+        Coefficient of restitution.
+    gamma : float
+        Kernel exponent, ``0 <= gamma <= 2``.
 
     Returns
     -------

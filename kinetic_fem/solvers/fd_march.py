@@ -38,7 +38,23 @@ F_FLOOR = 1e-30
 
 @dataclass(frozen=True)
 class MarchResult:
-    """End state of :func:`march` (unit problem ``n = D = 1``)."""
+    """End state of :func:`march` (unit problem ``n = D = 1``).
+
+    Parameters
+    ----------
+    p : ndarray, shape (n,)
+        :math:`P_i` on the half grid at the end.
+    time : float
+        Time marched.
+    steps : int
+        Time steps taken.
+    rate : float
+        :math:`\\tau\\max|\\partial_t \\ln P|` at the end (the stopping measure).
+    converged : bool
+        The rate fell below the tolerance.
+    series : dict of str to ndarray
+        Time series ``t``, ``temperature``, ``a2``, ``rate`` recorded every ``record_dt``.
+    """
 
     p: NDArray[np.float64]
     time: float
@@ -49,7 +65,19 @@ class MarchResult:
 
 
 def even_moments(grid: HalfGrid, p: NDArray[np.float64]) -> tuple[float, float]:
-    """Temperature and a2 of the even distribution ``p`` (normalised)."""
+    """Temperature and a2 of the even distribution ``p`` (normalised).
+
+    Parameters
+    ----------
+    grid : HalfGrid
+        The half grid.
+    p : ndarray, shape (n,)
+        :math:`P_i` on it (any normalisation).
+
+    Returns
+    -------
+    temperature, a2 : float
+    """
     m = moments(grid.v, p, grid.half_weights, 4)
     temperature = m[2] / m[0]
     return temperature, m[4] / m[0] / (3.0 * temperature**2) - 1.0

@@ -29,6 +29,17 @@ def extrapolate_log(coarse: NDArray[np.float64], fine: NDArray[np.float64], weig
                     ) -> NDArray[np.float64]:
     """:math:`\\exp[(w \\ln P_{fine} - \\ln P_{coarse})/(w - 1)]` (fine values where either is 0).
 
+    Parameters
+    ----------
+    coarse, fine : ndarray, shape (n,)
+        Positive (or zero) values at the same nodes from the coarse and the fine grid.
+    weight : float
+        :math:`w = 2^p` for a method of order ``p`` and a spacing ratio of 2.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+
     Examples
     --------
     >>> extrapolate_log(np.array([np.e, 0.0]), np.array([1.0, 2.0]), 4.0)
@@ -68,6 +79,17 @@ def richardson_log(values: Sequence[NDArray[np.float64]]
 
 def richardson_scalar(values: Sequence[float]) -> tuple[float, float]:
     """:func:`richardson_log` for a scalar, extrapolated linearly (not in its log).
+
+    Parameters
+    ----------
+    values : sequence of float
+        The quantity on grids of spacing ``h``, ``h/2`` (and ``h/4``).
+
+    Returns
+    -------
+    best, previous : float
+        The extrapolation from all grids and the next best one (its difference is an
+        error estimate).
 
     Examples
     --------
