@@ -97,6 +97,10 @@ HUMP_RATIO = 2.0
 HUMP_RESOLUTION = 0.04
 """Default element size in the humps, in hump widths eps^(1/3) (convergence study in
 ``benchmarks/convergence_fem_cooling.py``)."""
+HUMP_STEP_RESOLUTION = 0.07
+"""Element size (hump widths) of the intermediate states of the continuation."""
+HUMP_STEP_TOL = 1e-7
+"""Newton tolerance of the intermediate states (they only start the next step)."""
 STRONG_ALPHA = 0.5
 """Below this alpha (long exponential tails, far from the Gaussian start) the state is
 reached by continuation in alpha from here, in steps of at most STRONG_STEP."""
@@ -193,9 +197,9 @@ def _hump_state(problem: CoolingProblem, *, order: int, intorder: int | None, to
     prev, eps_prev = _hump_start(order, intorder), HUMP_EPS
     for step in hump_chain(eps):
         final = step == eps
-        res = resolution if final else min(resolution, HUMP_RESOLUTION)
+        res = resolution if final else max(resolution, HUMP_STEP_RESOLUTION)
         state = continued_state(prev, eps_prev, step, resolution=res, order=order,
-                                intorder=intorder, tol=tol if final else 1e-8,
+                                intorder=intorder, tol=tol if final else HUMP_STEP_TOL,
                                 max_iter=max_iter)
         if not state.info.converged:
             raise ConvergenceError(

@@ -89,3 +89,40 @@ def test_maxwell_hcs_closed_form():
         c = np.linspace(0.0, 10.0, 1001)
         f = np.exp(state.log_f(c))
         assert np.abs(f / fem_cooling.maxwell_hcs(c) - 1).max() < 3e-4
+
+
+@pytest.fixture(scope="module")
+def hcs_095() -> kf.VelocityDistribution:
+    return kf.solve_cooling(0.95, resolution=0.1)
+
+
+def test_near_elastic_state_on_the_hump_mesh(hcs_095):
+    """alpha = 0.95 by one continuation step from eps = 0.1 on the hump mesh.
+
+    Measured: zeta/eps = 1.00233726538 (resolution 0.07), 1.00233726528 (0.04), so the
+    hump mesh gives zeta to ~1e-10 already at 0.07 hump widths; the identity holds to
+    1e-11 (it is not imposed)."""
+    dist = hcs_095
+    extra = dist.info.extra
+    assert dist.info.converged
+    assert extra["zeta_identity"] == pytest.approx(extra["zeta"], rel=1e-9)
+    assert extra["zeta"] / 0.05 == pytest.approx(1.0023372653, rel=2e-9)
+    assert dist.temperature == pytest.approx(1.0, abs=1e-12)
+    assert np.all(dist.values > 0)
+
+
+def test_hump_chain_and_options():
+    assert fem_cooling.hump_chain(0.05) == [0.05]
+    chain = fem_cooling.hump_chain(1e-6)
+    assert chain[-1] == 1e-6 and all(a / b <= 2.0 + 1e-12 for a, b in
+                                     zip([0.1, *chain[:-1]], chain, strict=True))
+    with pytest.raises(ValueError, match="resolution"):
+        kf.solve_cooling(0.5, resolution=0.1)
+    with pytest.raises(ValueError, match="resolution"):
+        kf.solve_cooling(0.99, resolution=-0.1)
+
+
+def test_unresolved_humps_say_so():
+    """A Newton that cannot converge on the hump mesh names the mesh and the fix."""
+    with pytest.raises(fem_cooling.ConvergenceError, match="smaller resolution"):
+        kf.solve_cooling(0.95, resolution=0.1, max_iter=1)
