@@ -94,3 +94,23 @@ def test_run_replicas_in_seed_order_with_any_executor():
     got = run_replicas(_draw, seeds, max_workers=2, size=4)  # process pool
     for e, g in zip(expected, got, strict=True):
         np.testing.assert_array_equal(e, g)
+
+
+def test_integrated_autocorrelation_time_of_known_series():
+    """AR(1) with rho = 0.8 has tau = (1 + rho)/(1 - rho) = 9; white noise 1.
+
+    Ten seeds of 2e4 samples gave 8.4-10.3 (AR(1)) and 1.00-1.17 (white, 4000).
+    """
+    from particles.sampling import integrated_autocorrelation_time as tau
+
+    for seed in range(3):
+        rng = np.random.default_rng(seed)
+        e = rng.normal(size=20000)
+        y = np.zeros(e.size)
+        for k in range(1, y.size):
+            y[k] = 0.8 * y[k - 1] + e[k]
+        assert 7.5 < tau(y) < 11.0
+        assert 1.0 <= tau(rng.normal(size=4000)) < 1.3
+    assert tau(np.ones(10)) == 1.0
+    with pytest.raises(ValueError, match="1D series"):
+        tau(np.ones(1))
