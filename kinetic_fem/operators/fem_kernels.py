@@ -399,9 +399,10 @@ def collision_operator(verts: np.ndarray, dofs: np.ndarray, order: int, coef: np
                     e1 -= 1
                 e1 = _locate(verts, e1, target)
             e2 = _locate(verts, e2, b * x + a * mid)
-            hy = verts[ey + 1] - verts[ey]
-            h1 = verts[e1 + 1] - verts[e1]
-            h2 = verts[e2 + 1] - verts[e2]
+            # inverse element lengths: one division per piece, not per point
+            hy = 1.0 / (verts[ey + 1] - verts[ey])
+            h1 = 1.0 / (verts[e1 + 1] - verts[e1])
+            h2 = 1.0 / (verts[e2 + 1] - verts[e2])
             u0 = coef[dofs[ey, 0]]
             u1 = coef[dofs[ey, 1]]
             u2 = coef[dofs[ey, 2]] if k == 3 else 0.0
@@ -418,7 +419,7 @@ def collision_operator(verts: np.ndarray, dofs: np.ndarray, order: int, coef: np
                         my[j, i] = 0.0
             for r in range(n_ref):
                 y = y0 + length * ref_x[r]
-                shape_values(order, (y - verts[ey]) / hy, phy)
+                shape_values(order, (y - verts[ey]) * hy, phy)
                 uy = u0 * phy[0] + u1 * phy[1]
                 if k == 3:
                     uy += u2 * phy[2]
@@ -429,9 +430,9 @@ def collision_operator(verts: np.ndarray, dofs: np.ndarray, order: int, coef: np
                 else:
                     al = restitution_value(code, p0, p1, g * speed_scale)
                     x1 = x - 0.5 * (1.0 + al) * (x - y)
-                shape_values(order, (x1 - verts[e1]) / h1, ph1)
+                shape_values(order, (x1 - verts[e1]) * h1, ph1)
                 if symmetric:
-                    shape_values(order, (b * x + a * y - verts[e2]) / h2, ph2)
+                    shape_values(order, (b * x + a * y - verts[e2]) * h2, ph2)
                 w = wm * ref_w[r] * np.exp(uy)
                 rate = kernel_rate(gamma, g)
                 gp = 1.0
