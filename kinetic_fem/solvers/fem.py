@@ -33,8 +33,14 @@ tail accurate relative to itself over 30 decades.
 
 The steady state is found by Newton's method on :math:`u_h` restricted to even
 functions, with one equation replaced by the normalisation
-:math:`\\int P_h = 1`, started from a Gaussian at the first-order Sonine
-temperature.  Transients (BDF2): :func:`kinetic_fem.solvers.fem_transient.evolve_heated`.
+:math:`\\int P_h = 1`, started from a Gaussian bulk at the first-order Sonine
+temperature with the model's WKB tail
+(:func:`~kinetic_fem.solvers.fem_defaults.initial_log_density`).  For the even state
+the collision sums visit only the outer points at :math:`v > 0` and mirror them (half
+the cost), and near convergence the factorisation is reused (chord steps,
+:mod:`kinetic_fem.solvers.fem_newton`); curves over alpha warm start
+(:mod:`kinetic_fem.solvers.fem_curve`).  Transients (BDF2):
+:func:`kinetic_fem.solvers.fem_transient.evolve_heated`.
 Everything is computed at :math:`n = D = 1`; other :math:`n, D` follow from the
 exact rescaling :math:`v \\to v (D/n)^{1/3}`.
 """
