@@ -7,7 +7,8 @@ cooling state is two humps at :math:`c = \\pm 1` of width :math:`w = \\varepsilo
 quasi-elastic equation of :mod:`kinetic_fem.solvers.scaling_psi`.  Its tails fix the
 mesh: outside the hump :math:`\\ln\\psi \\simeq y^3/3` (:math:`y < 0`), so
 :math:`(\\ln f)''' \\simeq -2/w^3` is constant and the elements stay of size
-:math:`k w` out to the cut-off where :math:`|y|^3/3` reaches ``decades`` decades; inside,
+:math:`k w` out to the cut-off (where :math:`|y|^3/3` reaches ``decades`` decades, or
+where a starting guess has fallen as far: at moderate eps the edge is slower); inside,
 :math:`\\ln\\psi \\simeq -\\langle y^2\\rangle y` is linear and the elements grow
 linearly with the distance from the hump (geometric grading), down to the centre
 :math:`c = 0`, where the two inner tails meet in a :math:`\\ln\\cosh` of width
@@ -56,7 +57,8 @@ def _check(name: str, value: float) -> float:
 
 def hump_vertices(eps: float, zeta: float, *, resolution: float = 0.1,
                   growth: float = 0.2, max_size: float = 0.1, core: float = 3.0,
-                  decades: float = HUMP_DECADES) -> NDArray[np.float64]:
+                  decades: float = HUMP_DECADES,
+                  cutoff: float | None = None) -> NDArray[np.float64]:
     """Symmetric vertices that follow the two humps of the near-elastic cooling state.
 
     Parameters
@@ -78,6 +80,10 @@ def hump_vertices(eps: float, zeta: float, *, resolution: float = 0.1,
         inner tail is exponential and the elements grow).
     decades : float
         The cut-off is where the outer edge of the humps falls by this many decades.
+    cutoff : float, optional
+        An explicit cut-off (thermal velocities), e.g. where a starting guess has fallen
+        ``decades`` decades; at least the core's outer edge :math:`1 + w (3 \\ln
+        10^{d})^{1/3}`.
 
     Returns
     -------
@@ -100,14 +106,15 @@ def hump_vertices(eps: float, zeta: float, *, resolution: float = 0.1,
     w = eps ** (1.0 / 3.0)
     log_drop = decades * math.log(10.0)
     outer = (3.0 * log_drop) ** (1.0 / 3.0)
-    cutoff = max(1.0 + w * outer, 1.0 + zeta * log_drop)
+    if cutoff is None:
+        cutoff = max(1.0 + w * outer, 1.0 + zeta * log_drop)
+    else:
+        cutoff = max(_check("cutoff", cutoff), 1.0 + w * outer)
     lo_core = max(1.0 - core * w, 0.0)
     h0 = resolution * w
 
     def size(c: float) -> float:
-        if c > 1.0 + w * outer:  # the far tail, ln f ~ -c/zeta: linear
-            dist = c - 1.0 - w * outer
-        elif c >= lo_core:
+        if c >= lo_core:  # the hump and its outer edge (ln f''' ~ -2/w^3) out to the cut-off
             dist = 0.0
         else:
             dist = min(c, lo_core - c)

@@ -66,7 +66,7 @@ from numpy.typing import NDArray
 
 from ..distribution import VelocityDistribution
 from ..model import CoolingProblem, UnsupportedModelError, check_positive
-from ..operators.adaptive import hump_vertices
+from ..operators.adaptive import HUMP_DECADES, hump_vertices
 from ..solve import register_solver
 from .fem import (
     ELEMENTS,
@@ -181,7 +181,14 @@ def continued_state(prev: CoolingState, eps_prev: float, eps: float, *,
     """
     alpha = 1.0 - eps
     zeta0 = prev.zeta * (1.0 - alpha**2) / (1.0 - (1.0 - eps_prev) ** 2)
-    verts = hump_vertices(eps, zeta0, resolution=resolution)
+    # the cut-off where the rescaled start has fallen HUMP_DECADES decades (at eps ~ 1e-2
+    # the outer edge is still slower than psi's e^(y^3/3), so the psi-based estimate
+    # alone puts the outflow boundary at f ~ 1e-15 and spoils ln f near it)
+    w = eps ** (1.0 / 3.0)
+    probe = 1.0 + w * np.linspace(0.0, 60.0, 6001)
+    low = prev.rescaled_log_f(eps_prev, eps, probe) < -HUMP_DECADES * math.log(10.0)
+    cutoff = float(probe[np.argmax(low)]) if low.any() else float(probe[-1])
+    verts = hump_vertices(eps, zeta0, resolution=resolution, cutoff=cutoff)
     disc = _discretisation(CoolingProblem.from_parameters(alpha), verts, order, intorder)
     u0 = prev.rescaled_log_f(eps_prev, eps, disc.dof_locations)
     state = newton_cooling(disc, u0, zeta0, tol=tol, max_iter=max_iter, pseudo_time=np.inf)

@@ -1,0 +1,69 @@
+r"""
+Near-elastic cooling state on a mesh that follows the humps
+===========================================================
+
+Near elastic collisions, :math:`\varepsilon = 1 - \alpha \to 0`, the homogeneous cooling
+state (``kf.solve_cooling(alpha)``, Galerkin FEM on :math:`\ln f`) is two humps at
+:math:`c = \pm 1` of width :math:`w = \varepsilon^{1/3}`; on
+:math:`y = (1 - c)/w` each tends to the solution :math:`\psi` of the quasi-elastic
+equation (claims C11, C12).  The default mesh
+(:func:`kinetic_fem.operators.adaptive.hump_vertices`) is built from these scales:
+elements of ``resolution`` hump widths over the humps and their cubic outer edge
+:math:`e^{y^3/3}`, growing geometrically along the exponential inner tail, shrinking
+again at :math:`c = 0` where the two inner tails meet; the state is reached by
+continuation in :math:`\varepsilon` from 0.1.  This example plots the state, the
+element sizes and the a posteriori indicator
+:math:`\eta_K = h_K^3 |u'''|/(72\sqrt3)` of the error of :math:`\ln f_h`
+(:func:`kinetic_fem.operators.adaptive.element_indicator`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+import kinetic_fem as kf
+from kinetic_fem.solvers import fem_cooling
+
+TEST_KWARGS = {"eps": 0.05, "resolution": 0.1}
+
+
+def main(eps: float = 1e-3, resolution: float = 0.07) -> kf.VelocityDistribution:
+    """The cooling state at ``alpha = 1 - eps`` on the hump mesh.
+
+    Parameters
+    ----------
+    eps : float
+        Inelasticity, below ``fem_cooling.HUMP_EPS`` = 0.1.
+    resolution : float
+        Element size in the humps, in hump widths eps^(1/3).
+
+    Returns
+    -------
+    VelocityDistribution
+        ``info.extra``: ``zeta``, the mesh ``vertices`` and the per-element
+        ``indicator`` (estimated error of ln f).
+    """
+    problem = kf.CoolingProblem.from_parameters(1.0 - eps)
+    state = fem_cooling.cooling_state(problem, resolution=resolution)
+    info = replace(state.info, extra={"zeta": state.zeta, "vertices": state.disc.vertices,
+                                      "indicator": state.indicator()})
+    return state.disc.distribution(state.u, method="fem", info=info)
+
+
+if __name__ == "__main__":
+    import matplotlib.pyplot as plt
+
+    dist = main()
+    verts, eta = dist.info.extra["vertices"], dist.info.extra["indicator"]
+    mid = 0.5 * (verts[1:] + verts[:-1])
+    fig, (ax0, ax1) = plt.subplots(2, 1, sharex=True)
+    c = np.linspace(0.0, verts[-1], 4001)
+    ax0.semilogy(c, dist.f(c))
+    ax0.set(ylabel="f(c)", title=f"HCS, eps = 1e-3: zeta = {dist.info.extra['zeta']:.12f}")
+    ax1.semilogy(mid[mid > 0], np.diff(verts)[mid > 0], label="element size h")
+    ax1.semilogy(mid[mid > 0], eta[mid > 0], label="indicator (error of ln f)")
+    ax1.set(xlabel="c", ylim=(1e-16, 1))
+    ax1.legend()
+    plt.show()
