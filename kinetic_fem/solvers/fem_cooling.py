@@ -136,7 +136,7 @@ def hump_chain(eps: float) -> list[float]:
     Examples
     --------
     >>> [round(e, 6) for e in hump_chain(1e-3)]
-    [0.05, 0.025, 0.0125, 0.00625, 0.003125, 0.001]
+    [0.05, 0.025, 0.0125, 0.00625, 0.003125, 0.001563, 0.001]
     """
     n = max(1, math.ceil(math.log(HUMP_EPS / eps) / math.log(HUMP_RATIO) - 1e-9))
     chain = [HUMP_EPS / HUMP_RATIO**k for k in range(1, n)]

@@ -70,7 +70,7 @@ def hcs_vertices(c_max: float, spacing: float, *, gamma: float,
     >>> bool(v[0] == -20.0 and v[-1] == 20.0 and np.all(np.diff(v) > 0))
     True
     """
-    half = [0.0]
+    nodes = [0.0]
     c = 0.0
     kappa = (3.0 - gamma) / 3.0
     while c < c_max:
@@ -79,8 +79,8 @@ def hcs_vertices(c_max: float, spacing: float, *, gamma: float,
         else:
             h = spacing * max(1.0, c / bulk) ** kappa
         c = c + h
-        half.append(c)
-    half = np.array(half)
+        nodes.append(c)
+    half = np.array(nodes)
     if half[-1] - c_max > 0.5 * (half[-1] - half[-2]):
         half = half[:-1]
     half[-1] = c_max
