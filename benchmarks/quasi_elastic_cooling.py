@@ -40,13 +40,13 @@ from kinetic_fem.solvers import fem_cooling as fc  # noqa: E402
 
 def hump_moments(state: fc.CoolingState, eps: float) -> tuple[dict[str, float], float]:
     """Moments of the right hump on the psi variable and max |psi_hcs - psi| on [-3, 6]."""
-    dist = state.disc.distribution(state.u)
-    right = dist.v > 0
-    prof = psi_profile(dist.v[right], dist.values[right], 2.0 * dist.weights[right], eps)
-    w = np.zeros_like(prof.y)
-    # the quadrature weights in y: dy = dc / (eps^(1/3) <|c|>); psi dy = 2 f dc
-    order = np.argsort((1.0 - dist.v[right] / prof.mean_abs) / eps ** (1 / 3))
-    w = (2.0 * dist.weights[right])[order] / (2.0 * eps ** (1 / 3) * prof.mean_abs)
+    xq, wq, _ = state.disc.points
+    fq = state.disc.values(state.u)
+    right = xq > 0
+    prof = psi_profile(xq[right], fq[right], 2.0 * wq[right], eps)
+    # the weights in y: dy = dc / (eps^(1/3) <|c|>), and psi dy = 2 f dc
+    order = np.argsort((1.0 - xq[right] / prof.mean_abs) / eps ** (1 / 3))
+    w = (2.0 * wq[right])[order] / (2.0 * eps ** (1 / 3) * prof.mean_abs)
     mom = {f"y{k}": float(np.sum(w * prof.y**k * prof.psi)) for k in (0, 1, 2, 3)}
     return mom, prof
 

@@ -39,10 +39,26 @@ exponential tails, :math:`O(V^{-3})` for the Maxwell power law): the equation at
 :math:`c = 0` is replaced by the normalisation, and the unit temperature
 :math:`\\int c^2 f_h = 1` closes the system for :math:`(u_h, \\zeta)`.  Newton's method
 (:class:`kinetic_fem.solvers.fem.EquilibratedLU`, the log update of the heated solver) starts
-from a Gaussian at the Gaussian estimate of :math:`\\zeta`; near :math:`\\alpha = 1` by
-continuation in :math:`\\varepsilon = 1 - \\alpha`, and below :math:`\\alpha = 0.5`
-(long exponential tails far from the Gaussian start) by continuation in
-:math:`\\alpha` from 0.5.
+from a Gaussian at the Gaussian estimate of :math:`\\zeta` (pseudo-transient
+continuation); below :math:`\\alpha = 0.5` (long exponential tails far from the Gaussian
+start) by continuation in :math:`\\alpha` from 0.5.
+
+Near elastic collisions (hard rods, :math:`\\varepsilon = 1 - \\alpha <` :data:`HUMP_EPS`)
+the state is two humps of width :math:`w = \\varepsilon^{1/3}` at :math:`c = \\pm 1`.
+It is reached by continuation in :math:`\\varepsilon` from 0.1 in steps of at most 2
+(:func:`hump_chain`), each on a mesh that follows the humps
+(:func:`kinetic_fem.operators.adaptive.hump_vertices`: ``resolution`` hump widths over
+the humps and their outer edge, geometric grading along the exponential inner tail), from
+the previous state rescaled on :math:`y = (1 - c)/w` (:meth:`CoolingState.rescaled_log_f`),
+by Newton's method with backtracking (:func:`kinetic_fem.solvers.newton.newton`) on
+:math:`\\ln f` itself.  The a posteriori indicator of
+:func:`kinetic_fem.operators.adaptive.element_indicator` (:meth:`CoolingState.indicator`)
+estimates the error of :math:`\\ln f_h` per element.  Measured
+(``benchmarks/results/fem_cooling.md``): the continuation converges down to
+:math:`\\varepsilon \\approx 4\\cdot 10^{-4}` at the default resolutions and fails
+below (Newton diverges in the outer edge of the humps, where the drift dominates and
+the Galerkin drift term has a near-null mode); the error says so and names the fix to
+try.
 
 The inelastic Maxwell model (:math:`\\gamma = 0`) has the closed-form state
 :math:`f(c) = 2/(\\pi(1+c^2)^2)` for every alpha (Baldassarri, Marini Bettolo Marconi,
