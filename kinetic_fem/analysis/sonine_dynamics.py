@@ -189,9 +189,11 @@ class SonineTrajectory:
     a2: NDArray[np.float64]
 
 
-def evolve_sonine(alpha: float | RestitutionLaw, *, times: ArrayLike, protocol: Protocol | None = None,
-                  density: float = 1.0, diffusion: float = 1.0, friction: float = 0.0,
-                  kernel: float | PowerLawKernel = 1.0, initial_temperature: float | None = None,
+def evolve_sonine(alpha: float | RestitutionLaw, *, times: ArrayLike,
+                  protocol: Protocol | None = None, density: float = 1.0,
+                  diffusion: float = 1.0, friction: float = 0.0,
+                  kernel: float | PowerLawKernel = 1.0,
+                  initial_temperature: float | None = None,
                   initial_a2: float = 0.0, linear: bool = True, rtol: float = 1e-10
                   ) -> SonineTrajectory:
     """Integrate the first-Sonine ODEs along a protocol (as :func:`kinetic_fem.evolve_heated`).
