@@ -268,15 +268,26 @@ def steady_state(model: float | HeatedProblem, *, order: int = 2,
                               tol=1e-6, max_iter=max_iter)
         u0 = coarse.initial_guess(disc.dof_locations, scaled.temperature,
                                   linear_tail=not paper)
+    state: SteadyState | None = None
+    edge = math.inf
     for widening in range(MAX_WIDENINGS + 1):
         u, info = newton_steady(disc, u0, tol=tol, max_iter=max_iter)
-        if not info.converged:
-            raise ConvergenceError(f"FEM Newton did not converge in {max_iter} iterations at "
-                                   f"alpha={alpha} ({info.message}); increase max_iter or "
-                                   "refine the mesh (smaller spacing)")
-        temperature = disc.distribution(u).temperature
-        if not paper and order == 2:
-            _check_energy_input(disc, u, temperature, alpha)
+        try:
+            if not info.converged:
+                raise ConvergenceError(f"FEM Newton did not converge in {max_iter} iterations "
+                                       f"at alpha={alpha} ({info.message}); increase max_iter "
+                                       "or refine the mesh (smaller spacing)")
+            temperature = disc.distribution(u).temperature
+            if not paper and order == 2:
+                _check_energy_input(disc, u, temperature, alpha)
+        except ConvergenceError as err:
+            if state is None or edge > TAIL_FLOOR:
+                raise
+            # the widening is optional once f(cut-off) < TAIL_FLOOR: keep the state found
+            logger.info("widened interval failed (%s); keeping f = %.1e at the cut-off",
+                        err, edge)
+            disc, u, info, verts = state.disc, state.u, state.info, state.disc.vertices
+            break
         edge = float(np.exp(u[np.argmax(disc.dof_locations)])) * math.sqrt(temperature)
         if cutoff is not None or vertices is not None or edge < CUTOFF_TARGET:
             break

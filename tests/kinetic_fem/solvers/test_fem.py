@@ -378,3 +378,17 @@ def test_heated_curve_warm_start_equals_pointwise_solutions():
     assert warm.newton_iterations.shape == (3,)
     with pytest.raises(ValueError, match="non-empty"):
         heated_curve([])
+
+
+def test_maxwell_kernel_at_alpha_07_keeps_the_state_when_widening_fails():
+    """Maxwell model (gamma = 0), white noise, alpha = 0.7: Newton on the widened interval
+    diverged and the call raised (f = 8e-33 at the first cut-off, below the 1e-30 floor);
+    the converged state is now kept.  Against the exact moments
+    (kinetic_fem.solvers.maxwell): measured |dT/T| 1e-12, |da2| 4e-8; tolerances 1e-9, 1e-6
+    (the production a2 accuracy)."""
+    from kinetic_fem.solvers import maxwell
+
+    dist = kf.solve_heated(0.7, kernel=0.0)
+    exact = maxwell.steady_state(0.7)
+    assert dist.temperature == pytest.approx(exact.temperature, rel=1e-9)
+    assert dist.a2 == pytest.approx(exact.sonine[2], abs=1e-6)
