@@ -33,15 +33,20 @@ from __future__ import annotations
 import numpy as np
 
 from .._jit import jit
-from ..model.restitution import CONSTANT, THRESHOLD, VISCOELASTIC, restitution_value
+from ..model.restitution import CONSTANT, VISCOELASTIC, restitution_value
+from .fem_pair_breaks import (
+    GRADING_LEVELS,
+    GRADING_RATIO,
+    kernel_rate,
+    law_breaks,
+    merge_breaks,
+    pieces,
+    preimage_distance,
+)
 
 __all__ = ["shape_values", "collision_operator", "evaluate_field", "kernel_rate",
            "preimage_distance", "GRADING_RATIO", "GRADING_LEVELS"]
 
-GRADING_RATIO = 0.15
-"""Ratio of the geometric pieces towards the singular point y = x."""
-GRADING_LEVELS = 12
-"""Number of geometric pieces on each side of y = x (graded quadrature only)."""
 
 
 @jit
@@ -81,185 +86,6 @@ def evaluate_field(verts: np.ndarray, dofs: np.ndarray, order: int, coef: np.nda
             s += coef[dofs[e, j]] * phi[j]
         out[p] = s
     return out
-
-
-@jit
-def _merge_breaks(verts: np.ndarray, x: float, a: float, b: float, buf: np.ndarray,
-                  second: bool) -> int:
-    """Sorted breakpoints of the inner integrand in [v_0, v_E]; returns their count."""
-    lo = verts[0]
-    hi = verts[-1]
-    nv = verts.size
-    i1 = 0
-    i2 = 0
-    i3 = 0
-    done4 = False
-    n = 0
-    inf = np.inf
-    while True:
-        c1 = verts[i1] if i1 < nv else inf
-        c2 = (verts[i2] - a * x) / b if i2 < nv else inf
-        c3 = (verts[i3] - b * x) / a if (second and i3 < nv and a > 0.0) else inf
-        c4 = inf if done4 else x
-        m = min(min(c1, c2), min(c3, c4))
-        if m == inf:
-            break
-        if m == c1:
-            i1 += 1
-        elif m == c2:
-            i2 += 1
-        elif m == c3:
-            i3 += 1
-        else:
-            done4 = True
-        if m >= lo and m <= hi:
-            buf[n] = m
-            n += 1
-    return n
-
-
-@jit
-def kernel_rate(gamma: float, g: float) -> float:
-    """:math:`B(g) = g^\\gamma` for ``g >= 0`` (multiplications for gamma in {0, 1, 2})."""
-    if gamma == 1.0:
-        return g
-    if gamma == 0.0:
-        return 1.0
-    if gamma == 2.0:
-        return g * g
-    return g ** gamma
-
-
-@jit
-def preimage_distance(code: int, p0: float, p1: float, speed_scale: float, d: float,
-                      b_lo: float) -> float:
-    """The ``s >= 0`` with :math:`s\\,b(s) = d`, :math:`b(s) = (1 + \\alpha(s))/2`.
-
-    For a law with :math:`s\\,b(s)` increasing (the viscoelastic law: its derivative
-    :math:`2 - \\tfrac65 C_1 x + \\tfrac75 C_2 x^2 > 0`, :math:`x = \\delta s^{1/5}`),
-    the root lies in :math:`[d, d/b_{lo}]` with :math:`b_{lo} = (1 + \\min\\alpha)/2`;
-    regula falsi (Illinois) to round-off.  The law is evaluated at the physical speed
-    ``s * speed_scale``.
-    """
-    if d <= 0.0:
-        return 0.0
-    lo = d
-    hi = d / b_lo
-    flo = lo * 0.5 * (1.0 + restitution_value(code, p0, p1, lo * speed_scale)) - d
-    fhi = hi * 0.5 * (1.0 + restitution_value(code, p0, p1, hi * speed_scale)) - d
-    if flo >= 0.0:
-        return lo
-    if fhi <= 0.0:
-        return hi
-    s = lo
-    side = 0
-    for _ in range(200):
-        s = (lo * fhi - hi * flo) / (fhi - flo)
-        fs = s * 0.5 * (1.0 + restitution_value(code, p0, p1, s * speed_scale)) - d
-        if abs(fs) <= 4e-16 * d or hi - lo <= 4e-16 * hi:
-            break
-        if fs < 0.0:
-            lo = s
-            flo = fs
-            if side == -1:
-                fhi *= 0.5
-            side = -1
-        else:
-            hi = s
-            fhi = fs
-            if side == 1:
-                flo *= 0.5
-            side = 1
-    return s
-
-
-@jit
-def _law_breaks(verts: np.ndarray, x: float, code: int, p0: float, p1: float,
-                speed_scale: float, b_lo: float, pre: np.ndarray, buf: np.ndarray) -> int:
-    """Sorted breakpoints for a velocity-dependent law; returns their count.
-
-    Vertices, :math:`y = x` and the pre-images of the vertices under
-    :math:`y \\mapsto x'(y)`: for the threshold law both linear families (elastic:
-    :math:`x' = y`, the vertices themselves; inelastic: :math:`(v_k - a x)/b`) and the
-    two jumps :math:`y = x \\pm g_{th}`; for a monotone law (viscoelastic) the root of
-    :math:`x + b(|t|)\\,t = v_k`, :math:`t = y - x`.
-    """
-    nv = verts.size
-    lo = verts[0]
-    hi = verts[-1]
-    if code == THRESHOLD:
-        b = 0.5 * (1.0 + p0)
-        a = 1.0 - b
-        for k in range(nv):
-            pre[k] = (verts[k] - a * x) / b
-        th = p1 / speed_scale
-        extras = (x - th, x, x + th)
-        n_extra = 3
-    else:
-        for k in range(nv):
-            d = verts[k] - x
-            t = preimage_distance(code, p0, p1, speed_scale, abs(d), b_lo)
-            pre[k] = x + t if d >= 0.0 else x - t
-        extras = (x, np.inf, np.inf)
-        n_extra = 1
-    i1 = 0
-    i2 = 0
-    i3 = 0
-    n = 0
-    inf = np.inf
-    while True:
-        c1 = verts[i1] if i1 < nv else inf
-        c2 = pre[i2] if i2 < nv else inf
-        c3 = extras[i3] if i3 < n_extra else inf
-        m = min(c1, min(c2, c3))
-        if m == inf:
-            break
-        if m == c1:
-            i1 += 1
-        elif m == c2:
-            i2 += 1
-        else:
-            i3 += 1
-        if m >= lo and m <= hi:
-            buf[n] = m
-            n += 1
-    return n
-
-
-@jit
-def _pieces(buf: np.ndarray, n_br: int, x: float, scale: float, graded: bool,
-            starts: np.ndarray, lengths: np.ndarray) -> int:
-    """Inner pieces between consecutive breaks; returns their count.
-
-    With ``graded`` the two pieces that end at :math:`y = x` (where :math:`|x-y|^\\gamma`
-    or :math:`\\alpha(|x-y|)` is not smooth) are split geometrically towards :math:`x`
-    (ratio :data:`GRADING_RATIO`, :data:`GRADING_LEVELS` levels), which restores the
-    Gauss order up to the innermost piece of relative length
-    :math:`0.15^{12} \\approx 10^{-10}`.
-    """
-    n_p = 0
-    for s in range(n_br - 1):
-        y0 = buf[s]
-        length = buf[s + 1] - y0
-        if length <= 1e-14 * scale:
-            continue
-        if graded and (buf[s + 1] == x or y0 == x):
-            towards_right = buf[s + 1] == x
-            outer = length
-            for _ in range(GRADING_LEVELS):
-                inner = outer * GRADING_RATIO
-                starts[n_p] = x - outer if towards_right else x + inner
-                lengths[n_p] = outer - inner
-                n_p += 1
-                outer = inner
-            starts[n_p] = x - outer if towards_right else x
-            lengths[n_p] = outer
-            n_p += 1
-        else:
-            starts[n_p] = y0
-            lengths[n_p] = length
-            n_p += 1
-    return n_p
 
 
 @jit
@@ -373,10 +199,10 @@ def collision_operator(verts: np.ndarray, dofs: np.ndarray, order: int, coef: np
             ux += coef[dofs[ex, j]] * phx[j]
         px = np.exp(ux)
         if constant:
-            n_br = _merge_breaks(verts, x, a, b, buf, symmetric)
+            n_br = merge_breaks(verts, x, a, b, buf, symmetric)
         else:
-            n_br = _law_breaks(verts, x, code, p0, p1, speed_scale, b_lo, pre, buf)
-        n_p = _pieces(buf, n_br, x, scale, graded, starts, lengths)
+            n_br = law_breaks(verts, x, code, p0, p1, speed_scale, b_lo, pre, buf)
+        n_p = pieces(buf, n_br, x, scale, graded, starts, lengths)
         ey = 0
         e1 = 0
         e2 = 0
