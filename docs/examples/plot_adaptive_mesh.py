@@ -26,7 +26,7 @@ import numpy as np
 import kinetic_fem as kf
 from kinetic_fem.solvers import fem_cooling
 
-TEST_KWARGS = {"eps": 0.05, "resolution": 0.1}
+TEST_KWARGS = {"eps": 0.07, "resolution": 0.14}
 
 
 def main(eps: float = 1e-3, resolution: float = 0.07) -> kf.VelocityDistribution:

@@ -117,6 +117,10 @@ HUMP_STEP_RESOLUTION = 0.07
 """Element size (hump widths) of the intermediate states of the continuation."""
 HUMP_STEP_TOL = 1e-7
 """Newton tolerance of the intermediate states (they only start the next step)."""
+HUMP_STEP_ITER = 40
+"""Newton steps allowed before a continuation step is halved (on a log scale)."""
+HUMP_MIN_RATIO = 1.1
+"""Continuation steps are not halved below this ratio of inelasticities."""
 STRONG_ALPHA = 0.5
 """Below this alpha (long exponential tails, far from the Gaussian start) the state is
 reached by continuation in alpha from here, in steps of at most STRONG_STEP."""
@@ -218,20 +222,30 @@ def _hump_state(problem: CoolingProblem, *, order: int, intorder: int | None, to
     """Continuation in eps on meshes that follow the humps (module notes)."""
     eps = problem.gas.epsilon
     prev, eps_prev = _hump_start(order, intorder), HUMP_EPS
-    for step in hump_chain(eps):
+    pending = hump_chain(eps)[::-1]  # a stack: the next target last
+    while pending:
+        step = pending[-1]
         final = step == eps
         res = resolution if final else max(resolution, HUMP_STEP_RESOLUTION)
         state = continued_state(prev, eps_prev, step, resolution=res, order=order,
                                 intorder=intorder, tol=tol if final else HUMP_STEP_TOL,
-                                max_iter=max_iter)
-        if not state.info.converged:
+                                max_iter=min(max_iter, HUMP_STEP_ITER)
+                                if eps_prev / step > HUMP_MIN_RATIO else max_iter)
+        if state.info.converged:
+            pending.pop()
+            prev, eps_prev = state, step
+        elif eps_prev / step > HUMP_MIN_RATIO:
+            # step control: retry through the geometric mean
+            pending.append(math.sqrt(eps_prev * step))
+            logger.info("HCS continuation: step %.3g -> %.3g failed; halving it (log scale)",
+                        eps_prev, step)
+        else:
             raise ConvergenceError(
                 f"FEM cooling Newton did not converge at eps = {step:.3g} on the way to "
                 f"alpha = {problem.gas.alpha} (hump mesh of {state.disc.vertices.size - 1} "
-                f"elements, {res:g} hump widths eps^(1/3) = {step ** (1 / 3):.3g}; "
-                f"{state.info.message}): the mesh does not resolve the humps; pass a "
-                f"smaller resolution (e.g. resolution={res / 2:g})")
-        prev, eps_prev = state, step
+                f"elements, {res:g} hump widths eps^(1/3) = {step ** (1 / 3):.3g}, step "
+                f"from eps = {eps_prev:.3g}; {state.info.message}): the mesh does not "
+                f"resolve the humps; pass a smaller resolution (e.g. resolution={res / 2:g})")
     return prev
 
 
