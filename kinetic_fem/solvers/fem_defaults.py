@@ -38,6 +38,7 @@ from scipy.optimize import brentq
 
 from .. import sonine
 from ..model import HeatedProblem, RestitutionLaw
+from ..model.scales import heated_cutoff
 from ..operators.grid import symmetric_grid, uniform_grid
 
 __all__ = ["default_cutoff", "default_spacing", "ScaledModel", "scaled_model",
@@ -54,14 +55,11 @@ def default_cutoff(alpha: float) -> float:
     The far tail :math:`\\exp(-A_c c^{3/2})` of claim C4
     (:func:`sonine.tail_exponent_amplitude`) or, if it reaches 1e-33 sooner, the
     smaller of the Gaussian and the quasi-elastic tail :math:`\\exp(-x^3/6)`,
-    :math:`x = (\\varepsilon T)^{1/3} c` (claim C5); plus one thermal velocity.
+    :math:`x = (\\varepsilon T)^{1/3} c` (claim C5); plus one thermal velocity.  The rule
+    is the model's (:func:`kinetic_fem.model.scales.heated_cutoff`, equal to the former
+    copy here to 4e-16).
     """
-    decades = DECADES * math.log(10.0)
-    temperature = sonine.steady_temperature(alpha)
-    c_gauss = math.sqrt(2.0 * (decades - 0.5 * math.log(2.0 * math.pi)))
-    c_cubic = (6.0 * decades) ** (1.0 / 3.0) / ((1.0 - alpha) ** (1 / 3) * temperature**0.5)
-    c_tail = (decades / sonine.tail_exponent_amplitude(temperature=temperature)) ** (2 / 3)
-    return max(c_tail, min(c_gauss, c_cubic)) + 1.0
+    return heated_cutoff(alpha, 10.0**-DECADES, core_margin=1.0) + 1.0
 
 
 def default_spacing(alpha: float) -> float:

@@ -98,12 +98,6 @@ class NewtonResult:
     history: tuple[float, ...]
     message: str
 
-    @property
-    def z(self) -> Array:
-        """Alias of :attr:`x` read by :mod:`kinetic_fem.solvers.scaling_psi` (to be removed
-        when it reads ``x``)."""
-        return self.x
-
 
 def _max_norm(r: Array, x: Array) -> float:
     return float(np.max(np.abs(r))) if r.size else 0.0

@@ -241,7 +241,7 @@ def _solve_psi_on(y: NDArray[np.float64], u0: NDArray[np.float64], c0: float, to
     start = time.perf_counter()
     out = newton_krylov(np.concatenate([u0, [c0]]), evaluate, tol=tol, max_iter=max_iter,
                         name="solve_psi")
-    u, c = out.z[:n], float(out.z[n])
+    u, c = out.x[:n], float(out.x[n])
     ln_c = float(np.mean(u + c * y + psi_kernel(y, w * np.exp(u))))
     info = RunInfo(converged=out.converged, iterations=out.iterations, residual=out.residual,
                    wall_time=time.perf_counter() - start, message=out.message)
