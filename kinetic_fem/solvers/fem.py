@@ -94,7 +94,7 @@ from .fem_newton import (
 )
 
 __all__ = ["FEMDiscretisation", "SteadyState", "ResolutionWarning", "ConvergenceError",
-           "default_cutoff", "default_spacing", "steady_state", "solve_fem", "ELEMENTS",
+           "default_cutoff", "default_spacing", "steady_state", "solve_fem_heated", "ELEMENTS",
            "newton_steady", "discretisation", "state_distribution", "STALL_LEVEL",
            "CHORD_LEVEL", "CHORD_RATE", "EquilibratedLU", "log_update",
            "newton_info", "stalled", "bath_drift", "bath_drift_jacobian", "mass", "weighted_mass",
@@ -219,7 +219,7 @@ def steady_state(model: float | HeatedProblem, *, order: int = 2,
                  spacing: float | None = None, cutoff: float | None = None, vertices=None,
                  intorder: int | None = None, symmetric: bool = False, tol: float = 1e-11,
                  max_iter: int = 40, initial: SteadyState | None = None) -> SteadyState:
-    """Newton steady state at ``n = D = 1`` (see :func:`solve_fem` for the options).
+    """Newton steady state at ``n = D = 1`` (see :func:`solve_fem_heated` for the options).
 
     ``model`` is a heated problem (solved at ``n = D = 1``, see
     :func:`kinetic_fem.solvers.fem_defaults.scaled_model`) or a restitution coefficient of
@@ -310,7 +310,7 @@ def steady_state(model: float | HeatedProblem, *, order: int = 2,
 
 
 @register_solver("fem", problem="heated")
-def solve_fem(problem: HeatedProblem, *, order: int = 2, spacing: float | None = None,
+def solve_fem_heated(problem: HeatedProblem, *, order: int = 2, spacing: float | None = None,
               cutoff: float | None = None, vertices=None, intorder: int | None = None,
               symmetric: bool = False, tol: float = 1e-11,
               max_iter: int = 40) -> VelocityDistribution:

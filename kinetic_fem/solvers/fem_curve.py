@@ -84,7 +84,7 @@ def heated_curve(alphas: ArrayLike, *, density: float = 1.0, diffusion: float = 
         Start each state from the previous one (``False``: every state from the
         solver's default start, as :func:`kinetic_fem.solve_heated` does).
     order, spacing, cutoff, tol, max_iter
-        As for :func:`kinetic_fem.solvers.fem.solve_fem`.
+        As for :func:`kinetic_fem.solvers.fem.solve_fem_heated`.
 
     Returns
     -------

@@ -10,7 +10,7 @@ state is at unit temperature, so its ``zeta``) and in ``a2`` within
 * the tolerance of ``SPECS`` measured for that option set (the numbers below),
 
 plus the reference's own error.  The FEM reference: heated, default options (T to 1e-8,
-a2 to 1e-6, ``fem.solve_fem``); cooling, ``spacing=0.2`` (measured against
+a2 to 1e-6, ``fem.solve_fem_heated``); cooling, ``spacing=0.2`` (measured against
 ``spacing=0.1`` and the Richardson-extrapolated FD state: zeta to 2e-7 relative, a2 to
 5e-6).  A solver registered without an entry in ``SPECS`` runs with its defaults and
 must report error estimates.

@@ -137,7 +137,7 @@ def test_full_bracket_steady_state_satisfies_c1_to_round_off():
 
 def test_registered_and_rescaling_in_density_and_diffusion():
     """P_{n,D}(v) = P_{1,1}(v/u)/u, u = (D/n)^(1/3), and C1 holds with the given n, D."""
-    assert kf.HEATED_SOLVERS["fem"] is fem.solve_fem
+    assert kf.HEATED_SOLVERS["fem"] is fem.solve_fem_heated
     ref = kf.solve_heated(0.6, method="fem", spacing=0.4)
     other = kf.solve_heated(0.6, density=2.0, diffusion=5.0, method="fem", spacing=0.4)
     u = (5.0 / 2.0) ** (1 / 3)
@@ -182,19 +182,19 @@ def test_tail_positive_and_resolved_to_1e30(coarse_states):
 def test_bad_input():
     problem = kf.HeatedProblem.from_parameters(0.5)
     with pytest.raises(ValueError, match="order"):
-        fem.solve_fem(problem, order=3)
+        fem.solve_fem_heated(problem, order=3)
     with pytest.raises(ValueError, match="spacing"):
-        fem.solve_fem(problem, spacing=-1.0)
+        fem.solve_fem_heated(problem, spacing=-1.0)
     with pytest.raises(TypeError):
-        fem.solve_fem(problem, spacin=0.1)
+        fem.solve_fem_heated(problem, spacin=0.1)
     with pytest.raises(ValueError, match="symmetric"):
-        fem.solve_fem(problem, vertices=np.array([-1.0, 0.0, 2.0]))
+        fem.solve_fem_heated(problem, vertices=np.array([-1.0, 0.0, 2.0]))
     with pytest.raises(fem.ConvergenceError, match="max_iter"):
-        fem.solve_fem(problem, spacing=0.4, max_iter=1)
+        fem.solve_fem_heated(problem, spacing=0.4, max_iter=1)
     with pytest.warns(fem.ResolutionWarning, match="cutoff"):
-        fem.solve_fem(problem, spacing=0.4, cutoff=5.0)
+        fem.solve_fem_heated(problem, spacing=0.4, cutoff=5.0)
     with pytest.warns(fem.ResolutionWarning, match="coarse"):
-        fem.solve_fem(problem, spacing=0.8)
+        fem.solve_fem_heated(problem, spacing=0.8)
     with pytest.raises(ValueError, match="too coarse for alpha"):
         kf.solve_heated(0.99, method="fem", spacing=0.4)
 
