@@ -145,13 +145,34 @@ def _discretisation(problem: CoolingProblem, vertices: NDArray, order: int,
 
 
 def uses_hump_mesh(problem: CoolingProblem) -> bool:
-    """Hard rods below :data:`HUMP_EPS`: the default mesh follows the humps."""
+    """Hard rods below :data:`HUMP_EPS`: the default mesh follows the humps.
+
+    Parameters
+    ----------
+    problem : CoolingProblem
+        The cooling problem (kernel and restitution of its gas are read).
+
+    Returns
+    -------
+    bool
+        True for hard rods with :math:`\\varepsilon = 1 - \\alpha <` :data:`HUMP_EPS`.
+    """
     return problem.gas.gamma == 1.0 and problem.gas.epsilon < HUMP_EPS * (1.0 - 1e-12)
 
 
 def hump_chain(eps: float) -> list[float]:
     """Inelasticities of the continuation from :data:`HUMP_EPS` down to ``eps``: steps of
     at most :data:`HUMP_RATIO`, equal on a log scale, ending exactly at ``eps``.
+
+    Parameters
+    ----------
+    eps : float
+        Target inelasticity :math:`1 - \\alpha`, below :data:`HUMP_EPS`.
+
+    Returns
+    -------
+    list of float
+        The inelasticities of the continuation steps, the last one ``eps``.
 
     Examples
     --------
