@@ -1,7 +1,14 @@
 """Deterministic solvers, one module per method (registered in :mod:`kinetic_fem.solve`).
 
-- FEM (scikit-fem Galerkin): :mod:`~kinetic_fem.solvers.fem` (heated steady state),
-  :mod:`~kinetic_fem.solvers.fem_cooling` (homogeneous cooling state),
+- One Newton driver for every deterministic solver: :mod:`~kinetic_fem.solvers.newton`
+  (Armijo line search, constraints by an update hook, stall at round-off reported as
+  converged, one :class:`~kinetic_fem.solvers.newton.NewtonResult`).
+- FEM (scikit-fem Galerkin): :mod:`~kinetic_fem.solvers.fem` (heated steady state, with
+  :mod:`~kinetic_fem.solvers.fem_newton` and the warm-started curve
+  :mod:`~kinetic_fem.solvers.fem_curve`),
+  :mod:`~kinetic_fem.solvers.fem_cooling` (homogeneous cooling state, with
+  :mod:`~kinetic_fem.solvers.fem_cooling_mesh` and
+  :mod:`~kinetic_fem.solvers.fem_cooling_newton`),
   :mod:`~kinetic_fem.solvers.fem_evolution` and :mod:`~kinetic_fem.solvers.fem_transient`
   (transients), :mod:`~kinetic_fem.solvers.fem_defaults` (meshes and cut-offs from the
   model's scales).
