@@ -19,7 +19,6 @@ from .restitution import (
     as_restitution,
     restitution_value,
 )
-from .scales import ModelScales, cooling_cutoff, heated_cutoff
 from .thermostat import FokkerPlanckBath, NoThermostat, Thermostat, WhiteNoise, as_thermostat
 from .validation import (
     UnsupportedModelError,
@@ -36,7 +35,6 @@ __all__ = [
     "ViscoelasticRestitution", "as_restitution", "restitution_value",
     "Thermostat", "WhiteNoise", "FokkerPlanckBath", "NoThermostat", "as_thermostat",
     "InelasticGas", "HeatedProblem", "CoolingProblem",
-    "ModelScales", "heated_cutoff", "cooling_cutoff",
     "UnsupportedModelError", "check_alpha", "check_positive", "check_nonnegative",
     "check_real", "check_finite_array",
 ]
