@@ -154,7 +154,7 @@ class Evolution:
                          "iterations": self.info.iterations,
                          "residual": self.info.residual, "wall_time": self.info.wall_time,
                          "message": self.info.message, "extra": dict(self.info.extra)}}
-        arrays = {f"series_{k}": v for k, v in self.series.items()}
+        arrays: dict[str, Any] = {f"series_{k}": v for k, v in self.series.items()}
         np.savez_compressed(path, times=self.times, grid=self.grid, values=self.values,
                             weights=self.weights, meta=np.array(json.dumps(meta, default=str)),
                             **arrays)

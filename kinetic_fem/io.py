@@ -27,7 +27,7 @@ from __future__ import annotations
 import json
 from dataclasses import asdict
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any, Mapping, Sequence
 
 import meshio
 import numpy as np
@@ -75,9 +75,10 @@ def _line_mesh(v: NDArray[np.float64], point_data: dict[str, NDArray[np.float64]
 
 def _point_data(dist: VelocityDistribution) -> dict[str, NDArray[np.float64]]:
     data = {"P": dist.values, "c": dist.c, "f": dist.f_values}
-    if dist.errors is not None:
+    f_errors = dist.f_errors
+    if dist.errors is not None and f_errors is not None:
         data["P_error"] = dist.errors
-        data["f_error"] = dist.f_errors
+        data["f_error"] = f_errors
     return data
 
 
@@ -178,9 +179,10 @@ def read_distribution(path: str | Path) -> VelocityDistribution:
     if meta.get("schema") != _SCHEMA:
         raise ValueError(f"{str(side)!r} is not a kinetic_fem.io sidecar "
                          f"(schema {meta.get('schema')!r}, expected {_SCHEMA!r})")
+    point_data: Mapping[str, Any]
     if fmt == "xdmf":
-        v, point_data = _read_xdmf(path, last_only=True)
-        point_data = point_data[-1]
+        v, steps = _read_xdmf(path, last_only=True)
+        point_data = steps[-1]
     else:
         mesh = meshio.read(path, file_format=fmt)
         v, point_data = mesh.points[:, 0], mesh.point_data
@@ -192,14 +194,14 @@ def read_distribution(path: str | Path) -> VelocityDistribution:
     info["wall_time"] = float(info["wall_time"])
     return VelocityDistribution(
         v=np.ascontiguousarray(v, dtype=float),
-        values=np.asarray(point_data["P"], dtype=float),
-        raw_moments=_array(meta["raw_moments"]),
+        values=np.asarray(point_data["P"], dtype=np.float64),
+        raw_moments=np.asarray(meta["raw_moments"], dtype=np.float64),
         errors=None if errors is None else np.asarray(errors, dtype=float),
         batch_moments=_array(meta["batch_moments"]),
         method=meta["method"],
         params=meta["params"],
         info=RunInfo(**info),
-        series={k: _array(s) for k, s in meta["series"].items()},
+        series={k: np.asarray(s, dtype=np.float64) for k, s in meta["series"].items()},
     )
 
 
@@ -239,7 +241,7 @@ def write_time_series(path: str | Path, times: ArrayLike,
     return path
 
 
-def _write_xdmf(path: Path, times: Sequence[float],
+def _write_xdmf(path: Path, times: Sequence[float] | NDArray[np.float64],
                 dists: Sequence[VelocityDistribution]) -> None:
     mesh = _line_mesh(dists[0].v, {})
     with meshio.xdmf.TimeSeriesWriter(path, data_format="XML") as writer:

@@ -254,6 +254,7 @@ def run_md(params: dict[str, Any], *, seed: Any, y: NDArray, v: NDArray,
     ck = checkpointing
     stops, rec_at, sample_at, snap_at = _schedule(n, plan)
     timed = plan.sample_dt is not None
+    sample_dt = 0.0 if plan.sample_dt is None else plan.sample_dt
     n_batches, boxes = plan.n_batches, list(plan.box_counts)
     t_next, n_sampled = np.inf, 0
     eng = MDEngine(y, v, options, rng)
@@ -290,6 +291,7 @@ def run_md(params: dict[str, Any], *, seed: Any, y: NDArray, v: NDArray,
         n_sampled += 1
 
     def save() -> None:
+        assert ck.path is not None  # save() runs only with a checkpoint path
         arrays = {**eng.state(), **acc.state(), "records": np.array(records),
                   "dens": dens, "snap_meta": np.array([[s.collisions_per_particle, s.time]
                                                        for s in snaps]).reshape(-1, 2),
@@ -307,9 +309,9 @@ def run_md(params: dict[str, Any], *, seed: Any, y: NDArray, v: NDArray,
             while eng.advance(target, t_next):
                 take_sample(min(n_batches - 1, (eng.n_collisions - plan.sample_from)
                                 * n_batches // span), t_next)
-                t_next += plan.sample_dt
+                t_next += sample_dt
             if target == plan.sample_from and t_next == np.inf:
-                t_next = float(eng.fstate[K.F_T]) + plan.sample_dt
+                t_next = float(eng.fstate[K.F_T]) + sample_dt
         else:
             eng.advance(target)
         bar.update(target - bar.n)

@@ -282,7 +282,10 @@ def peak_sweep(eps_values: tuple[float, ...], *, spacing: float, method: str = "
     fine_spacing = spacing / math.sqrt(2.0) if fine_spacing is None else fine_spacing
     x_tol = 0.01 if x_tol is None else x_tol
     n_tol = 1e-3 if n_tol is None else n_tol
-    coarse, fine, other, ok = [], [], [], []
+    coarse_peaks: list[ExponentPeak] = []
+    fine_peaks: list[ExponentPeak] = []
+    other: list[ExponentPeak] = []
+    converged: list[bool] = []
 
     def peak(eps: float, h: float, factor: float) -> ExponentPeak:
         dist = fem_steady(1.0 - eps, spacing=h, cutoff_factor=factor,
@@ -302,12 +305,13 @@ def peak_sweep(eps_values: tuple[float, ...], *, spacing: float, method: str = "
         if cutoff_check:
             other.append(peak(eps, spacing, fb))
             checks.append(other[-1])
-        coarse.append(pc)
-        fine.append(pf)
-        ok.append(all(p.interior for p in (pf, *checks))
-                  and all(abs(q.x / pf.x - 1) < x_tol and abs(q.n - pf.n) < n_tol
-                          for q in checks))
-    return PeakSweep(tuple(fine), tuple(coarse), tuple(ok), tuple(other), "fem", x_tol, n_tol)
+        coarse_peaks.append(pc)
+        fine_peaks.append(pf)
+        converged.append(all(p.interior for p in (pf, *checks))
+                         and all(abs(q.x / pf.x - 1) < x_tol and abs(q.n - pf.n) < n_tol
+                                 for q in checks))
+    return PeakSweep(tuple(fine_peaks), tuple(coarse_peaks), tuple(converged), tuple(other),
+                     "fem", x_tol, n_tol)
 
 
 @register("F6", "effective exponent n(c) of the deterministic solution, peak scaling",
@@ -343,6 +347,7 @@ def figure_f6(ctx: Context) -> list[ClaimRow]:
     ax.set_xlabel("c")
     ax.set_ylabel("n(c)")
     ax.legend(fontsize=8)
+    eps_values: tuple[float, ...]
     if ctx.quick:
         eps_values, spacings = (0.1, 0.03, 0.01), (0.1, 0.07)
     else:

@@ -89,8 +89,10 @@ class Schedule:
     def __call__(self, t: float, *, left: bool = False) -> float:
         """The value at time ``t`` (right-continuous at a switch; ``left``: the left limit)."""
         if self.kind == "step":
-            side = "left" if left else "right"
-            return self.values[int(np.searchsorted(self.times, t, side=side))]
+            times = np.asarray(self.times, dtype=np.float64)
+            index = (np.searchsorted(times, t, side="left") if left
+                     else np.searchsorted(times, t, side="right"))
+            return self.values[int(index)]
         return float(np.interp(t, self.times, self.values))
 
     @property
@@ -129,7 +131,10 @@ def _finite(name: str, value: object) -> float:
 def _evaluate(param: Parameter, t: float, default: float, name: str, left: bool) -> float:
     if param is None:
         return default
-    if isinstance(param, (int, float)) and not isinstance(param, bool):
+    if isinstance(param, bool) or not (isinstance(param, (int, float)) or callable(param)):
+        raise TypeError(f"the {name} protocol must be a number, a Schedule or a callable of "
+                        f"t, got {param!r}")
+    if isinstance(param, (int, float)):
         return float(param)
     value = param(t, left=left) if isinstance(param, Schedule) else param(t)
     try:

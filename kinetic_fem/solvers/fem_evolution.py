@@ -276,7 +276,7 @@ def evolve_cooling_fem(problem: CoolingProblem, *, times: NDArray,
             levels = hist[-3:]
             s_star = _invert(levels, times[k])
             w = lagrange_weights([lv.s for lv in levels], s_star)
-            u_k = sum(c * lv.u for c, lv in zip(w, levels, strict=True))
+            u_k = np.sum([c * lv.u for c, lv in zip(w, levels, strict=True)], axis=0)
             log_t = sum(c * lv.y[0] for c, lv in zip(w, levels, strict=True))
             outputs.append(u_k)
             temps.append(math.exp(log_t))

@@ -334,11 +334,13 @@ class Integrator:
             f = sym.T @ (c_new * m - c_old - h * res)
             if self.cooling:
                 f = np.append(f, x2 @ m - 1.0)
-            if fresh:
+            if lu is None:
+                assert jac is not None  # rhs returns the Jacobian when asked (fresh)
                 mw = asm(weighted_mass, self.disc.basis, u=field).toarray()
                 full = c_new * mw - h * jac
                 red = (sym.T @ (sym.T @ full.T).T)
                 if self.cooling:
+                    assert dz is not None  # the cooling rhs returns dR/dzeta
                     col = -(h * (sym.T @ dz))[:, None]
                     row = (x2 @ mw) @ sym
                     red = np.block([[red, col], [row[None, :], np.zeros((1, 1))]])

@@ -407,8 +407,8 @@ def hcs_pdf(c: ArrayLike) -> NDArray[np.float64]:
 
 def hcs_characteristic_function(k: ArrayLike) -> NDArray[np.float64]:
     """:math:`\\hat f(k) = \\int f(c) e^{ikc}dc = (1+|k|)e^{-|k|}` of :func:`hcs_pdf`."""
-    k = np.abs(np.asarray(k, dtype=float))
-    return (1.0 + k) * np.exp(-k)
+    k_abs: NDArray[np.float64] = np.abs(np.asarray(k, dtype=float))
+    return (1.0 + k_abs) * np.exp(-k_abs)
 
 
 def scaled_moment_growth_rates(alpha: float, order: int, density: float = 1.0

@@ -175,9 +175,11 @@ def tails(ctx: Context) -> list[ClaimRow]:
         run = _heated(alpha, n, cpp, ctx.seed + 40 + k)
         d = run.distribution
         pos = (d.c > 0) & (d.f_values > 0)
-        ax3.errorbar(d.c[pos] ** 3, d.f_values[pos], yerr=d.f_errors[pos], fmt=".", ms=3,
+        f_err = d.f_errors
+        assert f_err is not None  # a sampled distribution carries its error bars
+        ax3.errorbar(d.c[pos] ** 3, d.f_values[pos], yerr=f_err[pos], fmt=".", ms=3,
                      label=f"alpha={alpha}")
-        ax32.errorbar(d.c[pos] ** 1.5, d.f_values[pos], yerr=d.f_errors[pos], fmt=".", ms=3,
+        ax32.errorbar(d.c[pos] ** 1.5, d.f_values[pos], yerr=f_err[pos], fmt=".", ms=3,
                       label=f"alpha={alpha}")
         exps[alpha] = _tail_exponent(run)
     ax3.set(yscale="log", xlabel="c^3", ylabel="f(c)", xlim=(0, 60), ylim=(1e-7, 1))
@@ -219,9 +221,9 @@ def relaxation_time(ctx: Context) -> list[ClaimRow]:
         t_inf = temp[t >= t[-1] / 2].mean()
         tau = float(trapezoid_weights(t) @ ((t_inf - temp) / (t_inf - temp[0])))
         taus.append(tau)
-    eps = np.array(eps_list)
-    slope = float(np.polyfit(np.log(eps * (2 - eps)), np.log(taus), 1)[0])
-    small = float(np.polyfit(np.log(eps[-2:]), np.log(taus[-2:]), 1)[0])
+    eps_arr = np.array(eps_list)
+    slope = float(np.polyfit(np.log(eps_arr * (2 - eps_arr)), np.log(taus), 1)[0])
+    small = float(np.polyfit(np.log(eps_arr[-2:]), np.log(taus[-2:]), 1)[0])
     table = ", ".join(f"eps={e}: {t:.3g}" for e, t in zip(eps_list, taus, strict=True))
     return [ClaimRow("C2", "fitted exponent of tau against 1 - alpha^2", f"{slope:.3f}",
                      "-2/3 = -0.667", bool(abs(slope + 2 / 3) < 0.06), "dsmc",
@@ -403,7 +405,7 @@ def _psi_run(eps: float, quick: bool, seed: int) -> dsmc.DSMCRun:
 
 
 def _psi_binned(run: dsmc.DSMCRun, eps: float, width: float = 0.25
-                ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
     """The c > 0 hump on y = (1 - c/<c>_+)/eps^(1/3), in y-bins of about ``width``.
 
     Returns the y bin edges (increasing), psi_DSMC = 2 eps^(1/3) <c>_+ f and its batch

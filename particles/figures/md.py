@@ -338,12 +338,12 @@ def cooling_small_n(ctx: Context) -> list[ClaimRow]:
 def density_vs_packing(ctx: Context) -> list[ClaimRow]:
     n, cpp = _size(ctx, (1000, 300.0), (5000, 1500.0))
     packing = (0.1, 0.25, 0.5, 0.75)
-    ratio = []
+    ratios: list[float] = []
     for k, ns in enumerate(packing):
         run = _heated(0.9, n, cpp, ctx.seed + 300 + k, 1.0, ns)
         fl = run.density_fluctuations
-        ratio.append(float(np.interp(16, fl.mean_count[::-1], fl.variance_ratio[::-1])))
-    ratio = np.array(ratio)
+        ratios.append(float(np.interp(16, fl.mean_count[::-1], fl.variance_ratio[::-1])))
+    ratio = np.array(ratios)
     slope = float(np.polyfit(np.log(packing), np.log(ratio), 1)[0])
     # equilibrium hard rods have (1 - n sigma)^2: the excess over it measures clustering
     excess = ratio / (1 - np.array(packing)) ** 2
