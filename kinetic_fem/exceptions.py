@@ -8,7 +8,7 @@ stays with the model it validates.
 
 from __future__ import annotations
 
-__all__ = ["ResolutionWarning", "ConvergenceWarning"]
+__all__ = ["ResolutionWarning", "ConvergenceWarning", "ConvergenceError"]
 
 
 class ResolutionWarning(UserWarning):
@@ -25,4 +25,12 @@ class ConvergenceWarning(UserWarning):
 
     The result is returned (with ``info.converged = False``) instead of raising, so that
     a sweep can continue; the message gives the residual reached.
+    """
+
+
+class ConvergenceError(RuntimeError):
+    """An iteration (Newton, a continuation or a time integration) failed outright.
+
+    Raised by the FEM solvers when no usable result exists; the message says what to
+    change (a finer mesh, a longer cut-off, more iterations).
     """

@@ -57,7 +57,7 @@ from numpy.typing import NDArray
 
 from .. import sonine
 from ..distribution import RunInfo, VelocityDistribution
-from ..exceptions import ResolutionWarning
+from ..exceptions import ConvergenceError, ResolutionWarning
 from ..gas import HeatedProblem, check_positive
 from ..operators.fem_discretisation import (
     ELEMENTS,
@@ -110,10 +110,6 @@ CUTOFF_TARGET = 1e-33
 MAX_WIDENINGS = 4
 CONTINUATION_ALPHA = 0.95
 """Above this alpha Newton starts from the solution at ten times the inelasticity."""
-
-
-class ConvergenceError(RuntimeError):
-    """Newton's method failed; the message says what to change."""
 
 
 # ---------------------------------------------------------------- weak forms (n = D = 1)

@@ -50,6 +50,7 @@ import scipy.sparse.linalg
 from numpy.typing import NDArray
 from skfem import asm
 
+from ..exceptions import ConvergenceError
 from ..model import RestitutionLaw
 from ..operators.fem_thermostat import (
     diffusion,
@@ -78,10 +79,6 @@ step."""
 
 LOG_SMALLEST = math.log(1e-300)
 """Initial tails stay above this (ln P), far from underflow of exp."""
-
-
-class ConvergenceError(RuntimeError):
-    """The time integration failed; the message says what to change."""
 
 
 @dataclass(frozen=True)
