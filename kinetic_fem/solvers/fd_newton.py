@@ -33,7 +33,7 @@ from numpy.typing import NDArray
 
 from ..operators.collision import HalfGrid, gain_term, kernel_power, loss_frequency
 from ..operators.fd_kernels import gain_jacobian
-from .newton import NewtonResult, newton
+from .newton import NewtonReport, NewtonResult, newton
 
 __all__ = ["FDSteadyState", "laplacian", "drift", "steady_residual", "collision_jacobian",
            "newton_steady", "update_factor", "UNDERFLOW"]
@@ -210,7 +210,7 @@ def _jacobian(grid: HalfGrid, p: NDArray[np.float64], nu: NDArray[np.float64],
 
 
 @dataclass(frozen=True)
-class FDSteadyState:
+class FDSteadyState(NewtonReport):
     """A steady state of the finite-difference equations and how Newton found it.
 
     Parameters
@@ -228,26 +228,6 @@ class FDSteadyState:
     p: NDArray[np.float64]
     multiplier: float
     newton: NewtonResult
-
-    @property
-    def converged(self) -> bool:
-        """Newton's stopping criterion was met."""
-        return self.newton.converged
-
-    @property
-    def iterations(self) -> int:
-        """Newton iterations."""
-        return self.newton.iterations
-
-    @property
-    def residual(self) -> float:
-        """Largest scaled residual on the monitored nodes."""
-        return self.newton.residual
-
-    @property
-    def message(self) -> str:
-        """Newton's status message."""
-        return self.newton.message
 
 
 def newton_steady(grid: HalfGrid, p0: NDArray[np.float64], *, alpha: float,

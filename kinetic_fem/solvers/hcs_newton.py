@@ -22,7 +22,7 @@ from numpy.typing import NDArray
 
 from ..operators.collision import HalfGrid, gain_term, loss_frequency, pair_moment
 from .fd_newton import collision_jacobian, update_factor
-from .newton import NewtonResult, newton
+from .newton import NewtonReport, NewtonResult, newton
 
 __all__ = ["HCSSolution", "drift_term", "hcs_residual", "newton_hcs", "MONITOR_FLOOR"]
 
@@ -116,7 +116,7 @@ def hcs_residual(grid: HalfGrid, u: NDArray[np.float64], zeta: float, multiplier
 
 
 @dataclass(frozen=True)
-class HCSSolution:
+class HCSSolution(NewtonReport):
     """A homogeneous cooling state on one half grid.
 
     Attributes
@@ -139,26 +139,6 @@ class HCSSolution:
     zeta: float
     multiplier: float
     newton: NewtonResult
-
-    @property
-    def iterations(self) -> int:
-        """Newton iterations."""
-        return self.newton.iterations
-
-    @property
-    def residual(self) -> float:
-        """Largest scaled residual on the monitored nodes."""
-        return self.newton.residual
-
-    @property
-    def converged(self) -> bool:
-        """Newton's stopping criterion was met."""
-        return self.newton.converged
-
-    @property
-    def message(self) -> str:
-        """Newton's status message."""
-        return self.newton.message
 
     def energy_identity(self, alpha: float) -> float:
         """:math:`(1-\\alpha^2)\\langle|c-c'|^3\\rangle/8`, to compare with :attr:`zeta`."""

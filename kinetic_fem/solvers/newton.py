@@ -54,7 +54,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..run_info import RunInfo
 
-__all__ = ["NewtonResult", "newton", "run_info", "Jacobian"]
+__all__ = ["NewtonResult", "NewtonReport", "newton", "run_info", "Jacobian"]
 
 logger = logging.getLogger(__name__)
 
@@ -97,6 +97,36 @@ class NewtonResult:
     step: float
     history: tuple[float, ...]
     message: str
+
+
+class NewtonReport:
+    """Mixin of solver results that carry a :class:`NewtonResult` as ``newton``.
+
+    Gives them the convergence report under the names every result uses:
+    ``converged``, ``iterations``, ``residual`` and ``message`` (read from ``newton``).
+    """
+
+    newton: NewtonResult
+
+    @property
+    def converged(self) -> bool:
+        """Newton's stopping criterion was met (or it stalled at round-off)."""
+        return self.newton.converged
+
+    @property
+    def iterations(self) -> int:
+        """Newton iterations."""
+        return self.newton.iterations
+
+    @property
+    def residual(self) -> float:
+        """The residual reached, in the solver's own (scaled) norm."""
+        return self.newton.residual
+
+    @property
+    def message(self) -> str:
+        """Newton's status message."""
+        return self.newton.message
 
 
 def _max_norm(r: Array, x: Array) -> float:
