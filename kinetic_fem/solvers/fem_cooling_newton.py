@@ -38,6 +38,7 @@ from .fem import (
     stalled,
     weighted_mass,
 )
+from .fem_newton import CHORD_LEVEL
 from .newton import newton
 
 __all__ = ["CoolingState", "newton_cooling", "second_moment", "PSEUDO_TIME_STEP",
@@ -69,7 +70,7 @@ class CoolingState:
 
     def energy_identity(self) -> float:
         """:math:`\\tfrac18\\langle(1-\\alpha^2)|g|^{\\gamma+2}\\rangle` by the pair rule."""
-        return 0.5 * self.disc.energy_loss(self.u)
+        return 0.5 * self.disc.energy_loss(self.u, even=True)  # the HCS is even
 
     def log_f(self, c: NDArray) -> NDArray:
         """:math:`\\ln f_h` at ``c`` (clipped to the mesh; linear continuation beyond)."""
@@ -139,7 +140,7 @@ class _CoolingSystem:
         u_red, zeta = x[:n_red], float(x[n_red])
         u = sym @ u_red
         field = disc.field(u)
-        coll, cjac, _ = disc.collision(u, jacobian=jacobian)
+        coll, cjac, _ = disc.collision(u, jacobian=jacobian, even=True)  # u is even
         outflow = np.zeros(u.size)
         edges = self.edges
         outflow[edges] = np.abs(disc.dof_locations[edges]) * np.exp(u[edges])
@@ -263,7 +264,7 @@ def newton_cooling(disc: FEMDiscretisation, u0: NDArray, zeta0: float, *, tol: f
         res = newton(system, x, tol=tol * scale, max_iter=max_iter, criterion="residual",
                      norm=_residual_size, step_norm=_step_size, update=update,
                      row_scale=system.row_scale,
-                     linear_solver=lambda j, b: EquilibratedLU(j).solve(b),
+                     factorize=lambda j: EquilibratedLU(j).solve, chord=CHORD_LEVEL,
                      stall_level=RESIDUAL_STALL * scale, name="FEM cooling Newton")
         info = RunInfo(converged=res.converged, iterations=res.iterations,
                        residual=res.residual / scale, wall_time=time.perf_counter() - start,

@@ -211,6 +211,8 @@ def newton(fun: System, x0: ArrayLike, *, tol: float, max_iter: int = 50,
            column_scale: Callable[[Array], Array] | None = None,
            line_search: bool = True, armijo: float = 1e-4, min_damping: float = 1e-3,
            on_failure: Literal["accept", "stop"] = "accept", stall_level: float = 0.0,
+           factorize: Callable[[Any], Callable[[Array], Array]] | None = None,
+           chord: float = 0.0, chord_rate: float = 0.1,
            name: str = "Newton") -> NewtonResult:
     """Solve ``r(x) = 0`` by Newton's method with Armijo backtracking.
 
@@ -261,6 +263,16 @@ def newton(fun: System, x0: ArrayLike, *, tol: float, max_iter: int = 50,
         the stall rule applies).
     stall_level : float
         Stall rule threshold (module docstring); 0 disables it.
+    factorize : callable, optional
+        ``factorize(J) -> solve`` with ``solve(b) = J^{-1} b`` for the (equilibrated)
+        Jacobian, in place of ``linear_solver``; it lets chord steps reuse the factors.
+    chord : float
+        With ``factorize``: once a full Newton step is below ``chord`` (``step_norm``),
+        the next steps reuse the last factorisation (residual only, no Jacobian) while
+        each shrinks the step by ``chord_rate`` or more and decreases the residual;
+        otherwise the Jacobian is refreshed.  0 (the default): plain Newton.
+    chord_rate : float
+        Contraction a chord step must reach, in (0, 1).
     name : str
         Prefix of log messages and of the result message.
 
@@ -284,6 +296,10 @@ def newton(fun: System, x0: ArrayLike, *, tol: float, max_iter: int = 50,
     ['1e+00', '2e-01', '7e-03', '6e-06', '5e-12', '0e+00']
     """
     _check_options(tol, max_iter, criterion, armijo, min_damping, on_failure, stall_level)
+    if chord < 0.0 or not 0.0 < chord_rate < 1.0 or (chord > 0.0 and factorize is None):
+        raise ValueError(f"chord steps need chord >= 0, 0 < chord_rate < 1 and a factorize "
+                         f"callable; got chord={chord!r}, chord_rate={chord_rate!r}, "
+                         f"factorize={factorize!r}")
     norm_ = norm or _max_norm
     step_norm_ = step_norm or _step_max
     update_ = update or _add
@@ -307,6 +323,9 @@ def newton(fun: System, x0: ArrayLike, *, tol: float, max_iter: int = 50,
     it = 0
     message = ""
     converged = False
+    # chord steps: the last factorisation, the scales it was made with, the last step
+    factors: tuple[Callable[[Array], Array], Array | None, Array | None] | None = None
+    use_chord, last_step = False, math.inf
     while True:
         if criterion == "residual" and res < tol:
             converged = True
@@ -317,14 +336,44 @@ def newton(fun: System, x0: ArrayLike, *, tol: float, max_iter: int = 50,
                        f"{res:.2e}, last step {step_size:.2e} (tol {tol:.1e})")
             break
         it += 1
+        if use_chord and factors is not None:
+            solve_f, rows_f, cols_f = factors
+            delta = np.asarray(solve_f(-(r if rows_f is None else r / rows_f)), dtype=float)
+            if cols_f is not None:
+                delta = delta * cols_f
+            chord_step = step_norm_(delta, x)
+            x_try = update_(x, delta)
+            r_try = np.asarray(fun(x_try, False)[0], dtype=float)
+            rows_try = row_scale(x_try) if row_scale is not None else None
+            res_try = scaled_norm(r_try, rows_try, x_try)
+            if (math.isfinite(res_try) and bool(np.all(np.isfinite(x_try)))
+                    and res_try < res):
+                x, r, jac, rows, res = x_try, r_try, None, rows_try, res_try
+                use_chord = chord_step <= chord_rate * last_step
+                step_size, last_step = chord_step, chord_step
+                measure = res if criterion == "residual" else step_size
+                history.append(measure)
+                logger.debug("%s %d: residual %.3e, chord step %.3e", name, it, res,
+                             step_size)
+                if criterion == "step" and step_size < tol:
+                    converged = True
+                    message = f"{name} converged: step {step_size:.2e} < tol {tol:.1e}"
+                    break
+                continue
+            use_chord = False   # a failed chord step: refresh the Jacobian at x
         if jac is None:   # the accepted trial point was evaluated without its Jacobian
             r, jac = fun(x, True)
             r = np.asarray(r, dtype=float)
         if jac is None:
             raise TypeError(f"{name}: fun(x, True) returned no Jacobian")
         cols = column_scale(x) if column_scale is not None else None
-        delta = np.asarray(solve(_equilibrated(jac, rows, cols),
-                                 -(r if rows is None else r / rows)), dtype=float)
+        rhs = -(r if rows is None else r / rows)
+        if factorize is not None:
+            solve_f = factorize(_equilibrated(jac, rows, cols))
+            factors = (solve_f, rows, cols)
+            delta = np.asarray(solve_f(rhs), dtype=float)
+        else:
+            delta = np.asarray(solve(_equilibrated(jac, rows, cols), rhs), dtype=float)
         if cols is not None:
             delta = delta * cols
         if not np.all(np.isfinite(delta)):
@@ -360,6 +409,8 @@ def newton(fun: System, x0: ArrayLike, *, tol: float, max_iter: int = 50,
                        f"{name} stopped: {why}, residual {res:.2e} (tol {tol:.1e})")
             break
         step_size = newton_step
+        use_chord = chord > 0.0 and theta == 1.0 and newton_step < chord
+        last_step = newton_step
         x_old = x
         x, r, jac = x_t, r_t, jac_t
         rows = row_scale(x) if row_scale is not None else None

@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 import pytest
+import scipy.linalg
 import scipy.sparse
 from scipy.sparse.linalg import LinearOperator
 
@@ -187,3 +188,42 @@ def test_jacobian_only_where_a_step_follows(line_search):
     else:             # the full step is the next iterate: its Jacobian comes with it
         assert calls[True] == res.iterations + 1
         assert calls[False] == 0
+
+
+def test_chord_steps_reuse_the_factorisation():
+    """With ``chord``: below the chord level the factorisation is reused (fewer Jacobians,
+    same root to round-off); a chord step that contracts too slowly refreshes it."""
+    target = np.array([1.0, 2.0, 3.0])
+    calls = {"jac": 0, "factor": 0}
+
+    def fun(x, jacobian):
+        r = x**3 + x - (target**3 + target)
+        if jacobian:
+            calls["jac"] += 1
+        return r, np.diag(3 * x**2 + 1.0) if jacobian else None
+
+    def factorize(j):
+        calls["factor"] += 1
+        lu = scipy.linalg.lu_factor(j)
+        return lambda b: scipy.linalg.lu_solve(lu, b)
+
+    plain = newton(fun, np.ones(3), tol=1e-13, factorize=factorize)
+    plain_jac = calls["jac"]
+    calls.update(jac=0, factor=0)
+    chord = newton(fun, np.ones(3), tol=1e-13, factorize=factorize, chord=1e-2)
+    assert plain.converged and chord.converged
+    np.testing.assert_allclose(chord.x, target, rtol=1e-14)
+    np.testing.assert_allclose(plain.x, target, rtol=1e-14)
+    assert calls["factor"] < plain_jac
+    assert calls["jac"] == calls["factor"]
+    # a hopeless chord rate (every chord step "too slow") still converges, by refreshes
+    slow = newton(fun, np.ones(3), tol=1e-13, factorize=factorize, chord=1e-2,
+                  chord_rate=1e-12)
+    assert slow.converged
+
+
+@pytest.mark.parametrize("kw", [dict(chord=-1.0), dict(chord=1e-3, chord_rate=1.5),
+                                dict(chord=1e-3)])
+def test_bad_chord_options_raise(kw):
+    with pytest.raises(ValueError, match="chord"):
+        newton(rosenbrock_system, [0.0, 0.0], tol=1e-10, **kw)
