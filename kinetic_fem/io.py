@@ -48,6 +48,15 @@ _SCHEMA = "kinetic_fem.io/1"
 def sidecar_path(path: str | Path) -> Path:
     """The JSON sidecar that holds what the mesh file cannot: ``<path>.json``.
 
+    Parameters
+    ----------
+    path : str or Path
+        A mesh file path.
+
+    Returns
+    -------
+    Path
+
     Examples
     --------
     >>> sidecar_path("run/alpha0.9.vtu").as_posix()
@@ -162,6 +171,17 @@ def read_distribution(path: str | Path) -> VelocityDistribution:
     ``v`` comes from the mesh points, ``values`` and ``errors`` from the point data
     ``P`` and ``P_error``, everything else from the JSON sidecar.
 
+    Parameters
+    ----------
+    path : str or Path
+        The mesh file (``.vtu`` or ``.xdmf``) written by :func:`write_distribution`; its
+        sidecar ``<path>.json`` must lie beside it.
+
+    Returns
+    -------
+    VelocityDistribution
+        The distribution as it was written (values, errors, info and parameters).
+
     Raises
     ------
     FileNotFoundError
@@ -266,6 +286,11 @@ def _read_xdmf(path: Path, *, last_only: bool = False
 def read_time_series(path: str | Path) -> tuple[NDArray[np.float64], NDArray[np.float64],
                                                  NDArray[np.float64]]:
     """Read an XDMF time series of :func:`write_time_series`.
+
+    Parameters
+    ----------
+    path : str or Path
+        The ``.xdmf`` file written by :func:`write_time_series`.
 
     Returns
     -------

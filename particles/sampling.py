@@ -221,6 +221,20 @@ def save_checkpoint(path: str | Path, arrays: Mapping[str, NDArray[Any]],
 
     The file is written beside ``path`` and renamed, so an interrupted write never
     leaves a corrupt checkpoint.
+
+    Parameters
+    ----------
+    path : str or Path
+        Destination file (``.npz``).
+    arrays : mapping of str to ndarray
+        The arrays to store.
+    meta : mapping
+        JSON-serialisable metadata.
+
+    Returns
+    -------
+    Path
+        The path written.
     """
     path = Path(path)
     if path.suffix != ".npz":
@@ -233,7 +247,19 @@ def save_checkpoint(path: str | Path, arrays: Mapping[str, NDArray[Any]],
 
 
 def load_checkpoint(path: str | Path) -> tuple[dict[str, NDArray[Any]], dict[str, Any]]:
-    """Read a checkpoint written by :func:`save_checkpoint`."""
+    """Read a checkpoint written by :func:`save_checkpoint`.
+
+    Parameters
+    ----------
+    path : str or Path
+        The checkpoint file.
+
+    Returns
+    -------
+    arrays : dict of str to ndarray
+    meta : dict
+        The JSON metadata.
+    """
     with np.load(Path(path), allow_pickle=False) as data:
         meta = json.loads(str(data["__meta__"]))
         arrays = {k: data[k] for k in data.files if k != "__meta__"}
@@ -241,7 +267,19 @@ def load_checkpoint(path: str | Path) -> tuple[dict[str, NDArray[Any]], dict[str
 
 
 def spawn_seeds(seed: int | np.random.SeedSequence | None, n: int) -> list[np.random.SeedSequence]:
-    """``n`` independent seed sequences from one root seed."""
+    """``n`` independent seed sequences from one root seed.
+
+    Parameters
+    ----------
+    seed : int, SeedSequence or None
+        Root seed (None: fresh entropy).
+    n : int
+        Number of child sequences.
+
+    Returns
+    -------
+    list of SeedSequence
+    """
     root = seed if isinstance(seed, np.random.SeedSequence) else np.random.SeedSequence(seed)
     return root.spawn(n)
 

@@ -103,6 +103,23 @@ MAXWELL = PowerLawKernel(0.0)
 def as_kernel(kernel: object) -> PowerLawKernel:
     """A kernel object from an exponent ``gamma`` or a kernel.
 
+    Parameters
+    ----------
+    kernel : float or PowerLawKernel
+        The exponent :math:`\\gamma \\in [0, 2]` of :math:`B(g) = |g|^\\gamma` (1: hard
+        rods, 0: the Maxwell model), or a kernel object (returned as it is).
+
+    Returns
+    -------
+    PowerLawKernel
+
+    Raises
+    ------
+    TypeError
+        If ``kernel`` is neither a real number nor a kernel object.
+    ValueError
+        If ``gamma`` lies outside [0, 2] or is not finite.
+
     Examples
     --------
     >>> as_kernel(0.5)

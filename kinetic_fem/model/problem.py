@@ -287,6 +287,11 @@ class CoolingProblem:
     for hard rods) and :math:`f(c) = \\sqrt{T} P(c\\sqrt T)` tends to a
     time-independent scaling form.
 
+    Parameters
+    ----------
+    gas : InelasticGas
+        The gas (kernel, restitution law, density); its restitution must be inelastic.
+
     Raises
     ------
     ValueError

@@ -110,13 +110,41 @@ Parameter = Union[float, Schedule, Callable[[float], float], None]
 
 
 def steps(times, values, *, name: str = "value") -> Schedule:
-    """Piecewise-constant :class:`Schedule` (``len(values) == len(times) + 1``)."""
+    """Piecewise-constant :class:`Schedule` (``len(values) == len(times) + 1``).
+
+    Parameters
+    ----------
+    times : array_like, shape (m,)
+        Increasing switching times.
+    values : array_like, shape (m + 1,)
+        Finite value before ``times[0]``, between successive times and after the last.
+    name : str
+        Name of the quantity, used in error messages.
+
+    Returns
+    -------
+    Schedule
+    """
     return Schedule(tuple(np.atleast_1d(times).tolist()), tuple(np.atleast_1d(values).tolist()),
                     "step", name)
 
 
 def ramp(times, values, *, name: str = "value") -> Schedule:
-    """Piecewise-linear :class:`Schedule` through ``(times[j], values[j])``."""
+    """Piecewise-linear :class:`Schedule` through ``(times[j], values[j])``.
+
+    Parameters
+    ----------
+    times : array_like, shape (m,)
+        Increasing times of the knots.
+    values : array_like, shape (m,)
+        Finite values at the knots; constant before the first and after the last.
+    name : str
+        Name of the quantity, used in error messages.
+
+    Returns
+    -------
+    Schedule
+    """
     return Schedule(tuple(np.atleast_1d(times).tolist()), tuple(np.atleast_1d(values).tolist()),
                     "linear", name)
 

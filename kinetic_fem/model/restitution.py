@@ -124,6 +124,11 @@ class RestitutionLaw:
 class ConstantRestitution(RestitutionLaw):
     """:math:`\\alpha(g) = \\alpha`, ``0 <= alpha <= 1``.
 
+    Parameters
+    ----------
+    alpha : float
+        The coefficient of restitution, ``0 <= alpha <= 1``.
+
     Examples
     --------
     >>> ConstantRestitution(0.9)([0.5, 2.0])
@@ -157,6 +162,14 @@ class ConstantRestitution(RestitutionLaw):
 @dataclass(frozen=True)
 class ThresholdRestitution(RestitutionLaw):
     """Elastic below the relative speed ``threshold``, ``alpha`` above.
+
+    Parameters
+    ----------
+    alpha : float
+        Coefficient above the threshold, ``0 <= alpha <= 1``.
+    threshold : float
+        Relative speed :math:`|g|` (velocity units of the problem) below which collisions
+        are elastic, ``> 0``.
 
     Examples
     --------
@@ -201,6 +214,11 @@ class ViscoelasticRestitution(RestitutionLaw):
     and is used only below :math:`g_{max}` (:attr:`max_speed`); a problem that
     reaches faster impacts is refused with a message.
 
+    Parameters
+    ----------
+    delta : float
+        The material parameter :math:`\\delta > 0` (units of speed\\ :sup:`-1/5`).
+
     Examples
     --------
     >>> law = ViscoelasticRestitution(0.1)
@@ -230,6 +248,15 @@ class ViscoelasticRestitution(RestitutionLaw):
 
 def as_restitution(alpha: object) -> RestitutionLaw:
     """A restitution law from a float or a law.
+
+    Parameters
+    ----------
+    alpha : float or RestitutionLaw
+        A constant coefficient in [0, 1] or a law (returned as it is).
+
+    Returns
+    -------
+    RestitutionLaw
 
     Raises
     ------

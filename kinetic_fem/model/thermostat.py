@@ -54,6 +54,12 @@ class Thermostat:
 class WhiteNoise(Thermostat):
     """White-noise heating :math:`D\\,\\partial_v^2 P` (the paper).
 
+    Parameters
+    ----------
+    strength : float
+        The diffusion coefficient :math:`D > 0` of :math:`D\\,\\partial_v^2 P`
+        (velocity\\ :sup:`2` per unit time).
+
     Examples
     --------
     >>> WhiteNoise(2.0).energy_input(1.0)
@@ -110,6 +116,18 @@ class NoThermostat(Thermostat):
 
 def as_thermostat(diffusion: float, friction: float = 0.0) -> Thermostat:
     """The thermostat of plain parameters: white noise if ``friction == 0``, else a bath.
+
+    Parameters
+    ----------
+    diffusion : float
+        Diffusion coefficient :math:`D > 0`.
+    friction : float
+        Friction rate :math:`\\xi \\ge 0` of the bath (0: white noise).
+
+    Returns
+    -------
+    Thermostat
+        :class:`WhiteNoise` or :class:`FokkerPlanckBath`.
 
     Raises
     ------

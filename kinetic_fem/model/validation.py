@@ -26,6 +26,24 @@ class UnsupportedModelError(ValueError):
 def check_real(name: str, value: object) -> float:
     """Return ``value`` as a float; refuse non-numbers, booleans and NaN.
 
+    Parameters
+    ----------
+    name : str
+        Parameter name used in the error message.
+    value : float
+        The value to check.
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    TypeError
+        If ``value`` is not a real number or is a bool.
+    ValueError
+        If ``value`` is NaN.
+
     Examples
     --------
     >>> check_real("gamma", 1)
@@ -83,6 +101,17 @@ def check_alpha(alpha: object, *, allow_elastic: bool = False) -> float:
 def check_positive(name: str, value: object) -> float:
     """Validate a strictly positive, finite real parameter.
 
+    Parameters
+    ----------
+    name : str
+        Parameter name used in the error message.
+    value : float
+        The value to check.
+
+    Returns
+    -------
+    float
+
     Raises
     ------
     TypeError
@@ -104,6 +133,24 @@ def check_positive(name: str, value: object) -> float:
 def check_nonnegative(name: str, value: object) -> float:
     """Validate a finite real parameter ``>= 0``.
 
+    Parameters
+    ----------
+    name : str
+        Parameter name used in the error message.
+    value : float
+        The value to check.
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    TypeError
+        If ``value`` is not a real number.
+    ValueError
+        If ``value`` is NaN, infinite or negative.
+
     Examples
     --------
     >>> check_nonnegative("friction", 0)
@@ -117,6 +164,20 @@ def check_nonnegative(name: str, value: object) -> float:
 
 def check_finite_array(name: str, values: object, *, ndim: int | None = None) -> np.ndarray:
     """Return ``values`` as a float array, refusing NaN and infinities.
+
+    Parameters
+    ----------
+    name : str
+        Parameter name used in the error message.
+    values : array_like
+        The values to check.
+    ndim : int, optional
+        Required number of dimensions.
+
+    Returns
+    -------
+    ndarray
+        ``values`` as float64.
 
     Raises
     ------

@@ -39,6 +39,17 @@ __all__ = [
 def uniform_grid(cutoff: float, n_v: int) -> NDArray[np.float64]:
     """``n_v`` equally spaced nodes on ``[0, cutoff]``.
 
+    Parameters
+    ----------
+    cutoff : float
+        Last node (same units as the velocities of the caller).
+    n_v : int
+        Number of nodes, at least 2.
+
+    Returns
+    -------
+    ndarray, shape (n_v,)
+
     Examples
     --------
     >>> uniform_grid(1.0, 5)
@@ -54,6 +65,16 @@ def uniform_grid(cutoff: float, n_v: int) -> NDArray[np.float64]:
 def symmetric_grid(half: NDArray[np.float64]) -> NDArray[np.float64]:
     """Mirror nodes ``0 = v_0 < v_1 < ...`` on ``v >= 0`` to the whole line.
 
+    Parameters
+    ----------
+    half : ndarray, shape (m,)
+        Increasing nodes on :math:`v \\ge 0`, starting at 0.
+
+    Returns
+    -------
+    ndarray, shape (2 m - 1,)
+        The nodes ``-half[::-1]`` and ``half``, with 0 once.
+
     Examples
     --------
     >>> symmetric_grid(np.array([0.0, 1.0, 2.0]))
@@ -67,6 +88,16 @@ def symmetric_grid(half: NDArray[np.float64]) -> NDArray[np.float64]:
 
 def trapezoid_weights(v: NDArray[np.float64]) -> NDArray[np.float64]:
     """Trapezoid weights on arbitrary increasing nodes (exact for linear g).
+
+    Parameters
+    ----------
+    v : ndarray, shape (n,)
+        Increasing nodes, ``n >= 2``.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        Quadrature weights.
 
     Examples
     --------
@@ -89,6 +120,16 @@ def simpson_weights(v: NDArray[np.float64]) -> NDArray[np.float64]:
     An odd number of nodes uses Simpson's 1/3 rule throughout; an even number
     closes with Simpson's 3/8 rule on the last three intervals, so the rule stays
     fourth order.
+
+    Parameters
+    ----------
+    v : ndarray, shape (n,)
+        Equally spaced increasing nodes, ``n >= 3``.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        Weights ``w`` with :math:`\\sum_i w_i g(v_i) \\approx \\int g\\,dv`.
 
     Examples
     --------
@@ -176,6 +217,22 @@ def moments(
     v: NDArray[np.float64], p: NDArray[np.float64], w: NDArray[np.float64], orders: int
 ) -> NDArray[np.float64]:
     """Raw moments :math:`\\int v^k P\\, dv`, ``k = 0 .. orders``, by quadrature.
+
+    Parameters
+    ----------
+    v : ndarray, shape (n,)
+        Quadrature nodes (velocities).
+    p : ndarray, shape (n,)
+        Values of the distribution at ``v``.
+    w : ndarray, shape (n,)
+        Quadrature weights on ``v`` (e.g. :func:`simpson_weights`).
+    orders : int
+        Highest order ``k`` returned.
+
+    Returns
+    -------
+    ndarray, shape (orders + 1,)
+        :math:`\\int v^k P\\,dv` for ``k = 0 .. orders``.
 
     Examples
     --------
