@@ -19,7 +19,19 @@ __all__ = ["plot_a2", "plot_f", "plot_sweep", "new_axes", "save_figure"]
 
 
 def new_axes(n: int = 1, *, width: float = 5.0, height: float = 3.8) -> list[Any]:
-    """``n`` side-by-side Axes on a new pyplot-free Figure (``ax.figure`` is the Figure)."""
+    """``n`` side-by-side Axes on a new pyplot-free Figure (``ax.figure`` is the Figure).
+
+    Parameters
+    ----------
+    n : int
+        Number of panels, side by side.
+    width, height : float
+        Size of one panel in inches.
+
+    Returns
+    -------
+    list of matplotlib Axes
+    """
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=(width * n, height), layout="constrained")
@@ -31,6 +43,20 @@ def save_figure(fig: Any, path: str | Path, **kwargs: Any) -> Path:
 
     A Figure made by pyplot keeps its own canvas; a pyplot-free one gets an Agg
     canvas here, the only place a backend is chosen.
+
+    Parameters
+    ----------
+    fig : matplotlib Figure
+        The figure to write.
+    path : str or Path
+        Destination; its suffix selects the format.
+    **kwargs
+        Passed to ``Figure.savefig``.
+
+    Returns
+    -------
+    Path
+        The path written.
     """
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
@@ -113,6 +139,20 @@ def plot_f(ds: Any, *, ax: Any = None, log: bool = True, gaussian: bool = True,
     Sampled points are drawn with their error band; ``log`` gives a log scale in
     :math:`f` (tails), ``gaussian`` adds :math:`e^{-c^2/2}/\\sqrt{2\\pi}`.
 
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A sweep result of :func:`kinetic_fem.sweep` (variables ``f`` over ``c`` and
+        ``f_error`` where sampled).
+    ax : matplotlib Axes, optional
+        Where to draw (default: a new figure).
+    log : bool
+        Logarithmic ``f`` axis.
+    gaussian : bool
+        Add the unit Gaussian for reference.
+    **style
+        Passed to ``ax.plot``.
+
     Returns
     -------
     matplotlib Axes
@@ -147,6 +187,17 @@ def plot_f(ds: Any, *, ax: Any = None, log: bool = True, gaussian: bool = True,
 def plot_sweep(ds: Any, path: str | Path | None = None, *, x: str = "alpha",
                theory: Callable[[Any], Any] | None = None) -> Any:
     """Two panels, :func:`plot_a2` and :func:`plot_f`; written to ``path`` if given.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A sweep result of :func:`kinetic_fem.sweep`.
+    path : str or Path, optional
+        Write the figure there (format from the suffix).
+    x : str
+        Grid dimension on the horizontal axis of the a2 panel.
+    theory : callable, optional
+        ``theory(x_values) -> a2`` drawn as a line beside the points.
 
     Returns
     -------

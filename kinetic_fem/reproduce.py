@@ -55,7 +55,25 @@ class Context:
 
 @dataclass(frozen=True)
 class ClaimRow:
-    """One measured claim: what was measured, the paper's value and the verdict."""
+    """One measured claim: what was measured, the paper's value and the verdict.
+
+    Parameters
+    ----------
+    claim : str
+        Claim label of REPRODUCE.md (``"C1"`` .. ``"C17"``).
+    quantity : str
+        What was measured.
+    measured : str
+        The measured value, as printed in the table.
+    paper : str
+        The paper's value or statement.
+    agrees : bool or None
+        The verdict (None: not decidable, e.g. a qualitative claim).
+    method : str
+        The method that gave the number (``"fem"``, ``"dsmc"``, ...).
+    note : str
+        Anything a reader needs to judge the row.
+    """
 
     claim: str
     quantity: str
@@ -68,7 +86,19 @@ class ClaimRow:
 
 @dataclass(frozen=True)
 class Item:
-    """A registered figure or claim check."""
+    """A registered figure or claim check.
+
+    Parameters
+    ----------
+    key : str
+        Label of the figure or claim item (``"F3"``, ``"C2-DSMC"``).
+    title : str
+        One-line description.
+    run : callable
+        ``run(ctx) -> list[ClaimRow]``: draws the figure into ``ctx.out`` and measures.
+    claims : tuple of str
+        The claims the item measures.
+    """
 
     key: str
     title: str
@@ -80,7 +110,22 @@ ITEMS: dict[str, Item] = {}
 
 
 def register(key: str, title: str, *, claims: tuple[str, ...] = ()) -> Callable:
-    """Decorator registering ``run(ctx)`` as figure/claim item ``key`` (e.g. ``"F3"``)."""
+    """Decorator registering ``run(ctx)`` as figure/claim item ``key`` (e.g. ``"F3"``).
+
+    Parameters
+    ----------
+    key : str
+        Label of the item (e.g. ``"F3"``); must be new.
+    title : str
+        One-line description.
+    claims : tuple of str
+        The claims the item measures.
+
+    Returns
+    -------
+    callable
+        The decorator; it returns the function unchanged.
+    """
 
     def decorate(run: Callable[[Context], list[ClaimRow]]) -> Callable[[Context], list[ClaimRow]]:
         if key in ITEMS:
@@ -105,6 +150,16 @@ def load_plugins() -> list[str]:
 
 def item_order(key: str) -> tuple[str, int, str]:
     """Sort key of item and claim labels: letter, then number (F2 before F10), then name.
+
+    Parameters
+    ----------
+    key : str
+        An item or claim label.
+
+    Returns
+    -------
+    tuple
+        The sort key ``(letter, number, rest)``.
 
     Examples
     --------
@@ -187,6 +242,17 @@ def run_items(ctx: Context, keys: list[str] | None = None) -> list[ClaimRow]:
     In quick mode (``ctx.quick``) the warnings the items log are not shown; the rows
     of an item that warned carry a note starting with :data:`QUICK_MARK` (with the
     number of warnings and the first one), which :func:`write_table` summarises once.
+
+    Parameters
+    ----------
+    ctx : Context
+        Output directory, quick or full mode, seeds.
+    keys : list of str, optional
+        Item labels to run (default: all registered items).
+
+    Returns
+    -------
+    list of ClaimRow
     """
     ctx.out.mkdir(parents=True, exist_ok=True)
     selected = sorted(ITEMS if keys is None else keys, key=item_order)
@@ -209,6 +275,15 @@ def run_items(ctx: Context, keys: list[str] | None = None) -> list[ClaimRow]:
 
 def quick_mode_summary(rows: list[ClaimRow]) -> str:
     """One paragraph naming the rows that are quick-mode estimates ("" if none).
+
+    Parameters
+    ----------
+    rows : list of ClaimRow
+        The rows of a run.
+
+    Returns
+    -------
+    str
 
     Examples
     --------
@@ -250,6 +325,18 @@ def write_table(rows: list[ClaimRow], out: Path) -> tuple[Path, Path]:
 
     The CSV keeps every note in full; the markdown table shortens quick-mode notes
     and ends with :func:`quick_mode_summary`.
+
+    Parameters
+    ----------
+    rows : list of ClaimRow
+        The rows to write.
+    out : Path
+        Output directory.
+
+    Returns
+    -------
+    tuple of Path
+        The CSV and the markdown file.
     """
     csv_path, md_path = out / "claims.csv", out / "claims.md"
     names = list(ClaimRow.__dataclass_fields__)

@@ -76,6 +76,17 @@ def relative_speed_cubed(temperature: float, a2: float = 0.0) -> float:
     """:math:`\\langle |v - v'|^3\\rangle = (8/\\sqrt\\pi) T^{3/2}(1 + 3a_2/16)`.
 
     Exact for a Gaussian (``a2 = 0``); first order in ``a2`` otherwise.
+
+    Parameters
+    ----------
+    temperature : float
+        Temperature ``T``.
+    a2 : float
+        First Sonine coefficient.
+
+    Returns
+    -------
+    float
     """
     return 8.0 / math.sqrt(math.pi) * temperature**1.5 * (1.0 + 3.0 * a2 / 16.0)
 
@@ -86,6 +97,21 @@ def steady_temperature(alpha: float, density: float = 1.0, diffusion: float = 1.
 
     :math:`T^{3/2} = \\sqrt\\pi D / (n (1-\\alpha^2)(1 + 3a_2/16))` with ``a2``
     defaulting to :func:`a2_first_order`.
+
+    Parameters
+    ----------
+    alpha : float
+        Coefficient of restitution, ``0 <= alpha < 1``.
+    density : float
+        Number density ``n``.
+    diffusion : float
+        White-noise strength ``D``.
+    a2 : float, optional
+        First Sonine coefficient (default: :func:`a2_first_order`).
+
+    Returns
+    -------
+    float
     """
     alpha = check_alpha(alpha)
     n = check_positive("density", density)
@@ -101,6 +127,19 @@ def relaxation_time(alpha: float, density: float = 1.0, diffusion: float = 1.0) 
     inject the steady temperature.  The paper writes :math:`[D/(n(1-\\alpha^2))]^{2/3}`,
     which is a temperature, not a time; the two agree at ``D = 1`` and both scale as
     :math:`\\varepsilon^{-2/3}`.
+
+    Parameters
+    ----------
+    alpha : float
+        Coefficient of restitution, ``0 <= alpha < 1``.
+    density : float
+        Number density ``n``.
+    diffusion : float
+        White-noise strength ``D``.
+
+    Returns
+    -------
+    float
     """
     alpha = check_alpha(alpha)
     n = check_positive("density", density)
@@ -114,6 +153,19 @@ def tail_exponent_amplitude(density: float = 1.0, diffusion: float = 1.0,
 
     :math:`A = \\tfrac23\\sqrt{n/D}` in ``v``; with ``temperature`` given, the amplitude
     in the scaled velocity ``c``, :math:`A_c = A\\,T^{3/4}`.
+
+    Parameters
+    ----------
+    density : float
+        Number density ``n``.
+    diffusion : float
+        White-noise strength ``D``.
+    temperature : float, optional
+        Steady temperature; given, the amplitude in the scaled velocity is returned.
+
+    Returns
+    -------
+    float
     """
     n = check_positive("density", density)
     d = check_positive("diffusion", diffusion)
@@ -124,7 +176,22 @@ def tail_exponent_amplitude(density: float = 1.0, diffusion: float = 1.0,
 def crossover_velocities(alpha: float, density: float = 1.0,
                          diffusion: float = 1.0) -> tuple[float, float]:
     """Crossovers :math:`v_{cr}^{(1)} = (D/n\\varepsilon)^{1/3}`, :math:`v_{cr}^{(2)} =
-    (D/n\\varepsilon^2)^{1/3}` (claim C6), as order-of-magnitude scales."""
+    (D/n\\varepsilon^2)^{1/3}` (claim C6), as order-of-magnitude scales.
+
+    Parameters
+    ----------
+    alpha : float
+        Coefficient of restitution, ``0 <= alpha < 1``.
+    density : float
+        Number density ``n``.
+    diffusion : float
+        White-noise strength ``D``.
+
+    Returns
+    -------
+    tuple of float
+        The two crossover velocities (physical units).
+    """
     alpha = check_alpha(alpha)
     n = check_positive("density", density)
     d = check_positive("diffusion", diffusion)
@@ -139,6 +206,24 @@ def haff_temperature(t: ArrayLike, alpha: float, density: float = 1.0,
     :math:`T(t) = T_0 / (1 + t/t_0)^2`, :math:`t_0^{-1} = \\tfrac{n}{\\sqrt\\pi}
     (1-\\alpha^2)\\sqrt{T_0}(1 + 3a_2/16)`, from
     :math:`dT/dt = -\\tfrac n4 (1-\\alpha^2)\\langle|v-v'|^3\\rangle` at fixed shape.
+
+    Parameters
+    ----------
+    t : array_like
+        Times (physical units).
+    alpha : float
+        Coefficient of restitution, ``0 <= alpha < 1``.
+    density : float
+        Number density ``n``.
+    temperature0 : float
+        Temperature at ``t = 0``.
+    a2 : float
+        Sonine coefficient of the cooling state (0: Gaussian).
+
+    Returns
+    -------
+    ndarray
+        ``T(t)``, the shape of ``t``.
     """
     alpha = check_alpha(alpha)
     n = check_positive("density", density)

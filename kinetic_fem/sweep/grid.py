@@ -25,6 +25,17 @@ __all__ = ["grid_points", "point_key", "point_seed", "canonical_value"]
 def canonical_value(value: Any, name: str = "value") -> bool | int | float | str:
     """A grid value as a plain Python ``bool``, ``int``, ``float`` or ``str``.
 
+    Parameters
+    ----------
+    value : bool, int, float or str (or a numpy scalar of those)
+        The grid value.
+    name : str
+        Name of the grid dimension, used in the error message.
+
+    Returns
+    -------
+    bool, int, float or str
+
     Raises
     ------
     TypeError
@@ -95,6 +106,15 @@ def point_key(point: Mapping[str, Any]) -> str:
 
     >>> point_key({"kernel": 1, "alpha": 0.5})
     '{"alpha": 0.5, "kernel": 1}'
+
+    Parameters
+    ----------
+    point : mapping of str to scalar
+        One grid point.
+
+    Returns
+    -------
+    str
     """
     return json.dumps({k: canonical_value(v, k) for k, v in point.items()}, sort_keys=True)
 
@@ -109,6 +129,17 @@ def point_seed(point: Mapping[str, Any], root: int | None = None) -> int:
     True
     >>> point_seed({"alpha": 0.5}) != point_seed({"alpha": 0.5}, root=1)
     True
+
+    Parameters
+    ----------
+    point : mapping of str to scalar
+        One grid point.
+    root : int, optional
+        Root seed of the sweep.
+
+    Returns
+    -------
+    int
     """
     text = point_key(point) if root is None else f"{int(root)}|{point_key(point)}"
     digest = hashlib.sha256(text.encode()).digest()

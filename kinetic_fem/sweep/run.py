@@ -113,7 +113,24 @@ def summarize(result: Any, c: NDArray[np.float64] = C_GRID) -> dict[str, NDArray
 
 def evaluate_point(function: Callable[..., Any], kwargs: Mapping[str, Any],
                    c: NDArray[np.float64] = C_GRID) -> tuple[dict[str, Any], dict[str, str]]:
-    """Call ``function(**kwargs)`` and return its record and text attributes (worker side)."""
+    """Call ``function(**kwargs)`` and return its record and text attributes (worker side).
+
+    Parameters
+    ----------
+    function : callable
+        The function of the sweep (a solver or a particle simulation).
+    kwargs : mapping
+        Its keyword arguments at this point (grid values and fixed ones).
+    c : ndarray, shape (m,)
+        Scaled velocities at which ``f(c)`` is recorded.
+
+    Returns
+    -------
+    record : dict
+        The point's numbers (T, a2, f, ...).
+    attributes : dict of str to str
+        Its text attributes (method, messages).
+    """
     start = time.perf_counter()
     result = function(**kwargs)
     wall = time.perf_counter() - start

@@ -39,7 +39,20 @@ FORMAT_VERSION = 1
 
 
 def record_checksum(key: str, data: Mapping[str, NDArray[Any]]) -> str:
-    """SHA-256 of a point key and its arrays (names, shapes and little-endian float64 bytes)."""
+    """SHA-256 of a point key and its arrays (names, shapes and little-endian float64 bytes).
+
+    Parameters
+    ----------
+    key : str
+        Canonical key of the point.
+    data : mapping of str to ndarray
+        The point's arrays.
+
+    Returns
+    -------
+    str
+        Hexadecimal digest.
+    """
     h = hashlib.sha256(key.encode())
     for name in sorted(data):
         a = np.ascontiguousarray(data[name], dtype="<f8")
@@ -49,7 +62,17 @@ def record_checksum(key: str, data: Mapping[str, NDArray[Any]]) -> str:
 
 
 def point_filename(key: str) -> str:
-    """File name of the point with canonical key ``key`` inside a store directory."""
+    """File name of the point with canonical key ``key`` inside a store directory.
+
+    Parameters
+    ----------
+    key : str
+        Canonical key of the point (:func:`kinetic_fem.sweep.grid.point_key`).
+
+    Returns
+    -------
+    str
+    """
     return f"point-{hashlib.sha256(key.encode()).hexdigest()[:20]}.nc"
 
 
