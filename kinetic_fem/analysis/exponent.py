@@ -26,7 +26,17 @@ Dirichlet condition changes ln f by less than (1e-89/1e-60)^2 over the fitted ra
 
 
 def power_law_exponent(x: NDArray[np.float64], y: NDArray[np.float64]) -> float:
-    """Slope of the least-squares line of ``log y`` against ``log x``."""
+    """Slope of the least-squares line of ``log y`` against ``log x``.
+
+    Parameters
+    ----------
+    x, y : ndarray, shape (m,)
+        Positive values, ``m >= 2``.
+
+    Returns
+    -------
+    float
+    """
     return float(np.polyfit(np.log(x), np.log(y), 1)[0])
 
 
@@ -37,6 +47,21 @@ class ExponentPeak:
 
     ``interior`` is False when the largest n(c) sits at the end of the searched range
     (no maximum resolved).
+
+    Parameters
+    ----------
+    eps : float
+        Inelasticity ``1 - alpha``.
+    c : float
+        Position of the peak in thermal velocities.
+    v : float
+        Position in physical velocity.
+    x : float
+        Position in the quasi-elastic variable :math:`x = (n\\varepsilon/D)^{1/3} v`.
+    n : float
+        Height of the peak, the effective exponent there.
+    interior : bool
+        A maximum inside the searched range.
     """
 
     eps: float
@@ -60,6 +85,25 @@ def exponent_peak(dist: VelocityDistribution, *, floor: float = F_ANALYSIS_FLOOR
 
     With ``drop``, the search ends where n(c) first falls ``drop`` below its running
     maximum: the first maximum, not a later wiggle of an under-resolved deep tail.
+
+    Parameters
+    ----------
+    dist : VelocityDistribution
+        A heated steady state.
+    floor : float
+        Search only where ``f(c) > floor``.
+    c_min : float
+        Start of the search (thermal velocities).
+    n_points : int
+        Points of the search grid.
+    c_max : float, optional
+        End of the search (default: the end of the distribution).
+    drop : float, optional
+        Stop at the first maximum: where n(c) falls this much below its running maximum.
+
+    Returns
+    -------
+    ExponentPeak
     """
     top = _resolved_c_max(dist, floor)
     c = np.linspace(c_min, top if c_max is None else min(top, c_max), n_points)
@@ -85,7 +129,18 @@ def exponent_peak(dist: VelocityDistribution, *, floor: float = F_ANALYSIS_FLOOR
 
 
 def local_exponents(peaks) -> list[tuple[float, float, float, float]]:
-    """Two-point exponents of v* and 3 - n* between successive peaks."""
+    """Two-point exponents of v* and 3 - n* between successive peaks.
+
+    Parameters
+    ----------
+    peaks : sequence of ExponentPeak
+        Peaks in order of decreasing eps.
+
+    Returns
+    -------
+    list of tuple
+        ``(eps_1, eps_2, exponent of v*, exponent of 3 - n*)`` for each successive pair.
+    """
     out = []
     for a, b in zip(peaks[:-1], peaks[1:], strict=True):
         le = math.log(b.eps / a.eps)

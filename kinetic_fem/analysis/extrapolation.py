@@ -11,7 +11,18 @@ __all__ = ["richardson"]
 
 def richardson(coarse: VelocityDistribution, fine: VelocityDistribution
                ) -> VelocityDistribution:
-    """:math:`(4\\ln P_{h/2} - \\ln P_h)/3` on the nodes of ``coarse`` (nested grids)."""
+    """:math:`(4\\ln P_{h/2} - \\ln P_h)/3` on the nodes of ``coarse`` (nested grids).
+
+    Parameters
+    ----------
+    coarse, fine : VelocityDistribution
+        Second-order solutions at spacings ``h`` and ``h/2`` on nested grids.
+
+    Returns
+    -------
+    VelocityDistribution
+        The extrapolated distribution on the nodes of ``coarse``.
+    """
     pf, pc = fine.values[::2], coarse.values
     if pf.size != pc.size:
         raise ValueError("Richardson extrapolation needs nested grids (same cut-off)")

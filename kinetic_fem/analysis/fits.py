@@ -14,7 +14,19 @@ __all__ = ["TailFit", "tail_fit", "relaxation_fit"]
 
 @dataclass(frozen=True)
 class TailFit:
-    """Fit of :math:`\\ln f = -A c^{3/2} + \\beta \\ln c + \\gamma` over ``c_range``."""
+    """Fit of :math:`\\ln f = -A c^{3/2} + \\beta \\ln c + \\gamma` over ``c_range``.
+
+    Parameters
+    ----------
+    amplitude : float
+        Fitted :math:`A` (units of c).
+    predicted : float
+        The C4 prediction :math:`A_c = \\tfrac23 T^{3/4}`.
+    beta : float
+        Fitted power of the prefactor.
+    c_range : tuple of float
+        Range of ``c`` fitted.
+    """
 
     amplitude: float
     predicted: float
@@ -24,7 +36,19 @@ class TailFit:
 
 def tail_fit(dist: VelocityDistribution, *, f_range: tuple[float, float] = (1e-60, 1e-30)
              ) -> TailFit:
-    """Far-tail amplitude (C4) in units of c, from nodes with f in ``f_range``."""
+    """Far-tail amplitude (C4) in units of c, from nodes with f in ``f_range``.
+
+    Parameters
+    ----------
+    dist : VelocityDistribution
+        A heated steady state resolved to ``f`` below ``f_range[0]``.
+    f_range : tuple of float
+        Fit the nodes with ``f`` in this range.
+
+    Returns
+    -------
+    TailFit
+    """
     c, f = dist.c, dist.f_values
     sel = (c > 0) & (f > f_range[0]) & (f < f_range[1])
     basis = np.stack([-c[sel] ** 1.5, np.log(c[sel]), np.ones(sel.sum())], axis=1)
@@ -40,6 +64,18 @@ def relaxation_fit(dist: VelocityDistribution, *, window: tuple[float, float] = 
 
     The fit uses the times where the deviation lies between ``window`` times its initial
     value, i.e. the late, linear approach to the steady state.
+
+    Parameters
+    ----------
+    dist : VelocityDistribution
+        A transient with ``dist.series["time"]`` and ``["temperature"]``.
+    window : tuple of float
+        Fit where the deviation lies between these fractions of its initial value.
+
+    Returns
+    -------
+    float
+        The relaxation time.
     """
     t, temp = dist.series["t"], dist.series["temperature"]
     dev = np.abs(temp - dist.temperature)

@@ -106,6 +106,16 @@ def main(argv: Sequence[str] | None = None) -> int:
     line ``kinetic-fem: error: ...`` (for options: the sub-command's usage and valid
     options) and exits with status 2, without a traceback; a solver that fails on valid
     input prints ``kinetic-fem: solver failed: ...`` and exits with status 1.
+
+    Parameters
+    ----------
+    argv : sequence of str, optional
+        Command-line arguments without the program name (default: ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        Exit status: 0 on success, 1 if a solver failed, 2 for bad input.
     """
     parser = build_parser()
     args, extra = parser.parse_known_args(argv)

@@ -47,6 +47,17 @@ _DESCRIPTION = {
 
 
 def add_parsers(sub: argparse._SubParsersAction) -> list[argparse.ArgumentParser]:
+    """The ``dsmc`` and ``md`` sub-commands, added to ``sub``.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The sub-parsers of the ``kinetic-fem`` parser.
+
+    Returns
+    -------
+    list of argparse.ArgumentParser
+    """
     parsers = []
     for cmd in ("dsmc", "md"):
         extra = "\n  kinetic-fem md 0.9 -N 2000 -o sigma=0.25" if cmd == "md" else ""
@@ -118,6 +129,18 @@ def _keywords(args: argparse.Namespace, function: Any) -> dict[str, Any]:
 
 
 def run(args: argparse.Namespace) -> int:
+    """Run ``kinetic-fem dsmc`` or ``md``: simulate, print the measured figures, save.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line.
+
+    Returns
+    -------
+    int
+        Exit status (0).
+    """
     check_out(args.out)
     module = importlib.import_module(f"particles.{args.command}")
     function = module.simulate_cooling if args.cooling else module.simulate_heated

@@ -30,6 +30,17 @@ examples:
 
 
 def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
+    """The ``reproduce`` sub-command, added to ``sub``.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The sub-parsers of the ``kinetic-fem`` parser.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+    """
     rep = sub.add_parser(
         "reproduce", help="regenerate the paper's figures and check its claims",
         description="Regenerate the figures of Barrat et al. (2002) and check its claims.",
@@ -54,6 +65,16 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
 
 def select_items(only: list[str] | None) -> list[str]:
     """Item keys for ``--only``: item keys as given, claims mapped to their items.
+
+    Parameters
+    ----------
+    only : list of str or None
+        Item keys (``F3``) and claim labels (``C5``) from ``--only``; None: every item.
+
+    Returns
+    -------
+    list of str
+        Item keys in figure order.
 
     Raises
     ------
@@ -82,6 +103,18 @@ def select_items(only: list[str] | None) -> list[str]:
 
 
 def run(args: argparse.Namespace) -> int:
+    """Run ``kinetic-fem reproduce``: list, or run the selected items and write the tables.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line.
+
+    Returns
+    -------
+    int
+        Exit status (0).
+    """
     reproduce.load_plugins()
     if args.list:
         lines = []

@@ -36,6 +36,17 @@ examples:
 
 
 def add_parsers(sub: argparse._SubParsersAction) -> list[argparse.ArgumentParser]:
+    """The ``solve-heated`` and ``solve-cooling`` sub-commands, added to ``sub``.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The sub-parsers of the ``kinetic-fem`` parser.
+
+    Returns
+    -------
+    list of argparse.ArgumentParser
+    """
     heated = sub.add_parser(
         "solve-heated", help="steady state of the heated gas at one alpha",
         description="Solve the heated steady state and print T and a2.",
@@ -85,6 +96,18 @@ def _prepare(args: argparse.Namespace, table: dict, kind: str) -> dict:
 
 
 def run_heated(args: argparse.Namespace) -> int:
+    """Run ``kinetic-fem solve-heated``: solve, print T and a2, save.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line.
+
+    Returns
+    -------
+    int
+        Exit status (0).
+    """
     options = _prepare(args, HEATED_SOLVERS, "heated")
     alpha = restitution_of(args)
     dist = solve_heated(alpha, density=args.density, diffusion=args.diffusion,
@@ -98,6 +121,18 @@ def run_heated(args: argparse.Namespace) -> int:
 
 
 def run_cooling(args: argparse.Namespace) -> int:
+    """Run ``kinetic-fem solve-cooling``: solve, print zeta and a2, save.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line.
+
+    Returns
+    -------
+    int
+        Exit status (0).
+    """
     options = _prepare(args, COOLING_SOLVERS, "cooling")
     alpha = restitution_of(args)
     dist = solve_cooling(alpha, density=args.density, kernel=args.kernel, method=args.method,

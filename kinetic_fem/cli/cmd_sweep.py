@@ -47,6 +47,17 @@ _PARTICLE_METHODS = ("dsmc", "md")
 
 
 def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
+    """The ``sweep`` sub-command, added to ``sub``.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The sub-parsers of the ``kinetic-fem`` parser.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+    """
     methods = sorted({*HEATED_SOLVERS, *COOLING_SOLVERS, *_PARTICLE_METHODS})
     p = sub.add_parser(
         "sweep", help="a parameter sweep (grid of alpha, kernel, ...) persisted point by point",
@@ -86,7 +97,18 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
 
 
 def read_config(path: Path) -> dict[str, Any]:
-    """The settings of a TOML grid file (``tomllib``; ``tomli`` on Python 3.10)."""
+    """The settings of a TOML grid file (``tomllib``; ``tomli`` on Python 3.10).
+
+    Parameters
+    ----------
+    path : Path
+        A TOML file with a ``[grid]`` table and optional settings.
+
+    Returns
+    -------
+    dict
+        Its settings.
+    """
     try:
         import tomllib
     except ModuleNotFoundError:  # Python 3.10
@@ -173,6 +195,18 @@ def _settings(args: argparse.Namespace) -> dict[str, Any]:
 
 
 def run(args: argparse.Namespace) -> int:
+    """Run ``kinetic-fem sweep``: evaluate the grid (resuming a store), print and save.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line.
+
+    Returns
+    -------
+    int
+        Exit status (0).
+    """
     s = _settings(args)
     function, fixed = _function(s["method"], s["problem"])
     if s["method"] in _PARTICLE_METHODS and "n_particles" not in s["grid"] | s["options"]:

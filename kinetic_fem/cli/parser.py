@@ -30,7 +30,13 @@ PACKAGES = ("kinetic_fem", "particles")
 
 
 class CommandParser(argparse.ArgumentParser):
-    """``argparse.ArgumentParser`` whose errors name the valid options of its command."""
+    """``argparse.ArgumentParser`` whose errors name the valid options of its command.
+
+    Parameters
+    ----------
+    *args, **kwargs
+        As for ``argparse.ArgumentParser``.
+    """
 
     def option_names(self) -> list[str]:
         """The long (or only) option string of every optional argument."""
@@ -57,7 +63,23 @@ class CommandParser(argparse.ArgumentParser):
 
 
 def key_value(text: str) -> tuple[str, object]:
-    """``KEY=VALUE`` with VALUE a Python literal (number, bool, string, tuple ...)."""
+    """``KEY=VALUE`` with VALUE a Python literal (number, bool, string, tuple ...).
+
+    Parameters
+    ----------
+    text : str
+        ``KEY=VALUE``.
+
+    Returns
+    -------
+    tuple
+        ``(key, value)``.
+
+    Raises
+    ------
+    argparse.ArgumentTypeError
+        Without ``=``.
+    """
     key, sep, value = text.partition("=")
     if not sep or not key.strip().isidentifier():
         raise argparse.ArgumentTypeError(f"expected KEY=VALUE, got {text!r}")
@@ -69,7 +91,22 @@ def key_value(text: str) -> tuple[str, object]:
 
 
 def split_keys(text: str) -> list[str]:
-    """Comma-separated keys (``--only F2,C5``), at least one."""
+    """Comma-separated keys (``--only F2,C5``), at least one.
+
+    Parameters
+    ----------
+    text : str
+        Comma-separated keys.
+
+    Returns
+    -------
+    list of str
+
+    Raises
+    ------
+    argparse.ArgumentTypeError
+        If no key is given.
+    """
     keys = [k.strip() for k in text.split(",") if k.strip()]
     if not keys:
         raise argparse.ArgumentTypeError(f"no item given in {text!r}; e.g. --only F2,C5")
@@ -94,7 +131,13 @@ int_list = _list_of(int, "integers")
 
 
 def setup_logging(quiet: bool) -> None:
-    """Log the packages to stderr at INFO (WARNING with ``--quiet``); command only."""
+    """Log the packages to stderr at INFO (WARNING with ``--quiet``); command only.
+
+    Parameters
+    ----------
+    quiet : bool
+        Log warnings only.
+    """
     for name in PACKAGES:
         log = logging.getLogger(name)
         for old in [h for h in log.handlers if getattr(h, "_kinetic_fem", False)]:
@@ -122,7 +165,17 @@ def _law(text: str) -> tuple[str, float | None]:
 
 def add_model_arguments(parser: argparse.ArgumentParser, *, heated: bool,
                         alpha: bool = True) -> None:
-    """``alpha`` (positional), ``--restitution``, ``--kernel`` and (heated) ``--friction``."""
+    """``alpha`` (positional), ``--restitution``, ``--kernel`` and (heated) ``--friction``.
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+        The sub-command's parser.
+    heated : bool
+        Add the heated gas's ``--diffusion`` and ``--friction``.
+    alpha : bool
+        Add the positional ``alpha``.
+    """
     if alpha:
         parser.add_argument("alpha", type=float, nargs="?", default=None,
                             help="restitution coefficient, 0 <= alpha < 1 (not with "
@@ -146,7 +199,17 @@ def add_model_arguments(parser: argparse.ArgumentParser, *, heated: bool,
 
 
 def restitution_of(args: argparse.Namespace) -> Any:
-    """``alpha`` as a float or a restitution law, from ``alpha`` and ``--restitution``."""
+    """``alpha`` as a float or a restitution law, from ``alpha`` and ``--restitution``.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line.
+
+    Returns
+    -------
+    float or RestitutionLaw
+    """
     kind, value = args.restitution
     if kind == "viscoelastic":
         if args.alpha is not None:
@@ -161,7 +224,24 @@ def restitution_of(args: argparse.Namespace) -> Any:
 
 def check_options(function: Callable[..., Any], options: dict[str, Any], what: str,
                   exclude: Sequence[str] = ()) -> None:
-    """Raise ValueError naming options ``function`` does not take, and the valid names."""
+    """Raise ValueError naming options ``function`` does not take, and the valid names.
+
+    Parameters
+    ----------
+    function : callable
+        The function the options are passed to.
+    options : dict
+        The ``-o KEY=VALUE`` options.
+    what : str
+        Name of the function in the message.
+    exclude : sequence of str
+        Names that are not options here (e.g. grid dimensions).
+
+    Raises
+    ------
+    ValueError
+        Naming the unknown options and the valid ones.
+    """
     try:
         params = inspect.signature(function).parameters
     except (TypeError, ValueError):
@@ -176,11 +256,37 @@ def check_options(function: Callable[..., Any], options: dict[str, Any], what: s
 
 
 def check_out(out: Path | None, suffixes: Sequence[str] = (".npz", *io.FORMATS)) -> None:
-    """Raise ValueError unless ``out`` is None or ends in one of ``suffixes``."""
+    """Raise ValueError unless ``out`` is None or ends in one of ``suffixes``.
+
+    Parameters
+    ----------
+    out : Path or None
+        The ``--out`` file.
+    suffixes : sequence of str
+        The allowed suffixes.
+
+    Raises
+    ------
+    ValueError
+        For another suffix.
+    """
     if out is not None and out.suffix not in suffixes:
         raise ValueError(f"--out must end in {', '.join(suffixes)}; got {str(out)!r}")
 
 
 def save(dist: VelocityDistribution, out: Path) -> Path:
-    """Write ``dist`` as ``.npz`` (:meth:`VelocityDistribution.save`) or VTU/XDMF."""
+    """Write ``dist`` as ``.npz`` (:meth:`VelocityDistribution.save`) or VTU/XDMF.
+
+    Parameters
+    ----------
+    dist : VelocityDistribution
+        The result.
+    out : Path
+        Destination: ``.npz``, ``.vtu`` or ``.xdmf``.
+
+    Returns
+    -------
+    Path
+        The path written.
+    """
     return dist.save(out) if out.suffix == ".npz" else io.write_distribution(dist, out)
