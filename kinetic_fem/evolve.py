@@ -38,6 +38,20 @@ TRANSIENT_SOLVERS: dict[str, dict[str, Callable[..., Evolution]]] = {
 def check_times(times: ArrayLike) -> np.ndarray:
     """Output times as a float array: finite, >= 0, strictly increasing, not empty.
 
+    Parameters
+    ----------
+    times : array_like, shape (n_t,)
+        Output times.
+
+    Returns
+    -------
+    ndarray, shape (n_t,)
+
+    Raises
+    ------
+    ValueError
+        If ``times`` is empty, not finite, negative or not strictly increasing.
+
     Examples
     --------
     >>> check_times([0, 1, 2.5])
@@ -152,6 +166,29 @@ def evolve_cooling(alpha: float | RestitutionLaw, *, density: float = 1.0,
     follows from :math:`dT/dt = -2\\zeta n T^{1+\\gamma/2}`; ``ev.series["zeta"]``.
     See :func:`evolve_heated` for the parameters (default start: the Gaussian at
     ``initial_temperature = 1``).
+
+    Parameters
+    ----------
+    alpha : float or RestitutionLaw
+        Constant coefficient of restitution, ``0 <= alpha < 1``.
+    density : float
+        Number density ``n``.
+    kernel : float or PowerLawKernel
+        Collision kernel :math:`|g|^\\gamma`.
+    initial_temperature : float, optional
+        Start from the Gaussian at this temperature (default 1).
+    initial : VelocityDistribution, optional
+        Start from this normalised distribution instead.
+    times : array_like, shape (n_t,)
+        Output times (physical units), strictly increasing, >= 0.
+    method : str
+        Registry key (``"fem"``).
+    **options
+        Passed to the method (``rtol``, ``spacing``, ...).
+
+    Returns
+    -------
+    Evolution
 
     Raises
     ------

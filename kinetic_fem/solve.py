@@ -24,7 +24,20 @@ COOLING_SOLVERS: dict[str, Solver] = {}
 
 
 def register_solver(key: str, *, problem: str) -> Callable[[Solver], Solver]:
-    """Decorator registering ``solver`` under ``key`` for ``problem`` ("heated"/"cooling")."""
+    """Decorator registering ``solver`` under ``key`` for ``problem`` ("heated"/"cooling").
+
+    Parameters
+    ----------
+    key : str
+        Method name (``method=key`` selects it).
+    problem : {"heated", "cooling"}
+        The registry to add to.
+
+    Returns
+    -------
+    callable
+        A decorator returning the solver unchanged.
+    """
     table = {"heated": HEATED_SOLVERS, "cooling": COOLING_SOLVERS}[problem]
 
     def decorate(solver: Solver) -> Solver:
@@ -87,6 +100,24 @@ def solve_cooling(alpha: float | RestitutionLaw, *, density: float = 1.0,
 
     The result has unit temperature; its cooling rate :math:`\\zeta`, defined by
     :math:`dT/dt = -2\\zeta n T^{1+\\gamma/2}`, is ``dist.info.extra["zeta"]``.
+
+    Parameters
+    ----------
+    alpha : float or RestitutionLaw
+        Constant coefficient of restitution, ``0 <= alpha < 1``.
+    density : float
+        Number density ``n`` (the scaled state does not depend on it).
+    kernel : float or PowerLawKernel
+        Collision kernel :math:`|g|^\\gamma`.
+    method : str
+        ``"fem"`` (default), ``"fd"`` or ``"spectral"``.
+    **options
+        Passed to the method (see its solver function).
+
+    Returns
+    -------
+    VelocityDistribution
+        The homogeneous cooling state at unit temperature.
     """
     problem = CoolingProblem.from_parameters(alpha, density=density, kernel=kernel)
     return _lookup(COOLING_SOLVERS, method, "cooling")(problem, **options)

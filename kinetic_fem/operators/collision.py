@@ -37,6 +37,15 @@ STRONG_FORM_GAMMAS = (0.0, 1.0)
 def kernel_power(gamma: float) -> int:
     """The integer exponent of :math:`|g|^\\gamma` the strong form supports (0 or 1).
 
+    Parameters
+    ----------
+    gamma : float
+        Kernel exponent.
+
+    Returns
+    -------
+    int
+
     Raises
     ------
     ValueError
@@ -58,20 +67,62 @@ def kernel_power(gamma: float) -> int:
 
 def pair_moment(v: NDArray[np.float64], p: NDArray[np.float64], w: NDArray[np.float64],
                 power: int) -> float:
-    """:math:`\\langle |v - v'|^{p}\\rangle = \\iint |v-v'|^p P(v)P(v')`, O(N), odd ``power``."""
+    """:math:`\\langle |v - v'|^{p}\\rangle = \\iint |v-v'|^p P(v)P(v')`, O(N), odd ``power``.
+
+    Parameters
+    ----------
+    v : ndarray, shape (n,)
+        Increasing nodes.
+    p : ndarray, shape (n,)
+        Nodal values of :math:`P`.
+    w : ndarray, shape (n,)
+        Quadrature weights on ``v``.
+    power : int
+        Odd power ``p >= 1``.
+
+    Returns
+    -------
+    float
+    """
     wp = np.asarray(w) * np.asarray(p)
     return float(np.sum(wp * abs_power_convolution(v, wp, power)))
 
 
 def energy_loss_rate(v: NDArray[np.float64], p: NDArray[np.float64], w: NDArray[np.float64],
                      alpha: float, density: float) -> float:
-    """Collisional loss :math:`\\tfrac n4 (1-\\alpha^2)\\langle|v-v'|^3\\rangle` by quadrature."""
+    """Collisional loss :math:`\\tfrac n4 (1-\\alpha^2)\\langle|v-v'|^3\\rangle` by quadrature.
+
+    Parameters
+    ----------
+    v : ndarray, shape (n,)
+        Nodes on the whole line.
+    p : ndarray, shape (n,)
+        Nodal values of :math:`P`.
+    w : ndarray, shape (n,)
+        Quadrature weights on ``v``.
+    alpha : float
+        Coefficient of restitution.
+    density : float
+        Number density ``n``.
+
+    Returns
+    -------
+    float
+    """
     return 0.25 * density * (1.0 - alpha**2) * pair_moment(v, p, w, 3)
 
 
 @dataclass(frozen=True)
 class EnergyBalance:
-    """Terms of :math:`dT/dt = 2D - \\text{loss}` and the relative imbalance."""
+    """Terms of :math:`dT/dt = 2D - \\text{loss}` and the relative imbalance.
+
+    Parameters
+    ----------
+    injection : float
+        Energy input :math:`2D` of the white noise (per unit time, ``n`` folded in).
+    loss : float
+        Collisional loss rate of :math:`\\langle v^2\\rangle`.
+    """
 
     injection: float
     loss: float
@@ -84,7 +135,27 @@ class EnergyBalance:
 
 def energy_balance(v: NDArray[np.float64], p: NDArray[np.float64], w: NDArray[np.float64], *,
                    alpha: float, density: float, diffusion: float) -> EnergyBalance:
-    """Both sides of the steady energy balance C1 for nodal values ``p``."""
+    """Both sides of the steady energy balance C1 for nodal values ``p``.
+
+    Parameters
+    ----------
+    v : ndarray, shape (n,)
+        Nodes on the whole line.
+    p : ndarray, shape (n,)
+        Nodal values of :math:`P`.
+    w : ndarray, shape (n,)
+        Quadrature weights on ``v``.
+    alpha : float
+        Coefficient of restitution.
+    density : float
+        Number density ``n``.
+    diffusion : float
+        White-noise strength ``D``.
+
+    Returns
+    -------
+    EnergyBalance
+    """
     return EnergyBalance(2.0 * diffusion, energy_loss_rate(v, p, w, alpha, density))
 
 
@@ -136,6 +207,17 @@ class HalfGrid:
 
 def half_grid(cutoff: float, n_v: int) -> HalfGrid:
     """:class:`HalfGrid` with ``n_v >= 3`` nodes on ``[0, cutoff]``.
+
+    Parameters
+    ----------
+    cutoff : float
+        Last node.
+    n_v : int
+        Number of nodes on ``[0, cutoff]``, at least 3.
+
+    Returns
+    -------
+    HalfGrid
 
     Examples
     --------
@@ -231,6 +313,27 @@ def collision_term(grid: HalfGrid, p: NDArray[np.float64], *, alpha: float, dens
                    log_interp: bool = True, order: int = 2, gamma: float = 1.0
                    ) -> NDArray[np.float64]:
     """Strong form :math:`Q[P,P](v_i) = G(v_i) - \\nu(v_i) P(v_i)` on the half grid.
+
+    Parameters
+    ----------
+    grid : HalfGrid
+        Nodes on :math:`v \\ge 0` (:func:`half_grid`).
+    p : ndarray, shape (n_v,)
+        The even distribution at the nodes of ``grid``.
+    alpha : float
+        Constant coefficient of restitution.
+    density : float
+        Number density ``n``.
+    log_interp : bool
+        Interpolate :math:`\\ln P` (not :math:`P`) at the pre-collision velocities.
+    order : int
+        Degree of that interpolation (2: the paper's, 3: cubic).
+    gamma : float
+        Kernel exponent, 0 or 1 (:func:`kernel_power`).
+
+    Returns
+    -------
+    ndarray, shape (n_v,)
 
     Examples
     --------

@@ -124,6 +124,15 @@ def default_spacing(alpha: float) -> float:
 
     The humps of the near-elastic state have width :math:`\\propto \\varepsilon^{1/3}`
     (claim C11); see ``benchmarks/convergence_cooling.py`` for the errors it gives.
+
+    Parameters
+    ----------
+    alpha : float
+        Coefficient of restitution.
+
+    Returns
+    -------
+    float
     """
     return min(0.04, (1.0 - alpha) ** (1.0 / 3.0) / 25.0)
 
@@ -137,7 +146,20 @@ def _grid(alpha: float, spacing: float | None, cutoff: float | None) -> HalfGrid
 
 def initial_guess(c: NDArray[np.float64], zeta: float) -> NDArray[np.float64]:
     """``ln f`` of a Gaussian continued by the exponential tail :math:`e^{-c/\\zeta}`
-    (matched in value and slope at :math:`c = 1/\\zeta`)."""
+    (matched in value and slope at :math:`c = 1/\\zeta`).
+
+    Parameters
+    ----------
+    c : ndarray
+        Scaled velocities.
+    zeta : float
+        Estimate of the cooling rate.
+
+    Returns
+    -------
+    ndarray
+        :math:`\\ln f` at ``c`` (not normalised).
+    """
     c0 = 1.0 / zeta
     u = -0.5 * c**2
     far = c > c0

@@ -144,7 +144,17 @@ def _mesh(alpha: float, *, cutoff: float | None, spacing: float, vertices,
 
 @dataclass(frozen=True, eq=False)
 class SteadyState:
-    """A converged steady state at ``n = D = 1``: discretisation, ``u_h = ln P_h``, run info."""
+    """A converged steady state at ``n = D = 1``: discretisation, ``u_h = ln P_h``, run info.
+
+    Parameters
+    ----------
+    disc : FEMDiscretisation
+        The discretisation (velocities at ``n = D = 1``).
+    u : ndarray, shape (n_dofs,)
+        Coefficients of :math:`u_h = \\ln P_h`.
+    info : RunInfo
+        Convergence report.
+    """
 
     disc: FEMDiscretisation
     u: NDArray[np.float64]
@@ -204,7 +214,25 @@ def _check_energy_input(disc: FEMDiscretisation, u: NDArray, temperature: float,
 
 def discretisation(model: ScaledModel, vertices: NDArray, order: int = 2,
                    intorder: int | None = None, symmetric: bool = False) -> FEMDiscretisation:
-    """The :class:`FEMDiscretisation` of a scaled model on ``vertices``."""
+    """The :class:`FEMDiscretisation` of a scaled model on ``vertices``.
+
+    Parameters
+    ----------
+    model : ScaledModel
+        The heated model at ``n = D = 1`` (:func:`kinetic_fem.solvers.fem_defaults.scaled_model`).
+    vertices : ndarray
+        Increasing mesh vertices (velocities).
+    order : int
+        Lagrange degree, 1 or 2.
+    intorder : int, optional
+        Gauss degree (default ``2 * order + 1``).
+    symmetric : bool
+        Impose even symmetry through the mesh's mirror map.
+
+    Returns
+    -------
+    FEMDiscretisation
+    """
     law = None if model.law.constant is not None else model.law
     return FEMDiscretisation(model.alpha, vertices, order, intorder or 2 * order + 1, symmetric,
                              gamma=model.gamma, law=law, friction=model.friction,
@@ -224,6 +252,24 @@ def steady_state(model: float | HeatedProblem, *, order: int = 2,
     cut-off is below :data:`CUTOFF_TARGET`.  ``initial`` (a state of a nearby model,
     e.g. the previous point of a curve) gives the starting :math:`f(c)` in place of the
     Gaussian and of the near-elastic continuation (see :mod:`kinetic_fem.solvers.fem_curve`).
+
+    Parameters
+    ----------
+    model : float or HeatedProblem
+        The problem, or a restitution coefficient of the paper's model.
+    order, spacing, cutoff, vertices, intorder, symmetric, tol, max_iter
+        As in :func:`solve_fem_heated`.
+    initial : SteadyState, optional
+        A state of a nearby model to start from.
+
+    Returns
+    -------
+    SteadyState
+
+    Raises
+    ------
+    ConvergenceError
+        If Newton's method does not converge.
     """
     problem = model if isinstance(model, HeatedProblem) else \
         HeatedProblem.from_parameters(model)

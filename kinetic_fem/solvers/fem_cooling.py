@@ -142,6 +142,15 @@ COARSE_TOL = 1e-7
 def maxwell_hcs(c: NDArray[np.float64]) -> NDArray[np.float64]:
     """:math:`f(c) = 2/(\\pi(1+c^2)^2)`, the Maxwell-model HCS at unit temperature.
 
+    Parameters
+    ----------
+    c : ndarray
+        Scaled velocities.
+
+    Returns
+    -------
+    ndarray
+
     Examples
     --------
     >>> from scipy.integrate import quad
@@ -293,6 +302,26 @@ def cooling_state(problem: CoolingProblem, *, order: int = 2, spacing: float | N
     ``sequence``: on a mesh built from ``spacing`` (not explicit ``vertices``), start
     from the state on a mesh :data:`COARSE_FACTOR` times coarser, at most
     :data:`COARSE_SPACING` (mesh sequencing).
+
+    Parameters
+    ----------
+    problem : CoolingProblem
+        Constant restitution, any kernel.
+    order, spacing, cutoff, vertices, intorder, tol, max_iter, resolution
+        As in :func:`solve_fem_cooling`.
+    sequence : bool
+        Mesh sequencing (see above).
+
+    Returns
+    -------
+    CoolingState
+
+    Raises
+    ------
+    UnsupportedModelError
+        For a velocity-dependent restitution law.
+    ConvergenceError
+        If Newton's method does not converge.
     """
     if problem.gas.restitution.constant is None:
         raise UnsupportedModelError(

@@ -35,6 +35,15 @@ def hcs_cutoff(problem: CoolingProblem) -> float:
     decades, at least the outer edge :math:`1 + 12\\varepsilon^{1/3}` of the near-elastic
     humps and 12 (a Gaussian's 1e-33), plus 1.5; :data:`MAXWELL_CUTOFF` for the Maxwell
     model's power law.
+
+    Parameters
+    ----------
+    problem : CoolingProblem
+        The cooling problem (kernel and restitution).
+
+    Returns
+    -------
+    float
     """
     gamma = problem.gas.gamma
     if gamma == 0.0:
@@ -48,7 +57,17 @@ def hcs_cutoff(problem: CoolingProblem) -> float:
 def hcs_spacing(problem: CoolingProblem) -> float:
     """Bulk P2 element size: :math:`\\min(0.05, \\varepsilon^{1/3}/10)` (0.02 for the
     Maxwell model), from ``benchmarks/convergence_fem_cooling.py`` (alpha = 0.85:
-    zeta 1.8e-9, a2 8e-9 at 0.05; 3.1e-8, 1.4e-7 at 0.1; fourth order)."""
+    zeta 1.8e-9, a2 8e-9 at 0.05; 3.1e-8, 1.4e-7 at 0.1; fourth order).
+
+    Parameters
+    ----------
+    problem : CoolingProblem
+        The cooling problem (kernel and restitution).
+
+    Returns
+    -------
+    float
+    """
     if problem.gas.gamma == 0.0:
         return 0.02
     return min(0.05, problem.gas.epsilon ** (1.0 / 3.0) / 10.0)
@@ -90,6 +109,22 @@ def hcs_vertices(c_max: float, spacing: float, *, gamma: float,
     :math:`1 + h_0/2` up to :math:`c = 30` and 1.1 beyond (the far tail only feeds mass
     and energy back to the bulk).
 
+    Parameters
+    ----------
+    c_max : float
+        Half-width of the mesh (thermal velocities).
+    spacing : float
+        Bulk element size :math:`h_0`.
+    gamma : float
+        Kernel exponent (sets the grading).
+    bulk : float
+        Extent :math:`c_b` of the uniform bulk (:func:`hcs_bulk`).
+
+    Returns
+    -------
+    ndarray
+        Vertices symmetric about 0, including 0.
+
     Examples
     --------
     >>> v = hcs_vertices(20.0, 0.1, gamma=1.0)
@@ -116,7 +151,22 @@ def hcs_vertices(c_max: float, spacing: float, *, gamma: float,
 def initial_log_f(c: NDArray, gamma: float, zeta: float) -> NDArray:
     """A starting :math:`\\ln f`: Gaussian bulk continued by the tail
     :math:`-c^\\gamma/(\\gamma\\zeta)` matched in value and slope (a :math:`c^{-4}` power
-    law for the Maxwell model); normalised on a fine grid."""
+    law for the Maxwell model); normalised on a fine grid.
+
+    Parameters
+    ----------
+    c : ndarray
+        Scaled velocities.
+    gamma : float
+        Kernel exponent.
+    zeta : float
+        Estimate of the cooling rate.
+
+    Returns
+    -------
+    ndarray
+        :math:`\\ln f` at ``c``.
+    """
     c = np.abs(np.asarray(c, dtype=float))
     fine = np.concatenate([np.linspace(0.0, 20.0, 20001)[:-1],
                            np.geomspace(20.0, max(float(c.max()), 21.0), 4000)])

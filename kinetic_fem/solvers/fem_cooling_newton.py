@@ -60,7 +60,19 @@ def second_moment(v, w):
 
 
 class CoolingState:
-    """A converged HCS: discretisation, ``u_h = ln f_h``, ``zeta`` and run info."""
+    """A converged HCS: discretisation, ``u_h = ln f_h``, ``zeta`` and run info.
+
+    Parameters
+    ----------
+    disc : FEMDiscretisation
+        The discretisation (scaled velocities).
+    u : ndarray, shape (n_dofs,)
+        Coefficients of :math:`u_h = \\ln f_h`.
+    zeta : float
+        Cooling rate.
+    info : RunInfo
+        Convergence report.
+    """
 
     def __init__(self, disc: FEMDiscretisation, u: NDArray, zeta: float, info) -> None:
         self.disc = disc

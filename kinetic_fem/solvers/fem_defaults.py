@@ -58,6 +58,15 @@ def default_cutoff(alpha: float) -> float:
     :math:`x = (\\varepsilon T)^{1/3} c` (claim C5); plus one thermal velocity.  The rule
     is the model's (:func:`kinetic_fem.model.scales.heated_cutoff`, equal to the former
     copy here to 4e-16).
+
+    Parameters
+    ----------
+    alpha : float
+        Coefficient of restitution (hard rods, white noise).
+
+    Returns
+    -------
+    float
     """
     return heated_cutoff(alpha, 10.0**-DECADES, core_margin=1.0) + 1.0
 
@@ -69,6 +78,15 @@ def default_spacing(alpha: float) -> float:
     ``benchmarks/convergence_heated.py``: at 0.08, T is within 3e-9, a2 within 3e-8 and
     f(c) within 2e-6 for alpha <= 0.9; the cubic tails near alpha = 1 need finer
     elements for f (spacing 0.05 gives 1e-4 at alpha = 0.99, 0.032 at 0.999).
+
+    Parameters
+    ----------
+    alpha : float
+        Coefficient of restitution.
+
+    Returns
+    -------
+    float
     """
     return 0.08 * min(1.0, (10.0 * (1.0 - alpha)) ** 0.2)
 
@@ -123,7 +141,17 @@ class ScaledModel:
 
 
 def scaled_model(problem: HeatedProblem) -> ScaledModel:
-    """The :class:`ScaledModel` of a heated problem."""
+    """The :class:`ScaledModel` of a heated problem.
+
+    Parameters
+    ----------
+    problem : HeatedProblem
+        The problem in its own units.
+
+    Returns
+    -------
+    ScaledModel
+    """
     gas = problem.gas
     u = problem.velocity_scale
     friction = problem.friction / (gas.density * u**gas.gamma)
@@ -137,6 +165,19 @@ def scaled_model(problem: HeatedProblem) -> ScaledModel:
 
 def tail_action(v: float, gamma: float, friction: float) -> float:
     """:math:`S(v) = \\int_0^v S'` of the module docstring (``n = D = 1``).
+
+    Parameters
+    ----------
+    v : float
+        Velocity (``n = D = 1``).
+    gamma : float
+        Kernel exponent.
+    friction : float
+        Bath friction (0: white noise).
+
+    Returns
+    -------
+    float
 
     Examples
     --------
@@ -155,7 +196,20 @@ def tail_action(v: float, gamma: float, friction: float) -> float:
 def initial_log_density(v: NDArray[np.float64], model: ScaledModel) -> NDArray[np.float64]:
     """A starting :math:`\\ln P`: the Gaussian at the model's temperature in the bulk,
     the tail :math:`-S(|v|)` where that decays more slowly (exponential tails of soft
-    kernels lie far above the Gaussian), normalised on a fine trapezoid grid."""
+    kernels lie far above the Gaussian), normalised on a fine trapezoid grid.
+
+    Parameters
+    ----------
+    v : ndarray
+        Velocities (``n = D = 1``).
+    model : ScaledModel
+        The heated model.
+
+    Returns
+    -------
+    ndarray
+        :math:`\\ln P` at ``v``.
+    """
     v = np.abs(np.asarray(v, dtype=float))
     top = max(float(v.max()), 1e-12)
     fine = np.linspace(0.0, top, 20001)
@@ -175,7 +229,17 @@ def initial_log_density(v: NDArray[np.float64], model: ScaledModel) -> NDArray[n
 
 def model_cutoff(model: ScaledModel) -> float:
     """Cut-off :math:`V/\\sqrt{T}` where the tail :math:`e^{-S}` reaches 1e-33, plus one
-    thermal velocity (:func:`default_cutoff` for the paper's model)."""
+    thermal velocity (:func:`default_cutoff` for the paper's model).
+
+    Parameters
+    ----------
+    model : ScaledModel
+        The heated model.
+
+    Returns
+    -------
+    float
+    """
     if model.is_paper_model and model.law.constant is not None:
         return default_cutoff(model.law.constant)
     target = DECADES * math.log(10.0)
@@ -188,13 +252,33 @@ def model_cutoff(model: ScaledModel) -> float:
 
 
 def tail_exponent(model: ScaledModel) -> float:
-    """:math:`\\beta` of :math:`\\ln f \\sim -c^\\beta`: 2 with friction, else 1 + gamma/2."""
+    """:math:`\\beta` of :math:`\\ln f \\sim -c^\\beta`: 2 with friction, else 1 + gamma/2.
+
+    Parameters
+    ----------
+    model : ScaledModel
+        The heated model.
+
+    Returns
+    -------
+    float
+    """
     return 2.0 if model.friction > 0.0 else 1.0 + 0.5 * model.gamma
 
 
 def model_spacing(model: ScaledModel) -> float:
     """Bulk P2 element size in thermal velocities: :func:`default_spacing` at the
-    effective inelasticity."""
+    effective inelasticity.
+
+    Parameters
+    ----------
+    model : ScaledModel
+        The heated model.
+
+    Returns
+    -------
+    float
+    """
     if model.friction > 0.0:  # the bath's Gaussian limit needs no quasi-elastic refinement
         return default_spacing(min(1.0 - model.effective_epsilon, 0.9))
     return default_spacing(1.0 - model.effective_epsilon)

@@ -58,12 +58,32 @@ def default_transient_cutoff(gamma: float) -> float:
     Covers the steady tails to about 1e-20 relative (exponential for Maxwell
     molecules, :math:`e^{-A c^{3/2}}` for hard rods), enough for moments up to
     :math:`\\langle v^{12}\\rangle` at the tolerances of the tests.
+
+    Parameters
+    ----------
+    gamma : float
+        Kernel exponent.
+
+    Returns
+    -------
+    float
     """
     return max(10.0, 26.0 - 11.0 * gamma)
 
 
 def check_normalised(dist: VelocityDistribution) -> None:
-    """Raise ``ValueError`` unless ``dist`` has unit mass (to 1e-6)."""
+    """Raise ``ValueError`` unless ``dist`` has unit mass (to 1e-6).
+
+    Parameters
+    ----------
+    dist : VelocityDistribution
+        An initial state.
+
+    Raises
+    ------
+    ValueError
+        If its mass differs from 1 by more than 1e-6.
+    """
     mass = float(dist.raw_moments[0])
     if not abs(mass - 1.0) <= 1e-6:
         raise ValueError(f"the initial distribution is not normalised: its mass is {mass:.8g}; "
@@ -74,6 +94,19 @@ def check_normalised(dist: VelocityDistribution) -> None:
 def initial_log_density(dist: VelocityDistribution, v: NDArray[np.float64], *,
                         scale: float = 1.0) -> NDArray:
     """``ln(scale P(scale v))`` of an even version of ``dist``, floored, Gaussian beyond.
+
+    Parameters
+    ----------
+    dist : VelocityDistribution
+        The initial distribution.
+    v : ndarray
+        Velocities where :math:`\\ln P` is wanted.
+    scale : float
+        Velocity scale factor (see the summary).
+
+    Returns
+    -------
+    ndarray
 
     Raises
     ------
@@ -136,7 +169,27 @@ def evolve_heated_fem(problem: HeatedProblem, *, times: NDArray, protocol: Proto
                       first_step: float | None = None, max_step: float = math.inf,
                       max_steps: int = 20000, newton_tol: float = 1e-11,
                       max_newton: int = 12) -> Evolution:
-    """Transient of the heated gas under ``protocol`` by adaptive BDF2 (see the module)."""
+    """Transient of the heated gas under ``protocol`` by adaptive BDF2 (see the module).
+
+    Parameters
+    ----------
+    problem : HeatedProblem
+        The gas and thermostat at ``t = 0``.
+    times : ndarray, shape (n_t,)
+        Output times, checked by :func:`kinetic_fem.evolve.check_times`.
+    protocol : Protocol
+        Time dependence of the thermostat and the restitution.
+    initial : VelocityDistribution or None
+        Initial state (normalised), or None for a Gaussian.
+    initial_temperature : float or None
+        Temperature of the Gaussian start.
+    rtol, order, spacing, cutoff, first_step, max_step, max_steps, newton_tol, max_newton
+        Numerical options (:class:`kinetic_fem.solvers.fem_transient.TransientOptions`).
+
+    Returns
+    -------
+    Evolution
+    """
     start = time.perf_counter()
     gas = problem.gas
     if order not in (1, 2):
@@ -218,7 +271,25 @@ def evolve_cooling_fem(problem: CoolingProblem, *, times: NDArray,
                        first_step: float | None = None, max_step: float = math.inf,
                        max_steps: int = 20000, newton_tol: float = 1e-11,
                        max_newton: int = 12) -> Evolution:
-    """Free cooling in scaled variables, T(t) in physical units (see the module)."""
+    """Free cooling in scaled variables, T(t) in physical units (see the module).
+
+    Parameters
+    ----------
+    problem : CoolingProblem
+        Constant restitution, any kernel.
+    times : ndarray, shape (n_t,)
+        Output times (physical), checked by :func:`kinetic_fem.evolve.check_times`.
+    initial : VelocityDistribution or None
+        Initial state (normalised), or None for a Gaussian.
+    initial_temperature : float or None
+        Temperature of the Gaussian start.
+    rtol, order, spacing, cutoff, first_step, max_step, max_steps, newton_tol, max_newton
+        Numerical options (:class:`kinetic_fem.solvers.fem_transient.TransientOptions`).
+
+    Returns
+    -------
+    Evolution
+    """
     start = time.perf_counter()
     gas = problem.gas
     if gas.restitution.constant is None:

@@ -125,7 +125,13 @@ class TransientOptions:
 
 @dataclass
 class TransientStats:
-    """Counters of a run."""
+    """Counters of a run.
+
+    Parameters
+    ----------
+    accepted, rejected, newton_failures, newton_iterations, restarts, forced : int
+        Counts of steps and Newton iterations.
+    """
 
     accepted: int = 0
     rejected: int = 0
@@ -146,6 +152,17 @@ def lte_ratio(steps: tuple[float, ...], order: int) -> float:
     ``(h_k,)`` (backward Euler with an explicit Euler predictor).  Computed by applying
     both formulas to :math:`t^{q+1}/(q+1)!`.
 
+    Parameters
+    ----------
+    steps : tuple of float
+        The last step sizes, newest first.
+    order : int
+        1 (backward Euler) or 2 (BDF2).
+
+    Returns
+    -------
+    float
+
     Examples
     --------
     >>> round(lte_ratio((1.0, 1.0, 1.0), 2), 12), lte_ratio((0.1,), 1)
@@ -164,7 +181,20 @@ def lte_ratio(steps: tuple[float, ...], order: int) -> float:
 
 
 def build_mesh(v_max: float, h: float) -> NDArray[np.float64]:
-    """Symmetric uniform vertices on ``[-v_max, v_max]`` with about ``h`` spacing."""
+    """Symmetric uniform vertices on ``[-v_max, v_max]`` with about ``h`` spacing.
+
+    Parameters
+    ----------
+    v_max : float
+        Half-width of the mesh.
+    h : float
+        Element size.
+
+    Returns
+    -------
+    ndarray
+        Uniform vertices symmetric about 0.
+    """
     half = max(2, int(math.ceil(v_max / h)))
     return symmetric_grid(uniform_grid(v_max, half + 1))
 
@@ -175,6 +205,21 @@ def make_discretisation(law: RestitutionLaw, gamma: float, vertices: NDArray,
 
     Velocities are physical (``speed_scale = 1``); the collision term is that of unit
     density (the integrator multiplies it by ``n``).
+
+    Parameters
+    ----------
+    law : RestitutionLaw
+        The restitution law.
+    gamma : float
+        Kernel exponent.
+    vertices : ndarray
+        Mesh vertices.
+    order : int
+        Lagrange degree.
+
+    Returns
+    -------
+    FEMDiscretisation
     """
     alpha = law.constant if law.constant is not None else getattr(law, "alpha", 1.0)
     if law.constant is not None and gamma == 1.0:
@@ -189,6 +234,17 @@ def floor_log(x: NDArray[np.float64], u: NDArray[np.float64]) -> NDArray[np.floa
     Beyond the speed where ``u`` first falls below the floor, ``u`` continues with the
     slope it has there (an exponential tail, exact in P1/P2): a kink or a plateau of
     ln P within an element leaves the first implicit steps without a positive solution.
+
+    Parameters
+    ----------
+    x : ndarray
+        Nodes.
+    u : ndarray
+        :math:`\\ln P` at ``x``.
+
+    Returns
+    -------
+    ndarray
     """
     out = np.array(u, dtype=float)
     level = out.max() + math.log(INITIAL_FLOOR)
@@ -447,7 +503,25 @@ class Integrator:
 
 @dataclass
 class Level:
-    """One accepted level: time ``s``, ``u``, masses, ``zeta``, aux ``y``, observables."""
+    """One accepted level: time ``s``, ``u``, masses, ``zeta``, aux ``y``, observables.
+
+    Parameters
+    ----------
+    s : float
+        Time of the level.
+    u : ndarray
+        Coefficients of :math:`\\ln P_h`.
+    m : ndarray
+        Masses :math:`\\int\\varphi_i P_h`.
+    zeta : float
+        Drift coefficient (cooling; 0 heated).
+    y : ndarray
+        Auxiliary variables (:math:`\\ln T` and the physical time, cooling).
+    obs : ndarray
+        Observables (T, a2, ...).
+    udot : ndarray, optional
+        Time derivative of ``u``.
+    """
 
     s: float
     u: NDArray[np.float64]
@@ -459,7 +533,20 @@ class Level:
 
 
 def lagrange_weights(nodes: list[float], s: float) -> list[float]:
-    """Weights of the Lagrange interpolant through ``nodes`` evaluated at ``s``."""
+    """Weights of the Lagrange interpolant through ``nodes`` evaluated at ``s``.
+
+    Parameters
+    ----------
+    nodes : list of float
+        Interpolation nodes (times).
+    s : float
+        Evaluation point.
+
+    Returns
+    -------
+    list of float
+        Weights of the Lagrange interpolant at ``s``.
+    """
     out = []
     for j, sj in enumerate(nodes):
         w = 1.0

@@ -108,6 +108,23 @@ def moment_rates(moments: ArrayLike, alpha: float, density: float = 1.0,
 
     The thermostat adds :math:`Dk(k-1)M_{k-2} - \\xi k M_k`.
 
+    Parameters
+    ----------
+    moments : array_like, shape (K + 1,)
+        Raw moments :math:`M_0 .. M_K` (even ones used).
+    alpha : float
+        Coefficient of restitution.
+    density : float
+        Number density ``n``.
+    diffusion : float
+        Noise strength ``D``.
+    friction : float
+        Bath friction :math:`\\xi`.
+
+    Returns
+    -------
+    ndarray, shape (K + 1,)
+
     Examples
     --------
     >>> moment_rates([1.0, 0.0, 1.0], 0.5, diffusion=0.1875)  # steady at T = 1
@@ -382,6 +399,16 @@ def hcs_zeta(alpha: float) -> float:
     In the convention :math:`dT/dt = -2\\zeta n T` (``gamma = 0``); exact for every
     state, not only the scaling one.
 
+    Parameters
+    ----------
+    alpha : float
+        Coefficient of restitution.
+
+    Returns
+    -------
+    float
+        Cooling rate in :math:`dT/dt = -2\\zeta n T`.
+
     Examples
     --------
     >>> hcs_zeta(0.0)
@@ -396,6 +423,15 @@ def hcs_pdf(c: ArrayLike) -> NDArray[np.float64]:
     The same for every :math:`\\alpha < 1` (Baldassarri et al. 2002); its Fourier
     transform is :math:`(1+|k|)e^{-|k|}`.
 
+    Parameters
+    ----------
+    c : array_like
+        Scaled velocities.
+
+    Returns
+    -------
+    ndarray
+
     Examples
     --------
     >>> float(hcs_pdf(0.0))  # 2/pi
@@ -406,7 +442,18 @@ def hcs_pdf(c: ArrayLike) -> NDArray[np.float64]:
 
 
 def hcs_characteristic_function(k: ArrayLike) -> NDArray[np.float64]:
-    """:math:`\\hat f(k) = \\int f(c) e^{ikc}dc = (1+|k|)e^{-|k|}` of :func:`hcs_pdf`."""
+    """:math:`\\hat f(k) = \\int f(c) e^{ikc}dc = (1+|k|)e^{-|k|}` of :func:`hcs_pdf`.
+
+    Parameters
+    ----------
+    k : array_like
+        Wave numbers.
+
+    Returns
+    -------
+    ndarray
+        :math:`(1 + |k|)e^{-|k|}`, the Fourier transform of :func:`hcs_pdf`.
+    """
     k_abs: NDArray[np.float64] = np.abs(np.asarray(k, dtype=float))
     return (1.0 + k_abs) * np.exp(-k_abs)
 
@@ -419,6 +466,19 @@ def scaled_moment_growth_rates(alpha: float, order: int, density: float = 1.0
     (lower moments); :math:`\\lambda_2 = \\lambda_3 = 0` (:math:`a^3 + b^3 = 1 - 3ab`)
     and :math:`\\lambda_k > 0` for ``k >= 4``: the scaled moments of order >= 4 grow
     without bound, so the scaling state has none.
+
+    Parameters
+    ----------
+    alpha : float
+        Coefficient of restitution.
+    order : int
+        Highest moment order.
+    density : float
+        Number density ``n``.
+
+    Returns
+    -------
+    ndarray
 
     Returns
     -------

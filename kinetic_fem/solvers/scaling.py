@@ -206,6 +206,17 @@ def phi_grid(cutoff: float, n_v: int) -> NDArray[np.float64]:
 
     ``n_v = 4k + 1`` puts :math:`x = 0` on a Simpson panel boundary, so that
     :math:`\\int |x|\\phi` (kink at 0) keeps fourth order.
+
+    Parameters
+    ----------
+    cutoff : float
+        Half-width of the grid.
+    n_v : int
+        Number of nodes, ``4k + 1``.
+
+    Returns
+    -------
+    ndarray, shape (n_v,)
     """
     cutoff = check_positive("cutoff", cutoff)
     n_v = check_int("n_v", n_v, minimum=9)

@@ -71,6 +71,17 @@ PSI_CONSTANTS = ("C", "y2", "y3", "y_peak", "psi_peak")
 def psi_kernel(y: NDArray[np.float64], wpsi: NDArray[np.float64]) -> NDArray[np.float64]:
     """:math:`K_i = \\frac16\\sum_j (wpsi)_j (|y_i-y_j|^3 - (y_i+y_j)^3)` in O(N).
 
+    Parameters
+    ----------
+    y : ndarray, shape (n,)
+        Increasing nodes.
+    wpsi : ndarray, shape (n,)
+        Quadrature weights times :math:`\\psi` at the nodes.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+
     Examples
     --------
     >>> y = np.array([-1.0, 0.0, 2.0]); wpsi = np.array([0.5, 0.25, 0.25])
@@ -83,7 +94,19 @@ def psi_kernel(y: NDArray[np.float64], wpsi: NDArray[np.float64]) -> NDArray[np.
 
 
 def psi_flux_kernel(y: NDArray[np.float64], wpsi: NDArray[np.float64]) -> NDArray[np.float64]:
-    """:math:`\\sum_j (wpsi)_j (|y_i-y_j|(y_i-y_j) - (y_i+y_j)^2) = 2K'(y_i)` in O(N)."""
+    """:math:`\\sum_j (wpsi)_j (|y_i-y_j|(y_i-y_j) - (y_i+y_j)^2) = 2K'(y_i)` in O(N).
+
+    Parameters
+    ----------
+    y : ndarray, shape (n,)
+        Increasing nodes.
+    wpsi : ndarray, shape (n,)
+        Quadrature weights times :math:`\\psi` at the nodes.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+    """
     lo, up = partial_moments(y, wpsi, 2)
     return -4 * y * lo[1] - 2 * y**2 * up[0] - 2 * up[2]
 

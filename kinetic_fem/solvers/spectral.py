@@ -359,6 +359,17 @@ def solve_sonine_cooling(alpha: float, order: int = 6, *, kernel: float = 1.0,
                          linearized: bool = False) -> tuple[SonineSolution, float]:
     """Sonine coefficients of the homogeneous cooling state and its cooling rate.
 
+    Parameters
+    ----------
+    alpha : float
+        Constant coefficient of restitution, ``0 <= alpha < 1``.
+    order : int
+        Highest Sonine order kept.
+    kernel : float
+        Kernel exponent :math:`\\gamma \\in (0, 2]`.
+    linearized : bool
+        Linearise in the coefficients (the classic first-order results).
+
     Returns
     -------
     solution : SonineSolution
