@@ -440,6 +440,27 @@ def simulate_cooling(alpha: float | RestitutionLaw, n_particles: int, *, density
     :func:`kinetic_fem.sonine.haff_temperature`; Maxwell: exponential decay), with
     :math:`\\zeta` measured by :meth:`DSMCRun.cooling_rate`.
 
+    Parameters
+    ----------
+    alpha : float or RestitutionLaw
+        Restitution coefficient in ``[0, 1)`` or a law of :mod:`kinetic_fem.model`.
+    n_particles : int
+        Number of particles ``N``, ``2 <= N < 2^32``.
+    density : float
+        Number density ``n``.
+    kernel : float or PowerLawKernel
+        Collision kernel :math:`|g|^\\gamma`, ``gamma`` in ``[0, 2]``.
+    seed : int or SeedSequence, optional
+        Root seed (``None``: fresh entropy, recorded in the result).
+    collisions_per_particle : float
+        Length of the averaging after relaxation, in collisions per particle.
+    relax, sample_every, average_every, n_batches, bins, c_max
+        As in :func:`simulate_heated`; ``c_max`` bounds the histogram of ``c``.
+    initial_velocities : array_like, shape (N,), optional
+        Initial state (finite); default a unit Gaussian.
+    checkpoint, checkpoint_every, resume, max_wall_time, progress
+        As in :func:`simulate_heated`.
+
     Returns
     -------
     DSMCRun
@@ -485,6 +506,21 @@ def combine_runs(runs: Sequence[DSMCRun]) -> VelocityDistribution:
         seeds = spawn_seeds(1, 4)
         runs = run_replicas(simulate_heated, seeds, alpha=0.6, n_particles=25_000)
         dist = combine_runs(runs)
+
+    Parameters
+    ----------
+    runs : sequence of DSMCRun
+        Replicas with the same parameters and histogram edges.
+
+    Returns
+    -------
+    VelocityDistribution
+        Errors from the spread over every batch of every replica.
+
+    Raises
+    ------
+    ValueError
+        If the runs differ in parameters or histogram edges, or none is given.
     """
     if not runs:
         raise ValueError("combine_runs needs at least one run")

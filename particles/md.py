@@ -134,6 +134,19 @@ def mean_free_time(temperature: float, density: float, sigma: float) -> float:
 
     :math:`n_f = n/(1 - n\\sigma)` is the density on the reduced ring and
     :math:`2\\sqrt{T/\\pi} = \\langle |v - v'| \\rangle` for :math:`T = \\langle v^2\\rangle`.
+
+    Parameters
+    ----------
+    temperature : float
+        Temperature ``T``.
+    density : float
+        Number density ``n``.
+    sigma : float
+        Rod length.
+
+    Returns
+    -------
+    float
     """
     n_free = density / (1.0 - density * sigma)
     return 1.0 / (n_free * 2.0 * math.sqrt(temperature / math.pi))
@@ -141,6 +154,15 @@ def mean_free_time(temperature: float, density: float, sigma: float) -> float:
 
 def hard_rods(kernel: float | PowerLawKernel) -> PowerLawKernel:
     """The kernel of MD, which simulates hard rods only (:math:`\\gamma = 1`).
+
+    Parameters
+    ----------
+    kernel : float or PowerLawKernel
+        The requested kernel.
+
+    Returns
+    -------
+    PowerLawKernel
 
     Raises
     ------
@@ -186,6 +208,35 @@ def initial_state(n_particles: int, *, density: float, sigma: float, temperature
     reduced ring, the equilibrium hard-rod state) and Gaussian velocities of variance
     ``temperature`` with zero total momentum.  Given ``positions`` (rod left ends) are
     sorted along the ring and checked for overlaps.
+
+    Parameters
+    ----------
+    n_particles : int
+        Number of rods ``N``.
+    density : float
+        Number density ``n`` (rods per unit length).
+    sigma : float
+        Rod length.
+    temperature : float
+        Temperature of the Gaussian velocities.
+    rng : numpy.random.Generator
+        Random source.
+    positions : array_like, shape (N,), optional
+        Rod left ends (checked for overlaps).
+    velocities : array_like, shape (N,), optional
+        Initial velocities.
+
+    Returns
+    -------
+    y : ndarray, shape (N,)
+        Sorted positions on the reduced ring.
+    v : ndarray, shape (N,)
+        Velocities.
+
+    Raises
+    ------
+    ValueError
+        For overlapping rods, a wrong shape or non-finite values.
     """
     big_l = n_particles / density
     free = big_l - n_particles * sigma

@@ -155,6 +155,16 @@ def mul128(r, n):
     """``(floor(r n / 2^64), r n mod 2^64)`` for uint64 ``r``, ``n``.
 
     One machine multiply in compiled kernels; Python integers here (no-JIT mode).
+
+    Parameters
+    ----------
+    r, n : numpy.uint64
+        The factors.
+
+    Returns
+    -------
+    tuple of numpy.uint64
+        High and low 64-bit words of the product.
     """
     p = int(r) * int(n)
     return np.uint64(p >> 64), np.uint64(p & 0xFFFFFFFFFFFFFFFF)

@@ -115,6 +115,22 @@ def split_keys(text: str) -> list[str]:
 
 def _list_of(kind: Callable[[str], Any], what: str) -> Callable[[str], list[Any]]:
     def parse(text: str) -> list[Any]:
+        """Comma-separated values of one kind (an argparse ``type``).
+
+        Parameters
+        ----------
+        text : str
+            The option's text, e.g. ``0.3,0.6,0.9``.
+
+        Returns
+        -------
+        list
+
+        Raises
+        ------
+        argparse.ArgumentTypeError
+            For a value of another kind, or no value.
+        """
         try:
             values = [kind(x) for x in text.split(",") if x.strip()]
         except ValueError:
