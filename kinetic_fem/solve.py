@@ -87,6 +87,20 @@ def solve_heated(alpha: float | RestitutionLaw, *, density: float = 1.0,
         For invalid parameters, an unknown method or an unknown option.
     UnsupportedModelError
         (a ValueError) if the method cannot solve this model; the message says which can.
+
+    Examples
+    --------
+    The paper's gas (hard rods, white noise, ``n = D = 1``) at alpha = 0.6, by FEM and
+    by the Sonine spectral method, beside the first-order Sonine estimate:
+
+    >>> import kinetic_fem as kf
+    >>> dist = kf.solve_heated(0.6)
+    >>> dist.info.converged, round(dist.temperature, 6), round(dist.a2, 6)
+    (True, 1.964799, 0.030435)
+    >>> abs(kf.solve_heated(0.6, method="spectral").a2 - dist.a2) < 1e-5
+    True
+    >>> round(kf.sonine.a2_first_order(0.6), 4)
+    0.032
     """
     problem = HeatedProblem.from_parameters(alpha, density=density, diffusion=diffusion,
                                             friction=friction, kernel=kernel)
@@ -118,6 +132,13 @@ def solve_cooling(alpha: float | RestitutionLaw, *, density: float = 1.0,
     -------
     VelocityDistribution
         The homogeneous cooling state at unit temperature.
+
+    Examples
+    --------
+    >>> import kinetic_fem as kf
+    >>> hcs = kf.solve_cooling(0.5)
+    >>> round(hcs.temperature, 10), round(hcs.info.extra["zeta"], 8), round(hcs.a2, 7)
+    (1.0, 0.43556748, 0.1610182)
     """
     problem = CoolingProblem.from_parameters(alpha, density=density, kernel=kernel)
     return _lookup(COOLING_SOLVERS, method, "cooling")(problem, **options)
