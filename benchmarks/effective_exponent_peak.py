@@ -4,7 +4,7 @@ The paper (C7): n(v) = d ln(-ln(P/P0))/d ln v peaks at v* ~ eps^(-1/3) with
 3 - n* ~ eps^(1/3); C6: the peak sits at a fixed multiple of v_cr1 = (D/(n eps))^(1/3),
 i.e. x* = v* eps^(1/3) constant (n = D = 1).
 
-Method: FEM (P2, log unknown, Newton; ``kinetic_fem.figures.heated.fem_steady``) with
+Method: FEM (P2, log unknown, Newton; ``kinetic_fem.analysis.peak_study.fem_steady``) with
 the cut-off moved beyond the default (the peak lies where f ~ 1e-100 at eps = 1e-4),
 at spacings h = 0.05 and 0.035 (thermal velocities), Gauss degree 9, and two cut-offs
 per eps (``fem_cutoff_factors``: 1.0/1.3, 1.3/1.5, 1.5/1.7 times the default, i.e. c up
@@ -49,7 +49,7 @@ import time
 import numpy as np
 
 from kinetic_fem.analysis import power_law_exponent
-from kinetic_fem.figures.heated import peak_sweep
+from kinetic_fem.analysis.peak_study import peak_sweep
 
 EPS = (0.1, 0.03, 0.01, 3e-3, 1e-3, 3e-4, 1e-4)
 

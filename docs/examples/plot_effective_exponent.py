@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from kinetic_fem.figures.heated import PeakSweep, peak_sweep
+from kinetic_fem.analysis.peak_study import PeakSweep, peak_sweep
 
 TEST_KWARGS = {"eps_values": (0.1, 0.03), "spacing": 0.04}
 
@@ -53,7 +53,7 @@ if __name__ == "__main__":
 
     import matplotlib.pyplot as plt
 
-    from kinetic_fem.figures.heated import solve_steady
+    from kinetic_fem.analysis.peak_study import solve_steady
 
     # The documentation build in CI sets KINETIC_FEM_DOCS_QUICK=1:
     # eps down to 1e-2 only, spacing 0.04,

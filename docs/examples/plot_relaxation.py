@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from kinetic_fem.analysis import power_law_exponent, relaxation_fit
-from kinetic_fem.figures.heated import relaxation_run
+from kinetic_fem.analysis.peak_study import relaxation_run
 
 TEST_KWARGS = {"alphas": (0.8, 0.9), "spacing": 0.25}
 
