@@ -40,6 +40,26 @@ def solve_steady(alpha: float, *, spacing: float = 0.04, cutoff_factor: float = 
     alpha, so the Dirichlet condition there is negligible over the range of the fits.
     ``nest`` rounds the cut-off up to a multiple of that spacing, so that solutions at
     ``nest``, ``nest/2``, ... share nodes (Richardson extrapolation).
+
+    Parameters
+    ----------
+    alpha : float
+        Coefficient of restitution (hard rods, white noise, ``n = D = 1``).
+    spacing : float
+        Grid spacing (thermal velocities).
+    cutoff_factor : float
+        Cut-off in units of the FD default cut-off.
+    nest : float, optional
+        Round the cut-off up to a multiple of this spacing (nested grids).
+
+    Returns
+    -------
+    VelocityDistribution
+
+    Raises
+    ------
+    RuntimeError
+        If Newton's method does not converge.
     """
     cutoff = cutoff_factor * default_cutoff(alpha)
     if nest is not None:
@@ -69,6 +89,30 @@ def fem_steady(alpha: float, *, spacing: float = 0.05, cutoff_factor: float = 1.
     amplified by 1/eps and n(c) becomes noisy (degree 5: below f ~ 1e-44 at h = 0.1,
     eps = 1e-3; near the peak at h = 0.05, eps = 1e-4); degree 9 at h = 0.05 is smooth
     and converged at the peak for eps down to 1e-4 (``benchmarks/effective_exponent_peak.py``).
+
+    Parameters
+    ----------
+    alpha : float
+        Coefficient of restitution (hard rods, white noise, ``n = D = 1``).
+    spacing : float
+        Element size of the final solve (thermal velocities).
+    cutoff_factor : float
+        Target cut-off in units of the FEM default (<= 1: the default interval).
+    widen_spacing : float
+        Element size of the widening steps.
+    widen_step : float
+        Growth factor of the interval per step.
+    intorder : int
+        Gauss degree of the final solve.
+
+    Returns
+    -------
+    VelocityDistribution
+
+    Raises
+    ------
+    ConvergenceError
+        If a Newton solve fails.
     """
     from ..operators.grid import symmetric_grid, uniform_grid
     from ..solvers import fem
@@ -121,7 +165,22 @@ def _cubic_continuation(state, v: NDArray[np.float64]) -> NDArray[np.float64]:
 
 def relaxation_run(alpha: float, *, spacing: float = 0.2, initial_temperature: float = 0.5
                    ) -> VelocityDistribution:
-    """Time marching (the paper's iteration) from a Gaussian at a fraction of T."""
+    """Time marching (the paper's iteration) from a Gaussian at a fraction of T.
+
+    Parameters
+    ----------
+    alpha : float
+        Coefficient of restitution.
+    spacing : float
+        Grid spacing (thermal velocities), at most 0.25.
+    initial_temperature : float
+        Temperature of the Gaussian start, in units of the steady temperature estimate.
+
+    Returns
+    -------
+    VelocityDistribution
+        The final state; ``series`` holds ``time`` and ``temperature``.
+    """
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ConvergenceWarning)
         return solve_heated(alpha, method="fd", steady="march", spacing=spacing,
@@ -135,6 +194,21 @@ class PeakSweep:
     ``converged`` where the peak is interior and moved by less than ``x_tol``
     (relative, in x*) and ``n_tol`` (absolute, in n*) between the resolutions (FD:
     spacing h and 2h; FEM: spacing h and h_fine, and cut-offs a and b).
+
+    Parameters
+    ----------
+    peaks : tuple of ExponentPeak
+        Best-resolved peak at each eps (decreasing eps).
+    coarse : tuple of ExponentPeak
+        The peaks at the coarser spacing.
+    converged : tuple of bool
+        The resolution checks passed.
+    other_cutoff : tuple of ExponentPeak
+        FEM: the peaks with the second cut-off.
+    method : str
+        ``"fd"`` or ``"fem"``.
+    x_tol, n_tol : float
+        Tolerances of the checks (relative in x*, absolute in n*).
     """
 
     peaks: tuple[ExponentPeak, ...]
@@ -169,7 +243,17 @@ FEM_PEAK_SPACINGS = (0.05, 0.035)
 
 
 def fem_cutoff_factors(eps: float) -> tuple[float, float]:
-    """Two cut-offs (times the FEM default) placing the peak of n(c) well inside."""
+    """Two cut-offs (times the FEM default) placing the peak of n(c) well inside.
+
+    Parameters
+    ----------
+    eps : float
+        Inelasticity ``1 - alpha``.
+
+    Returns
+    -------
+    tuple of float
+    """
     if eps >= 1e-2:
         return (1.0, 1.3)
     return (1.3, 1.5) if eps >= 1e-3 else (1.5, 1.7)
@@ -193,6 +277,36 @@ def peak_sweep(eps_values: tuple[float, ...], *, spacing: float, method: str = "
     Gauss degree of the final solves (9: 5 points per element); in the deep tail at
     small eps the gain and loss terms cancel to O(eps), so their quadrature error is
     amplified by 1/eps (eps = 3e-4, h = 0.05: x* = 9.43 with degree 5, 9.01 with 9).
+
+    Parameters
+    ----------
+    eps_values : tuple of float
+        Inelasticities.
+    spacing : float
+        Spacing of the (coarser) solves.
+    method : {"fd", "fem"}
+        Solver.
+    fine_spacing : float, optional
+        FEM: spacing of the finer solve (default ``spacing / sqrt(2)``).
+    x_tol, n_tol : float, optional
+        Tolerances of the convergence checks.
+    widen_spacing : float
+        See :func:`fem_steady`.
+    cutoff_check : bool
+        FEM: also solve with the second cut-off.
+    intorder : int
+        FEM: Gauss degree of the final solves.
+    log : callable, optional
+        ``log(str)`` called with one line per solve.
+
+    Returns
+    -------
+    PeakSweep
+
+    Raises
+    ------
+    ValueError
+        For another ``method``.
     """
     eps_values = tuple(sorted(eps_values, reverse=True))
     if method == "fd":

@@ -1,0 +1,221 @@
+"""Options, counters, meshes and initial data of the FEM transients.
+
+The pieces of :mod:`kinetic_fem.solvers.fem_transient` that do not step in time: the
+validated numerical options (:class:`TransientOptions`), the run counters
+(:class:`TransientStats`), the ratio of error constants of the step-size control
+(:func:`lte_ratio`), the uniform symmetric mesh (:func:`build_mesh`), the discretisation
+of a model (:func:`make_discretisation`) and the floored initial data (:func:`floor_log`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..model import RestitutionLaw
+from ..operators.grid import symmetric_grid, uniform_grid
+from .fem import FEMDiscretisation
+
+__all__ = ["INITIAL_FLOOR", "LOG_SMALLEST", "TransientOptions", "TransientStats", "lte_ratio",
+           "build_mesh", "make_discretisation", "floor_log"]
+
+INITIAL_FLOOR = 1e-45
+"""Initial data are floored at this fraction of their maximum (see :func:`floor_log`).
+
+A Gaussian's far tail lies hundreds of decades below the collisional tail that builds
+up within one collision time; Newton's method on ln P cannot bridge that gap in one
+step."""
+
+
+LOG_SMALLEST = math.log(1e-300)
+"""Initial tails stay above this (ln P), far from underflow of exp."""
+
+
+@dataclass(frozen=True)
+class TransientOptions:
+    """Numerical options of a transient (all validated by the entry points).
+
+    Attributes
+    ----------
+    rtol : float
+        Local error tolerance per step: relative on T, absolute on a2.
+    min_step : float
+        Smallest step: below about (node spacing)^2 / (2 D) the implicit Galerkin step
+        of a state with steep ln P has no positive solution, so steps this short are
+        accepted whatever their error estimate (counted in ``forced``).
+    order : int
+        Lagrange degree of the elements (1 or 2).
+    spacing : float
+        Element size in thermal velocities of the coldest state.
+    cutoff : float, optional
+        Half-width of the velocity interval in thermal velocities of the hottest state.
+    first_step : float, optional
+        First step (and step after a discontinuity); default ``sqrt(rtol)`` collision times.
+    max_step : float
+        Largest step (time units of the problem; inf: no limit).
+    max_steps : int
+        Accepted plus rejected steps before giving up.
+    newton_tol : float
+        Newton tolerance on the update of ln P.
+    max_newton : int
+        Newton iterations per step before the step counts as failed.
+    """
+
+    rtol: float = 1e-6
+    min_step: float = 0.0
+    order: int = 2
+    spacing: float = 0.25
+    cutoff: float | None = None
+    first_step: float | None = None
+    max_step: float = math.inf
+    max_steps: int = 20000
+    newton_tol: float = 1e-11
+    max_newton: int = 12
+
+
+@dataclass
+class TransientStats:
+    """Counters of a run.
+
+    Parameters
+    ----------
+    accepted, rejected, newton_failures, newton_iterations, restarts, forced : int
+        Counts of steps and Newton iterations.
+    """
+
+    accepted: int = 0
+    rejected: int = 0
+    newton_failures: int = 0
+    newton_iterations: int = 0
+    restarts: int = 0
+    forced: int = 0
+
+    def as_dict(self) -> dict[str, int]:
+        return dict(vars(self))
+
+
+def lte_ratio(steps: tuple[float, ...], order: int) -> float:
+    """Ratio ``E_c / (E_c - E_p)`` of corrector and predictor error constants.
+
+    The local error of the corrector is ``lte_ratio * (y_corrector - y_predictor)``.
+    ``steps = (h_k, h_{k-1}, h_{k-2})`` (BDF2 with a quadratic predictor) or
+    ``(h_k,)`` (backward Euler with an explicit Euler predictor).  Computed by applying
+    both formulas to :math:`t^{q+1}/(q+1)!`.
+
+    Parameters
+    ----------
+    steps : tuple of float
+        The last step sizes, newest first.
+    order : int
+        1 (backward Euler) or 2 (BDF2).
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> round(lte_ratio((1.0, 1.0, 1.0), 2), 12), lte_ratio((0.1,), 1)
+    (0.181818181818, 0.5)
+    """
+    if order == 1:
+        return 0.5
+    h, h1, h2 = steps
+    w = h / h1
+    c_new = (1.0 + 2.0 * w) / (1.0 + w)
+    # y = t^3/6 with t_{k+1} = 0: residual of c_new y - (1+w) y_k + w^2/(1+w) y_{k-1} - h y'
+    resid = -(1.0 + w) * (-h) ** 3 / 6.0 + w * w / (1.0 + w) * (-(h + h1)) ** 3 / 6.0
+    e_corr = -resid / c_new
+    e_pred = -h * (h + h1) * (h + h1 + h2) / 6.0
+    return e_corr / (e_corr - e_pred)
+
+
+def build_mesh(v_max: float, h: float) -> NDArray[np.float64]:
+    """Symmetric uniform vertices on ``[-v_max, v_max]`` with about ``h`` spacing.
+
+    Parameters
+    ----------
+    v_max : float
+        Half-width of the mesh.
+    h : float
+        Element size.
+
+    Returns
+    -------
+    ndarray
+        Uniform vertices symmetric about 0.
+    """
+    half = max(2, int(math.ceil(v_max / h)))
+    return symmetric_grid(uniform_grid(v_max, half + 1))
+
+
+def make_discretisation(law: RestitutionLaw, gamma: float, vertices: NDArray,
+                        order: int) -> FEMDiscretisation:
+    """The FEM discretisation of the collision operator with ``law`` and ``|g|^gamma``.
+
+    Velocities are physical (``speed_scale = 1``); the collision term is that of unit
+    density (the integrator multiplies it by ``n``).
+
+    Parameters
+    ----------
+    law : RestitutionLaw
+        The restitution law.
+    gamma : float
+        Kernel exponent.
+    vertices : ndarray
+        Mesh vertices.
+    order : int
+        Lagrange degree.
+
+    Returns
+    -------
+    FEMDiscretisation
+    """
+    alpha = law.constant if law.constant is not None else getattr(law, "alpha", 1.0)
+    if law.constant is not None and gamma == 1.0:
+        return FEMDiscretisation(alpha, vertices, order, 2 * order + 1)
+    return FEMDiscretisation(alpha, vertices, order, 2 * order + 1, gamma=gamma,
+                             law=None if law.constant is not None else law)
+
+
+def floor_log(x: NDArray[np.float64], u: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Even ``u = ln P`` at ``x``, continued below ``ln(INITIAL_FLOOR * max P)`` linearly.
+
+    Beyond the speed where ``u`` first falls below the floor, ``u`` continues with the
+    slope it has there (an exponential tail, exact in P1/P2): a kink or a plateau of
+    ln P within an element leaves the first implicit steps without a positive solution.
+
+    Parameters
+    ----------
+    x : ndarray
+        Nodes.
+    u : ndarray
+        :math:`\\ln P` at ``x``.
+
+    Returns
+    -------
+    ndarray
+    """
+    out = np.array(u, dtype=float)
+    level = out.max() + math.log(INITIAL_FLOOR)
+    speed = np.abs(x)
+    order = np.argsort(speed, kind="stable")
+    s_sorted, u_sorted = speed[order], out[order]
+    below = np.flatnonzero(u_sorted < level)
+    if below.size == 0:
+        return out
+    j = max(int(below[0]), 1)
+    i = j - 1
+    while i > 0 and s_sorted[i] == s_sorted[j]:
+        i -= 1
+    slope = min((u_sorted[j] - u_sorted[i]) / (s_sorted[j] - s_sorted[i]), -1e-3)
+    # no value below ln(1e-300) at the edge: P must stay a normal double
+    span = s_sorted[-1] - s_sorted[j]
+    if span > 0:
+        slope = max(slope, (LOG_SMALLEST - u_sorted[j]) / span)
+    beyond = speed > s_sorted[j]
+    out[beyond] = u_sorted[j] + slope * (speed[beyond] - s_sorted[j])
+    return out
