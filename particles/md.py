@@ -89,16 +89,13 @@ from pathlib import Path
 from typing import Any, Sequence
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
 from kinetic_fem.model import (
     HeatedProblem,
     InelasticGas,
     PowerLawKernel,
     RestitutionLaw,
-    UnsupportedModelError,
-    as_kernel,
-    check_finite_array,
     check_positive,
 )
 
@@ -112,6 +109,7 @@ from ._md_run import (
     density_fluctuations,
     run_md,
 )
+from .rods import check_geometry, hard_rods, initial_state, mean_free_time
 
 __all__ = ["simulate_heated", "simulate_cooling", "MDRun", "Snapshot", "DensityFluctuations",
            "InelasticCollapseError", "initial_state", "density_fluctuations",
@@ -129,145 +127,9 @@ LAW_SPEED_SPAN = 10.0
 :math:`\\sqrt{2T_{est}}` (the spread of :math:`g` between Gaussian velocities)."""
 
 
-def mean_free_time(temperature: float, density: float, sigma: float) -> float:
-    """Mean free time of a Gaussian gas of rods, :math:`1/(n_f \\cdot 2\\sqrt{T/\\pi})`.
-
-    :math:`n_f = n/(1 - n\\sigma)` is the density on the reduced ring and
-    :math:`2\\sqrt{T/\\pi} = \\langle |v - v'| \\rangle` for :math:`T = \\langle v^2\\rangle`.
-
-    Parameters
-    ----------
-    temperature : float
-        Temperature ``T``.
-    density : float
-        Number density ``n``.
-    sigma : float
-        Rod length.
-
-    Returns
-    -------
-    float
-    """
-    n_free = density / (1.0 - density * sigma)
-    return 1.0 / (n_free * 2.0 * math.sqrt(temperature / math.pi))
-
-
-def hard_rods(kernel: float | PowerLawKernel) -> PowerLawKernel:
-    """The kernel of MD, which simulates hard rods only (:math:`\\gamma = 1`).
-
-    Parameters
-    ----------
-    kernel : float or PowerLawKernel
-        The requested kernel.
-
-    Returns
-    -------
-    PowerLawKernel
-
-    Raises
-    ------
-    UnsupportedModelError
-        For any other kernel (with a pointer to the methods that support it).
-
-    Examples
-    --------
-    >>> hard_rods(1.0).is_hard_rods
-    True
-    """
-    k = as_kernel(kernel)
-    if not k.is_hard_rods:
-        raise UnsupportedModelError(
-            f"MD simulates hard rods only (kernel gamma = 1: rods on a line meet at the rate "
-            f"of their relative speed), got gamma={k.gamma:g}; for other kernels use "
-            f"particles.dsmc (every 0 <= gamma <= 2) or kinetic_fem's solve_heated/"
-            f"solve_cooling with method='fem'")
-    return k
-
-
-def _check_geometry(n_particles: object, density: float, sigma: float | None) -> tuple:
-    if isinstance(n_particles, bool) or not isinstance(n_particles, (int, np.integer)):
-        raise TypeError(f"n_particles must be an int, got {n_particles!r}")
-    if n_particles < 2:
-        raise ValueError(f"n_particles={n_particles} is not allowed; need at least 2 rods")
-    n = density
-    sig = 0.5 / n if sigma is None else float(sigma)
-    if not (math.isfinite(sig) and sig >= 0.0):
-        raise ValueError(f"sigma={sigma!r} is not allowed; the rod length must be >= 0")
-    if not n * sig < 1.0:
-        raise ValueError(f"density * sigma = {n * sig!r} is not allowed; rods of length "
-                         f"sigma={sig} at density {n} must fill less than the ring (n sigma < 1)")
-    return int(n_particles), sig
-
-
-def initial_state(n_particles: int, *, density: float, sigma: float, temperature: float,
-                  rng: np.random.Generator, positions: ArrayLike | None = None,
-                  velocities: ArrayLike | None = None) -> tuple[NDArray, NDArray]:
-    """Reduced-ring positions ``y`` (sorted) and velocities of the initial state.
-
-    Default: rods placed uniformly at random without overlap (uniform points on the
-    reduced ring, the equilibrium hard-rod state) and Gaussian velocities of variance
-    ``temperature`` with zero total momentum.  Given ``positions`` (rod left ends) are
-    sorted along the ring and checked for overlaps.
-
-    Parameters
-    ----------
-    n_particles : int
-        Number of rods ``N``.
-    density : float
-        Number density ``n`` (rods per unit length).
-    sigma : float
-        Rod length.
-    temperature : float
-        Temperature of the Gaussian velocities.
-    rng : numpy.random.Generator
-        Random source.
-    positions : array_like, shape (N,), optional
-        Rod left ends (checked for overlaps).
-    velocities : array_like, shape (N,), optional
-        Initial velocities.
-
-    Returns
-    -------
-    y : ndarray, shape (N,)
-        Sorted positions on the reduced ring.
-    v : ndarray, shape (N,)
-        Velocities.
-
-    Raises
-    ------
-    ValueError
-        For overlapping rods, a wrong shape or non-finite values.
-    """
-    big_l = n_particles / density
-    free = big_l - n_particles * sigma
-    if velocities is None:
-        v = rng.normal(scale=math.sqrt(temperature), size=n_particles)
-        v -= v.mean()
-    else:
-        v = check_finite_array("velocities", velocities, ndim=1).copy()
-        if v.size != n_particles:
-            raise ValueError(f"velocities has {v.size} entries for {n_particles} rods")
-    if positions is None:
-        y = np.sort(rng.uniform(0.0, free, n_particles))
-        return y, v
-    pos = check_finite_array("positions", positions, ndim=1)
-    if pos.size != n_particles:
-        raise ValueError(f"positions has {pos.size} entries for {n_particles} rods")
-    pos = np.mod(pos, big_l)
-    order = np.argsort(pos, kind="stable")
-    pos, v = pos[order], v[order]
-    gaps = np.diff(np.append(pos, pos[0] + big_l))
-    if np.any(gaps < sigma):
-        k = int(np.argmin(gaps))
-        raise ValueError(f"initial positions overlap: rods at {pos[k]!r} and "
-                         f"{pos[(k + 1) % n_particles]!r} are {gaps[k]!r} apart, less than "
-                         f"sigma={sigma}")
-    return pos - sigma * np.arange(n_particles), v
-
-
 def _common(n_particles, density, sigma, collisions_per_particle, n_samples, n_batches,
             n_bins, box_counts, collapse_tol, max_stall):
-    n, sig = _check_geometry(n_particles, density, sigma)
+    n, sig = check_geometry(n_particles, density, sigma)
     cpp = check_positive("collisions_per_particle", collisions_per_particle)
     for name, val in (("n_samples", n_samples), ("n_batches", n_batches), ("n_bins", n_bins)):
         if isinstance(val, bool) or not isinstance(val, (int, np.integer)) or val < 1:
