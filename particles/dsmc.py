@@ -106,7 +106,6 @@ from kinetic_fem.model import (
     InelasticGas,
     PowerLawKernel,
     RestitutionLaw,
-    check_finite_array,
     check_positive,
 )
 from kinetic_fem.sonine import a2_first_order
@@ -114,6 +113,7 @@ from kinetic_fem.sonine import a2_first_order
 from ._dsmc_engine import DSMCOptions, DSMCRun, Engine
 from ._dsmc_kernels import kernel_code
 from .run import Checkpointing
+from .sampling import initial_velocities_of
 
 __all__ = ["DSMCRun", "simulate_heated", "simulate_cooling", "combine_runs",
            "MAX_COLLISIONS_PER_STEP"]
@@ -132,57 +132,6 @@ def _check_int(name: str, value: object, lo: int, hi: int | None = None) -> int:
         allowed = f">= {lo}" if hi is None else f"in [{lo}, {hi}]"
         raise ValueError(f"{name}={value!r} is not allowed; it must be {allowed}")
     return int(value)
-
-
-_CHUNK = 1 << 16  # proposals per chunk of the initial sampler
-
-
-def _sonine_draws(n: int, a2: float, rng: np.random.Generator) -> NDArray[np.float64]:
-    """``n`` draws of :math:`\\Phi(c)(1 + a_2 S_2(c^2))_+` on ``|c| < 6`` by rejection.
-
-    Each round proposes ``m = 2 (n - count) + 16`` normals and then ``m`` uniforms from
-    ``rng`` (that order); the proposals are processed in chunks of ``_CHUNK`` with a
-    second generator started where the round's normals end, so the draws are those of
-    drawing the round's arrays whole, while the memory is the output (8 bytes per
-    particle) and a chunk (it was 82 bytes per particle with whole arrays).
-    """
-    grid = np.linspace(0.0, 6.0, 601) ** 2
-    weight = lambda c2: np.maximum(1 + a2 * (c2**2 / 8 - 3 * c2 / 4 + 3 / 8), 0.0)  # noqa: E731
-    top = weight(grid).max()
-    out = np.empty(n)
-    count = 0
-    while count < n:
-        m = 2 * (n - count) + 16
-        uni = np.random.Generator(type(rng.bit_generator)())
-        uni.bit_generator.state = rng.bit_generator.state
-        for start in range(0, m, _CHUNK):  # advance uni past the round's normals
-            uni.normal(size=min(_CHUNK, m - start))
-        for start in range(0, m, _CHUNK):
-            k = min(_CHUNK, m - start)
-            c = rng.normal(size=k)
-            keep = c[(np.abs(c) < 6) & (uni.random(k) * top < weight(c * c))][: n - count]
-            out[count:count + keep.size] = keep
-            count += keep.size
-        rng.bit_generator.state = uni.bit_generator.state  # both streams consumed
-        if count >= n:
-            break
-    return out
-
-
-def _initial(initial: ArrayLike | None, n: int, temperature: float,
-             seed_seq: np.random.SeedSequence, a2: float = 0.0) -> NDArray[np.float64]:
-    r"""The user's state, or ``n`` draws from :math:`\Phi(c)(1 + a_2 S_2(c^2))_+`, ``|c| < 6``.
-
-    Rejection from the Gaussian; ``a2 = 0`` gives the Gaussian itself.
-    """
-    if initial is None:
-        v = _sonine_draws(n, a2, np.random.default_rng(seed_seq)) * math.sqrt(temperature)
-    else:
-        v = check_finite_array("initial_velocities", initial, ndim=1).copy()
-        if v.shape != (n,):
-            raise ValueError(f"initial_velocities has shape {v.shape}; expected ({n},) "
-                             f"for n_particles={n}")
-    return v - v.mean()
 
 
 def _seeds(seed: int | np.random.SeedSequence | None) -> tuple[Any, Any, str]:
@@ -386,7 +335,7 @@ def simulate_heated(alpha: float | RestitutionLaw, n_particles: int, *, density:
     init_seq, run_seq, entropy = _seeds(seed)
     paper = gas.gamma == 1.0 and gas.restitution.constant is not None and problem.friction == 0
     a2 = float(a2_first_order(gas.alpha)) if paper else 0.0
-    v = _initial(initial_velocities, o["n"], t_ref, init_seq, a2=a2)
+    v = initial_velocities_of(initial_velocities, o["n"], t_ref, init_seq, a2=a2)
     _check_range(gas, v, "the initial velocities")
     t_max = max(t_ref, float(np.mean(v**2)))
     rate = gas.density * gas.kernel.gaussian_mean(t_ref)  # collisions per particle and time
@@ -484,7 +433,7 @@ def simulate_cooling(alpha: float | RestitutionLaw, n_particles: int, *, density
                 progress, _window(gas, 1.0))
     c_max = check_positive("c_max", c_max)
     init_seq, run_seq, entropy = _seeds(seed)
-    v = _initial(initial_velocities, o["n"], 1.0, init_seq)
+    v = initial_velocities_of(initial_velocities, o["n"], 1.0, init_seq)
     if not np.ptp(v) > 0:
         raise ValueError("initial_velocities are all equal: no collision can ever happen")
     _check_range(gas, v, "the initial velocities")

@@ -19,7 +19,7 @@ from kinetic_fem import sonine
 from particles import _dsmc_kernels as kern
 from particles import _dsmc_segments as seg
 from particles import dsmc, rng
-from particles.sampling import run_replicas, spawn_seeds
+from particles.sampling import run_replicas, sonine_draws, spawn_seeds
 
 DETERMINISTIC = [m for m in ("fem", "fd") if m in kf.HEATED_SOLVERS]
 TABLES = rng.ziggurat_tables()
@@ -540,9 +540,8 @@ def test_ten_million_particles(simulate):
 
 
 @pytest.mark.parametrize("a2", [0.0, 0.05, -0.3])
-def test_initial_sampler_in_chunks_equals_whole_arrays(a2, monkeypatch):
+def test_initial_sampler_in_chunks_equals_whole_arrays(a2):
     """The chunked rejection sampler draws exactly what whole arrays of a round drew."""
-    monkeypatch.setattr(dsmc, "_CHUNK", 1000)  # several chunks and rounds at n = 5003
     n = 5003
     rng = np.random.default_rng(np.random.SeedSequence(11))
     weight = lambda c2: np.maximum(1 + a2 * (c2**2 / 8 - 3 * c2 / 4 + 3 / 8), 0.0)  # noqa: E731
@@ -553,5 +552,6 @@ def test_initial_sampler_in_chunks_equals_whole_arrays(a2, monkeypatch):
         keep = (np.abs(c) < 6) & (rng.random(c.size) * top < weight(c**2))
         parts.append(c[keep][: n - count])
         count += parts[-1].size
-    got = dsmc._sonine_draws(n, a2, np.random.default_rng(np.random.SeedSequence(11)))
+    # chunks of 1000: several chunks and rounds at n = 5003
+    got = sonine_draws(n, a2, np.random.default_rng(np.random.SeedSequence(11)), chunk=1000)
     np.testing.assert_array_equal(got, np.concatenate(parts))
