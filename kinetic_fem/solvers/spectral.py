@@ -10,8 +10,7 @@ The scaled distribution is expanded in the orthonormal Sonine basis
 
 and the homogeneous Boltzmann equation with kernel :math:`|g|^\\gamma`, constant
 :math:`\\alpha` and a thermostat :math:`\\partial_v(\\xi vP) + D\\partial_v^2P` is tested
-against :math:`e_q(v/\\sqrt T)`, ``q = 1 .. P`` (Galerkin).  Divided by
-:math:`nT^{\\gamma/2}`:
+against :math:`e_q(v/\\sqrt T)`, ``q = 1 .. P`` (Galerkin); divided by :math:`nT^{\\gamma/2}`:
 
 .. math::
 
@@ -23,15 +22,12 @@ with :math:`\\delta = D/(nT^{1+\\gamma/2})`, :math:`\\chi = \\xi/(nT^{\\gamma/2}
 unknowns :math:`b_2 .. b_P` and :math:`\\ln T`) and, for the homogeneous cooling state
 (:math:`dT/dt = -2\\zeta nT^{1+\\gamma/2}`), :math:`\\delta = 0`, :math:`\\chi = -\\zeta`
 (unknowns :math:`b_2..b_P` and :math:`\\zeta`).  ``q = 1`` is the energy balance C1.
-The collision tensor :math:`A_{qrs}` is exact to round-off (Gauss rules with the weight
-:math:`|g|^\\gamma`); the quadratic system is solved by Newton with a backtracking line
-search, continued in the order from ``P = 2``.
-
-For the Maxwell kernel (``gamma = 0``) the equation of order ``q`` involves the moments
-up to ``2q`` only, so every truncation gives the exact :math:`a_2 .. a_P`
-(:mod:`kinetic_fem.solvers.maxwell`).  The Maxwell cooling state has no fourth moment
-(:func:`kinetic_fem.solvers.maxwell.hcs_pdf`) and is refused.  The truncated series is not
-positive in the far tails; use ``"fem"`` for the tails.
+:math:`A_{qrs}` is exact to round-off (Gauss rules with the weight :math:`|g|^\\gamma`);
+Newton with a line search solves the system, continued in the order from ``P = 2``.
+Maxwell kernel (``gamma = 0``): the equation of order ``q`` involves the moments up to
+``2q`` only, so every truncation gives the exact :math:`a_2 .. a_P`
+(:mod:`kinetic_fem.solvers.maxwell`); its cooling state has no fourth moment and is
+refused.  The truncated series is not positive in the far tails (use ``"fem"``).
 """
 
 from __future__ import annotations
