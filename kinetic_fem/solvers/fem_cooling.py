@@ -269,14 +269,18 @@ def _hump_state(problem: CoolingProblem, *, order: int, intorder: int | None, to
     pending = hump_chain(eps)[::-1]  # a stack: the next target last
     while pending:
         step = pending[-1]
-        final = step == eps
+        # the target is reached on the coarser step mesh first, then refined at the same
+        # eps (mesh sequencing: the many Newton steps of a continuation step are taken
+        # on the coarse mesh, the fine one needs three or four)
+        final = step == eps and (eps_prev == eps or resolution >= HUMP_STEP_RESOLUTION)
         res = resolution if final else max(resolution, HUMP_STEP_RESOLUTION)
         state = continued_state(prev, eps_prev, step, resolution=res, order=order,
                                 intorder=intorder, tol=tol if final else HUMP_STEP_TOL,
                                 max_iter=min(max_iter, HUMP_STEP_ITER)
                                 if eps_prev / step > HUMP_MIN_RATIO else max_iter)
         if state.info.converged:
-            pending.pop()
+            if final or step != eps:
+                pending.pop()
             prev, eps_prev = state, step
         elif eps_prev / step > HUMP_MIN_RATIO:
             # step control: retry through the geometric mean
