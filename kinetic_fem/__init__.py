@@ -40,6 +40,7 @@ from .solvers import (  # noqa: F401
     scaling,  # noqa: F401 - public as kf.scaling (DESIGN.md)
     spectral,
 )
+from .solvers.relaxation import relaxation_spectrum
 from .sweep import sweep  # noqa: F401 - kf.sweep is the function, kinetic_fem.sweep the package
 
 __version__ = "0.1.0"
@@ -48,7 +49,7 @@ __all__ = [
     "solve_heated", "solve_cooling", "register_solver", "HEATED_SOLVERS", "COOLING_SOLVERS",
     "PowerLawKernel", "ThresholdRestitution", "ViscoelasticRestitution", "WhiteNoise",
     "FokkerPlanckBath", "sonine", "scaling", "grid", "gas", "model",
-    "evolve_heated", "evolve_cooling",
+    "evolve_heated", "evolve_cooling", "relaxation_spectrum",
 ]
 
 # ``import kinetic_fem.scaling`` keeps working: the quasi-elastic solvers moved to

@@ -11,7 +11,8 @@
   :mod:`~kinetic_fem.solvers.fem_cooling_newton`),
   :mod:`~kinetic_fem.solvers.fem_evolution` and :mod:`~kinetic_fem.solvers.fem_transient`
   (transients), :mod:`~kinetic_fem.solvers.fem_defaults` (meshes and cut-offs from the
-  model's scales).
+  model's scales), :mod:`~kinetic_fem.solvers.relaxation` (the relaxation spectrum: the
+  linearised system about the steady state).
 - The paper's finite differences (Biben): :mod:`~kinetic_fem.solvers.finite_difference`
   (heated), :mod:`~kinetic_fem.solvers.fd_cooling` (cooling), with
   :mod:`~kinetic_fem.solvers.fd_march`, :mod:`~kinetic_fem.solvers.fd_newton`,
