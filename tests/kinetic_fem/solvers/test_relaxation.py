@@ -21,7 +21,7 @@ def test_maxwell_rates_are_the_exact_moment_rates():
 
 def test_fem_spectrum_of_the_maxwell_model_is_exact_to_its_order():
     """FEM rates against the exact moment rates at spacing 0.2 (305 dofs): measured errors
-    6e-13 (k = 2), 1.5e-6 (k = 3), 2.6e-6 (k = 4), 5.3e-6 (k = 5) relative; at 0.1
+    6e-10 (k = 2), 1.5e-6 (k = 3), 2.6e-6 (k = 4), 5.3e-6 (k = 5) relative; at 0.1
     about 16 times smaller (order 4).
     The two conserved modes (mass, momentum) come out at round-off and are dropped."""
     spec = relaxation_spectrum(0.5, kernel=0.0, n_rates=4, spacing=0.2)
