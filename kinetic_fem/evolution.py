@@ -175,20 +175,18 @@ class Evolution:
              logx: bool = False):
         """Plot :math:`T(t)` and :math:`a_2(t)`; save to ``path`` if given.
 
-        matplotlib is imported here; the Agg backend is used when only saving.
+        The figure is made without pyplot (:func:`kinetic_fem.plot.new_axes`), so no
+        backend is chosen; :func:`kinetic_fem.plot.save_figure` writes it.
 
         Returns
         -------
         matplotlib.figure.Figure
         """
-        import matplotlib
-
-        if axes is None and path is not None:
-            matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
+        from .plot import new_axes, save_figure
 
         if axes is None:
-            fig, axes = plt.subplots(1, 2, figsize=(9, 3.5), layout="constrained")
+            axes = new_axes(2, width=4.5, height=3.5)
+            fig = axes[0].figure
         else:
             fig = axes[0].figure
         t = self.times
@@ -205,5 +203,5 @@ class Evolution:
         if label is not None:
             axes[0].legend()
         if path is not None:
-            fig.savefig(path)
+            save_figure(fig, path)
         return fig

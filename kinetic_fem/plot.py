@@ -15,7 +15,7 @@ from typing import Any, Callable
 
 import numpy as np
 
-__all__ = ["plot_a2", "plot_f", "plot_sweep", "new_axes", "save_figure"]
+__all__ = ["subplots", "plot_a2", "plot_f", "plot_sweep", "new_axes", "save_figure"]
 
 
 def new_axes(n: int = 1, *, width: float = 5.0, height: float = 3.8) -> list[Any]:
@@ -36,6 +36,36 @@ def new_axes(n: int = 1, *, width: float = 5.0, height: float = 3.8) -> list[Any
 
     fig = Figure(figsize=(width * n, height), layout="constrained")
     return list(np.atleast_1d(fig.subplots(1, n)))
+
+
+def subplots(nrows: int = 1, ncols: int = 1, *, figsize: tuple[float, float] = (6.0, 4.0),
+             **kwargs: Any) -> tuple[Any, Any]:
+    """A new figure and its axes, as :func:`matplotlib.pyplot.subplots` but without pyplot.
+
+    Parameters
+    ----------
+    nrows, ncols : int
+        Grid of axes.
+    figsize : tuple of float
+        Size in inches.
+    **kwargs
+        Passed to :meth:`matplotlib.figure.Figure.subplots`.
+
+    Returns
+    -------
+    fig : matplotlib Figure
+    axes : Axes or array of Axes
+
+    Examples
+    --------
+    >>> fig, (ax, bx) = subplots(1, 2, figsize=(8, 3))
+    >>> len(fig.axes)
+    2
+    """
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=figsize)
+    return fig, fig.subplots(nrows, ncols, **kwargs)
 
 
 def save_figure(fig: Any, path: str | Path, **kwargs: Any) -> Path:
