@@ -138,7 +138,8 @@ def relaxation_spectrum(alpha: float, *, density: float = 1.0, diffusion: float 
     scale = 1.0 / np.sqrt(np.diag(weight))
     values, vectors = scipy.linalg.eig(-jac * scale[:, None] * scale[None, :],
                                        weight * scale[:, None] * scale[None, :])
-    vectors = vectors * scale[:, None]
+    # parity is judged on the scaled vectors (delta u times sqrt(M_ii), about delta P):
+    # delta u itself is dominated by far-tail dofs where P is tiny
     finite = np.isfinite(values)
     values, vectors = values[finite], vectors[:, finite]
     order = np.argsort(values.real)
@@ -148,7 +149,10 @@ def relaxation_spectrum(alpha: float, *, density: float = 1.0, diffusion: float 
     rate_unit = problem.gas.density * u_scale**problem.gas.gamma
     zero = np.abs(values) < zero_tol
     x = disc.dof_locations
-    mirror = np.argsort(-x, kind="stable")
+    # the dof at -x of each dof (the mesh is symmetric; dofs are not stored in order)
+    by_x = np.argsort(x, kind="stable")
+    mirror = np.empty_like(by_x)
+    mirror[by_x] = by_x[::-1]
     keep = np.flatnonzero(~zero)[:n_rates]
     parity = []
     for k in keep:
