@@ -38,7 +38,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.special import roots_genlaguerre, roots_hermite
 
 __all__ = ["orthonormal_sonine", "collision_tensor", "maxwell_tensor", "laplacian_coefficients",
-           "dilation_coefficients"]
+           "dilation_coefficients", "quadrature_tensor"]
 
 _CACHE: dict[tuple[float, float], NDArray[np.float64]] = {}
 _LOCK = Lock()
@@ -118,7 +118,26 @@ def dilation_coefficients(order: int) -> NDArray[np.float64]:
     return mat
 
 
-def _compute_tensor(order: int, alpha: float, gamma: float) -> NDArray[np.float64]:
+def quadrature_tensor(order: int, alpha: float, gamma: float) -> NDArray[np.float64]:
+    """:math:`A_{qrs}` by Gauss rules with the weight :math:`|g|^\\gamma` (no cache).
+
+    :func:`collision_tensor` caches it and uses the closed form for ``gamma = 0``; this
+    function is the quadrature itself (for ``gamma = 0`` an independent check of
+    :func:`maxwell_tensor`).
+
+    Parameters
+    ----------
+    order : int
+        Truncation order ``P``.
+    alpha : float
+        Coefficient of restitution.
+    gamma : float
+        Kernel exponent, ``0 <= gamma <= 2``.
+
+    Returns
+    -------
+    ndarray, shape (order + 1, order + 1, order + 1)
+    """
     n_c = 3 * order + 1
     n_s = (3 * order + 2) // 2
     xc, wc = roots_hermite(n_c)                     # weight exp(-C^2)
@@ -229,7 +248,7 @@ def collision_tensor(order: int, alpha: float, gamma: float) -> NDArray[np.float
     if gamma == 0.0:
         tensor = maxwell_tensor(order, float(alpha))
     else:
-        tensor = _compute_tensor(order, float(alpha), float(gamma))
+        tensor = quadrature_tensor(order, float(alpha), float(gamma))
     with _LOCK:
         if len(_CACHE) >= _MAX_CACHED and key not in _CACHE:
             _CACHE.pop(next(iter(_CACHE)))

@@ -12,7 +12,11 @@ import kinetic_fem as kf
 from kinetic_fem.model import UnsupportedModelError, ViscoelasticRestitution
 from kinetic_fem.operators.collision import energy_balance
 from kinetic_fem.operators.grid import simpson_weights
-from kinetic_fem.operators.sonine_tensors import _compute_tensor, maxwell_tensor, orthonormal_sonine
+from kinetic_fem.operators.sonine_tensors import (
+    maxwell_tensor,
+    orthonormal_sonine,
+    quadrature_tensor,
+)
 from kinetic_fem.solvers import maxwell
 from kinetic_fem.solvers.spectral import MAX_ORDER, solve_sonine, solve_sonine_cooling
 from kinetic_fem.sonine import a2_first_order, steady_temperature
@@ -31,7 +35,7 @@ def test_basis_is_orthonormal():
 def test_quadrature_tensor_equals_maxwell_closed_form(alpha):
     """The Gauss-rule tensor at gamma = 0 equals the Fourier closed form (measured 1.2e-14
     at P = 12; entries O(1)): an independent check of the quadrature."""
-    assert np.max(np.abs(_compute_tensor(12, alpha, 0.0) - maxwell_tensor(12, alpha))) < 1e-12
+    assert np.max(np.abs(quadrature_tensor(12, alpha, 0.0) - maxwell_tensor(12, alpha))) < 1e-12
 
 
 @pytest.mark.parametrize("alpha", [0.0, 0.3, 0.6, 0.9, 0.999])
