@@ -100,7 +100,7 @@ def worker_kernel(sizes: list[int], old_tree: str) -> list[dict]:
         n_el += n_el % 2
         disc = fem.FEMDiscretisation(0.6, np.linspace(-20.0, 20.0, n_el + 1), 2, 5)
         u = disc.gaussian(2.0)
-        verts, dofs = disc._mesh_arrays
+        verts, dofs = disc.mesh_arrays
         xq, wq, eq = disc.points
         ref_x, ref_w = disc.basis.quadrature
 

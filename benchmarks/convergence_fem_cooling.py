@@ -55,7 +55,7 @@ def _ln_f_error(state, ref) -> tuple[float, float, float]:
 
 def chain_states(eps_min: float) -> dict[float, fc.CoolingState]:
     """The continuation states down to ``eps_min`` (the default path's intermediates)."""
-    prev, eps_prev = fc._hump_start(2, None), fc.HUMP_EPS  # noqa: SLF001 (benchmark)
+    prev, eps_prev = fc.hump_start(2, None), fc.HUMP_EPS
     states = {eps_prev: prev}
     for eps in fc.hump_chain(eps_min)[:-1]:
         t0 = time.perf_counter()

@@ -57,7 +57,7 @@ def main() -> None:
     args = parser.parse_args()
     psi = kf.scaling.solve_psi(estimate_errors=False)
     print(f"psi: <y^2> = {psi.y2:.10f}, <y^3> = {psi.y3:.10f}")
-    prev, eps_prev = fc._hump_start(2, None), fc.HUMP_EPS  # noqa: SLF001 (benchmark)
+    prev, eps_prev = fc.hump_start(2, None), fc.HUMP_EPS
     rows = []
     for eps in fc.hump_chain(args.eps_min):
         t0 = time.perf_counter()

@@ -138,7 +138,9 @@ class FEMDiscretisation:
         return x.ravel(), w.ravel(), e.ravel()
 
     @cached_property
-    def _mesh_arrays(self) -> tuple[NDArray, NDArray]:
+    def mesh_arrays(self) -> tuple[NDArray, NDArray]:
+        """Vertices, shape (n_v,), and element dofs, shape (n_e, n_local), contiguous
+        arrays for the numba kernels."""
         verts = np.ascontiguousarray(self.basis.mesh.p[0], dtype=float)
         dofs = np.ascontiguousarray(self.basis.element_dofs.T, dtype=np.int64)
         return verts, dofs
@@ -189,7 +191,7 @@ class FEMDiscretisation:
                  energy_power: int, even: bool = False) -> tuple[NDArray, NDArray, float, float]:
         if energy_power < 0:
             raise ValueError(f"energy_power must be a non-negative integer, got {energy_power}")
-        verts, dofs = self._mesh_arrays
+        verts, dofs = self.mesh_arrays
         xq, wq, eq = self.points
         ref_x, ref_w = self.basis.quadrature
         code, p0, p1, b_lo = self._law_arrays
@@ -255,7 +257,7 @@ class FEMDiscretisation:
 
     def evaluate(self, u: NDArray[np.float64], v: NDArray[np.float64]) -> NDArray[np.float64]:
         """:math:`P_h(v) = e^{u_h(v)}` at increasing points ``v`` inside the mesh."""
-        verts, dofs = self._mesh_arrays
+        verts, dofs = self.mesh_arrays
         return np.exp(evaluate_field(verts, dofs, self.order, np.ascontiguousarray(u),
                                      np.ascontiguousarray(v, dtype=float)))
 

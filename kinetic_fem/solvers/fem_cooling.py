@@ -100,9 +100,9 @@ from .fem_cooling_mesh import (
 from .fem_cooling_newton import CoolingState, newton_cooling
 
 __all__ = ["solve_fem_cooling", "cooling_state", "CoolingState", "continued_state",
-           "hump_chain", "uses_hump_mesh", "HUMP_EPS", "HUMP_RESOLUTION", "hcs_cutoff",
-           "hcs_spacing", "hcs_vertices", "maxwell_hcs", "initial_log_f", "newton_cooling",
-           "MAXWELL_CUTOFF"]
+           "hump_chain", "hump_start", "uses_hump_mesh", "HUMP_EPS", "HUMP_RESOLUTION",
+           "hcs_cutoff", "hcs_spacing", "hcs_vertices", "maxwell_hcs", "initial_log_f",
+           "newton_cooling", "MAXWELL_CUTOFF"]
 
 logger = logging.getLogger(__name__)
 
@@ -208,8 +208,20 @@ def hump_chain(eps: float) -> list[float]:
 
 
 @functools.lru_cache(maxsize=4)
-def _hump_start(order: int, intorder: int | None) -> CoolingState:
-    """The state at :data:`HUMP_EPS` from the Gaussian start (cached: it starts every chain)."""
+def hump_start(order: int, intorder: int | None) -> CoolingState:
+    """The state at :data:`HUMP_EPS` from the Gaussian start (cached: it starts every chain).
+
+    Parameters
+    ----------
+    order : int
+        Lagrange degree.
+    intorder : int or None
+        Gauss degree (None: ``2 * order + 1``).
+
+    Returns
+    -------
+    CoolingState
+    """
     problem = CoolingProblem.from_parameters(1.0 - HUMP_EPS)
     return cooling_state(problem, order=order, intorder=intorder, tol=1e-9, spacing=0.1,
                          cutoff=12.0)
@@ -265,7 +277,7 @@ def _hump_state(problem: CoolingProblem, *, order: int, intorder: int | None, to
                 max_iter: int, resolution: float) -> CoolingState:
     """Continuation in eps on meshes that follow the humps (module notes)."""
     eps = problem.gas.epsilon
-    prev, eps_prev = _hump_start(order, intorder), HUMP_EPS
+    prev, eps_prev = hump_start(order, intorder), HUMP_EPS
     pending = hump_chain(eps)[::-1]  # a stack: the next target last
     while pending:
         step = pending[-1]

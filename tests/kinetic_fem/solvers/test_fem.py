@@ -35,7 +35,7 @@ def test_kernel_shape_functions_match_basis_probes(order):
     rng = np.random.default_rng(1)
     u = rng.standard_normal(disc.dof_locations.size)
     pts = np.sort(rng.uniform(-11.9, 11.9, 200))
-    verts, dofs = disc._mesh_arrays
+    verts, dofs = disc.mesh_arrays
     probes = disc.basis.probes(pts[None, :]) @ u
     np.testing.assert_allclose(evaluate_field(verts, dofs, order, u, pts), probes,
                                rtol=0, atol=1e-13)
