@@ -478,10 +478,6 @@ def scaled_moment_growth_rates(alpha: float, order: int, density: float = 1.0
 
     Returns
     -------
-    ndarray
-
-    Returns
-    -------
     ndarray, shape (order + 1,)
         :math:`\\lambda_0 .. \\lambda_K`.
 
