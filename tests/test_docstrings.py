@@ -98,3 +98,24 @@ def test_allow_list_only_names_still_missing():
 @pytest.mark.parametrize("modname", list(_public_modules()))
 def test_module_has_docstring(modname):
     assert (importlib.import_module(modname).__doc__ or "").strip(), modname
+
+
+def _docstrings():
+    for modname in _public_modules():
+        module = importlib.import_module(modname)
+        yield modname, inspect.getdoc(module) or ""
+        for qualname, obj in _public_names(module):
+            yield qualname, inspect.getdoc(obj) or ""
+
+
+def test_docstrings_parse_as_numpydoc():
+    """numpydoc parses every public docstring (a section written twice, e.g. two
+    ``Returns``, fails the Sphinx build only; this finds it in the test run)."""
+    docscrape = pytest.importorskip("numpydoc.docscrape")
+    bad = []
+    for name, doc in _docstrings():
+        try:
+            docscrape.NumpyDocString(doc)
+        except Exception as err:  # noqa: BLE001 - any parse error is reported
+            bad.append(f"{name}: {str(err).splitlines()[0][:100]}")
+    assert not bad, "docstrings numpydoc cannot parse:\n" + "\n".join(bad)
