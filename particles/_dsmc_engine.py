@@ -22,7 +22,7 @@ from tqdm.auto import tqdm
 from kinetic_fem.distribution import MAX_MOMENT, RunInfo, VelocityDistribution
 
 from . import _dsmc_segments as seg
-from .rng import ziggurat_tables
+from .rng import heated_state, ziggurat_tables
 from .run import Checkpointing, ParticleRun
 from .sampling import (
     accumulate_kernel,
@@ -223,7 +223,9 @@ class Engine:
         self.gas = problem.gas
         self.v = v
         self.n = v.size
-        self.state = seed_seq.generate_state(4, dtype=np.uint64)
+        # heated: xoshiro256** and the wyrand word of the kicks (particles.rng.heated_state)
+        self.state = (heated_state(seed_seq) if opts.kind == "heated"
+                      else seed_seq.generate_state(4, dtype=np.uint64))
         self.tables = ziggurat_tables()
         self.c = {"accepted": 0, "candidates": 0, "debt": 0.0, "log_t": -math.inf,
                   "log_scale": 0.0, "relaxed_at": -1.0, "avg_start_acc": 0,
@@ -380,6 +382,10 @@ class Engine:
         if meta["key"] != self.opts.key:
             raise ValueError(f"checkpoint {path} belongs to a different run: {meta['key']} "
                              f"!= {self.opts.key}")
+        if arrays["state"].shape != self.state.shape:
+            raise ValueError(f"checkpoint {path} was written by an earlier version whose heated "
+                             "kicks drew from another random stream; it cannot be resumed "
+                             "bit-identically: start the run again")
         counters = dict(meta["counters"])
         if "tick" not in counters:  # checkpoints before the averaging cadence: one tick each
             counters.update(tick=counters["n_samples"] - 1, k=1, k_set=False,

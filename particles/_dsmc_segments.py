@@ -1,19 +1,12 @@
-"""Numba segment kernels of the homogeneous DSMC: thermostat steps, rescaling, moments.
+"""Numba segment kernels of the homogeneous DSMC: rescaling, moments, extents.
 
-A heated segment is ``n_steps`` Strang steps :math:`K(\\Delta t/2)\\,C(\\Delta t)\\,
-K(\\Delta t/2)` of collisions ``C`` (:func:`particles._dsmc_kernels.collide_model`)
-and thermostat kicks ``K`` (:func:`kick`: :math:`v \\to d\\,v + b\\,\\xi` with
-standard normals :math:`\\xi`; white noise :math:`d = 1`, :math:`b = \\sqrt{2D\\Delta t}`;
-the exact Ornstein-Uhlenbeck update of a Fokker-Planck bath :math:`d = e^{-\\xi\\Delta t}`,
-:math:`b = \\sqrt{T_b(1 - e^{-2\\xi\\Delta t})}`); consecutive half kicks merge into
-one full kick (exact for both thermostats: the Ornstein-Uhlenbeck flow is a semigroup).
-A free-cooling block (:func:`cooling_block`) rescales the velocities to unit
+The heated segments (thermostat kicks and Strang steps) live in
+:mod:`particles._dsmc_heated`; :func:`kick` and :func:`heated_segment` are re-exported
+here.  A free-cooling block (:func:`cooling_block`) rescales the velocities to unit
 temperature every ``refresh`` candidates and keeps the logarithm of the scale.
 
-A kick takes 2.25 ns per velocity (one draw, two table look-ups, the add and the
-running extent: bound by the instruction throughput); at a time step of 0.05 mean free
-times the kicks are 80 % of the cost of the heated hard-rod gas.  The cooling refresh
-adds 0.6 ns per candidate (one sweep of sums and extent, and the rescaling).
+The cooling refresh adds 0.6 ns per candidate (one sweep of sums and extent, and the
+rescaling).
 """
 
 from __future__ import annotations
@@ -24,9 +17,9 @@ import numpy as np
 
 from kinetic_fem.model.restitution import CONSTANT
 
-from ._dsmc_kernels import KERNEL_HARD_RODS, KERNEL_MAXWELL, KERNEL_SQUARE, collide_model
+from ._dsmc_heated import heated_segment, kick, majorant_power
+from ._dsmc_kernels import KERNEL_HARD_RODS, KERNEL_MAXWELL, collide_model
 from ._jit import jit
-from .rng import normal_slow, xoshiro
 
 __all__ = ["extent", "kick", "central_sums", "sums_extent", "central_variance",
            "heated_segment", "cooling_block", "majorant_power"]
@@ -44,166 +37,6 @@ def extent(v):  # pragma: no cover - compiled
         elif x > hi:
             hi = x
     return lo, hi
-
-
-@jit
-def kick(v, decay, amp, s, ki, wi, fi):  # pragma: no cover - compiled
-    """``v = decay * v + amp * xi`` with independent standard normals; new ``(min, max)``.
-
-    ``decay = 1`` (white noise) runs a loop without the multiply (a separate loop: a
-    branch inside made the white-noise kick 10 % slower).  Ziggurat of
-    :mod:`particles.rng`: 99 % of the draws take one 64-bit number and the fast path
-    (inlined here with the generator state in registers); the rest go to
-    :func:`particles.rng.normal_slow` with the state written back to ``s``.
-    """
-    if decay == 1.0:
-        return _kick_white(v, amp, s, ki, wi, fi)
-    return _kick_ou(v, decay, amp, s, ki, wi, fi)
-
-
-@jit
-def _kick_white(v, amp, s, ki, wi, fi):  # pragma: no cover - compiled
-    """:func:`kick` with ``decay = 1``."""
-    lo = np.inf
-    hi = -np.inf
-    s0, s1, s2, s3 = s[0], s[1], s[2], s[3]
-    for k in range(v.shape[0]):
-        r, s0, s1, s2, s3 = xoshiro(s0, s1, s2, s3)
-        layer_sign = r & np.uint64(0x1FF)  # bits 0-7: layer, bit 8: sign
-        idx = int(layer_sign & np.uint64(0xFF))
-        rabs = (r >> np.uint64(9)) & np.uint64(0x000FFFFFFFFFFFFF)
-        x = float(np.int64(rabs)) * wi[layer_sign]
-        if rabs >= ki[idx]:
-            s[0], s[1], s[2], s[3] = s0, s1, s2, s3
-            x = normal_slow(s, idx, x, ki, wi, fi)
-            s0, s1, s2, s3 = s[0], s[1], s[2], s[3]
-        y = v[k] + amp * x
-        v[k] = y
-        if y < lo:
-            lo = y
-        if y > hi:
-            hi = y
-    s[0], s[1], s[2], s[3] = s0, s1, s2, s3
-    return lo, hi
-
-
-@jit
-def _kick_ou(v, decay, amp, s, ki, wi, fi):  # pragma: no cover - compiled
-    """:func:`kick` with ``decay < 1`` (the Ornstein-Uhlenbeck step)."""
-    lo = np.inf
-    hi = -np.inf
-    s0, s1, s2, s3 = s[0], s[1], s[2], s[3]
-    for k in range(v.shape[0]):
-        r, s0, s1, s2, s3 = xoshiro(s0, s1, s2, s3)
-        layer_sign = r & np.uint64(0x1FF)
-        idx = int(layer_sign & np.uint64(0xFF))
-        rabs = (r >> np.uint64(9)) & np.uint64(0x000FFFFFFFFFFFFF)
-        x = float(np.int64(rabs)) * wi[layer_sign]
-        if rabs >= ki[idx]:
-            s[0], s[1], s[2], s[3] = s0, s1, s2, s3
-            x = normal_slow(s, idx, x, ki, wi, fi)
-            s0, s1, s2, s3 = s[0], s[1], s[2], s[3]
-        y = decay * v[k] + amp * x
-        v[k] = y
-        if y < lo:
-            lo = y
-        if y > hi:
-            hi = y
-    s[0], s[1], s[2], s[3] = s0, s1, s2, s3
-    return lo, hi
-
-
-@jit
-def majorant_power(kcode, gamma, g_max):  # pragma: no cover - compiled
-    """:math:`g_{max}^\\gamma` (exact for the kernel codes 0, 1, 2)."""
-    if kcode == KERNEL_HARD_RODS:
-        return g_max
-    if kcode == KERNEL_MAXWELL:
-        return 1.0
-    if kcode == KERNEL_SQUARE:
-        return g_max * g_max
-    return g_max**gamma
-
-
-@jit
-def heated_segment(v, n_steps, dt, decay, amp, half_decay, half_amp, rate, kcode, gamma,
-                   lcode, p0, p1, g_limit, debt, s, ki, wi, fi):  # pragma: no cover
-    """``n_steps`` Strang steps :math:`K(dt/2)\\,C(dt)\\,K(dt/2)`, merged half kicks.
-
-    Parameters
-    ----------
-    v : ndarray of float64, shape (N,)
-        Velocities, updated in place.
-    n_steps : int
-    dt : float
-        Time step.
-    decay, amp, half_decay, half_amp : float
-        Kick of a full and of a half step (:func:`kick`).
-    rate : float
-        :math:`nN/2`; a step has ``debt + dt * rate * g_max^gamma`` candidates
-        (integer part; the fraction is carried to the next step) with the majorant
-        ``g_max = max - min`` measured right after the kick.
-    kcode, gamma, lcode, p0, p1 : the model (:func:`particles._dsmc_kernels.collide_model`)
-    g_limit : float
-        Largest relative speed the restitution law allows; the segment stops before
-        a collision stage whose ``g_max`` exceeds it.
-    debt : float
-        Fraction of a candidate carried over.
-    s, ki, wi, fi : generator state and ziggurat tables
-
-    Returns
-    -------
-    (accepted, loss, debt, steps_done, g_max) : (int, float, float, int, float)
-        ``loss`` as in :func:`particles._dsmc_kernels.collide_model`; ``steps_done <
-        n_steps`` if the law's range was exceeded (``g_max`` then the offending value).
-    """
-    if decay == 1.0 and half_decay == 1.0:  # one kick kind per loop: 6 % faster
-        return _heated_white(v, n_steps, dt, amp, half_amp, rate, kcode, gamma, lcode, p0,
-                             p1, g_limit, debt, s, ki, wi, fi)
-    return _heated_ou(v, n_steps, dt, decay, amp, half_decay, half_amp, rate, kcode, gamma,
-                      lcode, p0, p1, g_limit, debt, s, ki, wi, fi)
-
-
-@jit
-def _heated_white(v, n_steps, dt, amp, half_amp, rate, kcode, gamma, lcode, p0, p1, g_limit,
-                  debt, s, ki, wi, fi):  # pragma: no cover - compiled
-    """:func:`heated_segment` under white noise."""
-    accepted = 0
-    loss = 0.0
-    lo, hi = _kick_white(v, half_amp, s, ki, wi, fi)
-    for step in range(n_steps):
-        if hi - lo > g_limit:
-            return accepted, loss, debt, step, hi - lo
-        x = debt + dt * rate * majorant_power(kcode, gamma, hi - lo)
-        m = int(math.floor(x))
-        debt = x - m
-        a, dloss = collide_model(v, m, kcode, gamma, lcode, p0, p1, hi - lo, 1.0, s)
-        accepted += a
-        loss += dloss
-        lo, hi = _kick_white(v, amp if step < n_steps - 1 else half_amp, s, ki, wi, fi)
-    return accepted, loss, debt, n_steps, hi - lo
-
-
-@jit
-def _heated_ou(v, n_steps, dt, decay, amp, half_decay, half_amp, rate, kcode, gamma, lcode,
-               p0, p1, g_limit, debt, s, ki, wi, fi):  # pragma: no cover - compiled
-    """:func:`heated_segment` with a Fokker-Planck bath."""
-    accepted = 0
-    loss = 0.0
-    lo, hi = _kick_ou(v, half_decay, half_amp, s, ki, wi, fi)
-    for step in range(n_steps):
-        if hi - lo > g_limit:
-            return accepted, loss, debt, step, hi - lo
-        x = debt + dt * rate * majorant_power(kcode, gamma, hi - lo)
-        m = int(math.floor(x))
-        debt = x - m
-        a, dloss = collide_model(v, m, kcode, gamma, lcode, p0, p1, hi - lo, 1.0, s)
-        accepted += a
-        loss += dloss
-        full = step < n_steps - 1
-        lo, hi = _kick_ou(v, decay if full else half_decay, amp if full else half_amp, s, ki,
-                          wi, fi)
-    return accepted, loss, debt, n_steps, hi - lo
 
 
 @jit
