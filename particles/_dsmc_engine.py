@@ -241,6 +241,8 @@ class Engine:
         self.batch_time = np.zeros(nb)
         self.seg_loss = 0.0
         self.seg_time = 0.0
+        self.sample_counts = np.zeros(opts.bins)  # heated: the last measurement's histogram
+        self.sample_sums = np.zeros(MAX_MOMENT + 1)
 
     # ----------------------------------------------------------------- dynamics
     def _segment(self, k: int) -> None:
@@ -289,8 +291,13 @@ class Engine:
             self.c["log_scale"] += math.log(s)
 
     def _measure(self) -> tuple[float, float, float]:
-        mean, cm = seg.central_sums(self.v, 6)
-        self.v -= mean
+        if self.kind == "heated":  # centre, moments, histogram and power sums in one kernel
+            o = self.opts
+            seg.measure_centred(self.v, o.lo, o.hi, self.sample_counts, self.sample_sums)
+            cm = self.sample_sums[:7] / self.n
+        else:
+            mean, cm = seg.central_sums(self.v, 6)
+            self.v -= mean
         temp = cm[2]
         a2 = cm[4] / (3 * temp**2) - 1.0
         a3 = 1.0 + 3.0 * a2 - cm[6] / (15.0 * temp**3)
@@ -331,8 +338,12 @@ class Engine:
         o = self.opts
         tick = int(self.c["tick"])
         b = tick * o.n_batches // o.n_samples
-        x = self.v if self.kind == "heated" else self.v / math.sqrt(np.mean(self.v**2))
-        accumulate_kernel(x, o.lo, o.hi, self.counts[b], self.sums[b])
+        if self.kind == "heated":  # the histogram and sums of the last measurement
+            self.counts[b] += self.sample_counts
+            self.sums[b] += self.sample_sums
+        else:
+            x = self.v / math.sqrt(np.mean(self.v**2))
+            accumulate_kernel(x, o.lo, o.hi, self.counts[b], self.sums[b])
         if tick > 0:  # energy of the segment that led to this sample
             self.batch_loss[b] += self.seg_loss
             self.batch_time[b] += self.seg_time

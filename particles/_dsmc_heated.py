@@ -54,7 +54,8 @@ from ._dsmc_kernels import (
 from ._jit import jit, prefetch
 from .rng import WYRAND_WORD, mul128, normal_slow, wyrand
 
-__all__ = ["ONE_DRAW_MAX_N", "kick", "collide_heated", "heated_segment", "majorant_power"]
+__all__ = ["ONE_DRAW_MAX_N", "kick", "collide_heated", "heated_segment", "majorant_power",
+           "measure_centred"]
 
 ONE_DRAW_MAX_N = 1 << 22
 """Largest ``N`` for which a hard-rod candidate of :func:`collide_heated` is one draw
@@ -353,3 +354,79 @@ def _heated_ou(v, n_steps, dt, decay, amp, half_decay, half_amp, rate, kcode, ga
         lo, hi = _kick_ou(v, decay if full else half_decay, amp if full else half_amp, s, ki,
                           wi, fi)
     return accepted, loss, debt, n_steps, hi - lo
+
+
+@jit
+def measure_centred(v, lo, hi, counts, sums):  # pragma: no cover - compiled
+    """Move ``v`` to its centre-of-mass frame and measure it, in two passes.
+
+    The first pass sums ``v`` (four partial sums); the second subtracts the mean,
+    stores the centred velocity ``d`` and adds it to a histogram on ``[lo, hi)`` and
+    to the power sums :math:`\\sum d^k`, ``k = 0 .. 12`` (kept in registers).  The
+    central moments are ``sums[k] / N``; ``counts`` and ``sums`` (shapes (bins,) and
+    (13,)) are overwritten, so that a sample can be added to a batch once averaging
+    has started.  One pass less than the mean, central moments, the shift and
+    :func:`particles.sampling.accumulate_kernel` in turn, and no divide per velocity.
+
+    Parameters
+    ----------
+    v : ndarray of float64, shape (N,)
+        Velocities; centred in place.
+    lo, hi : float
+        Histogram range.
+    counts : ndarray of float64, shape (bins,)
+        Histogram of ``d`` (overwritten).
+    sums : ndarray of float64, shape (13,)
+        Power sums of ``d`` (overwritten).
+
+    Returns
+    -------
+    mean : float
+        The mean that was subtracted.
+    """
+    if sums.shape[0] != 13:
+        raise ValueError("measure_centred keeps the power sums k = 0 .. 12")
+    n = v.shape[0]
+    a0 = a1 = a2 = a3 = 0.0
+    k = 0
+    while k + 4 <= n:
+        a0 += v[k]
+        a1 += v[k + 1]
+        a2 += v[k + 2]
+        a3 += v[k + 3]
+        k += 4
+    while k < n:
+        a0 += v[k]
+        k += 1
+    mean = ((a0 + a1) + (a2 + a3)) / n
+    n_bins = counts.shape[0]
+    inv_width = n_bins / (hi - lo)
+    counts[:] = 0.0
+    s1 = s2 = s3 = s4 = s5 = s6 = s7 = s8 = s9 = s10 = s11 = s12 = 0.0
+    for i in range(n):
+        x1 = v[i] - mean
+        v[i] = x1
+        x2 = x1 * x1
+        x3 = x2 * x1
+        x4 = x2 * x2
+        x5 = x4 * x1
+        x6 = x4 * x2
+        s1 += x1
+        s2 += x2
+        s3 += x3
+        s4 += x4
+        s5 += x5
+        s6 += x6
+        s7 += x6 * x1
+        s8 += x6 * x2
+        s9 += x6 * x3
+        s10 += x6 * x4
+        s11 += x6 * x5
+        s12 += x6 * x6
+        b = math.floor((x1 - lo) * inv_width)
+        if 0 <= b < n_bins:
+            counts[int(b)] += 1.0
+    out = (float(n), s1, s2, s3, s4, s5, s6, s7, s8, s9, s10, s11, s12)
+    for m in range(13):
+        sums[m] = out[m]
+    return mean

@@ -17,12 +17,12 @@ import numpy as np
 
 from kinetic_fem.model.restitution import CONSTANT
 
-from ._dsmc_heated import heated_segment, kick, majorant_power
+from ._dsmc_heated import heated_segment, kick, majorant_power, measure_centred
 from ._dsmc_kernels import KERNEL_HARD_RODS, KERNEL_MAXWELL, collide_model
 from ._jit import jit
 
 __all__ = ["extent", "kick", "central_sums", "sums_extent", "central_variance",
-           "heated_segment", "cooling_block", "majorant_power"]
+           "heated_segment", "cooling_block", "majorant_power", "measure_centred"]
 
 
 @jit
