@@ -33,6 +33,11 @@ def _state(seed=0):
     return np.random.SeedSequence(seed).generate_state(4, dtype=np.uint64)
 
 
+def _heated(seed=0):
+    """The 5-word state of the heated kernels (xoshiro256** and the wyrand word)."""
+    return rng.heated_state(np.random.SeedSequence(seed))
+
+
 def _py(func):
     """The plain-Python version of a kernel (the kernel itself under NUMBA_DISABLE_JIT=1)."""
     return getattr(func, "py_func", func)
@@ -179,7 +184,7 @@ def test_kernels_agree_with_their_python_versions(wrapping):
     for func in (seg.heated_segment, _py(seg.heated_segment)):
         v = v0.copy()
         r = func(v, 3, 0.1, 1.0, 0.3, 1.0, 0.3 / math.sqrt(2), 25.0, *HARD_RODS(0.7), math.inf,
-                 0.0, _state(6), *TABLES)
+                 0.0, _heated(6), *TABLES)
         outs.append((v, r))
     np.testing.assert_array_equal(outs[0][0], outs[1][0])
     assert outs[0][1] == pytest.approx(outs[1][1], rel=1e-12)

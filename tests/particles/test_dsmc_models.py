@@ -52,6 +52,11 @@ def _state(seed=0):
     return np.random.SeedSequence(seed).generate_state(4, dtype=np.uint64)
 
 
+def _heated(seed=0):
+    """The 5-word state of the heated kernels (xoshiro256** and the wyrand word)."""
+    return rng.heated_state(np.random.SeedSequence(seed))
+
+
 def _py(func):
     return getattr(func, "py_func", func)
 
@@ -168,8 +173,9 @@ def test_new_kernels_agree_with_their_python_versions(wrapping):
         outs = []
         for f in (func, _py(func)):
             v = v0.copy()
-            extra = (TABLES if f.__name__ == "heated_segment" else ())
-            outs.append((v, f(v, *args, _state(6), *extra)))
+            heated = f.__name__ == "heated_segment"
+            extra = TABLES if heated else ()
+            outs.append((v, f(v, *args, _heated(6) if heated else _state(6), *extra)))
         np.testing.assert_array_equal(outs[0][0], outs[1][0])
         assert outs[0][1] == pytest.approx(outs[1][1], rel=1e-12)
 
@@ -178,7 +184,7 @@ def test_ou_kick_is_the_exact_ornstein_uhlenbeck_step(wrapping):
     """v -> d v + b xi: from v = 1 the mean is d and the variance b^2."""
     v = np.ones(400_000)
     d, b = math.exp(-0.3), math.sqrt(2.0 * (1 - math.exp(-0.6)))
-    seg.kick(v, d, b, _state(7), *TABLES)
+    seg.kick(v, d, b, _heated(7), *TABLES)
     se = b / math.sqrt(v.size)
     assert abs(v.mean() - d) < 4 * se
     assert v.var() == pytest.approx(b * b, abs=4 * math.sqrt(2) * b * b / math.sqrt(v.size))
@@ -250,20 +256,18 @@ def test_cooling_rate_and_a2_against_fem_gamma_half():
 
 
 def test_hard_rods_with_explicit_step_match_the_previous_kernels():
-    """The paper's model through the new dispatch: the same collisions as the kernels
-    before the model layer (series of the run recorded with them: seed 5, dt = 0.04).
+    """The paper's model through the model dispatch: a regression pin of one small run
+    (seed 5, dt = 0.04), its collision count exact and its moments to 1e-13.
 
-    The collision sequence is bit-identical (the count, and the moments to round-off);
-    the moments themselves are summed in registers since the end-to-end speed work
-    (particles._dsmc_segments.central_sums), which changes their last bits: recorded
-    before, a2 0.04108899707323488 and T 2.018218124372402; now ...233324 and
-    ...3724027, so they are compared to 1e-13 relative."""
+    Recorded again when the heated kicks and hard-rod candidates moved to the wyrand
+    word (issue 13, particles._dsmc_heated): before, 6898 collisions, a2
+    0.04108899707323488 and T 2.018218124372402 (the xoshiro256** stream)."""
     v0 = np.random.default_rng(3).normal(size=600)
     run = dsmc.simulate_heated(0.6, 600, seed=5, dt=0.04, initial_velocities=v0,
                                collisions_per_particle=20, relax=3.0, n_batches=4)
-    assert run.n_collisions == 6898
-    assert run.series["a2"][-1] == pytest.approx(0.04108899707323488, rel=1e-13)
-    assert run.series["temperature"][-1] == pytest.approx(2.018218124372402, rel=1e-13)
+    assert run.n_collisions == 7006
+    assert run.series["a2"][-1] == pytest.approx(0.05213888317890225, rel=1e-13)
+    assert run.series["temperature"][-1] == pytest.approx(1.87749618017911, rel=1e-13)
 
 
 # ----------------------------------------------------------------------------- FEM
