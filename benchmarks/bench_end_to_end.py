@@ -12,7 +12,16 @@ moments, histogram and power sums at every collision per particle, or at the ave
 cadence the call chose from its measured correlation time for the whole C run (the
 Python call measures every collision per particle until relaxation and through its first
 batch: the C side measures less); MD: event-driven hard
-rods on a ring with a binary-heap event calendar, see ``benchmarks/c/md.c``).  The Python
+rods on a ring with a binary-heap event calendar, see ``benchmarks/c/md.c``).
+
+The heated DSMC row has two C columns.  "C" is the issue's program (``dsmc heated``: the
+kicks' normals and two draws per candidate from xoshiro256**, a measurement in three
+passes); "C same" (``dsmc heated-wy``) is the scheme the Python call runs since issue
+13 (normals and one-draw candidates from wyrand, a measurement in two passes), written
+in C.  Both simulate the same physics with the same statistics (the same Strang
+splitting, time step, collision process and exact Gaussian kicks); they differ in the
+random-number generator and in how many passes a measurement takes.  For the other rows
+"C same" is "C".  The Python
 and C runs are interleaved and repeated ``K`` times; the best of each is printed, as wall
 time and as CPU time (``time.process_time`` / ``getrusage`` of the child): on a shared
 machine the CPU time is closer to the cost on an idle core; the load average is printed.
@@ -112,6 +121,15 @@ def c_args(name: str, run) -> list[str]:
             repr(md.HEATED_THRESHOLD * math.sqrt(t_est)), repr(t_est)]
 
 
+def c_args_same(name: str, run) -> list[str]:
+    """Arguments of the C program running the Python call's own scheme (see the module
+    docstring): ``dsmc heated-wy`` for the heated DSMC row, else as :func:`c_args`."""
+    args = c_args(name, run)
+    if name == "dsmc_heated":
+        args[1] = "heated-wy"
+    return args
+
+
 def time_c(exes: dict[str, Path], args: list[str]) -> tuple[float, float, int]:
     """(wall, cpu, collisions) of one C run."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
@@ -147,6 +165,7 @@ def measure_rows(names: list[str]) -> dict[str, list[float]]:
         wall, cpu, run = time_py(ROWS[name][1])
         out[name] = [run.n_collisions, wall, cpu]
         out[name + ":c_args"] = c_args(name, run)  # type: ignore[assignment]
+        out[name + ":c_same"] = c_args_same(name, run)  # type: ignore[assignment]
     return out
 
 
@@ -227,18 +246,25 @@ def table(names: list[str], repeat: int, exes: dict[str, Path], before: Path | N
                 cw, cc, ccoll = time_c(exes, args)
                 keep(best[name], "c", ccoll, cw, cc)
                 line += f", C {cc:.2f}"
+                same = rows[name + ":c_same"]
+                if same != args:
+                    cw, cc, ccoll = time_c(exes, same)
+                    line += f", C same {cc:.2f}"
+                keep(best[name], "cs", ccoll, cw, cc)
             if before is not None:
                 line += f", before {best[name]['before_cpu']:.2f}"
             print(line, flush=True)
     print(f"\nload average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores; "
           f"best of {repeat}; collisions per CPU second")
-    head = f"{'call':<78} {'before':>9} {'python':>9} {'C':>9} {'before/C':>8} {'py/C':>6}"
+    head = (f"{'call':<78} {'before':>9} {'python':>9} {'C':>9} {'C same':>9} "
+            f"{'before/C':>8} {'py/C':>6} {'py/C same':>9}")
     print(head)
     for name in names:
         r = {key: best[name][key + "_coll"] / best[name][key + "_cpu"]
-             if key + "_cpu" in best[name] else math.nan for key in ("before", "py", "c")}
+             if key + "_cpu" in best[name] else math.nan for key in ("before", "py", "c", "cs")}
         print(f"{ROWS[name][0]:<78} {r['before']:>9.3g} {r['py']:>9.3g} {r['c']:>9.3g} "
-              f"{r['before'] / r['c']:>8.2f} {r['py'] / r['c']:>6.2f}")
+              f"{r['cs']:>9.3g} {r['before'] / r['c']:>8.2f} {r['py'] / r['c']:>6.2f} "
+              f"{r['py'] / r['cs']:>9.2f}")
     if merit_cpp > 0:
         print(f"\nfigure of merit: standard error of the heated a2 after one CPU second "
               f"(se * sqrt(cpu s)); DSMC N = 25000, {merit_cpp:g} collisions per particle "
