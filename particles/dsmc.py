@@ -42,7 +42,10 @@ error :math:`O(\\Delta t^2)`; the measured orders (hard rods, white noise) are
 1.7 +- 0.1 for T and 1.9 +- 0.3 for a2 (``benchmarks/convergence_dsmc.py``).  Kicks
 are applied to every particle at every step: "lazy" kicks (one Gaussian summing a
 particle's pending kicks when it is next touched) would leave the stored velocities
-without a true majorant, because a pending Gaussian is unbounded.  The collision
+without a true majorant, because a pending Gaussian is unbounded (the bound of the
+generator's largest normal, 13.7 standard deviations, would raise the number of
+candidates by more than the kicks it saves; see :mod:`particles._dsmc_heated`).  The
+collision
 count per step is the time counter
 :math:`\\lfloor \\text{debt} + \\Delta t\\,\\Lambda_{max} \\rfloor` (fraction carried
 over): the expected count rather than a Poisson one, a difference of order
@@ -68,8 +71,10 @@ the sequence of collisions is exact, and the clock differs from the exponential
 waiting times of the exact process by a relative :math:`O(\\text{candidates}^{-1/2})`.
 
 Random numbers: an explicit-state xoshiro256** stream inside the kernels (seeded
-from a ``numpy.random.SeedSequence``, saved in checkpoints) for pairs, acceptance and
-Gaussian kicks (ziggurat); see :mod:`particles.rng`.
+from a ``numpy.random.SeedSequence``, saved in checkpoints) for pairs and acceptance;
+heated runs draw the Gaussian kicks (ziggurat) and the hard-rod candidates from a second
+word of the state, a wyrand counter (one draw per candidate; the ziggurat's rare slow
+paths stay on xoshiro256**); see :mod:`particles.rng`.
 
 *Relaxation detector* (``relax="auto"``): the time series are cut into windows of
 :math:`W = \\max(2, 2/(1-\\alpha^2))` collisions per particle (at least 10 samples;

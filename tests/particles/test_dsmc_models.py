@@ -296,10 +296,17 @@ def test_models_against_fem(alpha, kw):
 
 # ----------------------------------------------------------------------------- laws
 def test_viscoelastic_heated_energy_balance():
+    """Dissipation equals injection within 4 seed-to-seed standard deviations.
+
+    The 20 batches of 10 collisions per particle are shorter than this law's relaxation,
+    so the batch error understates the spread over seeds: z = (dissipation - injection)
+    / batch error had a standard deviation of 1.29 over 60 seeds (mean -0.14 +- 0.17;
+    1.07 over 60 seeds with the xoshiro256** kicks before issue 13), so the bound is
+    4 x 1.3 batch errors."""
     law = ViscoelasticRestitution(0.2)
     run = dsmc.simulate_heated(law, 5000, seed=5, collisions_per_particle=200)
     assert run.distribution.params["restitution"] == repr(law)
-    assert abs(run.dissipation_rate - run.injection_rate) < 4 * run.dissipation_error
+    assert abs(run.dissipation_rate - run.injection_rate) < 4 * 1.3 * run.dissipation_error
     assert run.a2 < 0  # viscoelastic: fast collisions dissipate more (FEM: a2 = -0.0255)
 
 
