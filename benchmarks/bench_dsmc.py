@@ -55,7 +55,10 @@ TABLES = _rng.ziggurat_tables()
 
 
 def _state(seed: int) -> np.ndarray:
-    return np.random.SeedSequence(seed).generate_state(4, dtype=np.uint64)
+    """A kernel state; 5 words (xoshiro256** and the heated kernels' wyrand word) where the
+    heated kernels take them (since issue 13), else 4 (the cooling kernels read 4)."""
+    words = 5 if hasattr(_rng, "heated_state") else 4
+    return np.random.SeedSequence(seed).generate_state(words, dtype=np.uint64)
 
 
 def cooling_block(v, m, refresh, alpha, s, kcode=1, gamma=1.0):

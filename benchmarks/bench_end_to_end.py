@@ -28,7 +28,8 @@ machine the CPU time is closer to the cost on an idle core; the load average is 
 
 ``--growth``: collisions per CPU second and the peak memory per particle (tracemalloc)
 of the DSMC (N = 1e3 .. 1e7) and MD (1e3 .. 1e6) cooling calls, at least 2e7 collisions
-a call (20 collisions per particle from N = 2e6 on).
+a call (20 collisions per particle from N = 2e6 on); ``--growth-kinds dsmc-heated`` the
+same for the heated DSMC at alpha = 0.6; ``--no-table`` skips the table.
 
 Then the figure of merit of a user (issue 13, item 3): the standard error of the heated
 ``a2`` times the square root of the CPU seconds of the call (the error bar one CPU second
@@ -170,26 +171,36 @@ def measure_rows(names: list[str]) -> dict[str, list[float]]:
 
 
 MERIT = {
-    "dsmc 0.6": lambda cpp: dsmc.simulate_heated(0.6, 25000, collisions_per_particle=cpp,
-                                                 seed=2),
-    "dsmc 0.9": lambda cpp: dsmc.simulate_heated(0.9, 25000, collisions_per_particle=cpp,
-                                                 seed=2),
-    "dsmc cool": lambda cpp: dsmc.simulate_cooling(0.9, 25000,
-                                                   collisions_per_particle=4 * cpp, seed=2),
-    "md 0.6": lambda cpp: md.simulate_heated(0.6, 5000, collisions_per_particle=2 * cpp,
-                                             seed=2),
-    "md 0.9": lambda cpp: md.simulate_heated(0.9, 5000, collisions_per_particle=2 * cpp,
-                                             seed=2),
+    "dsmc 0.6": lambda cpp, seed: dsmc.simulate_heated(0.6, 25000, collisions_per_particle=cpp,
+                                                       seed=seed),
+    "dsmc 0.9": lambda cpp, seed: dsmc.simulate_heated(0.9, 25000, collisions_per_particle=cpp,
+                                                       seed=seed),
+    "dsmc cool": lambda cpp, seed: dsmc.simulate_cooling(0.9, 25000,
+                                                         collisions_per_particle=4 * cpp,
+                                                         seed=seed),
+    "md 0.6": lambda cpp, seed: md.simulate_heated(0.6, 5000, collisions_per_particle=2 * cpp,
+                                                   seed=seed),
+    "md 0.9": lambda cpp, seed: md.simulate_heated(0.9, 5000, collisions_per_particle=2 * cpp,
+                                                   seed=seed),
 }
 
 
-def measure_merit(cpp: float) -> dict[str, list[float]]:
-    """label -> [a2, se(a2), cpu] of the heated runs of the figure of merit."""
+def measure_merit(cpp: float, seeds: int = 1) -> dict[str, list[float]]:
+    """label -> [a2, se(a2), cpu, se * sqrt(cpu), its standard error] of the runs of the
+    figure of merit, averaged over seeds 2 .. 1 + ``seeds`` (the batch error of one run
+    scatters by about 16 %)."""
     out = {}
     for label, call in MERIT.items():
-        c0 = time.process_time()
-        run = call(cpp)
-        out[label] = [run.a2, run.a2_error, time.process_time() - c0]
+        rows = []
+        for seed in range(2, 2 + seeds):
+            c0 = time.process_time()
+            run = call(cpp, seed)
+            cpu = time.process_time() - c0
+            rows.append([run.a2, run.a2_error, cpu, run.a2_error * math.sqrt(cpu)])
+        mean = [sum(r[k] for r in rows) / len(rows) for k in range(4)]
+        spread = (math.sqrt(sum((r[3] - mean[3]) ** 2 for r in rows) / (len(rows) - 1)
+                            / len(rows)) if len(rows) > 1 else math.nan)
+        out[label] = mean + [spread]
     return out
 
 
@@ -202,17 +213,17 @@ def before_worker(ref: str, tmp: Path) -> Path:
     return tmp
 
 
-def run_before(src: Path, names: list[str], merit_cpp: float) -> dict:
+def run_before(src: Path, names: list[str], merit_cpp: float, seeds: int = 1) -> dict:
     """The rows (and the figure of merit) with the code under ``src``, in a subprocess."""
     env = {**os.environ, "BENCH_SOURCE": str(src)}
     out = subprocess.run([sys.executable, __file__, "--json", "--only", *names,
-                          "--error-cpp", str(merit_cpp)], env=env, check=True,
-                         capture_output=True, text=True).stdout
+                          "--error-cpp", str(merit_cpp), "--merit-seeds", str(seeds)],
+                         env=env, check=True, capture_output=True, text=True).stdout
     return json.loads(out.splitlines()[-1])
 
 
 def table(names: list[str], repeat: int, exes: dict[str, Path], before: Path | None,
-          merit_cpp: float) -> None:
+          merit_cpp: float, seeds: int = 1) -> None:
     """Interleaved repetitions: before (subprocess), this tree, C; best of each."""
     best: dict[str, dict[str, float]] = {k: {} for k in names}
     merit: dict[str, dict[str, list[float]]] = {"before": {}, "after": {}}
@@ -230,13 +241,13 @@ def table(names: list[str], repeat: int, exes: dict[str, Path], before: Path | N
 
     for rep in range(repeat):
         if before is not None:
-            res = run_before(before, names, merit_cpp if rep == 0 else 0.0)
+            res = run_before(before, names, merit_cpp if rep == 0 else 0.0, seeds)
             for name in names:
                 keep(best[name], "before", *res["rows"][name])
             keep_merit("before", res["merit"])
         rows = measure_rows(names)
         if merit_cpp > 0 and rep == 0:
-            keep_merit("after", measure_merit(merit_cpp))
+            keep_merit("after", measure_merit(merit_cpp, seeds))
         for name in names:
             coll, wall, cpu = rows[name]
             keep(best[name], "py", coll, wall, cpu)
@@ -269,15 +280,15 @@ def table(names: list[str], repeat: int, exes: dict[str, Path], before: Path | N
         print(f"\nfigure of merit: standard error of the heated a2 after one CPU second "
               f"(se * sqrt(cpu s)); DSMC N = 25000, {merit_cpp:g} collisions per particle "
               f"(dsmc cool: the cooling a2 at alpha = 0.9, {4 * merit_cpp:g}); MD N = 5000, "
-              f"{2 * merit_cpp:g}; seed 2, default options")
+              f"{2 * merit_cpp:g}; default options; mean over seeds 2..{1 + seeds}")
         print(f"{'run':>9} {'a2':>9} {'se before':>10} {'cpu before':>10} {'se after':>9} "
-              f"{'cpu after':>9} {'se/sqrt(s) before':>17} {'after':>9} {'gain':>6}")
+              f"{'cpu after':>9} {'se*sqrt(s) before':>17} {'after':>17} {'gain':>6}")
         for label in MERIT:
             af = merit["after"][label]
-            bf = merit["before"].get(label, [math.nan] * 3)
-            m_b, m_a = bf[1] * math.sqrt(bf[2]), af[1] * math.sqrt(af[2])
+            bf = merit["before"].get(label, [math.nan] * 5)
             print(f"{label:>9} {af[0]:>9.5f} {bf[1]:>10.2e} {bf[2]:>10.2f} {af[1]:>9.2e} "
-                  f"{af[2]:>9.2f} {m_b:>17.2e} {m_a:>9.2e} {m_b / m_a:>6.2f}")
+                  f"{af[2]:>9.2f} {bf[3]:>9.2e}+-{bf[4]:<7.1e} {af[3]:>9.2e}+-{af[4]:<7.1e} "
+                  f"{bf[3] / af[3]:>6.2f}")
 
 
 def growth(kind: str, sizes: list[int], cpp: float, total: float = 2e7) -> None:
@@ -293,9 +304,12 @@ def growth(kind: str, sizes: list[int], cpp: float, total: float = 2e7) -> None:
     def call(n: int, c: float):
         if kind == "dsmc":
             return dsmc.simulate_cooling(0.9, n, collisions_per_particle=c, seed=3)
+        if kind == "dsmc-heated":
+            return dsmc.simulate_heated(0.6, n, collisions_per_particle=c, seed=3)
         return md.simulate_cooling(0.9, n, collisions_per_particle=c, threshold=1e-6, seed=3)
 
-    print(f"\n{kind} cooling alpha = 0.9, default options, max({cpp:g}, 2 x {total:g} / N) "
+    what = "heated alpha = 0.6" if kind == "dsmc-heated" else "cooling alpha = 0.9"
+    print(f"\n{kind} {what}, default options, max({cpp:g}, 2 x {total:g} / N) "
           f"collisions per particle (memory: {cpp:g})")
     print(f"{'N':>9} {'coll/particle':>13} {'coll/s (cpu)':>13} {'ns/coll':>8} "
           f"{'peak B/particle':>16}")
@@ -317,6 +331,8 @@ def main() -> None:
     p.add_argument("--only", nargs="*", default=list(ROWS), choices=list(ROWS))
     p.add_argument("--error-cpp", type=float, default=1000.0,
                    help="collisions per particle of the figure-of-merit runs (0: skip)")
+    p.add_argument("--merit-seeds", type=int, default=1,
+                   help="seeds of each figure-of-merit run (mean and its standard error)")
     p.add_argument("--before", metavar="REV",
                    help="also time the code of git revision REV (same run, interleaved)")
     p.add_argument("--json", action="store_true", help=argparse.SUPPRESS)  # --before worker
@@ -324,24 +340,34 @@ def main() -> None:
                    help="also collisions/s and memory per particle against N")
     p.add_argument("--growth-max", type=float, default=1e7,
                    help="largest N of the growth table (DSMC; MD stops at a tenth)")
+    p.add_argument("--growth-kinds", nargs="*", default=["dsmc", "md"],
+                   choices=["dsmc", "dsmc-heated", "md"], help="which growth tables")
+    p.add_argument("--no-table", action="store_true", help="only the growth tables")
     args = p.parse_args()
     warm_up()
     if args.json:
         rows = measure_rows(args.only)
         out = {"rows": {k: v for k, v in rows.items() if ":" not in k},
-               "merit": measure_merit(args.error_cpp) if args.error_cpp > 0 else {}}
+               "merit": (measure_merit(args.error_cpp, args.merit_seeds)
+                         if args.error_cpp > 0 else {})}
         print(json.dumps(out))
         return
     if args.growth:
         top = int(args.growth_max)
-        growth("dsmc", [n for n in (10**3, 10**4, 10**5, 10**6, 10**7) if n <= top], 20.0)
-        growth("md", [n for n in (10**3, 10**4, 10**5, 10**6) if n <= top // 10], 20.0)
+        for kind in args.growth_kinds:
+            if kind == "md":
+                growth("md", [n for n in (10**3, 10**4, 10**5, 10**6) if n <= top // 10], 20.0)
+            else:
+                growth(kind, [n for n in (10**3, 10**4, 10**5, 10**6, 10**7) if n <= top],
+                       20.0)
+    if args.no_table:
+        return
     with tempfile.TemporaryDirectory() as tmp:
         exes = build(Path(tmp))
         before = None
         if args.before:
             before = before_worker(args.before, Path(tmp))
-        table(args.only, args.repeat, exes, before, args.error_cpp)
+        table(args.only, args.repeat, exes, before, args.error_cpp, args.merit_seeds)
 
 
 if __name__ == "__main__":
