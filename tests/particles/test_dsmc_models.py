@@ -191,9 +191,10 @@ def test_ou_kick_is_the_exact_ornstein_uhlenbeck_step(wrapping):
 
 
 # ----------------------------------------------------------------------------- exact
+@pytest.mark.parametrize("seed", [2, 3])
 @pytest.mark.parametrize("alpha, friction", [(0.6, 0.0), (0.3, 0.0), (0.6, 1.0)])
-def test_maxwell_heated_steady_state_is_exact(alpha, friction):
-    run = dsmc.simulate_heated(alpha, 10_000, kernel=0.0, friction=friction, seed=2,
+def test_maxwell_heated_steady_state_is_exact(alpha, friction, seed):
+    run = dsmc.simulate_heated(alpha, 10_000, kernel=0.0, friction=friction, seed=seed,
                                collisions_per_particle=400)
     t, a2 = maxwell_steady(alpha, friction=friction)
     t_err = _temperature_error(run)
