@@ -213,7 +213,6 @@ class DSMCOptions:
     progress: bool = False
 
 
-
 class Engine:
     """Shared loop: advance a segment, measure, detect relaxation, accumulate, checkpoint."""
 
@@ -223,8 +222,7 @@ class Engine:
         self.gas = problem.gas
         self.v = v
         self.n = v.size
-        # heated: xoshiro256** and the wyrand word of the kicks (particles.rng.heated_state)
-        self.state = (heated_state(seed_seq) if opts.kind == "heated"
+        self.state = (heated_state(seed_seq) if opts.kind == "heated"  # + the wyrand word
                       else seed_seq.generate_state(4, dtype=np.uint64))
         self.tables = ziggurat_tables()
         self.c = {"accepted": 0, "candidates": 0, "debt": 0.0, "log_t": -math.inf,
@@ -239,8 +237,7 @@ class Engine:
         self.sums = np.zeros((nb, MAX_MOMENT + 1))
         self.batch_loss = np.zeros(nb)
         self.batch_time = np.zeros(nb)
-        self.seg_loss = 0.0
-        self.seg_time = 0.0
+        self.seg_loss = self.seg_time = 0.0
         self.sample_counts = np.zeros(opts.bins)  # heated: the last measurement's histogram
         self.sample_sums = np.zeros(MAX_MOMENT + 1)
 
@@ -292,8 +289,8 @@ class Engine:
 
     def _measure(self) -> tuple[float, float, float]:
         if self.kind == "heated":  # centre, moments, histogram and power sums in one kernel
-            o = self.opts
-            seg.measure_centred(self.v, o.lo, o.hi, self.sample_counts, self.sample_sums)
+            seg.measure_centred(self.v, self.opts.lo, self.opts.hi, self.sample_counts,
+                                self.sample_sums)
             cm = self.sample_sums[:7] / self.n
         else:
             mean, cm = seg.central_sums(self.v, 6)
@@ -362,8 +359,7 @@ class Engine:
         batch of a few hundred samples the windowed sum of a slowly decaying
         correlation is biased low (cooling at alpha = 0.9, N = 25000: 4 and 10 from
         200 samples against about 20 from 900), the lag-one value is not.  Capped so
-        that every batch keeps 10 samples.  (With samples every half correlation time
-        the variance of the mean grows by a few per cent.)
+        that every batch keeps 10 samples (the variance of the mean grows by a few %).
         """
         o, c = self.opts, self.c
         per_batch = o.n_samples // o.n_batches
@@ -394,9 +390,8 @@ class Engine:
             raise ValueError(f"checkpoint {path} belongs to a different run: {meta['key']} "
                              f"!= {self.opts.key}")
         if arrays["state"].shape != self.state.shape:
-            raise ValueError(f"checkpoint {path} was written by an earlier version whose heated "
-                             "kicks drew from another random stream; it cannot be resumed "
-                             "bit-identically: start the run again")
+            raise ValueError(f"checkpoint {path} was written by an earlier version with another "
+                             "random stream of the heated kicks; start the run again")
         counters = dict(meta["counters"])
         if "tick" not in counters:  # checkpoints before the averaging cadence: one tick each
             counters.update(tick=counters["n_samples"] - 1, k=1, k_set=False,
