@@ -14,7 +14,7 @@ needs the tail resolved out to :math:`V = 10^8`.  Two things set its accuracy:
   into the bulk (1.2e-4 at :math:`c \\le 10`, alpha = 0.5).  :func:`power_tail_vertices`
   ties every ratio to the bulk spacing :math:`h_0`: uniform :math:`h_0` up to
   :math:`c = 2`, geometric with ratio :math:`1 + h_0/2` up to :math:`c = 30` and
-  :math:`1 + 5h_0/4` beyond, so one parameter refines the whole mesh.
+  :math:`1 + \\min(5h_0/4, 0.1)` beyond, so one parameter refines the whole mesh.
 
 * **An element-wise oscillation of** :math:`\\ln f_h`.  For the Maxwell kernel the loss
   is local (rate 1) and the gain a smoothing integral; the Galerkin state then carries,
@@ -48,7 +48,7 @@ from scipy.interpolate import CubicSpline
 from ..distribution import VelocityDistribution
 
 __all__ = ["POWER_TAIL_CUTOFF", "POWER_TAIL_SPACING", "FAR_RATIO_FACTOR",
-           "power_tail_vertices", "superconvergent_points", "recovered_log_f",
+           "FAR_RATIO_MAX", "power_tail_vertices", "superconvergent_points", "recovered_log_f",
            "recovered_distribution"]
 
 POWER_TAIL_CUTOFF = 1e8
@@ -56,7 +56,11 @@ POWER_TAIL_CUTOFF = 1e8
 POWER_TAIL_SPACING = 0.02
 """Default bulk element size :math:`h_0` (convergence study in :func:`power_tail_vertices`)."""
 FAR_RATIO_FACTOR = 1.25
-"""Geometric ratio beyond :math:`c = 30`: :math:`1 + ` this :math:`\\times h_0`."""
+"""Geometric ratio beyond :math:`c = 30`: :math:`1 + ` this :math:`\\times h_0`, at most
+:math:`1 +` :data:`FAR_RATIO_MAX`."""
+FAR_RATIO_MAX = 0.1
+"""The far ratio is at most :math:`1 + ` this (the coarse meshes of the mesh sequencing:
+Newton from the Gaussian start fails at alpha = 0.9 on a far ratio of 1.25)."""
 _NEAR_END = 30.0
 _BULK_END = 2.0
 
@@ -65,7 +69,7 @@ def power_tail_vertices(c_max: float, spacing: float) -> NDArray[np.float64]:
     """Symmetric vertices for the :math:`c^{-4}` tail: uniform, then two geometric ratios.
 
     Element size :math:`h(c) = h_0` up to :math:`c = 2`, :math:`h_0 c/2` up to
-    :math:`c = 30`, :math:`\\tfrac54 h_0 c` beyond (module notes).
+    :math:`c = 30`, :math:`\\min(\\tfrac54 h_0, 0.1)\\, c` beyond (module notes).
 
     Parameters
     ----------
@@ -88,7 +92,7 @@ def power_tail_vertices(c_max: float, spacing: float) -> NDArray[np.float64]:
     if not spacing > 0.0 or not c_max > 0.0:
         raise ValueError(f"spacing={spacing!r} and c_max={c_max!r} must be > 0")
     near = 0.5 * spacing
-    far = FAR_RATIO_FACTOR * spacing
+    far = min(FAR_RATIO_FACTOR * spacing, FAR_RATIO_MAX)
     nodes = [0.0]
     c = 0.0
     while c < c_max:
