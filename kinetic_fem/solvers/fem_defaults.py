@@ -255,7 +255,7 @@ def gain_margin(model: ScaledModel) -> float:
     there, measured), where larger intervals only cost elements.
 
     Measured (Maxwell model, white noise, 33 decades at): alpha = 0.88: c = 21.0 (this
-    rule 22.2); 0.9: 20.0 (20.8); 0.95: 16.6 (17.1); the bare rule gives 18.1, 17.6,
+    rule 22.2); 0.9: 20.0 (20.9); 0.95: 16.6 (17.1); the bare rule gives 19.0, 17.6,
     12.9, and the automatic widening of that truncated tail starts Newton from the
     truncated state, which lands on a spurious discrete state (alpha >= 0.88).
 

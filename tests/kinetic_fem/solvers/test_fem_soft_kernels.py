@@ -38,7 +38,7 @@ def test_gamma_half_white_noise_alpha_099_matches_sonine():
 @pytest.mark.parametrize("alpha, expected", [(0.88, 21.0), (0.9, 20.0), (0.95, 16.6)])
 def test_cutoff_covers_the_gain_delayed_maxwell_tail(alpha, expected):
     """The default cut-off lies beyond the measured c where f(c) = 1e-33 (the bare tail
-    rule e^(-v) placed it at 18.1, 17.6 and 12.9)."""
+    rule e^(-v) placed it at 19.0, 17.6 and 12.9)."""
     model = fem_defaults.scaled_model(kf.HeatedProblem.from_parameters(alpha, kernel=0.0))
     assert expected < fem_defaults.model_cutoff(model) < expected + 2.0
 
