@@ -19,6 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+from scipy.special import roots_genlaguerre
 
 from .validation import check_real
 
@@ -94,6 +95,34 @@ class PowerLawKernel:
         """
         s = self.gamma + power
         return (4.0 * temperature) ** (0.5 * s) * math.gamma(0.5 * (s + 1.0)) / math.sqrt(math.pi)
+
+    def relative_speed_rule(self, n: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Gauss rule for the relative speed with the weight :math:`B(g)e^{-g^2/4}`.
+
+        :math:`\\int_0^\\infty \\varphi(g)\\,B(g)\\,e^{-g^2/4}\\,dg = \\sum_k w_k
+        \\varphi(g_k)`, exact for :math:`\\varphi` a polynomial in :math:`g^2` of degree
+        below :math:`2n`: with :math:`s = g^2/4` the weight is
+        :math:`2^\\gamma s^{(\\gamma-1)/2}e^{-s}`, generalised Gauss-Laguerre.  The Sonine
+        tensors (:mod:`kinetic_fem.operators.sonine_tensors`) ask the kernel for it.
+
+        Parameters
+        ----------
+        n : int
+            Number of nodes.
+
+        Returns
+        -------
+        g, w : ndarray
+            Nodes (relative speeds, > 0) and weights.
+
+        Examples
+        --------
+        >>> g, w = PowerLawKernel(1.0).relative_speed_rule(4)
+        >>> round(float(w.sum()), 12)                 # int_0^inf g e^(-g^2/4) dg = 2
+        2.0
+        """
+        s, w = roots_genlaguerre(n, 0.5 * (self.gamma - 1.0))
+        return 2.0 * np.sqrt(s), 2.0**self.gamma * w
 
 
 HARD_RODS = PowerLawKernel(1.0)

@@ -47,6 +47,7 @@ import math
 from dataclasses import dataclass
 
 from ..sonine import steady_temperature
+from .kernel import PowerLawKernel
 from .problem import HeatedProblem
 from .validation import check_alpha, check_positive
 
@@ -123,9 +124,7 @@ class ModelScales:
     @property
     def mean_free_time(self) -> float:
         """:math:`1/\\langle|g|^\\gamma\\rangle` over a Gaussian at :math:`T` (``n = 1``)."""
-        rate = (4.0 * self.temperature) ** (0.5 * self.gamma) \
-            * math.gamma(0.5 * (self.gamma + 1.0)) / math.sqrt(math.pi)
-        return 1.0 / rate
+        return 1.0 / PowerLawKernel(self.gamma).gaussian_mean(self.temperature)
 
     def cutoff(self, target: float = TAIL_TARGET, *, core_margin: float = 1.25) -> float:
         """Where :math:`f(c)` falls below ``target``, in units of :math:`\\sqrt T`.

@@ -35,7 +35,9 @@ from threading import Lock
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.special import roots_genlaguerre, roots_hermite
+from scipy.special import roots_hermite
+
+from ..model.kernel import as_kernel
 
 __all__ = ["orthonormal_sonine", "collision_tensor", "maxwell_tensor", "laplacian_coefficients",
            "dilation_coefficients", "quadrature_tensor"]
@@ -145,11 +147,10 @@ def quadrature_tensor(order: int, alpha: float, gamma: float) -> NDArray[np.floa
     keep = xc >= 0.0
     xc, wc = xc[keep], np.where(xc[keep] > 0.0, 2.0 * wc[keep], wc[keep])
     n_c = len(xc)
-    xs, ws = roots_genlaguerre(n_s, 0.5 * (gamma - 1.0))
-    g = 2.0 * np.sqrt(xs)
+    g, ws = as_kernel(gamma).relative_speed_rule(n_s)  # the kernel's own Gauss rule
     big_c = np.repeat(xc, 2 * n_s)
     gg = np.tile(np.concatenate([g, -g]), n_c)
-    weight = (2.0**gamma / (2.0 * math.pi)) * np.repeat(wc, 2 * n_s) * np.tile(
+    weight = (1.0 / (2.0 * math.pi)) * np.repeat(wc, 2 * n_s) * np.tile(
         np.concatenate([ws, ws]), n_c)
     c1, c2 = big_c + 0.5 * gg, big_c - 0.5 * gg
     c1p, c2p = big_c - 0.5 * alpha * gg, big_c + 0.5 * alpha * gg
@@ -245,7 +246,7 @@ def collision_tensor(order: int, alpha: float, gamma: float) -> NDArray[np.float
         cached = _CACHE.get(key)
     if cached is not None and cached.shape[0] > order:
         return cached[: order + 1, : order + 1, : order + 1]
-    if gamma == 0.0:
+    if as_kernel(gamma).is_maxwell:
         tensor = maxwell_tensor(order, float(alpha))
     else:
         tensor = quadrature_tensor(order, float(alpha), float(gamma))

@@ -300,7 +300,7 @@ def steady_state(model: float | HeatedProblem, *, order: int = 2,
         u0 = initial.initial_guess(disc.dof_locations, scaled.temperature,
                                    linear_tail=not paper)
     elif alpha_eff > CONTINUATION_ALPHA and vertices is None and \
-            scaled.law.constant is not None:
+            scaled.law.constant is not None and scaled.continues_near_elastic:
         # start from the solution at eps' = 10 eps, rescaled to f(c) (quasi-elastic
         # limits are approached smoothly in c; Newton from a Gaussian is not robust there)
         coarse_problem = HeatedProblem.from_parameters(

@@ -64,7 +64,8 @@ The inelastic Maxwell model (:math:`\\gamma = 0`) has the closed-form state
 :math:`f(c) = 2/(\\pi(1+c^2)^2)` for every alpha (Baldassarri, Marini Bettolo Marconi,
 Puglisi, Europhys. Lett. 58, 14 (2002)), :math:`\\zeta = (1-\\alpha^2)/4`; its
 :math:`c^{-4}` tail (infinite fourth moment) is resolved on a geometric mesh out to
-:math:`V = 10^8`.
+:math:`V = 10^8`, and the result carries :math:`f` recovered from the superconvergent
+points of :math:`\\ln f_h` (:mod:`kinetic_fem.solvers.fem_cooling_tail`).
 
 A velocity-dependent restitution law has no homogeneous cooling state (the law has its
 own speed scale, so the state changes as the gas cools); such problems are refused.
@@ -98,6 +99,7 @@ from .fem_cooling_mesh import (
     initial_log_f,
 )
 from .fem_cooling_newton import CoolingState, newton_cooling
+from .fem_cooling_tail import recovered_distribution
 
 __all__ = ["solve_fem_cooling", "cooling_state", "CoolingState", "continued_state",
            "hump_chain", "hump_start", "uses_hump_mesh", "HUMP_EPS", "HUMP_RESOLUTION",
@@ -455,4 +457,8 @@ def solve_fem_cooling(problem: CoolingProblem, *, order: int = 2,
                                       "zeta_identity": float(state.energy_identity()),
                                       "n_dofs": int(state.u.size), "order": order,
                                       "cutoff": float(state.disc.vertices[-1])})
+    if problem.gas.gamma == 0.0:
+        # --- the Maxwell model's c^-4 tail: kinetic_fem.solvers.fem_cooling_tail ---
+        return recovered_distribution(state.disc, state.u, method="fem",
+                                      params=problem.as_dict(), info=info)
     return state.disc.distribution(state.u, method="fem", params=problem.as_dict(), info=info)

@@ -17,11 +17,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..model import CoolingProblem
+from .fem_cooling_tail import POWER_TAIL_CUTOFF, POWER_TAIL_SPACING, power_tail_vertices
 
 __all__ = ["hcs_bulk", "BULK_EPS", "hcs_cutoff", "hcs_spacing", "hcs_vertices", "initial_log_f",
            "MAXWELL_CUTOFF", "DECADES"]
 
-MAXWELL_CUTOFF = 1e8
+MAXWELL_CUTOFF = POWER_TAIL_CUTOFF
 """Cut-off of the Maxwell-model mesh: the energy beyond, 4/(pi V), is 1e-8."""
 DECADES = 33.0
 """The default cut-off is where the tail estimate has fallen this many decades."""
@@ -69,7 +70,7 @@ def hcs_spacing(problem: CoolingProblem) -> float:
     float
     """
     if problem.gas.gamma == 0.0:
-        return 0.02
+        return POWER_TAIL_SPACING
     return min(0.05, problem.gas.epsilon ** (1.0 / 3.0) / 10.0)
 
 
@@ -105,9 +106,8 @@ def hcs_vertices(c_max: float, spacing: float, *, gamma: float,
 
     Element size :math:`h(c) = h_0 \\max(1, c/c_b)^{\\kappa}` with
     :math:`\\kappa = (3 - \\gamma)/3` (P2 error :math:`h^3 (\\ln f)'''` constant in the
-    tail :math:`\\ln f \\sim -c^\\gamma`); for the Maxwell model a geometric mesh, ratio
-    :math:`1 + h_0/2` up to :math:`c = 30` and 1.1 beyond (the far tail only feeds mass
-    and energy back to the bulk).
+    tail :math:`\\ln f \\sim -c^\\gamma`); for the Maxwell model the geometric mesh of
+    :func:`kinetic_fem.solvers.fem_cooling_tail.power_tail_vertices`.
 
     Parameters
     ----------
@@ -131,14 +131,14 @@ def hcs_vertices(c_max: float, spacing: float, *, gamma: float,
     >>> bool(v[0] == -20.0 and v[-1] == 20.0 and np.all(np.diff(v) > 0))
     True
     """
+    if gamma == 0.0:
+        # --- the Maxwell model's c^-4 tail: kinetic_fem.solvers.fem_cooling_tail ---
+        return power_tail_vertices(c_max, spacing)
     nodes = [0.0]
     c = 0.0
     kappa = (3.0 - gamma) / 3.0
     while c < c_max:
-        if gamma == 0.0:
-            h = max(spacing, 0.5 * spacing * c if c < 30.0 else 0.1 * c)
-        else:
-            h = spacing * max(1.0, c / bulk) ** kappa
+        h = spacing * max(1.0, c / bulk) ** kappa
         c = c + h
         nodes.append(c)
     half = np.array(nodes)

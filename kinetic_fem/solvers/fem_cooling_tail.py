@@ -1,0 +1,173 @@
+"""The power-law tail of the inelastic Maxwell model's cooling state: mesh and recovery.
+
+The homogeneous cooling state of the Maxwell kernel (:math:`\\gamma = 0`) is
+:math:`f(c) = 2/(\\pi(1+c^2)^2)` at unit temperature for every alpha (Baldassarri,
+Marini Bettolo Marconi and Puglisi, Europhys. Lett. 58, 14 (2002)).  Its :math:`c^{-4}`
+tail carries :math:`4/(\\pi V)` of the energy beyond :math:`|c| = V`: 4 % beyond
+:math:`c = 30`, and the tail at :math:`c` is fed by collisions from
+:math:`2c/(1-\\alpha)`, so the FEM state of :mod:`kinetic_fem.solvers.fem_cooling`
+needs the tail resolved out to :math:`V = 10^8`.  Two things set its accuracy:
+
+* **The far-tail mesh.**  P2 interpolates :math:`\\ln f \\simeq -4\\ln c` on an element
+  :math:`[c, rc]` with error :math:`\\propto (r-1)^3`.  The former mesh (ratio 1.1 beyond
+  :math:`c = 30`) put errors of 1e-4 into the tail, which the energy it carries fed back
+  into the bulk (1.2e-4 at :math:`c \\le 10`, alpha = 0.5).  :func:`power_tail_vertices`
+  ties every ratio to the bulk spacing :math:`h_0`: uniform :math:`h_0` up to
+  :math:`c = 2`, geometric with ratio :math:`1 + h_0/2` up to :math:`c = 30` and
+  :math:`1 + \\min(5h_0/4, 0.1)` beyond, so one parameter refines the whole mesh.
+
+* **An element-wise oscillation of** :math:`\\ln f_h`.  For the Maxwell kernel the loss
+  is local (rate 1) and the gain a smoothing integral; the Galerkin state then carries,
+  on each element, a component :math:`s(2 - 12t(1-t))` (:math:`t` the element
+  coordinate), +2s at the vertices and -s at the midpoint, of zero mean over the
+  element, with :math:`s = O(h_0^2)` (measured 1.9e-4, 4.9e-5, 1.2e-5 at
+  :math:`h_0` = 0.08, 0.04, 0.02, near :math:`c = 0.3`).  It vanishes at the two-point
+  Gauss-Legendre points :math:`t = (1 \\pm 1/\\sqrt3)/2` of every element, where
+  :math:`\\ln f_h` is superconvergent.  :func:`recovered_log_f` interpolates
+  :math:`\\ln f_h` from those points (a cubic spline in :math:`\\operatorname{asinh} c`,
+  so that the :math:`-4\\ln c` tail is nearly linear), and
+  :func:`recovered_distribution` returns the state with the recovered values on the
+  quadrature points (the oscillation has zero mean on each element, so mass and
+  temperature are unchanged to the Newton tolerance).
+
+A discrete state with another power-law tail (infinite energy: the scaled equation
+admits :math:`c^{-p}` tails with :math:`p < 3` in the continuum, and a truncated mesh
+can mimic them) is excluded by the unit-temperature constraint on the whole mesh,
+which is why :math:`V` must reach where the energy beyond is negligible
+(:data:`POWER_TAIL_CUTOFF`).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.interpolate import CubicSpline
+
+from ..distribution import VelocityDistribution
+
+__all__ = ["POWER_TAIL_CUTOFF", "POWER_TAIL_SPACING", "FAR_RATIO_FACTOR",
+           "FAR_RATIO_MAX", "power_tail_vertices", "superconvergent_points", "recovered_log_f",
+           "recovered_distribution"]
+
+POWER_TAIL_CUTOFF = 1e8
+"""Cut-off :math:`V`: the energy beyond, :math:`4/(\\pi V)`, is 1.3e-8."""
+POWER_TAIL_SPACING = 0.02
+"""Default bulk element size :math:`h_0` (convergence study in :func:`power_tail_vertices`)."""
+FAR_RATIO_FACTOR = 1.25
+"""Geometric ratio beyond :math:`c = 30`: :math:`1 + ` this :math:`\\times h_0`, at most
+:math:`1 +` :data:`FAR_RATIO_MAX`."""
+FAR_RATIO_MAX = 0.1
+"""The far ratio is at most :math:`1 + ` this (the coarse meshes of the mesh sequencing:
+Newton from the Gaussian start fails at alpha = 0.9 on a far ratio of 1.25)."""
+_NEAR_END = 30.0
+_BULK_END = 2.0
+
+
+def power_tail_vertices(c_max: float, spacing: float) -> NDArray[np.float64]:
+    """Symmetric vertices for the :math:`c^{-4}` tail: uniform, then two geometric ratios.
+
+    Element size :math:`h(c) = h_0` up to :math:`c = 2`, :math:`h_0 c/2` up to
+    :math:`c = 30`, :math:`\\min(\\tfrac54 h_0, 0.1)\\, c` beyond (module notes).
+
+    Parameters
+    ----------
+    c_max : float
+        Half-width of the mesh (thermal velocities), e.g. :data:`POWER_TAIL_CUTOFF`.
+    spacing : float
+        Bulk element size :math:`h_0`.
+
+    Returns
+    -------
+    ndarray
+        Vertices symmetric about 0, including 0.
+
+    Examples
+    --------
+    >>> v = power_tail_vertices(1e8, 0.08)
+    >>> bool(v[-1] == 1e8 and np.all(np.diff(v) > 0) and v[v.size // 2] == 0.0)
+    True
+    """
+    if not spacing > 0.0 or not c_max > 0.0:
+        raise ValueError(f"spacing={spacing!r} and c_max={c_max!r} must be > 0")
+    near = 0.5 * spacing
+    far = min(FAR_RATIO_FACTOR * spacing, FAR_RATIO_MAX)
+    nodes = [0.0]
+    c = 0.0
+    while c < c_max:
+        h = spacing if c < _BULK_END else (near if c < _NEAR_END else far) * c
+        c = c + max(h, spacing)
+        nodes.append(c)
+    half = np.array(nodes)
+    if half.size > 2 and half[-1] - c_max > 0.5 * (half[-1] - half[-2]):
+        half = half[:-1]
+    half[-1] = c_max
+    return np.concatenate([-half[:0:-1], half])
+
+
+def superconvergent_points(vertices: NDArray) -> NDArray[np.float64]:
+    """The two Gauss-Legendre points of every element, sorted.
+
+    Parameters
+    ----------
+    vertices : ndarray
+        Increasing mesh vertices.
+
+    Returns
+    -------
+    ndarray
+        :math:`a + (b - a)(1 \\pm 1/\\sqrt3)/2` for every element :math:`[a, b]`.
+    """
+    v = np.asarray(vertices, dtype=float)
+    a, h = v[:-1], np.diff(v)
+    off = 0.5 / math.sqrt(3.0)
+    return np.sort(np.concatenate([a + (0.5 - off) * h, a + (0.5 + off) * h]))
+
+
+def recovered_log_f(disc, u: NDArray, c: NDArray) -> NDArray[np.float64]:
+    """:math:`\\ln f` at ``c`` recovered from the superconvergent points of ``u_h``.
+
+    Parameters
+    ----------
+    disc : FEMDiscretisation
+        The discretisation of the (even) state.
+    u : ndarray
+        Coefficients of :math:`u_h = \\ln f_h`.
+    c : ndarray
+        Points inside the mesh.
+
+    Returns
+    -------
+    ndarray
+        The cubic spline, in :math:`\\operatorname{asinh} c`, of :math:`\\ln f_h` at the
+        two-point Gauss points of every element (even in ``c``).
+    """
+    pts = superconvergent_points(disc.vertices)
+    pts = pts[pts > 0.0]
+    log_f = np.log(disc.evaluate(u, pts))
+    x = np.arcsinh(pts)
+    spline = CubicSpline(np.concatenate([-x[::-1], x]), np.concatenate([log_f[::-1], log_f]))
+    return np.asarray(spline(np.arcsinh(np.abs(np.asarray(c, dtype=float)))))
+
+
+def recovered_distribution(disc, u: NDArray, **kwargs) -> VelocityDistribution:
+    """The state on the quadrature points with the recovered values of :math:`f`.
+
+    Parameters
+    ----------
+    disc : FEMDiscretisation
+        The discretisation of the (even) state.
+    u : ndarray
+        Coefficients of :math:`u_h = \\ln f_h`.
+    **kwargs
+        Passed to :meth:`VelocityDistribution.from_values` (``method``, ``params``,
+        ``info``).
+
+    Returns
+    -------
+    VelocityDistribution
+    """
+    xq, wq, _ = disc.points
+    values = np.exp(recovered_log_f(disc, u, xq))
+    return VelocityDistribution.from_values(xq, values, weights=wq, **kwargs)
