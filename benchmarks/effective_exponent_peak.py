@@ -22,7 +22,7 @@ Two methods, overlapping at eps = 1e-3:
 Error bars are the largest change of the peak between these resolutions, carried
 through the two-point exponents.  The last table compares with the two-term
 quasi-elastic expansion n(x) = n_phi(x) - (3/16) eps x^3
-(``kinetic_fem.analysis.peak_study.quasi_elastic_peak``), whose peak is
+(``kinetic_fem.analysis.heated_tail.quasi_elastic_peak``), whose peak is
 x* ~ (64 <x^2>/(3 eps))^(1/5): v* ~ eps^(-8/15), 3 - n* ~ eps^(2/5).
 
 Usage: python benchmarks/effective_exponent_peak.py [--fem-eps 0.1 ...] [--tail-eps ...]
@@ -39,12 +39,11 @@ import time
 
 import numpy as np
 
-from kinetic_fem.analysis import power_law_exponent
+from kinetic_fem.analysis.heated_tail import quasi_elastic_peak, tail_sweep
 from kinetic_fem.analysis.peak_study import (
     FEM_PEAK_SPACINGS,
+    combine_sweeps,
     peak_sweep,
-    quasi_elastic_peak,
-    tail_sweep,
 )
 from kinetic_fem.solvers import fem
 
@@ -82,58 +81,52 @@ def main(argv=None) -> None:
             f"{state.disc.dof_locations.size} dofs, {time.perf_counter() - t:.1f} s")
         return state
 
-    rows = []  # (peak, (dv/v, dn), method)
+    sweeps = []
     if args.fem_eps:
         fsweep = peak_sweep(tuple(args.fem_eps), spacing=FEM_PEAK_SPACINGS[0], method="fem",
                             fine_spacing=FEM_PEAK_SPACINGS[1], intorder=9, log=log)
         _print_sweep(f"FEM P2, Gauss degree 9, spacings {FEM_PEAK_SPACINGS}", fsweep)
-        rows += [(p, e, "fem") for p, e in zip(fsweep.selected(), fsweep.errors(),
-                                                 strict=True)]
+        sweeps.append(fsweep)
     if args.tail_eps:
         tsweep = tail_sweep(tuple(args.tail_eps), bulk=bulk, log=log)
         _print_sweep("tail equation on the FEM bulk (bulk h0, h0/sqrt2; tail h 0.1, 0.05; "
                      "match -30/-40)", tsweep)
-        tail_rows = [(p, e, "tail") for p, e in zip(tsweep.selected(), tsweep.errors(),
-                                                    strict=True)]
-        fem_eps = {r[0].eps for r in rows}
-        for r in tail_rows:
-            if r[0].eps in fem_eps:
-                f = next(q for q in rows if q[0].eps == r[0].eps)[0]
-                print(f"\noverlap at eps = {r[0].eps:g}: FEM x* = {f.x:.5f}, n* = {f.n:.6f}; "
-                      f"tail x* = {r[0].x:.5f}, n* = {r[0].n:.6f} (x* differ by "
-                      f"{r[0].x / f.x - 1:+.1e})")
-        rows = [r for r in rows if r[0].eps not in {q[0].eps for q in tail_rows}] + tail_rows
-    rows.sort(key=lambda r: -r[0].eps)
-    if len(rows) < 2:
+        sweeps.append(tsweep)
+        if args.fem_eps:
+            fem_peaks = {p.eps: p for p in sweeps[0].selected()}
+            for p in tsweep.selected():
+                if p.eps in fem_peaks:
+                    f = fem_peaks[p.eps]
+                    print(f"\noverlap at eps = {p.eps:g}: FEM x* = {f.x:.5f}, n* = {f.n:.6f}; "
+                          f"tail x* = {p.x:.5f}, n* = {p.n:.6f} (x* differ by "
+                          f"{p.x / f.x - 1:+.1e}, n* by {p.n - f.n:+.1e})")
+    both = combine_sweeps(*sweeps)
+    if len(both.peaks) < 2:
         return
-    print("\ncombined (FEM above eps = 1e-3, tail at and below), with the two-term "
+    tail_eps = set(args.tail_eps or ())
+    print("\ncombined (the tail solver where it ran, FEM above), with the two-term "
           "quasi-elastic prediction:")
     print(f"{'eps':>8} {'method':>6} {'v*':>10} {'x*':>9} {'+-dx/x':>8} {'n*':>9} "
           f"{'+-dn':>8} {'x*(th)':>9} {'n*(th)':>9} {'x*/x*(th)-1':>12}")
-    for p, (dv, dn), meth in rows:
+    for p, (dv, dn) in zip(both.peaks, both.errors(), strict=True):
         xt, nt = quasi_elastic_peak(p.eps)
+        meth = "tail" if p.eps in tail_eps else "fem"
         print(f"{p.eps:8.0e} {meth:>6} {p.v:10.4f} {p.x:9.5f} {dv:8.1e} {p.n:9.6f} "
               f"{dn:8.1e} {xt:9.4f} {nt:9.6f} {p.x / xt - 1:+12.2e}")
-    eps = np.array([r[0].eps for r in rows])
-    v = np.array([r[0].v for r in rows])
-    n3 = np.array([3.0 - r[0].n for r in rows])
+    eps = np.array([p.eps for p in both.peaks])
+    v_exp, n_exp = both.fits()
     print(f"\nleast squares over eps = {eps.max():g} ... {eps.min():g}: "
-          f"v* ~ eps^{power_law_exponent(eps, v):+.4f}, "
-          f"3 - n* ~ eps^{power_law_exponent(eps, n3):+.4f}")
+          f"v* ~ eps^{v_exp:+.4f}, 3 - n* ~ eps^{n_exp:+.4f}")
     print("\nlocal (two-point) exponents with error bars from the resolution checks; "
           "asymptotic theory: v* -8/15 = -0.5333, x* -1/5, 3 - n* +2/5")
     print(f"{'eps1':>8} {'eps2':>8} {'v*':>8} {'+-':>7} {'x*':>8} {'3-n*':>8} {'+-':>7} "
           f"{'v*(th)':>8} {'3-n*(th)':>9}")
-    for (a, ea, _), (b, eb, _) in zip(rows[:-1], rows[1:], strict=True):
-        le = math.log(b.eps / a.eps)
-        ve = math.log(b.v / a.v) / le
-        ne = math.log((3 - b.n) / (3 - a.n)) / le
-        dve = (ea[0] + eb[0]) / abs(le)
-        dne = (ea[1] / (3 - a.n) + eb[1] / (3 - b.n)) / abs(le)
-        (xa, na), (xb, nb) = quasi_elastic_peak(a.eps), quasi_elastic_peak(b.eps)
+    for (e1, e2, ve, ne), (dve, dne) in zip(both.local(), both.local_errors(), strict=True):
+        le = math.log(e2 / e1)
+        (xa, na), (xb, nb) = quasi_elastic_peak(e1), quasi_elastic_peak(e2)
         vt = math.log(xb / xa) / le - 1 / 3
         nt = math.log((3 - nb) / (3 - na)) / le
-        print(f"{a.eps:8.0e} {b.eps:8.0e} {ve:+8.4f} {dve:7.1e} {ve + 1 / 3:+8.4f} "
+        print(f"{e1:8.0e} {e2:8.0e} {ve:+8.4f} {dve:7.1e} {ve + 1 / 3:+8.4f} "
               f"{ne:+8.4f} {dne:7.1e} {vt:+8.4f} {nt:+9.4f}")
     print(f"\ntotal wall time {time.perf_counter() - start:.0f} s")
 

@@ -42,8 +42,10 @@ from numpy.typing import NDArray
 from scipy.interpolate import CubicSpline
 
 from .exponent import ExponentPeak
+from .peak_study import PeakSweep
 
-__all__ = ["TailSolution", "solve_tail", "tail_peak", "MATCH_LOG"]
+__all__ = ["TailSolution", "solve_tail", "tail_peak", "MATCH_LOG", "tail_sweep",
+           "quasi_elastic_peak", "TAIL_SPACINGS"]
 
 logger = logging.getLogger(__name__)
 
@@ -290,3 +292,131 @@ def tail_peak(tail: TailSolution) -> ExponentPeak:
         v_star, n_star = float(tail.v[i]), float(n[i])
     c_star = v_star / math.sqrt(tail.temperature)
     return ExponentPeak(eps, c_star, v_star, v_star * eps ** (1.0 / 3.0), n_star, interior)
+
+TAIL_SPACINGS = (0.1, 0.05)
+"""Tail-grid spacings (thermal velocities) of :func:`tail_sweep`: base and refined."""
+
+
+def tail_sweep(eps_values: tuple[float, ...], *, bulk_refinement: float = math.sqrt(2.0),
+               spacings: tuple[float, float] = TAIL_SPACINGS, depth_check: bool = True,
+               x_tol: float = 1e-3, n_tol: float = 1e-4, bulk=None, log=None) -> PeakSweep:
+    """Peaks of n(c) from :func:`kinetic_fem.analysis.heated_tail.solve_tail` at each eps.
+
+    Per eps: the FEM bulk at its default spacing with the tail at ``spacings[0]``
+    (``coarse``); the bulk at the default spacing over ``bulk_refinement`` with the
+    tail at ``spacings[1]`` (``peaks``, reported); and, with ``depth_check``, the
+    coarse bulk matched deeper (``match_log = -40`` instead of -30) with a grid
+    reaching further (``extent`` 2.5 instead of 2; ``other_cutoff``).  Converged where
+    every peak is interior and x* moved by less than ``x_tol`` (relative) and n* by
+    less than ``n_tol``.  Valid for eps <= 1e-3: at larger eps the peak lies above the
+    matching depth (use :func:`peak_sweep` with ``method="fem"``).
+
+    Parameters
+    ----------
+    eps_values : tuple of float
+        Inelasticities.
+    bulk_refinement : float
+        Factor by which the FEM spacing is refined for the reported peak.
+    spacings : tuple of float
+        Tail-grid spacings (coarse, fine) in thermal velocities.
+    depth_check : bool
+        Also solve with the deeper matching point and longer grid.
+    x_tol, n_tol : float
+        Tolerances of the convergence checks.
+    bulk : callable, optional
+        ``bulk(alpha, spacing)`` returning the FEM
+        :class:`~kinetic_fem.solvers.fem.SteadyState` (default
+        ``fem.steady_state(alpha, spacing=spacing)``; pass a cached one to share solves).
+    log : callable, optional
+        ``log(str)`` called with one line per solve.
+
+    Returns
+    -------
+    PeakSweep
+        ``method="tail"``.
+    """
+    from ..solvers import fem
+    from ..solvers.fem_defaults import default_spacing
+
+    eps_values = tuple(sorted(eps_values, reverse=True))
+    peaks, coarse, other, converged = [], [], [], []
+    if bulk is None:
+        def bulk(alpha: float, spacing: float):
+            return fem.steady_state(alpha, spacing=spacing)
+
+    def run(state, label: str, **kwargs) -> ExponentPeak:
+        tail = solve_tail(state, **kwargs)
+        p = tail_peak(tail)
+        if log is not None:
+            log(f"eps={p.eps:g} {label}: grid {tail.v.size} nodes to c={tail.c[-1]:.1f}, "
+                f"slope mismatch {tail.slope_mismatch:.1e}: c*={p.c:.5f} x*={p.x:.5f} "
+                f"n*={p.n:.6f}" + ("" if p.interior else " (at the end of the grid)"))
+        return p
+
+    for eps in eps_values:
+        alpha = 1.0 - eps
+        h0 = default_spacing(alpha)
+        base = bulk(alpha, h0)
+        fine = bulk(alpha, h0 / bulk_refinement)
+        pc = run(base, f"bulk h={h0:.3g}, tail h={spacings[0]:g}", spacing=spacings[0])
+        pf = run(fine, f"bulk h={h0 / bulk_refinement:.3g}, tail h={spacings[1]:g}",
+                 spacing=spacings[1])
+        checks = [pc]
+        if depth_check:
+            other.append(run(base, "deeper match, longer grid", spacing=spacings[0],
+                             match_log=-40.0, extent=2.5))
+            checks.append(other[-1])
+        coarse.append(pc)
+        peaks.append(pf)
+        converged.append(all(p.interior for p in (pf, *checks))
+                         and all(abs(q.x / pf.x - 1) < x_tol and abs(q.n - pf.n) < n_tol
+                                 for q in checks))
+    return PeakSweep(tuple(peaks), tuple(coarse), tuple(converged), tuple(other), "tail",
+                     x_tol, n_tol)
+
+
+def quasi_elastic_peak(eps: float, *, x2: float | None = None,
+                       x3: float | None = None) -> tuple[float, float]:
+    """Peak of the two-term expansion :math:`n(x) = n_\\phi(x) - \\tfrac3{16}\\varepsilon x^3`.
+
+    Beyond the bulk of :math:`\\phi`, :math:`-\\ln(\\phi(x)/\\phi(0)) = (x^3 + 3\\langle x^2
+    \\rangle x - \\langle|x|^3\\rangle)/6` up to exponentially small terms, so
+    :math:`n_\\phi = 3(x^3 + \\langle x^2\\rangle x)/(x^3 + 3\\langle x^2\\rangle x -
+    \\langle|x|^3\\rangle) \\approx 3 - 6\\langle x^2\\rangle/x^2`, rising toward 3.  The
+    first finite-eps term of the tail equation (the second-order term of the gain's
+    shift, relative size :math:`\\varepsilon x^3/8`, the onset of the crossover to the
+    :math:`|v|^{3/2}` tail at :math:`x \\sim \\varepsilon^{-1/3}`) lowers :math:`n` by
+    :math:`\\tfrac3{16}\\varepsilon x^3`.  The balance gives
+    :math:`x^* \\approx (64\\langle x^2\\rangle/(3\\varepsilon))^{1/5}`, i.e.
+    :math:`v^* \\propto \\varepsilon^{-8/15}` and :math:`3 - n^* \\propto \\varepsilon^{2/5}`.
+
+    Parameters
+    ----------
+    eps : float
+        Inelasticity ``1 - alpha``.
+    x2, x3 : float, optional
+        :math:`\\langle x^2\\rangle` and :math:`\\langle|x|^3\\rangle` of :math:`\\phi`
+        (default: from :func:`kinetic_fem.solvers.scaling.solve_phi`).
+
+    Returns
+    -------
+    tuple of float
+        ``(x*, n*)``.
+    """
+    if not 0 < eps < 1:
+        raise ValueError(f"eps must be in (0, 1), got {eps!r}")
+    if x2 is None or x3 is None:
+        from ..operators.grid import simpson_weights
+        from ..solvers.scaling import solve_phi
+
+        phi = solve_phi(estimate_errors=False)
+        x2 = phi.x2 if x2 is None else x2
+        d = phi.distribution
+        x3 = float(np.sum(simpson_weights(d.v) * np.abs(d.v) ** 3 * d.values)) \
+            if x3 is None else x3
+    # the tail form of n_phi holds beyond the bulk of phi (x >= 4: phi < 1e-5)
+    x = np.exp(np.linspace(math.log(4.0), math.log(50.0 * eps ** -0.2), 200001))
+    n = 3.0 * (x**3 + x2 * x) / (x**3 + 3.0 * x2 * x - x3) - 3.0 / 16.0 * eps * x**3
+    i = int(np.argmax(n))
+    return float(x[i]), float(n[i])
+
