@@ -198,7 +198,7 @@ def solve_tail(state, *, extent: float = 2.0, spacing: float = 0.05,
     v_end = max(extent * x_star * eps ** (-1.0 / 3.0), 1.5 * v_m)
     h = spacing * scale
     m = int(math.ceil((v_end - v_m) / h)) + 1
-    v = v_m + h * np.arange(m)
+    v = np.asarray(v_m + h * np.arange(m), dtype=np.float64)
     u_m = float(np.log(disc.evaluate(u_fem, np.array([v_m])))[0])
     probe = np.log(disc.evaluate(u_fem, np.array([v_m - 1e-3 * h, v_m])))
     fem_slope = float(probe[1] - probe[0]) / (1e-3 * h)
@@ -259,8 +259,8 @@ def solve_tail(state, *, extent: float = 2.0, spacing: float = 0.05,
     else:
         raise RuntimeError(f"tail Newton did not converge in {max_iter} iterations "
                            f"(alpha={alpha}, last update {step:.1e}); refine the spacing")
-    slope = d1 @ u
-    return TailSolution(alpha, v, u, slope, u0, temperature,
+    slope = np.asarray(d1 @ u, dtype=np.float64)
+    return TailSolution(alpha, v, np.asarray(u, dtype=np.float64), slope, u0, temperature,
                         abs(slope[0] / fem_slope - 1.0), it, step)
 
 
