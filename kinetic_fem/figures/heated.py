@@ -123,7 +123,7 @@ def figure_f6(ctx: Context) -> list[ClaimRow]:
     0.1 and 0.05, two matching depths); quick mode FEM eps = 0.1, 0.03, 0.01 (spacings
     0.1 / 0.07, degree 5, default cut-off) and tail eps = 1e-3, 1e-4 without the depth
     check.  Measured (``benchmarks/results/heated_near_elastic.md``): local exponents
-    of v* -0.577 (1e-1 -> 3e-2) ... -0.5350 (3e-6 -> 1e-6), of 3 - n* +0.297 ... +0.396;
+    of v* -0.577 (1e-1 -> 3e-2) ... -0.5349 (3e-6 -> 1e-6), of 3 - n* +0.297 ... +0.3946;
     the two-term expansion n = n_phi - (3/16) eps x^3 predicts x* ~ eps^(-1/5), i.e.
     v* ~ eps^(-8/15) and 3 - n* ~ eps^(2/5), and matches x* to 0.2 % at eps = 1e-6.
     """
