@@ -17,7 +17,7 @@ Two methods, overlapping at eps = 1e-3:
   below the double-precision range the FEM weak form (which evaluates P = e^u) can
   reach.  Checks per eps: FEM bulk at the default spacing and at the default / sqrt 2,
   tail grid 0.1 and 0.05, matching depth -30 and -40 with a 25 % longer grid;
-  converged if x* moves by < 0.1 % and n* by < 1e-4.
+  converged if x* moves by < 0.1 % and n* by < 1e-3 of 3 - n*.
 
 Error bars are the largest change of the peak between these resolutions, carried
 through the two-point exponents.  The last table compares with the two-term

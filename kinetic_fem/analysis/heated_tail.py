@@ -299,7 +299,7 @@ TAIL_SPACINGS = (0.1, 0.05)
 
 def tail_sweep(eps_values: tuple[float, ...], *, bulk_refinement: float = math.sqrt(2.0),
                spacings: tuple[float, float] = TAIL_SPACINGS, depth_check: bool = True,
-               x_tol: float = 1e-3, n_tol: float = 1e-4, bulk=None, log=None) -> PeakSweep:
+               x_tol: float = 1e-3, n_tol: float = 1e-3, bulk=None, log=None) -> PeakSweep:
     """Peaks of n(c) from :func:`kinetic_fem.analysis.heated_tail.solve_tail` at each eps.
 
     Per eps: the FEM bulk at its default spacing with the tail at ``spacings[0]``
@@ -308,8 +308,10 @@ def tail_sweep(eps_values: tuple[float, ...], *, bulk_refinement: float = math.s
     coarse bulk matched deeper (``match_log = -40`` instead of -30) with a grid
     reaching further (``extent`` 2.5 instead of 2; ``other_cutoff``).  Converged where
     every peak is interior and x* moved by less than ``x_tol`` (relative) and n* by
-    less than ``n_tol``.  Valid for eps <= 1e-3: at larger eps the peak lies above the
-    matching depth (use :func:`peak_sweep` with ``method="fem"``).
+    less than ``n_tol`` times :math:`3 - n^*` (relative to the quantity fitted: an absolute
+    tolerance would loosen as :math:`3 - n^* \\to 0`).  Valid for eps <= 1e-3: at
+    larger eps the peak lies above the matching depth (use
+    :func:`~kinetic_fem.analysis.peak_study.peak_sweep` with ``method="fem"``).
 
     Parameters
     ----------
@@ -322,7 +324,7 @@ def tail_sweep(eps_values: tuple[float, ...], *, bulk_refinement: float = math.s
     depth_check : bool
         Also solve with the deeper matching point and longer grid.
     x_tol, n_tol : float
-        Tolerances of the convergence checks.
+        Tolerances of the convergence checks (x* relative, n* relative to 3 - n*).
     bulk : callable, optional
         ``bulk(alpha, spacing)`` returning the FEM
         :class:`~kinetic_fem.solvers.fem.SteadyState` (default
@@ -369,8 +371,8 @@ def tail_sweep(eps_values: tuple[float, ...], *, bulk_refinement: float = math.s
         coarse.append(pc)
         peaks.append(pf)
         converged.append(all(p.interior for p in (pf, *checks))
-                         and all(abs(q.x / pf.x - 1) < x_tol and abs(q.n - pf.n) < n_tol
-                                 for q in checks))
+                         and all(abs(q.x / pf.x - 1) < x_tol
+                                 and abs(q.n - pf.n) < n_tol * (3.0 - pf.n) for q in checks))
     return PeakSweep(tuple(peaks), tuple(coarse), tuple(converged), tuple(other), "tail",
                      x_tol, n_tol)
 

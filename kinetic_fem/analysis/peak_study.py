@@ -211,7 +211,8 @@ class PeakSweep:
     method : str
         ``"fd"`` or ``"fem"``.
     x_tol, n_tol : float
-        Tolerances of the checks (relative in x*, absolute in n*).
+        Tolerances of the checks (relative in x*; in n* absolute for ``"fd"`` and
+        ``"fem"``, relative to 3 - n* for ``"tail"``).
     """
 
     peaks: tuple[ExponentPeak, ...]
