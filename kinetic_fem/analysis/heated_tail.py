@@ -2,7 +2,7 @@
 
 Near the elastic limit the peak of the effective exponent lies very deep in the tail:
 :math:`-\\ln(P/P_0) \\approx x^{*3}/6` with :math:`x^* \\approx 1.8\\,\\varepsilon^{-1/5}`, i.e.
-:math:`P/P_0 \\sim 10^{-104}` at :math:`\\varepsilon = 10^{-4}` and :math:`10^{-1600}` at
+:math:`P/P_0 \\sim 10^{-104}` at :math:`\\varepsilon = 10^{-4}` and :math:`10^{-1700}` at
 :math:`10^{-6}`.  The FEM weak form evaluates :math:`P = e^{u_h}` and underflows below
 :math:`e^{-708}`.  In the tail the equation is linear in :math:`P` given the bulk, and
 divided by :math:`P(v)` it involves only differences of :math:`u = \\ln P` (``n = D = 1``):
