@@ -8,6 +8,9 @@
   eps = 1e-4), each step started from the last state continued by a cubic in ``|v|``;
 * :func:`peak_sweep`: the peak :math:`(v^*, n^*)` of the effective exponent against
   eps with its resolution checks (:class:`PeakSweep`, claims C6 and C7, figure F6);
+* :func:`combine_sweeps`: FEM peaks above eps = 1e-3 joined with those of
+  :func:`kinetic_fem.analysis.heated_tail.tail_sweep` (the log-variable tail solver, for
+  the peaks below the double-precision range at eps <= 1e-3);
 * :func:`relaxation_run`: the paper's time marching from a Gaussian (claim C2).
 
 Moved here from ``kinetic_fem.figures.heated`` (figures plot and register only).
@@ -29,7 +32,7 @@ from ..sonine import steady_temperature as sonine_temperature
 from .exponent import ExponentPeak, exponent_peak, local_exponents, power_law_exponent
 
 __all__ = ["solve_steady", "fem_steady", "peak_sweep", "PeakSweep", "relaxation_run",
-           "fem_cutoff_factors", "FEM_PEAK_SPACINGS"]
+           "fem_cutoff_factors", "FEM_PEAK_SPACINGS", "combine_sweeps"]
 
 
 def solve_steady(alpha: float, *, spacing: float = 0.04, cutoff_factor: float = 1.3,
@@ -208,7 +211,8 @@ class PeakSweep:
     method : str
         ``"fd"`` or ``"fem"``.
     x_tol, n_tol : float
-        Tolerances of the checks (relative in x*, absolute in n*).
+        Tolerances of the checks (relative in x*; in n* absolute for ``"fd"`` and
+        ``"fem"``, relative to 3 - n* for ``"tail"``).
     """
 
     peaks: tuple[ExponentPeak, ...]
@@ -236,6 +240,42 @@ class PeakSweep:
         """``(eps_1, eps_2, exponent of v*, exponent of 3 - n*)`` between successive
         converged peaks."""
         return local_exponents(self.selected())
+
+    def errors(self) -> list[tuple[float, float]]:
+        """Error bars of the converged peaks from the resolution checks.
+
+        Returns
+        -------
+        list of tuple
+            ``(relative error of v*, absolute error of n*)``: the largest change between
+            the reported peak and its checks (coarser mesh, other cut-off or depth).
+        """
+        out = []
+        for p, pc, ok, k in zip(self.peaks, self.coarse, self.converged,
+                                range(len(self.peaks)), strict=True):
+            if not ok:
+                continue
+            checks = [pc] + ([self.other_cutoff[k]] if self.other_cutoff else [])
+            out.append((max(abs(q.v / p.v - 1) for q in checks),
+                        max(abs(q.n - p.n) for q in checks)))
+        return out
+
+    def local_errors(self) -> list[tuple[float, float]]:
+        """Error bars of :meth:`local`: the peaks' error bars carried through the
+        two-point exponents (worst case, added).
+
+        Returns
+        -------
+        list of tuple
+            ``(error of the exponent of v*, error of the exponent of 3 - n*)``.
+        """
+        sel, err = self.selected(), self.errors()
+        out = []
+        for a, b, ea, eb in zip(sel[:-1], sel[1:], err[:-1], err[1:], strict=True):
+            le = abs(math.log(b.eps / a.eps))
+            out.append(((ea[0] + eb[0]) / le,
+                        (ea[1] / (3.0 - a.n) + eb[1] / (3.0 - b.n)) / le))
+        return out
 
 
 FEM_PEAK_SPACINGS = (0.05, 0.035)
@@ -351,3 +391,31 @@ def peak_sweep(eps_values: tuple[float, ...], *, spacing: float, method: str = "
                                  for q in checks))
     return PeakSweep(tuple(fine_peaks), tuple(coarse_peaks), tuple(converged), tuple(other),
                      "fem", x_tol, n_tol)
+
+
+def combine_sweeps(*sweeps: PeakSweep) -> PeakSweep:
+    """The converged peaks of several sweeps in one, a later sweep replacing an earlier
+    one at the same eps (e.g. FEM above eps = 1e-3 and the tail solver at and below).
+
+    Parameters
+    ----------
+    *sweeps : PeakSweep
+        Sweeps in order of precedence (last wins).
+
+    Returns
+    -------
+    PeakSweep
+        ``method`` joins the methods with ``+``; tolerances are the largest ones.
+    """
+    chosen: dict[float, tuple[ExponentPeak, ExponentPeak, ExponentPeak]] = {}
+    for sw in sweeps:
+        others = sw.other_cutoff or sw.coarse
+        for p, pc, po, ok in zip(sw.peaks, sw.coarse, others, sw.converged, strict=True):
+            if ok:
+                chosen[p.eps] = (p, pc, po)
+    order = sorted(chosen, reverse=True)
+    return PeakSweep(tuple(chosen[e][0] for e in order), tuple(chosen[e][1] for e in order),
+                     tuple(True for _ in order), tuple(chosen[e][2] for e in order),
+                     "+".join(sw.method for sw in sweeps),
+                     max((sw.x_tol for sw in sweeps), default=0.0),
+                     max((sw.n_tol for sw in sweeps), default=0.0))
