@@ -50,6 +50,7 @@ from __future__ import annotations
 import logging
 import math
 import warnings
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -69,6 +70,7 @@ from ..operators.fem_discretisation import (
     mass,
     weighted_mass,
 )
+from ..operators.fem_kernels import evaluate_field
 from ..operators.grid import symmetric_grid, uniform_grid
 from ..solve import register_solver
 from .fem_defaults import (
@@ -110,6 +112,14 @@ CUTOFF_TARGET = 1e-33
 MAX_WIDENINGS = 4
 CONTINUATION_ALPHA = 0.95
 """Above this alpha Newton starts from the solution at ten times the inelasticity."""
+SEQUENCE_FACTOR = 3.0
+"""Mesh sequencing: the first solve is on a mesh this much coarser."""
+SEQUENCE_MAX_SPACING = 0.25
+"""No sequencing when the coarse spacing would exceed this (thermal velocities)."""
+SEQUENCE_BAND = 8
+"""Elements at each end kept fine in the coarse mesh (:func:`nested_coarse`)."""
+SEQUENCE_TOL = 1e-6
+"""Newton tolerance on the coarse mesh (its discretisation error is larger)."""
 
 
 # ---------------------------------------------------------------- weak forms (n = D = 1)
@@ -140,6 +150,33 @@ def _mesh(alpha: float, *, cutoff: float | None, spacing: float, vertices,
     return math.sqrt(model.temperature) * graded_vertices(c_max, spacing, grading=grading)
 
 
+
+
+def nested_coarse(vertices: NDArray, factor: int, band: int = SEQUENCE_BAND) -> NDArray:
+    """Every ``factor``-th vertex from 0 outwards, all of the last ``band`` elements.
+
+    The coarse mesh of the mesh sequencing: nested in ``vertices`` and equal to it at
+    the ends, where the zero-flux condition bends :math:`\\ln P_h` in a layer a few
+    elements wide (a coarser mesh gets that layer wrong by O(1) in :math:`\\ln P`).
+
+    Parameters
+    ----------
+    vertices : ndarray
+        Symmetric increasing vertices with one at 0.
+    factor : int
+        Coarsening factor of the interior.
+    band : int
+        Elements kept at each end.
+
+    Returns
+    -------
+    ndarray
+    """
+    half = vertices[vertices >= 0.0]
+    n = half.size - 1
+    keep = np.union1d(np.arange(0, max(n - band, 0), factor), np.arange(max(n - band, 0), n + 1))
+    kept = half[keep]
+    return np.concatenate([-kept[:0:-1], kept])
 
 
 @dataclass(frozen=True, eq=False)
@@ -180,6 +217,26 @@ class SteadyState:
             slope = min((ends[1] - ends[0]) / (0.03 * edge), 0.0)
             return log_f + slope * (np.abs(c) - np.abs(c_in)) - math.log(s_new / s_old)
         return log_f - 0.5 * (c**2 - c_in**2) - math.log(s_new)
+
+    def log_density(self, v: NDArray) -> NDArray:
+        """:math:`u_h = \\ln P_h` at points ``v`` inside the mesh (any order).
+
+        Parameters
+        ----------
+        v : ndarray
+            Velocities in ``[v_0, v_E]`` (``n = D = 1``).
+
+        Returns
+        -------
+        ndarray
+        """
+        verts, dofs = self.disc.mesh_arrays
+        v = np.clip(np.asarray(v, dtype=float), verts[0], verts[-1])
+        order = np.argsort(v)
+        out = np.empty_like(v)
+        out[order] = evaluate_field(verts, dofs, self.disc.order, np.ascontiguousarray(self.u),
+                                    np.ascontiguousarray(v[order]))
+        return out
 
     def energy_terms(self) -> tuple[float, float]:
         """Discrete input :math:`-\\sum_i v_i^2 \\int\\varphi_i' (P' + \\xi v P)` and the pair
@@ -290,15 +347,14 @@ def steady_state(model: float | HeatedProblem, *, order: int = 2,
         c_max = default_cutoff(alpha) if paper else model_cutoff(scaled)
     else:
         c_max = cutoff
-    verts = _mesh(alpha, cutoff=c_max, spacing=spacing, vertices=vertices, model=scaled)
-    scaled.law.check_speed(2.0 * verts[-1] * scaled.speed_scale, "the FEM velocity interval")
-    disc = discretisation(scaled, verts, order, intorder, symmetric)
     # Gaussian bulk, WKB tail: from the plain Gaussian (far too low in the tail of hard
     # rods) Newton needs one more Jacobian (measured at alpha = 0, 0.3, 0.6)
-    u0 = initial_log_density(disc.dof_locations, scaled)
+    def start(v: NDArray) -> NDArray:
+        return initial_log_density(v, scaled)
+
     if initial is not None:
-        u0 = initial.initial_guess(disc.dof_locations, scaled.temperature,
-                                   linear_tail=not paper)
+        def start(v: NDArray) -> NDArray:
+            return initial.initial_guess(v, scaled.temperature, linear_tail=not paper)
     elif alpha_eff > CONTINUATION_ALPHA and vertices is None and \
             scaled.law.constant is not None:
         # start from the solution at eps' = 10 eps, rescaled to f(c) (quasi-elastic
@@ -306,10 +362,56 @@ def steady_state(model: float | HeatedProblem, *, order: int = 2,
         coarse_problem = HeatedProblem.from_parameters(
             max(1.0 - 10.0 * (1.0 - alpha), CONTINUATION_ALPHA - 0.05),
             friction=scaled.friction, kernel=scaled.gamma)
-        coarse = steady_state(coarse_problem, order=order, spacing=0.2, symmetric=symmetric,
-                              tol=1e-6, max_iter=max_iter)
-        u0 = coarse.initial_guess(disc.dof_locations, scaled.temperature,
-                                  linear_tail=not paper)
+        guess = steady_state(coarse_problem, order=order, spacing=0.2, symmetric=symmetric,
+                             tol=1e-6, max_iter=max_iter)
+
+        def start(v: NDArray) -> NDArray:
+            return guess.initial_guess(v, scaled.temperature, linear_tail=not paper)
+    if vertices is None and SEQUENCE_FACTOR * spacing <= SEQUENCE_MAX_SPACING:
+        # mesh sequencing: the globalised iteration and the widening of the interval on
+        # a 3x coarser nested mesh, then Newton from its f on the fine one (one Jacobian
+        # and chord steps); any failure falls back to the fine mesh from the default start
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", ResolutionWarning)
+                coarse, c_seq = _widened_solve(
+                    alpha, scaled, paper, order, intorder, symmetric, spacing, c_max, start,
+                    fixed=cutoff is not None, tol=SEQUENCE_TOL, max_iter=max_iter,
+                    coarsen=int(SEQUENCE_FACTOR))
+
+            def refined(v: NDArray) -> NDArray:
+                return coarse.log_density(v)
+
+            return _widened_solve(alpha, scaled, paper, order, intorder, symmetric, spacing,
+                                  c_seq, refined, fixed=cutoff is not None, tol=tol,
+                                  max_iter=max_iter)[0]
+        except ConvergenceError as err:
+            logger.info("mesh sequencing failed at alpha=%g (%s); default start", alpha, err)
+    state, _ = _widened_solve(alpha, scaled, paper, order, intorder, symmetric, spacing,
+                              c_max, start, fixed=cutoff is not None or vertices is not None,
+                              tol=tol, max_iter=max_iter, vertices=vertices)
+    return state
+
+
+def _widened_solve(alpha: float, scaled: ScaledModel, paper: bool, order: int,
+                   intorder: int | None, symmetric: bool, spacing: float, c_max: float,
+                   start: Callable[[NDArray], NDArray], *, fixed: bool, tol: float,
+                   max_iter: int, vertices=None, coarsen: int = 1
+                   ) -> tuple[SteadyState, float]:
+    """Newton on one mesh from ``ln P = start(v)``; unless ``fixed``, widen the interval
+    by 15 % (from the current solution) until :math:`f` at the cut-off is below
+    :data:`CUTOFF_TARGET`.  With ``coarsen > 1`` the mesh is :func:`nested_coarse`.
+    Returns the state and the final cut-off :math:`c_{max}`."""
+
+    def mesh(c: float):
+        verts = _mesh(alpha, cutoff=c, spacing=spacing, vertices=vertices, model=scaled)
+        return verts if coarsen == 1 else nested_coarse(verts, coarsen)
+
+    verts = mesh(c_max)
+    scaled.law.check_speed(2.0 * verts[-1] * scaled.speed_scale, "the FEM velocity interval")
+    disc = discretisation(scaled, verts, order, intorder, symmetric)
+    u0 = start(disc.dof_locations)
+    verts = disc.vertices
     state: SteadyState | None = None
     edge = math.inf
     for widening in range(MAX_WIDENINGS + 1):
@@ -329,15 +431,16 @@ def steady_state(model: float | HeatedProblem, *, order: int = 2,
             logger.info("widened interval failed (%s); keeping f = %.1e at the cut-off",
                         err, edge)
             disc, u, info, verts = state.disc, state.u, state.info, state.disc.vertices
+            c_max /= 1.15
             break
         edge = float(np.exp(u[np.argmax(disc.dof_locations)])) * math.sqrt(temperature)
-        if cutoff is not None or vertices is not None or edge < CUTOFF_TARGET:
+        if fixed or edge < CUTOFF_TARGET:
             break
         if widening < MAX_WIDENINGS:
             logger.info("f = %.1e at the cut-off; widening the interval", edge)
             state = SteadyState(disc, u, info)
             c_max *= 1.15
-            verts = _mesh(alpha, cutoff=c_max, spacing=spacing, vertices=None, model=scaled)
+            verts = mesh(c_max)
             scaled.law.check_speed(2.0 * verts[-1] * scaled.speed_scale,
                                    "the FEM velocity interval")
             disc = discretisation(scaled, verts, order, intorder, symmetric)
@@ -347,8 +450,8 @@ def steady_state(model: float | HeatedProblem, *, order: int = 2,
         warnings.warn(f"f(c) = {edge:.2e} at the cut-off c = {c_edge:.3g} is above "
                       f"{TAIL_FLOOR}: the tail is truncated; increase cutoff "
                       "(default: from the model's tail, widened automatically)",
-                      ResolutionWarning, stacklevel=2)
-    return SteadyState(disc, u, info)
+                      ResolutionWarning, stacklevel=3)
+    return SteadyState(disc, u, info), c_max
 
 
 @register_solver("fem", problem="heated")
