@@ -189,8 +189,7 @@ class FEMDiscretisation:
 
     def _collide(self, u: NDArray[np.float64], jacobian: bool,
                  energy_power: int, even: bool = False) -> tuple[NDArray, NDArray, float, float]:
-        if energy_power < 0:
-            raise ValueError(f"energy_power must be a non-negative integer, got {energy_power}")
+        # energy_power < 0: no pair moments (the kernel skips them)
         verts, dofs = self.mesh_arrays
         xq, wq, eq = self.points
         ref_x, ref_w = self.basis.quadrature
@@ -203,7 +202,8 @@ class FEMDiscretisation:
         return collision_operator(*args)
 
     def collision(self, u: NDArray[np.float64], *, jacobian: bool = False,
-                  energy_power: int = 3, even: bool = False) -> tuple[NDArray, NDArray, float]:
+                  energy_power: int | None = 3, even: bool = False
+                  ) -> tuple[NDArray, NDArray, float]:
         """Weak collision term, its Jacobian and the pair moment ``<|g|^p>``.
 
         Parameters
@@ -212,12 +212,17 @@ class FEMDiscretisation:
             Coefficients of :math:`u_h = \\ln P_h`.
         jacobian : bool
             Also the dense Jacobian (else a (1, 1) placeholder).
-        energy_power : int
-            ``p >= 0`` of the pair moment.
+        energy_power : int or None
+            ``p >= 0`` of the pair moment; ``None``: no moment (returned as 0, a few per
+            cent faster).
         even : bool
             ``u`` is even (symmetric mesh): visit only the outer points at
             :math:`v > 0` and mirror them, half the cost (equal to round-off).
         """
+        if energy_power is None:
+            return self._collide(u, jacobian, -1, even)[:3]
+        if energy_power < 0:
+            raise ValueError(f"energy_power must be a non-negative integer, got {energy_power}")
         return self._collide(u, jacobian, energy_power, even)[:3]
 
     def energy_loss(self, u: NDArray[np.float64], *, even: bool = False) -> float:
@@ -244,7 +249,7 @@ class FEMDiscretisation:
                  ) -> tuple[NDArray, NDArray | None]:
         """:math:`R_i = -\\int \\varphi_i' (P' + \\xi v P) + C_i` and optionally its dense
         Jacobian (``even``: see :meth:`collision`)."""
-        coll, cjac, _ = self.collision(u, jacobian=jacobian, even=even)
+        coll, cjac, _ = self.collision(u, jacobian=jacobian, energy_power=None, even=even)
         heat, hjac = self.transport(u, jacobian=jacobian)
         res = coll + heat
         if not jacobian:
