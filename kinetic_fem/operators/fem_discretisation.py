@@ -17,8 +17,18 @@ from functools import cached_property
 import numpy as np
 import scipy.sparse
 from numpy.typing import NDArray
-from skfem import Basis, BilinearForm, ElementLineP1, ElementLineP2, LinearForm, MeshLine, asm
+from skfem import (
+    Basis,
+    BilinearForm,
+    ElementH1,
+    ElementLineP1,
+    ElementLineP2,
+    LinearForm,
+    MeshLine,
+    asm,
+)
 from skfem.helpers import dot, grad
+from skfem.refdom import RefLine
 
 from ..distribution import VelocityDistribution
 from ..model import RestitutionLaw
@@ -28,7 +38,38 @@ from .fem_kernels import collision_operator, evaluate_field
 __all__ = ["FEMDiscretisation", "ELEMENTS", "fokker_planck", "fokker_planck_jacobian",
            "bath_drift", "bath_drift_jacobian", "mass", "weighted_mass"]
 
-ELEMENTS = {1: ElementLineP1, 2: ElementLineP2}
+
+
+class ElementLineP3(ElementH1):
+    """Piecewise cubic Lagrange element (dofs: left and right vertex, then the points
+    1/3 and 2/3 of the element)."""
+
+    nodal_dofs = 1
+    interior_dofs = 2
+    maxdeg = 3
+    dofnames = ["u", "u", "u"]
+    doflocs = np.array([[0.0], [1.0], [1.0 / 3.0], [2.0 / 3.0]])
+    refdom = RefLine
+
+    def lbasis(self, X, i):
+        """Value and gradient of the ``i``-th shape function at the points ``X``."""
+        x = X[0]
+        if i == 0:
+            return (-4.5 * (x - 1 / 3) * (x - 2 / 3) * (x - 1),
+                    np.array([-4.5 * (3 * x**2 - 4 * x + 11 / 9)]))
+        if i == 1:
+            return (4.5 * x * (x - 1 / 3) * (x - 2 / 3),
+                    np.array([4.5 * (3 * x**2 - 2 * x + 2 / 9)]))
+        if i == 2:
+            return (13.5 * x * (x - 2 / 3) * (x - 1),
+                    np.array([13.5 * (3 * x**2 - 10 / 3 * x + 2 / 3)]))
+        if i == 3:
+            return (-13.5 * x * (x - 1 / 3) * (x - 1),
+                    np.array([-13.5 * (3 * x**2 - 8 / 3 * x + 1 / 3)]))
+        return self._index_error()
+
+
+ELEMENTS = {1: ElementLineP1, 2: ElementLineP2, 3: ElementLineP3}
 """Lagrange elements by degree."""
 
 

@@ -43,6 +43,7 @@ from .fem_pair_breaks import (
     pieces,
     preimage_distance,
 )
+from .fem_pair_fast import collision_constant, finish_collision
 
 __all__ = ["shape_values", "collision_operator", "evaluate_field", "kernel_rate",
            "preimage_distance", "GRADING_RATIO", "GRADING_LEVELS"]
@@ -51,10 +52,18 @@ __all__ = ["shape_values", "collision_operator", "evaluate_field", "kernel_rate"
 
 @jit
 def shape_values(order: int, xi: float, out: np.ndarray) -> None:
-    """Lagrange shape functions of degree ``order`` (1 or 2) at ``xi`` in [0, 1]."""
+    """Lagrange shape functions of degree ``order`` (1, 2 or 3) at ``xi`` in [0, 1]."""
     if order == 1:
         out[0] = 1.0 - xi
         out[1] = xi
+    elif order == 3:
+        d1 = xi - 1.0 / 3.0
+        d2 = xi - 2.0 / 3.0
+        d3 = xi - 1.0
+        out[0] = -4.5 * d1 * d2 * d3
+        out[1] = 4.5 * xi * d1 * d2
+        out[2] = 13.5 * xi * d2 * d3
+        out[3] = -13.5 * xi * d1 * d3
     else:
         out[0] = 1.0 - 3.0 * xi + 2.0 * xi * xi
         out[1] = -xi + 2.0 * xi * xi
@@ -158,8 +167,11 @@ def collision_operator(verts: np.ndarray, dofs: np.ndarray, order: int, coef: np
     k = dofs.shape[1]
     constant = code == CONSTANT
     moments = energy_power >= 0
-    fast = order == 2 and k == 3 and constant and not symmetric
     graded = (gamma != 0.0 and gamma != 1.0 and gamma != 2.0) or code == VISCOELASTIC
+    if order >= 2 and constant and not symmetric and not graded:
+        # P2/P3, constant alpha, reduced bracket: per-piece sums in scalars
+        return collision_constant(verts, dofs, coef, xq, wq, eq, ref_x, ref_w, alpha, density,
+                                  with_jacobian, energy_power, gamma, mirror)
     a = 0.5 * (1.0 - alpha)
     b = 0.5 * (1.0 + alpha)
     res = np.zeros(n_dof)
@@ -234,139 +246,59 @@ def collision_operator(verts: np.ndarray, dofs: np.ndarray, order: int, coef: np
             h2 = 1.0 / (verts[e2 + 1] - verts[e2])
             u0 = coef[dofs[ey, 0]]
             u1 = coef[dofs[ey, 1]]
-            u2 = coef[dofs[ey, 2]] if k == 3 else 0.0
+            u2 = coef[dofs[ey, 2]] if k >= 3 else 0.0
             wm = wq[q] * length * px
-            if fast:
-                # P2, constant alpha, reduced bracket: shape values from the piece's
-                # affine maps, sums in scalars (the generic loop below in arrays)
-                ty0 = (y0 - verts[ey]) * hy
-                dty = length * hy
-                t10 = (a * x + b * y0 - verts[e1]) * h1
-                dt1 = b * length * h1
-                wmd = 0.5 * density * wm
-                c_piece = 0.0
-                s0 = s1 = s2 = z0 = z1 = z2 = 0.0
-                g00 = g01 = g02 = g10 = g11 = g12 = g20 = g21 = g22 = 0.0
-                l00 = l01 = l02 = l11 = l12 = l22 = 0.0
-                for r in range(n_ref):
-                    xi = ref_x[r]
-                    ty = ty0 + dty * xi
-                    t1 = t10 + dt1 * xi
-                    py0 = 1.0 - 3.0 * ty + 2.0 * ty * ty
-                    py1 = -ty + 2.0 * ty * ty
-                    py2 = 4.0 * ty - 4.0 * ty * ty
-                    q0 = 1.0 - 3.0 * t1 + 2.0 * t1 * t1
-                    q1 = -t1 + 2.0 * t1 * t1
-                    q2 = 4.0 * t1 - 4.0 * t1 * t1
-                    g = abs(x - (y0 + length * xi))
-                    ew = ref_w[r] * np.exp(u0 * py0 + u1 * py1 + u2 * py2)
-                    rate = kernel_rate(gamma, g)
-                    if moments:
-                        w = wm * ew
-                        gp = 1.0
-                        for _ in range(energy_power):
-                            gp *= g
-                        moment += w * gp
-                        loss += w * (1.0 - alpha * alpha) * rate * g * g
-                    c = wmd * ew * rate
-                    c_piece += c
-                    s0 += c * q0
-                    s1 += c * q1
-                    s2 += c * q2
-                    c0 = c * py0
-                    c1 = c * py1
-                    c2 = c * py2
-                    z0 += c0
-                    z1 += c1
-                    z2 += c2
-                    if with_jacobian:
-                        g00 += q0 * c0
-                        g01 += q0 * c1
-                        g02 += q0 * c2
-                        g10 += q1 * c0
-                        g11 += q1 * c1
-                        g12 += q1 * c2
-                        g20 += q2 * c0
-                        g21 += q2 * c1
-                        g22 += q2 * c2
-                        l00 += py0 * c0
-                        l01 += py0 * c1
-                        l02 += py0 * c2
-                        l11 += py1 * c1
-                        l12 += py1 * c2
-                        l22 += py2 * c2
-                v1[0] = s0
-                v1[1] = s1
-                v1[2] = s2
-                vy[0] = z0
-                vy[1] = z1
-                vy[2] = z2
+            c_piece = 0.0
+            for j in range(k):
+                v1[j] = 0.0
+                v2[j] = 0.0
+                vy[j] = 0.0
                 if with_jacobian:
-                    m1[0, 0] = g00
-                    m1[0, 1] = g01
-                    m1[0, 2] = g02
-                    m1[1, 0] = g10
-                    m1[1, 1] = g11
-                    m1[1, 2] = g12
-                    m1[2, 0] = g20
-                    m1[2, 1] = g21
-                    m1[2, 2] = g22
-                    my[0, 0] = l00
-                    my[0, 1] = my[1, 0] = l01
-                    my[0, 2] = my[2, 0] = l02
-                    my[1, 1] = l11
-                    my[1, 2] = my[2, 1] = l12
-                    my[2, 2] = l22
-            else:
-                c_piece = 0.0
+                    for i in range(k):
+                        m1[j, i] = 0.0
+                        m2[j, i] = 0.0
+                        my[j, i] = 0.0
+            for r in range(n_ref):
+                y = y0 + length * ref_x[r]
+                shape_values(order, (y - verts[ey]) * hy, phy)
+                uy = u0 * phy[0] + u1 * phy[1]
+                if k >= 3:
+                    uy += u2 * phy[2]
+                for j in range(3, k):
+                    uy += coef[dofs[ey, j]] * phy[j]
+                g = abs(x - y)
+                if constant:
+                    al = alpha
+                    x1 = a * x + b * y
+                else:
+                    al = restitution_value(code, p0, p1, g * speed_scale)
+                    x1 = x - 0.5 * (1.0 + al) * (x - y)
+                shape_values(order, (x1 - verts[e1]) * h1, ph1)
+                if symmetric:
+                    shape_values(order, (b * x + a * y - verts[e2]) * h2, ph2)
+                w = wm * ref_w[r] * np.exp(uy)
+                rate = kernel_rate(gamma, g)
+                if moments:
+                    gp = 1.0
+                    for _ in range(energy_power):
+                        gp *= g
+                    moment += w * gp
+                    loss += w * (1.0 - al * al) * rate * g * g
+                c = 0.5 * density * w * rate
+                c_piece += c
                 for j in range(k):
-                    v1[j] = 0.0
-                    v2[j] = 0.0
-                    vy[j] = 0.0
-                    if with_jacobian:
-                        for i in range(k):
-                            m1[j, i] = 0.0
-                            m2[j, i] = 0.0
-                            my[j, i] = 0.0
-                for r in range(n_ref):
-                    y = y0 + length * ref_x[r]
-                    shape_values(order, (y - verts[ey]) * hy, phy)
-                    uy = u0 * phy[0] + u1 * phy[1]
-                    if k == 3:
-                        uy += u2 * phy[2]
-                    g = abs(x - y)
-                    if constant:
-                        al = alpha
-                        x1 = a * x + b * y
-                    else:
-                        al = restitution_value(code, p0, p1, g * speed_scale)
-                        x1 = x - 0.5 * (1.0 + al) * (x - y)
-                    shape_values(order, (x1 - verts[e1]) * h1, ph1)
+                    v1[j] += c * ph1[j]
+                    vy[j] += c * phy[j]
                     if symmetric:
-                        shape_values(order, (b * x + a * y - verts[e2]) * h2, ph2)
-                    w = wm * ref_w[r] * np.exp(uy)
-                    rate = kernel_rate(gamma, g)
-                    if moments:
-                        gp = 1.0
-                        for _ in range(energy_power):
-                            gp *= g
-                        moment += w * gp
-                        loss += w * (1.0 - al * al) * rate * g * g
-                    c = 0.5 * density * w * rate
-                    c_piece += c
+                        v2[j] += c * ph2[j]
+                if with_jacobian:
                     for j in range(k):
-                        v1[j] += c * ph1[j]
-                        vy[j] += c * phy[j]
-                        if symmetric:
-                            v2[j] += c * ph2[j]
-                    if with_jacobian:
-                        for j in range(k):
-                            cph = c * phy[j]
-                            for i in range(k):
-                                m1[i, j] += ph1[i] * cph
-                                my[i, j] += phy[i] * cph
-                                if symmetric:
-                                    m2[i, j] += ph2[i] * cph
+                        cph = c * phy[j]
+                        for i in range(k):
+                            m1[i, j] += ph1[i] * cph
+                            my[i, j] += phy[i] * cph
+                            if symmetric:
+                                m2[i, j] += ph2[i] * cph
             c_total += c_piece
             for i in range(k):
                 di1 = dofs[e1, i]
@@ -409,17 +341,4 @@ def collision_operator(verts: np.ndarray, dofs: np.ndarray, order: int, coef: np
                 djx = dofs[ex, j]
                 for row in range(n_dof):
                     jac_x[djx, row] += bq[row] * phx[j]
-    if with_jacobian:
-        jac += jac_x.T
-    if mirror is not None:
-        full = res.copy()
-        for i in range(n_dof):
-            full[i] += res[mirror[i]]
-        if with_jacobian:
-            half = jac.copy()
-            for i in range(n_dof):
-                mi = mirror[i]
-                for j in range(n_dof):
-                    jac[i, j] += half[mi, mirror[j]]
-        return full, jac, 2.0 * moment, 2.0 * loss
-    return res, jac, moment, loss
+    return finish_collision(res, jac, jac_x, with_jacobian, moment, loss, mirror)

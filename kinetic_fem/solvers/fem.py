@@ -76,6 +76,7 @@ from ..solve import register_solver
 from .fem_defaults import (
     ScaledModel,
     default_cutoff,
+    default_order,
     default_spacing,
     graded_vertices,
     initial_log_density,
@@ -112,12 +113,17 @@ CUTOFF_TARGET = 1e-33
 MAX_WIDENINGS = 4
 CONTINUATION_ALPHA = 0.95
 """Above this alpha Newton starts from the solution at ten times the inelasticity."""
-SEQUENCE_FACTOR = 3.0
-"""Mesh sequencing: the first solve is on a mesh this much coarser."""
-SEQUENCE_MAX_SPACING = 0.25
-"""No sequencing when the coarse spacing would exceed this (thermal velocities)."""
+SEQUENCE_FACTOR = 3
+"""Mesh sequencing: the first solve is on a mesh this much coarser (or 2 where that
+would exceed :data:`SEQUENCE_MAX_SPACING`)."""
+SEQUENCE_MAX_SPACING = 0.3
+"""No sequencing when the coarse spacing would exceed this (thermal velocities) times
+half the element degree."""
 SEQUENCE_BAND = 8
 """Elements at each end kept fine in the coarse mesh (:func:`nested_coarse`)."""
+SEQUENCE_CHORD_LEVEL = 1e-2
+"""Chord steps on the fine mesh start below this update (its start is the coarse state;
+measured: chord from 2e-3 saves one Jacobian at alpha = 0.9)."""
 SEQUENCE_TOL = 1e-6
 """Newton tolerance on the coarse mesh (its discretisation error is larger)."""
 
@@ -296,7 +302,7 @@ def discretisation(model: ScaledModel, vertices: NDArray, order: int = 2,
                              speed_scale=model.speed_scale)
 
 
-def steady_state(model: float | HeatedProblem, *, order: int = 2,
+def steady_state(model: float | HeatedProblem, *, order: int | None = None,
                  spacing: float | None = None, cutoff: float | None = None, vertices=None,
                  intorder: int | None = None, symmetric: bool = False, tol: float = 1e-11,
                  max_iter: int = 40, initial: SteadyState | None = None) -> SteadyState:
@@ -335,9 +341,11 @@ def steady_state(model: float | HeatedProblem, *, order: int = 2,
     alpha = scaled.alpha
     # with a bath the elastic limit is a Gaussian (no quasi-elastic structure)
     alpha_eff = 1.0 - scaled.effective_epsilon if scaled.friction == 0.0 else 0.0
+    if order is None:
+        order = default_order(scaled)
     if order not in ELEMENTS:
         raise ValueError(f"order must be one of {sorted(ELEMENTS)}, got {order!r}")
-    default = default_spacing(alpha) if paper else model_spacing(scaled)
+    default = default_spacing(alpha, order) if paper else model_spacing(scaled)
     spacing = default if spacing is None else check_positive("spacing", spacing)
     if alpha_eff > CONTINUATION_ALPHA and spacing > 0.3 and vertices is None:
         raise ValueError(f"spacing={spacing} thermal velocities is too coarse for alpha="
@@ -362,12 +370,15 @@ def steady_state(model: float | HeatedProblem, *, order: int = 2,
         coarse_problem = HeatedProblem.from_parameters(
             max(1.0 - 10.0 * (1.0 - alpha), CONTINUATION_ALPHA - 0.05),
             friction=scaled.friction, kernel=scaled.gamma)
-        guess = steady_state(coarse_problem, order=order, spacing=0.2, symmetric=symmetric,
+        guess = steady_state(coarse_problem, order=order, spacing=0.1 * order,
+                             symmetric=symmetric,
                              tol=1e-6, max_iter=max_iter)
 
         def start(v: NDArray) -> NDArray:
             return guess.initial_guess(v, scaled.temperature, linear_tail=not paper)
-    if vertices is None and SEQUENCE_FACTOR * spacing <= SEQUENCE_MAX_SPACING:
+    coarsen = next((f for f in (SEQUENCE_FACTOR, 2) if f * spacing <= SEQUENCE_MAX_SPACING
+                    * order / 2), 0)
+    if vertices is None and coarsen:
         # mesh sequencing: the globalised iteration and the widening of the interval on
         # a 3x coarser nested mesh, then Newton from its f on the fine one (one Jacobian
         # and chord steps); any failure falls back to the fine mesh from the default start
@@ -377,14 +388,14 @@ def steady_state(model: float | HeatedProblem, *, order: int = 2,
                 coarse, c_seq = _widened_solve(
                     alpha, scaled, paper, order, intorder, symmetric, spacing, c_max, start,
                     fixed=cutoff is not None, tol=SEQUENCE_TOL, max_iter=max_iter,
-                    coarsen=int(SEQUENCE_FACTOR))
+                    coarsen=coarsen)
 
             def refined(v: NDArray) -> NDArray:
                 return coarse.log_density(v)
 
             return _widened_solve(alpha, scaled, paper, order, intorder, symmetric, spacing,
                                   c_seq, refined, fixed=cutoff is not None, tol=tol,
-                                  max_iter=max_iter)[0]
+                                  max_iter=max_iter, chord_level=SEQUENCE_CHORD_LEVEL)[0]
         except ConvergenceError as err:
             logger.info("mesh sequencing failed at alpha=%g (%s); default start", alpha, err)
     state, _ = _widened_solve(alpha, scaled, paper, order, intorder, symmetric, spacing,
@@ -396,8 +407,8 @@ def steady_state(model: float | HeatedProblem, *, order: int = 2,
 def _widened_solve(alpha: float, scaled: ScaledModel, paper: bool, order: int,
                    intorder: int | None, symmetric: bool, spacing: float, c_max: float,
                    start: Callable[[NDArray], NDArray], *, fixed: bool, tol: float,
-                   max_iter: int, vertices=None, coarsen: int = 1
-                   ) -> tuple[SteadyState, float]:
+                   max_iter: int, vertices=None, coarsen: int = 1,
+                   chord_level: float = CHORD_LEVEL) -> tuple[SteadyState, float]:
     """Newton on one mesh from ``ln P = start(v)``; unless ``fixed``, widen the interval
     by 15 % (from the current solution) until :math:`f` at the cut-off is below
     :data:`CUTOFF_TARGET`.  With ``coarsen > 1`` the mesh is :func:`nested_coarse`.
@@ -415,14 +426,14 @@ def _widened_solve(alpha: float, scaled: ScaledModel, paper: bool, order: int,
     state: SteadyState | None = None
     edge = math.inf
     for widening in range(MAX_WIDENINGS + 1):
-        u, info = newton_steady(disc, u0, tol=tol, max_iter=max_iter)
+        u, info = newton_steady(disc, u0, tol=tol, max_iter=max_iter, chord_level=chord_level)
         try:
             if not info.converged:
                 raise ConvergenceError(f"FEM Newton did not converge in {max_iter} iterations "
                                        f"at alpha={alpha} ({info.message}); increase max_iter "
                                        "or refine the mesh (smaller spacing)")
             temperature = disc.distribution(u).temperature
-            if not paper and order == 2:
+            if not paper and order >= 2:
                 _check_energy_input(disc, u, temperature, alpha)
         except ConvergenceError as err:
             if state is None or edge > TAIL_FLOOR:
@@ -455,17 +466,19 @@ def _widened_solve(alpha: float, scaled: ScaledModel, paper: bool, order: int,
 
 
 @register_solver("fem", problem="heated")
-def solve_fem_heated(problem: HeatedProblem, *, order: int = 2, spacing: float | None = None,
-              cutoff: float | None = None, vertices=None, intorder: int | None = None,
-              symmetric: bool = False, tol: float = 1e-11,
-              max_iter: int = 40) -> VelocityDistribution:
+def solve_fem_heated(problem: HeatedProblem, *, order: int | None = None,
+                     spacing: float | None = None, cutoff: float | None = None, vertices=None,
+                     intorder: int | None = None, symmetric: bool = False, tol: float = 1e-11,
+                     max_iter: int = 40) -> VelocityDistribution:
     """Steady state of the heated gas by Galerkin FEM and Newton's method.
 
     Parameters
     ----------
     problem : HeatedProblem
-    order : int
-        Lagrange degree, 1 or 2.
+    order : int, optional
+        Lagrange degree, 1, 2 or 3; default
+        :func:`kinetic_fem.solvers.fem_defaults.default_order` (3 for hard rods with
+        constant alpha and white noise, else 2).
     spacing : float, optional
         Element size in thermal velocities :math:`\\sqrt{T}`; default
         :func:`default_spacing` for hard rods with constant alpha and white noise (T to
@@ -514,7 +527,7 @@ def solve_fem_heated(problem: HeatedProblem, *, order: int = 2, spacing: float |
     state = steady_state(problem, order=order, spacing=spacing, cutoff=cutoff,
                          vertices=vertices, intorder=intorder, symmetric=symmetric, tol=tol,
                          max_iter=max_iter)
-    return state_distribution(problem, state, order)
+    return state_distribution(problem, state, state.disc.order)
 
 
 def state_distribution(problem: HeatedProblem, state: SteadyState,

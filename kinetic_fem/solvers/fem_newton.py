@@ -88,7 +88,8 @@ PREDICT_MARGIN = 0.01
 
 def newton_steady(disc: FEMDiscretisation, u0: NDArray[np.float64], *, tol: float = 1e-11,
                   max_iter: int = 40, step_limit: float = 10.0,
-                  chord: bool = True) -> tuple[NDArray, RunInfo]:
+                  chord: bool = True, chord_level: float = CHORD_LEVEL
+                  ) -> tuple[NDArray, RunInfo]:
     """Newton iteration for the even steady state with :math:`\\int P_h = 1`.
 
     The update of each dof is :math:`\\ln(1 + \\delta)` (see :func:`log_update`).
@@ -113,6 +114,9 @@ def newton_steady(disc: FEMDiscretisation, u0: NDArray[np.float64], *, tol: floa
         meaning (measured: T and a2 equal to plain Newton's to 1e-13); a chord step whose
         rate times size is below :data:`PREDICT_MARGIN` ``* tol`` ends the iteration
         without the residual that would confirm it.
+    chord_level : float
+        The update below which chord steps start (default :data:`CHORD_LEVEL`; larger
+        from a start already near the state, e.g. a coarse mesh's solution).
     """
     start = time.perf_counter()
     sym = disc.symmetry
@@ -168,7 +172,7 @@ def newton_steady(disc: FEMDiscretisation, u0: NDArray[np.float64], *, tol: floa
             # is not needed (the rate can grow: measured 7e-5 then 4e-4, hence the margin)
             remaining = rate * step
             break
-        use_chord = chord and step < CHORD_LEVEL
+        use_chord = chord and step < chord_level
         r, j = system(u_red, not use_chord)
         if j is not None:
             lu = EquilibratedLU(j)
