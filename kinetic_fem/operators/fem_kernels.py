@@ -168,10 +168,10 @@ def collision_operator(verts: np.ndarray, dofs: np.ndarray, order: int, coef: np
     constant = code == CONSTANT
     moments = energy_power >= 0
     graded = (gamma != 0.0 and gamma != 1.0 and gamma != 2.0) or code == VISCOELASTIC
-    if order >= 2 and constant and not symmetric and not graded:
+    if order >= 2 and constant and not symmetric:
         # P2/P3, constant alpha, reduced bracket: per-piece sums in scalars
         return collision_constant(verts, dofs, coef, xq, wq, eq, ref_x, ref_w, alpha, density,
-                                  with_jacobian, energy_power, gamma, mirror)
+                                  with_jacobian, energy_power, gamma, graded, mirror)
     a = 0.5 * (1.0 - alpha)
     b = 0.5 * (1.0 + alpha)
     res = np.zeros(n_dof)

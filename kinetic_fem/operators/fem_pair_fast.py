@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._jit import jit
-from .fem_pair_breaks import kernel_rate, merge_breaks, pieces
+from .fem_pair_breaks import GRADING_LEVELS, kernel_rate, merge_breaks, pieces
 
 __all__ = ["collision_constant", "finish_collision"]
 
@@ -68,11 +68,12 @@ def finish_collision(res: np.ndarray, jac: np.ndarray, jac_x: np.ndarray, with_j
 def collision_constant(verts: np.ndarray, dofs: np.ndarray, coef: np.ndarray, xq: np.ndarray,
                        wq: np.ndarray, eq: np.ndarray, ref_x: np.ndarray, ref_w: np.ndarray,
                        alpha: float, density: float, with_jacobian: bool, energy_power: int,
-                       gamma: float, mirror: np.ndarray | None
+                       gamma: float, graded: bool, mirror: np.ndarray | None
                        ) -> tuple[np.ndarray, np.ndarray, float, float]:
     """:func:`~kinetic_fem.operators.fem_kernels.collision_operator` for P2 or P3
     (``dofs`` with 3 or 4 columns), a constant ``alpha``, the reduced bracket and
-    :math:`\\gamma \\in \\{0, 1, 2\\}` (no graded pieces); the arguments and returns as there
+    any :math:`\\gamma` (``graded``: pieces split geometrically towards :math:`y = x`, as
+    for :math:`\\gamma \\notin \\{0, 1, 2\\}`); the arguments and returns as there
     (``energy_power < 0``: no moments).
 
     Parameters
@@ -81,6 +82,9 @@ def collision_constant(verts: np.ndarray, dofs: np.ndarray, coef: np.ndarray, xq
         As for :func:`~kinetic_fem.operators.fem_kernels.collision_operator`.
     energy_power, gamma, mirror
         As there.
+    graded : bool
+        Split the pieces next to :math:`y = x` geometrically
+        (:func:`~kinetic_fem.operators.fem_pair_breaks.pieces`).
     """
     n_dof = coef.size
     k = dofs.shape[1]
@@ -93,8 +97,8 @@ def collision_constant(verts: np.ndarray, dofs: np.ndarray, coef: np.ndarray, xq
     cy = np.zeros(n_dof) if with_jacobian else np.zeros(1)
     jac_x = np.zeros((n_dof, n_dof)) if with_jacobian else np.zeros((1, 1))
     buf = np.empty(3 * verts.size + 3)
-    starts = np.empty(buf.size)
-    lengths = np.empty(buf.size)
+    starts = np.empty(buf.size + 2 * (GRADING_LEVELS + 1))
+    lengths = np.empty(starts.size)
     phx = np.empty(k)
     n_ref = ref_x.size
     scale = verts[-1] - verts[0]
@@ -122,7 +126,7 @@ def collision_constant(verts: np.ndarray, dofs: np.ndarray, coef: np.ndarray, xq
             ux += coef[dofs[ex, j]] * phx[j]
         px = np.exp(ux)
         n_br = merge_breaks(verts, x, a, b, buf, False)
-        n_p = pieces(buf, n_br, x, scale, False, starts, lengths)
+        n_p = pieces(buf, n_br, x, scale, graded, starts, lengths)
         ey = 0
         e1 = 0
         c_total = 0.0
