@@ -35,8 +35,9 @@ from ..model import RestitutionLaw
 from ..model.restitution import CONSTANT
 from .fem_kernels import collision_operator, evaluate_field
 
-__all__ = ["FEMDiscretisation", "ELEMENTS", "fokker_planck", "fokker_planck_jacobian",
-           "bath_drift", "bath_drift_jacobian", "mass", "weighted_mass"]
+__all__ = ["FEMDiscretisation", "ELEMENTS", "LAGRANGE_ELEMENTS", "ElementLineP3",
+           "fokker_planck", "fokker_planck_jacobian", "bath_drift", "bath_drift_jacobian",
+           "mass", "weighted_mass"]
 
 
 
@@ -69,8 +70,11 @@ class ElementLineP3(ElementH1):
         return self._index_error()
 
 
-ELEMENTS = {1: ElementLineP1, 2: ElementLineP2, 3: ElementLineP3}
-"""Lagrange elements by degree."""
+LAGRANGE_ELEMENTS = {1: ElementLineP1, 2: ElementLineP2, 3: ElementLineP3}
+"""Lagrange elements by degree (P3: the heated steady state's default for the paper's
+model)."""
+ELEMENTS = {1: ElementLineP1, 2: ElementLineP2}
+"""The degrees every FEM solver supports (the cooling and transient solvers: P1, P2)."""
 
 
 @LinearForm
@@ -121,7 +125,7 @@ class FEMDiscretisation:
     vertices : ndarray, shape (E + 1,)
         Mesh vertices, symmetric about 0 with a vertex at 0.
     order : int
-        Lagrange degree, 1 or 2.
+        Lagrange degree, 1, 2 or 3.
     intorder : int
         Degree of exactness of the Gauss rule (outer points and inner pieces).
     symmetric : bool
@@ -168,7 +172,8 @@ class FEMDiscretisation:
     @cached_property
     def basis(self) -> Basis:
         """The scikit-fem basis (owns the outer quadrature)."""
-        return Basis(MeshLine(self.vertices), ELEMENTS[self.order](), intorder=self.intorder)
+        return Basis(MeshLine(self.vertices), LAGRANGE_ELEMENTS[self.order](),
+                     intorder=self.intorder)
 
     @cached_property
     def points(self) -> tuple[NDArray, NDArray, NDArray]:

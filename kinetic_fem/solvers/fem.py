@@ -62,6 +62,7 @@ from ..exceptions import ConvergenceError, ResolutionWarning
 from ..gas import HeatedProblem, check_positive
 from ..operators.fem_discretisation import (
     ELEMENTS,
+    LAGRANGE_ELEMENTS,
     FEMDiscretisation,
     bath_drift,
     bath_drift_jacobian,
@@ -224,8 +225,8 @@ def steady_state(model: float | HeatedProblem, *, order: int | None = None,
     alpha_eff = 1.0 - scaled.effective_epsilon if scaled.friction == 0.0 else 0.0
     if order is None:
         order = default_order(scaled)
-    if order not in ELEMENTS:
-        raise ValueError(f"order must be one of {sorted(ELEMENTS)}, got {order!r}")
+    if order not in LAGRANGE_ELEMENTS:
+        raise ValueError(f"order must be one of {sorted(LAGRANGE_ELEMENTS)}, got {order!r}")
     default = default_spacing(alpha, order) if paper else model_spacing(scaled)
     spacing = default if spacing is None else check_positive("spacing", spacing)
     if alpha_eff > CONTINUATION_ALPHA and spacing > 0.3 and vertices is None:

@@ -24,6 +24,7 @@ from skfem import asm
 
 from ..distribution import RunInfo
 from ..operators.fem_discretisation import FEMDiscretisation, mass
+from .newton import newton
 
 __all__ = ["STALL_LEVEL", "CHORD_LEVEL", "CHORD_RATE", "PREDICT_MARGIN", "log_update",
            "EquilibratedLU",
@@ -138,47 +139,29 @@ def newton_steady(disc: FEMDiscretisation, u0: NDArray[np.float64], *, tol: floa
         return r, j
 
     u_red = (sym.T @ u0) / np.asarray(sym.sum(axis=0)).ravel()
-    step = np.inf
-    history: list[float] = []
-    remaining: float | None = None
-    r, j = system(u_red, True)
-    assert j is not None
-    lu = EquilibratedLU(j)
-    n_jac = 1
-    for it in range(1, max_iter + 1):
-        delta = lu.solve(-r)
-        new_step = float(np.abs(delta).max())
-        is_fresh = j is not None
-        if not is_fresh and new_step > CHORD_RATE * step:
-            # the chord contracts too slowly here: a Newton step from this point
-            r, j = system(u_red, True)
-            assert j is not None
-            lu = EquilibratedLU(j)
-            n_jac += 1
-            delta = lu.solve(-r)
-            new_step = float(np.abs(delta).max())
-            is_fresh = True
-        rate = new_step / step
-        step = new_step
-        u_red = u_red + log_update(delta, step_limit)
-        history.append(step)
-        logger.debug("newton %d (%s): max|du| = %.3e", it, "newton" if is_fresh else "chord",
-                     step)
-        if step < tol or stalled(history):  # accepted chord steps contract 10x: never a stall
-            break
-        if not is_fresh and rate * step < PREDICT_MARGIN * tol:
-            # a chord iteration contracts at a nearly constant rate: the update still to
-            # come is about rate * step, far below tol, so the residual that would show it
-            # is not needed (the rate can grow: measured 7e-5 then 4e-4, hence the margin)
-            remaining = rate * step
-            break
-        use_chord = chord and step < chord_level
-        r, j = system(u_red, not use_chord)
-        if j is not None:
-            lu = EquilibratedLU(j)
-            n_jac += 1
-    info = newton_info(history, tol, it, start, remaining=remaining)
-    return sym @ u_red, replace(info, message=f"{info.message}; {n_jac} Jacobians")
+    n_jac = 0
+
+    def fun(x: NDArray, jacobian: bool) -> tuple[NDArray, NDArray | None]:
+        nonlocal n_jac
+        n_jac += int(jacobian)
+        return system(x, jacobian)
+
+    out = newton(fun, u_red, tol=tol, max_iter=max_iter, criterion="step",
+                 update=lambda x, d: x + log_update(d, step_limit), line_search=False,
+                 stall_level=STALL_LEVEL, factorize=lambda j: EquilibratedLU(j).solve,
+                 chord=chord_level if chord else 0.0, chord_rate=CHORD_RATE,
+                 predict=PREDICT_MARGIN, name="FEM Newton")
+    history = list(out.history)
+    predicted = "chord-predicted" in out.message
+    text = f"Newton max|du| history {['%.1e' % h for h in history]}"
+    if predicted:
+        text += ", chord-predicted"
+    elif not out.converged:
+        text = f"{out.message}; {text}"
+    info = RunInfo(converged=out.converged, iterations=out.iterations,
+                   residual=history[-1] if history else math.inf,
+                   wall_time=time.perf_counter() - start, message=text)
+    return sym @ out.x, replace(info, message=f"{info.message}; {n_jac} Jacobians")
 
 
 def stalled(history: list[float]) -> bool:
@@ -193,8 +176,7 @@ def stalled(history: list[float]) -> bool:
         history[-1] > 0.25 * min(history[-3:-1])
 
 
-def newton_info(history: list[float], tol: float, iterations: int, start: float, *,
-                remaining: float | None = None) -> RunInfo:
+def newton_info(history: list[float], tol: float, iterations: int, start: float) -> RunInfo:
     """Run info of a Newton iteration: converged below ``tol`` or stalled at round-off.
 
     Parameters
@@ -207,14 +189,9 @@ def newton_info(history: list[float], tol: float, iterations: int, start: float,
         Iterations made.
     start : float
         ``time.perf_counter()`` at the start.
-    remaining : float, optional
-        The update still to come, predicted from a chord step's contraction rate
-        (converged if below ``tol``).
     """
-    step = history[-1] if remaining is None else remaining
+    step = history[-1]
     text = f"Newton max|du| history {['%.1e' % s for s in history]}"
-    if remaining is not None:
-        text += f", chord-predicted {remaining:.1e}"
     if step >= tol and stalled(history):
         text = (f"Newton stalled at round-off, max|du| = {step:.1e} (tol {tol:.0e}); "
                 + text)

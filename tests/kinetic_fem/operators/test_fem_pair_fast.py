@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from kinetic_fem.model.restitution import CONSTANT, THRESHOLD
-from kinetic_fem.operators.fem_discretisation import ELEMENTS, FEMDiscretisation
+from kinetic_fem.operators.fem_discretisation import LAGRANGE_ELEMENTS, FEMDiscretisation
 from kinetic_fem.operators.fem_kernels import collision_operator, evaluate_field
 
 
@@ -57,7 +57,7 @@ def test_p3_element_matches_scikit_fem_and_is_cubic():
     """evaluate_field with the kernel's P3 shape functions equals scikit-fem's probes of
     ElementLineP3, and P3 interpolates cubics exactly."""
     disc = FEMDiscretisation(0.5, np.linspace(-3.0, 3.0, 7), 3, 7)
-    assert isinstance(disc.basis.elem, ELEMENTS[3])
+    assert isinstance(disc.basis.elem, LAGRANGE_ELEMENTS[3])
     x = disc.dof_locations
     v = np.linspace(-2.95, 2.95, 23)
     verts, dofs = disc.mesh_arrays
