@@ -223,8 +223,8 @@ def steady_state(model: float | HeatedProblem, *, order: int | None = None,
     alpha = scaled.alpha
     # with a bath the elastic limit is a Gaussian (no quasi-elastic structure)
     alpha_eff = 1.0 - scaled.effective_epsilon if scaled.friction == 0.0 else 0.0
-    if order is None:
-        order = default_order(scaled)
+    if order is None:  # P3 on the default mesh; an explicit mesh keeps its P2 meaning
+        order = default_order(scaled) if spacing is None and vertices is None else 2
     if order not in LAGRANGE_ELEMENTS:
         raise ValueError(f"order must be one of {sorted(LAGRANGE_ELEMENTS)}, got {order!r}")
     default = default_spacing(alpha, order) if paper else model_spacing(scaled)
@@ -360,8 +360,9 @@ def solve_fem_heated(problem: HeatedProblem, *, order: int | None = None,
     problem : HeatedProblem
     order : int, optional
         Lagrange degree, 1, 2 or 3; default
-        :func:`kinetic_fem.solvers.fem_defaults.default_order` (3 for hard rods with
-        constant alpha and white noise, else 2).
+        :func:`kinetic_fem.solvers.fem_defaults.default_order` on the default mesh (3 for
+        hard rods with constant alpha and white noise, else 2), and 2 with an explicit
+        ``spacing`` or ``vertices``.
     spacing : float, optional
         Element size in thermal velocities :math:`\\sqrt{T}`; default
         :func:`default_spacing` for hard rods with constant alpha and white noise (T to
