@@ -113,6 +113,8 @@ def main() -> None:
     for alpha in args.alphas:
         # near-elastic: Newton from the continuation guess needs spacing <= 0.2
         sp = [s / 2 for s in spacings] if alpha >= 0.99 else spacings
+        if alpha >= 0.99 and args.order == 3:  # P3 from the continuation: spacing <= 0.15
+            sp = [s / 4 for s in spacings][:-1]
         study(alpha, sp, args.order, args.symmetric)
 
 
