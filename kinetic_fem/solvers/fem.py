@@ -12,9 +12,10 @@ The homogeneous Boltzmann equation with white-noise heating,
     \\partial_t P = D\\,\\partial_v^2 P + Q[P, P],
 
 is discretised in weak form on a symmetric velocity interval :math:`[-V, V]` with
-P1 or P2 Lagrange elements.  The unknown is the logarithm :math:`u_h = \\ln P_h`
-in the Lagrange space, :math:`P_h = e^{u_h} > 0`, and the test functions are the
-Lagrange basis :math:`\\varphi_i`, so that for every :math:`i`
+P1, P2 or P3 Lagrange elements (P3 on the default mesh of the paper's model).  The
+unknown is the logarithm :math:`u_h = \\ln P_h` in the Lagrange space,
+:math:`P_h = e^{u_h} > 0`, and the test functions are the Lagrange basis
+:math:`\\varphi_i`, so that for every :math:`i`
 
 .. math::
 
@@ -35,10 +36,13 @@ The steady state is found by Newton's method on :math:`u_h` restricted to even
 functions, with one equation replaced by the normalisation
 :math:`\\int P_h = 1`, started from a Gaussian bulk at the first-order Sonine
 temperature with the model's WKB tail
-(:func:`~kinetic_fem.solvers.fem_defaults.initial_log_density`).  For the even state
-the collision sums visit only the outer points at :math:`v > 0` and mirror them (half
-the cost), and near convergence the factorisation is reused (chord steps,
-:mod:`kinetic_fem.solvers.fem_newton`); curves over alpha warm start
+(:func:`~kinetic_fem.solvers.fem_defaults.initial_log_density`), first on a nested
+3 times coarser mesh (:func:`~kinetic_fem.solvers.fem_state.nested_coarse`: mesh
+sequencing; the widening of the interval happens there too), then on the fine mesh
+from the coarse state.  For the even state the collision sums visit only the outer
+points at :math:`v > 0` and mirror them (half the cost), and near convergence the
+factorisation is reused (chord steps, :mod:`kinetic_fem.solvers.fem_newton` on the
+shared driver :mod:`kinetic_fem.solvers.newton`); curves over alpha warm start
 (:mod:`kinetic_fem.solvers.fem_curve`).  Transients (BDF2):
 :func:`kinetic_fem.solvers.fem_transient.evolve_heated`.
 Everything is computed at :math:`n = D = 1`; other :math:`n, D` follow from the
