@@ -8,6 +8,9 @@ smallest resolved f(c), and the far-tail slope of ln f against c^(3/2) beside th
 predicted amplitude (claim C4).
 
     python benchmarks/convergence_heated.py [--quick] [--order 2] [--alphas 0 0.9]
+
+``--order 3``: P3 (the default of ``kf.solve_heated`` for this model, at 2-2.5 times the P2
+default spacing) on meshes 1.5 times coarser than P2's.
 """
 
 from __future__ import annotations
@@ -105,9 +108,13 @@ def main() -> None:
     spacings = [0.4, 0.2, 0.1] if args.quick else [0.4, 0.2, 0.1, 0.05, 0.025]
     if args.order == 1:
         spacings = [s / 4 for s in spacings]
+    elif args.order == 3:  # P3 (the default for this model): 1.5 times the P2 sizes
+        spacings = [round(1.5 * s, 9) for s in spacings]
     for alpha in args.alphas:
         # near-elastic: Newton from the continuation guess needs spacing <= 0.2
         sp = [s / 2 for s in spacings] if alpha >= 0.99 else spacings
+        if alpha >= 0.99 and args.order == 3:  # P3 from the continuation: spacing <= 0.15
+            sp = [s / 4 for s in spacings][:-1]
         study(alpha, sp, args.order, args.symmetric)
 
 

@@ -12,9 +12,10 @@ The homogeneous Boltzmann equation with white-noise heating,
     \\partial_t P = D\\,\\partial_v^2 P + Q[P, P],
 
 is discretised in weak form on a symmetric velocity interval :math:`[-V, V]` with
-P1 or P2 Lagrange elements.  The unknown is the logarithm :math:`u_h = \\ln P_h`
-in the Lagrange space, :math:`P_h = e^{u_h} > 0`, and the test functions are the
-Lagrange basis :math:`\\varphi_i`, so that for every :math:`i`
+P1, P2 or P3 Lagrange elements (P3 on the default mesh of the paper's model).  The
+unknown is the logarithm :math:`u_h = \\ln P_h` in the Lagrange space,
+:math:`P_h = e^{u_h} > 0`, and the test functions are the Lagrange basis
+:math:`\\varphi_i`, so that for every :math:`i`
 
 .. math::
 
@@ -35,10 +36,13 @@ The steady state is found by Newton's method on :math:`u_h` restricted to even
 functions, with one equation replaced by the normalisation
 :math:`\\int P_h = 1`, started from a Gaussian bulk at the first-order Sonine
 temperature with the model's WKB tail
-(:func:`~kinetic_fem.solvers.fem_defaults.initial_log_density`).  For the even state
-the collision sums visit only the outer points at :math:`v > 0` and mirror them (half
-the cost), and near convergence the factorisation is reused (chord steps,
-:mod:`kinetic_fem.solvers.fem_newton`); curves over alpha warm start
+(:func:`~kinetic_fem.solvers.fem_defaults.initial_log_density`), first on a nested
+3 times coarser mesh (:func:`~kinetic_fem.solvers.fem_state.nested_coarse`: mesh
+sequencing; the widening of the interval happens there too), then on the fine mesh
+from the coarse state.  For the even state the collision sums visit only the outer
+points at :math:`v > 0` and mirror them (half the cost), and near convergence the
+factorisation is reused (chord steps, :mod:`kinetic_fem.solvers.fem_newton` on the
+shared driver :mod:`kinetic_fem.solvers.newton`); curves over alpha warm start
 (:mod:`kinetic_fem.solvers.fem_curve`).  Transients (BDF2):
 :func:`kinetic_fem.solvers.fem_transient.evolve_heated`.
 Everything is computed at :math:`n = D = 1`; other :math:`n, D` follow from the
@@ -50,17 +54,19 @@ from __future__ import annotations
 import logging
 import math
 import warnings
-from dataclasses import dataclass, replace
+from collections.abc import Callable
+from dataclasses import replace
 
 import numpy as np
 from numpy.typing import NDArray
 
 from .. import sonine
-from ..distribution import RunInfo, VelocityDistribution
+from ..distribution import VelocityDistribution
 from ..exceptions import ConvergenceError, ResolutionWarning
 from ..gas import HeatedProblem, check_positive
 from ..operators.fem_discretisation import (
     ELEMENTS,
+    LAGRANGE_ELEMENTS,
     FEMDiscretisation,
     bath_drift,
     bath_drift_jacobian,
@@ -74,6 +80,7 @@ from ..solve import register_solver
 from .fem_defaults import (
     ScaledModel,
     default_cutoff,
+    default_order,
     default_spacing,
     graded_vertices,
     initial_log_density,
@@ -92,13 +99,14 @@ from .fem_newton import (
     newton_steady,
     stalled,
 )
+from .fem_state import SEQUENCE_BAND, SteadyState, check_energy_input, nested_coarse
 
 __all__ = ["FEMDiscretisation", "SteadyState", "ResolutionWarning", "ConvergenceError",
            "default_cutoff", "default_spacing", "steady_state", "solve_fem_heated", "ELEMENTS",
            "newton_steady", "discretisation", "state_distribution", "STALL_LEVEL",
            "CHORD_LEVEL", "CHORD_RATE", "EquilibratedLU", "log_update",
            "newton_info", "stalled", "bath_drift", "bath_drift_jacobian", "mass", "weighted_mass",
-           "fokker_planck", "fokker_planck_jacobian"]
+           "fokker_planck", "fokker_planck_jacobian", "nested_coarse", "SEQUENCE_BAND"]
 
 logger = logging.getLogger(__name__)
 
@@ -110,6 +118,17 @@ CUTOFF_TARGET = 1e-33
 MAX_WIDENINGS = 4
 CONTINUATION_ALPHA = 0.95
 """Above this alpha Newton starts from the solution at ten times the inelasticity."""
+SEQUENCE_FACTOR = 3
+"""Mesh sequencing: the first solve is on a mesh this much coarser (or 2 where that
+would exceed :data:`SEQUENCE_MAX_SPACING`)."""
+SEQUENCE_MAX_SPACING = 0.3
+"""No sequencing when the coarse spacing would exceed this (thermal velocities) times
+half the element degree."""
+SEQUENCE_CHORD_LEVEL = 1e-2
+"""Chord steps on the fine mesh start below this update (its start is the coarse state;
+measured: chord from 2e-3 saves one Jacobian at alpha = 0.9)."""
+SEQUENCE_TOL = 1e-6
+"""Newton tolerance on the coarse mesh (its discretisation error is larger)."""
 
 
 # ---------------------------------------------------------------- weak forms (n = D = 1)
@@ -142,76 +161,6 @@ def _mesh(alpha: float, *, cutoff: float | None, spacing: float, vertices,
 
 
 
-@dataclass(frozen=True, eq=False)
-class SteadyState:
-    """A converged steady state at ``n = D = 1``: discretisation, ``u_h = ln P_h``, run info.
-
-    Parameters
-    ----------
-    disc : FEMDiscretisation
-        The discretisation (velocities at ``n = D = 1``).
-    u : ndarray, shape (n_dofs,)
-        Coefficients of :math:`u_h = \\ln P_h`.
-    info : RunInfo
-        Convergence report.
-    """
-
-    disc: FEMDiscretisation
-    u: NDArray[np.float64]
-    info: RunInfo
-
-    def initial_guess(self, v: NDArray, temperature: float, *,
-                      linear_tail: bool = False) -> NDArray:
-        """``ln P`` at ``v`` of this state's f(c) at another ``temperature``.
-
-        Beyond the mesh, ``ln f`` continues as a Gaussian, or with ``linear_tail``
-        linearly with its slope at the edge (exponential tails).
-        """
-        dist = self.disc.distribution(self.u)
-        s_old, s_new = math.sqrt(dist.temperature), math.sqrt(temperature)
-        c = v / s_new
-        edge = 0.999 * self.disc.vertices[-1] / s_old
-        c_in = np.clip(c, -edge, edge)
-        order = np.argsort(c_in)
-        log_f = np.empty_like(c)
-        log_f[order] = np.log(self.disc.evaluate(self.u, c_in[order] * s_old) * s_old)
-        if linear_tail:
-            ends = np.log(self.disc.evaluate(self.u, np.array([0.97, 1.0]) * edge * s_old))
-            slope = min((ends[1] - ends[0]) / (0.03 * edge), 0.0)
-            return log_f + slope * (np.abs(c) - np.abs(c_in)) - math.log(s_new / s_old)
-        return log_f - 0.5 * (c**2 - c_in**2) - math.log(s_new)
-
-    def energy_terms(self) -> tuple[float, float]:
-        """Discrete input :math:`-\\sum_i v_i^2 \\int\\varphi_i' (P' + \\xi v P)` and the pair
-        loss.
-
-        With P2 and the full bracket the two are equal at a steady state up to the
-        Newton tolerance (:math:`\\sum_i v_i^2\\varphi_i = v^2`), with the reduced
-        bracket up to the quadrature error; the injection differs from
-        :math:`2D \\int P_h` by the quadrature error of one integration by parts.
-        """
-        x = self.disc.dof_locations
-        heat, _ = self.disc.transport(self.u)
-        return float(np.sum(x**2 * heat)), float(self.disc.energy_loss(self.u, even=True))
-
-
-def _check_energy_input(disc: FEMDiscretisation, u: NDArray, temperature: float,
-                        alpha: float) -> None:
-    """Refuse a spurious discrete state: the discrete energy input must be the
-    continuum's :math:`2D - 2\\xi T` (``D = 1``) to the quadrature error (P2; checked to
-    1 %, a truncated tail leaks less); a state whose :math:`\\ln P_h` oscillates between
-    quadrature points violates it grossly (measured: 0.147 against 2, Maxwell model at
-    alpha = 0.9)."""
-    x = disc.dof_locations
-    injection = float(np.sum(x**2 * disc.transport(u)[0]))
-    expected = 2.0 - 2.0 * disc.friction * temperature
-    if abs(injection - expected) > 1e-2 * 2.0:
-        raise ConvergenceError(
-            f"FEM Newton reached a spurious discrete state at alpha={alpha} (energy input "
-            f"{injection:.4g}, the continuum gives {expected:.4g}; ln P oscillates between "
-            "quadrature points): refine the mesh (smaller spacing) or give explicit vertices")
-
-
 def discretisation(model: ScaledModel, vertices: NDArray, order: int = 2,
                    intorder: int | None = None, symmetric: bool = False) -> FEMDiscretisation:
     """The :class:`FEMDiscretisation` of a scaled model on ``vertices``.
@@ -239,7 +188,7 @@ def discretisation(model: ScaledModel, vertices: NDArray, order: int = 2,
                              speed_scale=model.speed_scale)
 
 
-def steady_state(model: float | HeatedProblem, *, order: int = 2,
+def steady_state(model: float | HeatedProblem, *, order: int | None = None,
                  spacing: float | None = None, cutoff: float | None = None, vertices=None,
                  intorder: int | None = None, symmetric: bool = False, tol: float = 1e-11,
                  max_iter: int = 40, initial: SteadyState | None = None) -> SteadyState:
@@ -278,9 +227,11 @@ def steady_state(model: float | HeatedProblem, *, order: int = 2,
     alpha = scaled.alpha
     # with a bath the elastic limit is a Gaussian (no quasi-elastic structure)
     alpha_eff = 1.0 - scaled.effective_epsilon if scaled.friction == 0.0 else 0.0
-    if order not in ELEMENTS:
-        raise ValueError(f"order must be one of {sorted(ELEMENTS)}, got {order!r}")
-    default = default_spacing(alpha) if paper else model_spacing(scaled)
+    if order is None:  # P3 on the default mesh; an explicit mesh keeps its P2 meaning
+        order = default_order(scaled) if spacing is None and vertices is None else 2
+    if order not in LAGRANGE_ELEMENTS:
+        raise ValueError(f"order must be one of {sorted(LAGRANGE_ELEMENTS)}, got {order!r}")
+    default = default_spacing(alpha, order) if paper else model_spacing(scaled)
     spacing = default if spacing is None else check_positive("spacing", spacing)
     if alpha_eff > CONTINUATION_ALPHA and spacing > 0.3 and vertices is None:
         raise ValueError(f"spacing={spacing} thermal velocities is too coarse for alpha="
@@ -290,15 +241,14 @@ def steady_state(model: float | HeatedProblem, *, order: int = 2,
         c_max = default_cutoff(alpha) if paper else model_cutoff(scaled)
     else:
         c_max = cutoff
-    verts = _mesh(alpha, cutoff=c_max, spacing=spacing, vertices=vertices, model=scaled)
-    scaled.law.check_speed(2.0 * verts[-1] * scaled.speed_scale, "the FEM velocity interval")
-    disc = discretisation(scaled, verts, order, intorder, symmetric)
     # Gaussian bulk, WKB tail: from the plain Gaussian (far too low in the tail of hard
     # rods) Newton needs one more Jacobian (measured at alpha = 0, 0.3, 0.6)
-    u0 = initial_log_density(disc.dof_locations, scaled)
+    def start(v: NDArray) -> NDArray:
+        return initial_log_density(v, scaled)
+
     if initial is not None:
-        u0 = initial.initial_guess(disc.dof_locations, scaled.temperature,
-                                   linear_tail=not paper)
+        def start(v: NDArray) -> NDArray:
+            return initial.initial_guess(v, scaled.temperature, linear_tail=not paper)
     elif alpha_eff > CONTINUATION_ALPHA and vertices is None and \
             scaled.law.constant is not None and scaled.continues_near_elastic:
         # start from the solution at eps' = 10 eps, rescaled to f(c) (quasi-elastic
@@ -306,22 +256,71 @@ def steady_state(model: float | HeatedProblem, *, order: int = 2,
         coarse_problem = HeatedProblem.from_parameters(
             max(1.0 - 10.0 * (1.0 - alpha), CONTINUATION_ALPHA - 0.05),
             friction=scaled.friction, kernel=scaled.gamma)
-        coarse = steady_state(coarse_problem, order=order, spacing=0.2, symmetric=symmetric,
-                              tol=1e-6, max_iter=max_iter)
-        u0 = coarse.initial_guess(disc.dof_locations, scaled.temperature,
-                                  linear_tail=not paper)
+        # (P2 at 0.2 also for P3: P3 at 0.3 fails at alpha = 0.99 and for gamma = 2)
+        guess = steady_state(coarse_problem, order=min(order, 2), spacing=0.2,
+                             symmetric=symmetric, tol=1e-6, max_iter=max_iter)
+
+        def start(v: NDArray) -> NDArray:
+            return guess.initial_guess(v, scaled.temperature, linear_tail=not paper)
+    coarsen = next((f for f in (SEQUENCE_FACTOR, 2) if f * spacing <= SEQUENCE_MAX_SPACING
+                    * order / 2), 0)
+    if vertices is None and coarsen:
+        # mesh sequencing: the globalised iteration and the widening of the interval on
+        # a 3x coarser nested mesh, then Newton from its f on the fine one (one Jacobian
+        # and chord steps); any failure falls back to the fine mesh from the default start
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", ResolutionWarning)
+                coarse, c_seq = _widened_solve(
+                    alpha, scaled, paper, order, intorder, symmetric, spacing, c_max, start,
+                    fixed=cutoff is not None, tol=SEQUENCE_TOL, max_iter=max_iter,
+                    coarsen=coarsen)
+
+            def refined(v: NDArray) -> NDArray:
+                return coarse.log_density(v)
+
+            return _widened_solve(alpha, scaled, paper, order, intorder, symmetric, spacing,
+                                  c_seq, refined, fixed=cutoff is not None, tol=tol,
+                                  max_iter=max_iter, chord_level=SEQUENCE_CHORD_LEVEL)[0]
+        except ConvergenceError as err:
+            logger.info("mesh sequencing failed at alpha=%g (%s); default start", alpha, err)
+    state, _ = _widened_solve(alpha, scaled, paper, order, intorder, symmetric, spacing,
+                              c_max, start, fixed=cutoff is not None or vertices is not None,
+                              tol=tol, max_iter=max_iter, vertices=vertices)
+    return state
+
+
+def _widened_solve(alpha: float, scaled: ScaledModel, paper: bool, order: int,
+                   intorder: int | None, symmetric: bool, spacing: float, c_max: float,
+                   start: Callable[[NDArray], NDArray], *, fixed: bool, tol: float,
+                   max_iter: int, vertices=None, coarsen: int = 1,
+                   chord_level: float = CHORD_LEVEL) -> tuple[SteadyState, float]:
+    """Newton on one mesh from ``ln P = start(v)``; unless ``fixed``, widen the interval
+    by 15 % (from the current solution) until :math:`f` at the cut-off is below
+    :data:`CUTOFF_TARGET`.  With ``coarsen > 1`` the mesh is :func:`nested_coarse`.
+    Returns the state and the final cut-off :math:`c_{max}`."""
+
+    def mesh(c: float):
+        verts = _mesh(alpha, cutoff=c, spacing=spacing, vertices=vertices, model=scaled)
+        return verts if coarsen == 1 else nested_coarse(verts, coarsen)
+
+    verts = mesh(c_max)
+    scaled.law.check_speed(2.0 * verts[-1] * scaled.speed_scale, "the FEM velocity interval")
+    disc = discretisation(scaled, verts, order, intorder, symmetric)
+    u0 = start(disc.dof_locations)
+    verts = disc.vertices
     state: SteadyState | None = None
     edge = math.inf
     for widening in range(MAX_WIDENINGS + 1):
-        u, info = newton_steady(disc, u0, tol=tol, max_iter=max_iter)
+        u, info = newton_steady(disc, u0, tol=tol, max_iter=max_iter, chord_level=chord_level)
         try:
             if not info.converged:
                 raise ConvergenceError(f"FEM Newton did not converge in {max_iter} iterations "
                                        f"at alpha={alpha} ({info.message}); increase max_iter "
                                        "or refine the mesh (smaller spacing)")
             temperature = disc.distribution(u).temperature
-            if not paper and order == 2:
-                _check_energy_input(disc, u, temperature, alpha)
+            if not paper and order >= 2:
+                check_energy_input(disc, u, temperature, alpha)
         except ConvergenceError as err:
             if state is None or edge > TAIL_FLOOR:
                 raise
@@ -329,15 +328,16 @@ def steady_state(model: float | HeatedProblem, *, order: int = 2,
             logger.info("widened interval failed (%s); keeping f = %.1e at the cut-off",
                         err, edge)
             disc, u, info, verts = state.disc, state.u, state.info, state.disc.vertices
+            c_max /= 1.15
             break
         edge = float(np.exp(u[np.argmax(disc.dof_locations)])) * math.sqrt(temperature)
-        if cutoff is not None or vertices is not None or edge < CUTOFF_TARGET:
+        if fixed or edge < CUTOFF_TARGET:
             break
         if widening < MAX_WIDENINGS:
             logger.info("f = %.1e at the cut-off; widening the interval", edge)
             state = SteadyState(disc, u, info)
             c_max *= 1.15
-            verts = _mesh(alpha, cutoff=c_max, spacing=spacing, vertices=None, model=scaled)
+            verts = mesh(c_max)
             scaled.law.check_speed(2.0 * verts[-1] * scaled.speed_scale,
                                    "the FEM velocity interval")
             disc = discretisation(scaled, verts, order, intorder, symmetric)
@@ -347,22 +347,25 @@ def steady_state(model: float | HeatedProblem, *, order: int = 2,
         warnings.warn(f"f(c) = {edge:.2e} at the cut-off c = {c_edge:.3g} is above "
                       f"{TAIL_FLOOR}: the tail is truncated; increase cutoff "
                       "(default: from the model's tail, widened automatically)",
-                      ResolutionWarning, stacklevel=2)
-    return SteadyState(disc, u, info)
+                      ResolutionWarning, stacklevel=3)
+    return SteadyState(disc, u, info), c_max
 
 
 @register_solver("fem", problem="heated")
-def solve_fem_heated(problem: HeatedProblem, *, order: int = 2, spacing: float | None = None,
-              cutoff: float | None = None, vertices=None, intorder: int | None = None,
-              symmetric: bool = False, tol: float = 1e-11,
-              max_iter: int = 40) -> VelocityDistribution:
+def solve_fem_heated(problem: HeatedProblem, *, order: int | None = None,
+                     spacing: float | None = None, cutoff: float | None = None, vertices=None,
+                     intorder: int | None = None, symmetric: bool = False, tol: float = 1e-11,
+                     max_iter: int = 40) -> VelocityDistribution:
     """Steady state of the heated gas by Galerkin FEM and Newton's method.
 
     Parameters
     ----------
     problem : HeatedProblem
-    order : int
-        Lagrange degree, 1 or 2.
+    order : int, optional
+        Lagrange degree, 1, 2 or 3; default
+        :func:`kinetic_fem.solvers.fem_defaults.default_order` on the default mesh (3 for
+        hard rods with constant alpha and white noise, else 2), and 2 with an explicit
+        ``spacing`` or ``vertices``.
     spacing : float, optional
         Element size in thermal velocities :math:`\\sqrt{T}`; default
         :func:`default_spacing` for hard rods with constant alpha and white noise (T to
@@ -411,7 +414,7 @@ def solve_fem_heated(problem: HeatedProblem, *, order: int = 2, spacing: float |
     state = steady_state(problem, order=order, spacing=spacing, cutoff=cutoff,
                          vertices=vertices, intorder=intorder, symmetric=symmetric, tol=tol,
                          max_iter=max_iter)
-    return state_distribution(problem, state, order)
+    return state_distribution(problem, state, state.disc.order)
 
 
 def state_distribution(problem: HeatedProblem, state: SteadyState,

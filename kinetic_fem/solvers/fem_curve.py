@@ -66,7 +66,7 @@ class HeatedCurve:
 
 def heated_curve(alphas: ArrayLike, *, density: float = 1.0, diffusion: float = 1.0,
                  friction: float = 0.0, kernel: float | PowerLawKernel = 1.0,
-                 warm_start: bool = True, order: int = 2, spacing: float | None = None,
+                 warm_start: bool = True, order: int | None = None, spacing: float | None = None,
                  cutoff: float | None = None, tol: float = 1e-11,
                  max_iter: int = 40) -> HeatedCurve:
     """FEM heated steady states along ``alphas``, each warm started from the previous.
@@ -128,6 +128,6 @@ def heated_curve(alphas: ArrayLike, *, density: float = 1.0, diffusion: float = 
                 logger.info("warm start failed at alpha=%g (%s); default start", alpha, err)
         if state is None:
             state = solve(problem, None)
-        dists.append(state_distribution(problem, state, order))
+        dists.append(state_distribution(problem, state, state.disc.order))
         previous = state
     return HeatedCurve(values, tuple(dists), time.perf_counter() - start)

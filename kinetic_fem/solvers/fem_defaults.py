@@ -42,8 +42,9 @@ from ..model.scales import heated_cutoff
 from ..operators.grid import symmetric_grid, uniform_grid
 
 __all__ = ["default_cutoff", "default_spacing", "ScaledModel", "scaled_model",
-           "tail_action", "tail_exponent", "gain_margin", "initial_log_density", "model_cutoff",
-           "model_spacing", "graded_vertices", "DECADES"]
+           "tail_action", "tail_exponent", "gain_margin", "initial_log_density",
+           "model_cutoff", "model_spacing", "graded_vertices", "DECADES", "P3_SPACING",
+           "P3_SPACING_LOW", "default_order"]
 
 DECADES = 33.0
 """Decades of f(c) covered by the default cut-off."""
@@ -71,24 +72,57 @@ def default_cutoff(alpha: float) -> float:
     return heated_cutoff(alpha, 10.0**-DECADES, core_margin=1.0) + 1.0
 
 
-def default_spacing(alpha: float) -> float:
-    """P2 element size (thermal velocities) meeting the production tolerances.
+def default_spacing(alpha: float, order: int = 2) -> float:
+    """Element size (thermal velocities) meeting the production tolerances.
 
-    :math:`0.08\\,\\min(1, (\\varepsilon/0.1)^{1/5})`, from
+    P2: :math:`0.08\\,\\min(1, (\\varepsilon/0.1)^{1/5})`, from
     ``benchmarks/convergence_heated.py``: at 0.08, T is within 3e-9, a2 within 3e-8 and
     f(c) within 2e-6 for alpha <= 0.9; the cubic tails near alpha = 1 need finer
     elements for f (spacing 0.05 gives 1e-4 at alpha = 0.99, 0.032 at 0.999).
+    P3: :data:`P3_SPACING` times the P2 size (2.5 times for alpha <= 0.3), where T, a2
+    and f(c) are each at least as accurate as with P2 on every alpha of
+    ``benchmarks/bench_fem_speed.py`` (T and a2 10 to 1000 times more).  Other degrees:
+    the P2 size.
 
     Parameters
     ----------
     alpha : float
         Coefficient of restitution.
+    order : int
+        Lagrange degree.
 
     Returns
     -------
     float
     """
-    return 0.08 * min(1.0, (10.0 * (1.0 - alpha)) ** 0.2)
+    p2 = 0.08 * min(1.0, (10.0 * (1.0 - alpha)) ** 0.2)
+    if order == 3:
+        return (P3_SPACING_LOW if alpha <= 0.3 else P3_SPACING) * p2
+    return p2
+
+
+P3_SPACING = 2.0
+"""P3 element size over the P2 default (alpha > 0.3)."""
+
+
+def default_order(model: ScaledModel) -> int:
+    """Lagrange degree of the default mesh: 3 for the paper's model (hard rods, constant
+    alpha, white noise; as accurate as P2 with 25 to 40 % fewer nodes, see
+    :func:`default_spacing`), else 2.
+
+    Parameters
+    ----------
+    model : ScaledModel
+        The heated model.
+
+    Returns
+    -------
+    int
+    """
+    return 3 if model.is_paper_model else 2
+P3_SPACING_LOW = 2.5
+"""P3 element size over the P2 default for alpha <= 0.3 (the f(c) error of P2 is larger
+there relative to P3's)."""
 
 
 @dataclass(frozen=True)

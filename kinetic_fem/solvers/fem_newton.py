@@ -24,8 +24,10 @@ from skfem import asm
 
 from ..distribution import RunInfo
 from ..operators.fem_discretisation import FEMDiscretisation, mass
+from .newton import newton
 
-__all__ = ["STALL_LEVEL", "CHORD_LEVEL", "CHORD_RATE", "log_update", "EquilibratedLU",
+__all__ = ["STALL_LEVEL", "CHORD_LEVEL", "CHORD_RATE", "PREDICT_MARGIN", "log_update",
+           "EquilibratedLU",
            "newton_steady", "stalled", "newton_info"]
 
 logger = logging.getLogger(__name__)
@@ -81,11 +83,14 @@ CHORD_LEVEL = 1e-3
 """Below this Newton update the Jacobian's factorisation is reused (chord steps)."""
 CHORD_RATE = 0.1
 """A chord step that shrinks the update by less than this factor refreshes the Jacobian."""
+PREDICT_MARGIN = 0.01
+"""Stop after a chord step when its rate times its size is below this times ``tol``."""
 
 
 def newton_steady(disc: FEMDiscretisation, u0: NDArray[np.float64], *, tol: float = 1e-11,
                   max_iter: int = 40, step_limit: float = 10.0,
-                  chord: bool = True) -> tuple[NDArray, RunInfo]:
+                  chord: bool = True, chord_level: float = CHORD_LEVEL
+                  ) -> tuple[NDArray, RunInfo]:
     """Newton iteration for the even steady state with :math:`\\int P_h = 1`.
 
     The update of each dof is :math:`\\ln(1 + \\delta)` (see :func:`log_update`).
@@ -107,7 +112,12 @@ def newton_steady(disc: FEMDiscretisation, u0: NDArray[np.float64], *, tol: floa
         (residual only, about half the cost of the Jacobian) while each step shrinks
         the update by :data:`CHORD_RATE` or more; otherwise refresh it.  The chord
         error after a step is the step times its rate, so the stopping rule keeps its
-        meaning (measured: T and a2 equal to plain Newton's to 1e-13).
+        meaning (measured: T and a2 equal to plain Newton's to 1e-13); a chord step whose
+        rate times size is below :data:`PREDICT_MARGIN` ``* tol`` ends the iteration
+        without the residual that would confirm it.
+    chord_level : float
+        The update below which chord steps start (default :data:`CHORD_LEVEL`; larger
+        from a start already near the state, e.g. a coarse mesh's solution).
     """
     start = time.perf_counter()
     sym = disc.symmetry
@@ -129,39 +139,29 @@ def newton_steady(disc: FEMDiscretisation, u0: NDArray[np.float64], *, tol: floa
         return r, j
 
     u_red = (sym.T @ u0) / np.asarray(sym.sum(axis=0)).ravel()
-    step = np.inf
-    history: list[float] = []
-    r, j = system(u_red, True)
-    assert j is not None
-    lu = EquilibratedLU(j)
-    n_jac = 1
-    for it in range(1, max_iter + 1):
-        delta = lu.solve(-r)
-        new_step = float(np.abs(delta).max())
-        is_fresh = j is not None
-        if not is_fresh and new_step > CHORD_RATE * step:
-            # the chord contracts too slowly here: a Newton step from this point
-            r, j = system(u_red, True)
-            assert j is not None
-            lu = EquilibratedLU(j)
-            n_jac += 1
-            delta = lu.solve(-r)
-            new_step = float(np.abs(delta).max())
-            is_fresh = True
-        step = new_step
-        u_red = u_red + log_update(delta, step_limit)
-        history.append(step)
-        logger.debug("newton %d (%s): max|du| = %.3e", it, "newton" if is_fresh else "chord",
-                     step)
-        if step < tol or stalled(history):  # accepted chord steps contract 10x: never a stall
-            break
-        use_chord = chord and step < CHORD_LEVEL
-        r, j = system(u_red, not use_chord)
-        if j is not None:
-            lu = EquilibratedLU(j)
-            n_jac += 1
-    info = newton_info(history, tol, it, start)
-    return sym @ u_red, replace(info, message=f"{info.message}; {n_jac} Jacobians")
+    n_jac = 0
+
+    def fun(x: NDArray, jacobian: bool) -> tuple[NDArray, NDArray | None]:
+        nonlocal n_jac
+        n_jac += int(jacobian)
+        return system(x, jacobian)
+
+    out = newton(fun, u_red, tol=tol, max_iter=max_iter, criterion="step",
+                 update=lambda x, d: x + log_update(d, step_limit), line_search=False,
+                 stall_level=STALL_LEVEL, factorize=lambda j: EquilibratedLU(j).solve,
+                 chord=chord_level if chord else 0.0, chord_rate=CHORD_RATE,
+                 predict=PREDICT_MARGIN, name="FEM Newton")
+    history = list(out.history)
+    predicted = "chord-predicted" in out.message
+    text = f"Newton max|du| history {['%.1e' % h for h in history]}"
+    if predicted:
+        text += ", chord-predicted"
+    elif not out.converged:
+        text = f"{out.message}; {text}"
+    info = RunInfo(converged=out.converged, iterations=out.iterations,
+                   residual=history[-1] if history else math.inf,
+                   wall_time=time.perf_counter() - start, message=text)
+    return sym @ out.x, replace(info, message=f"{info.message}; {n_jac} Jacobians")
 
 
 def stalled(history: list[float]) -> bool:

@@ -212,7 +212,7 @@ def newton(fun: System, x0: ArrayLike, *, tol: float, max_iter: int = 50,
            line_search: bool = True, armijo: float = 1e-4, min_damping: float = 1e-3,
            on_failure: Literal["accept", "stop"] = "accept", stall_level: float = 0.0,
            factorize: Callable[[Any], Callable[[Array], Array]] | None = None,
-           chord: float = 0.0, chord_rate: float = 0.1,
+           chord: float = 0.0, chord_rate: float = 0.1, predict: float = 0.0,
            name: str = "Newton") -> NewtonResult:
     """Solve ``r(x) = 0`` by Newton's method with Armijo backtracking.
 
@@ -272,7 +272,14 @@ def newton(fun: System, x0: ArrayLike, *, tol: float, max_iter: int = 50,
         each shrinks the step by ``chord_rate`` or more and decreases the residual;
         otherwise the Jacobian is refreshed.  0 (the default): plain Newton.
     chord_rate : float
-        Contraction a chord step must reach, in (0, 1).
+        Contraction a chord step must reach, in (0, 1).  Without a line search the
+        Jacobian of an iterate that will take a chord step is not evaluated.
+    predict : float
+        With ``criterion="step"``: take a chord step whose size times its contraction
+        rate (the next step a chord iteration predicts) is below ``predict * tol`` and
+        stop, converged, without the residual that would confirm it (the result's
+        ``residual`` is then the previous iterate's); likewise a final Newton step below
+        ``tol`` without a line search.  0 (the default): off.
     name : str
         Prefix of log messages and of the result message.
 
@@ -343,6 +350,17 @@ def newton(fun: System, x0: ArrayLike, *, tol: float, max_iter: int = 50,
                 delta = delta * cols_f
             chord_step = step_norm_(delta, x)
             x_try = update_(x, delta)
+            predicted = chord_step * chord_step / last_step
+            if (criterion == "step" and chord_step <= chord_rate * last_step
+                    and predicted < predict * tol and bool(np.all(np.isfinite(x_try)))):
+                # the chord iteration contracts at a nearly constant rate: the step still
+                # to come is about `predicted`, far below tol; no residual to confirm it
+                x, jac, step_size = x_try, None, chord_step
+                history.append(step_size)
+                converged = True
+                message = (f"{name} converged: chord-predicted step {predicted:.2e} < "
+                           f"{predict:g} tol")
+                break
             r_try = np.asarray(fun(x_try, False)[0], dtype=float)
             rows_try = row_scale(x_try) if row_scale is not None else None
             res_try = scaled_norm(r_try, rows_try, x_try)
@@ -386,8 +404,14 @@ def newton(fun: System, x0: ArrayLike, *, tol: float, max_iter: int = 50,
         x_t, r_t, jac_t = x, r, None
         while True:
             x_try = update_(x, theta * delta)
-            # without a line search the trial is the next iterate: take its Jacobian now
-            r_try, jac_try = fun(x_try, not line_search)
+            if small and predict > 0.0 and not line_search and np.all(np.isfinite(x_try)):
+                # converged on the step: the residual at the last iterate is not needed
+                x_t, r_t, jac_t, accepted = x_try, r, None, True
+                break
+            # without a line search the trial is the next iterate: take its Jacobian now,
+            # unless the next step will be a chord step
+            r_try, jac_try = fun(x_try, not line_search and not (
+                chord > 0.0 and newton_step < chord))
             r_try = np.asarray(r_try, dtype=float)
             res_try = scaled_norm(r_try, rows, x_try)
             finite = math.isfinite(res_try) and bool(np.all(np.isfinite(x_try)))

@@ -14,7 +14,7 @@ import pytest
 import kinetic_fem as kf
 from kinetic_fem.operators.fem_discretisation import FEMDiscretisation
 
-CASES = [(order, symmetric, gamma, None) for order in (1, 2) for symmetric in (False, True)
+CASES = [(order, symmetric, gamma, None) for order in (1, 2, 3) for symmetric in (False, True)
          for gamma in (1.0, 0.0, 0.5)]
 LAWS = [(2, False, 1.0, kf.ViscoelasticRestitution(0.3)),
         (2, False, 0.5, kf.ThresholdRestitution(0.5, 1.0))]

@@ -182,7 +182,7 @@ def test_tail_positive_and_resolved_to_1e30(coarse_states):
 def test_bad_input():
     problem = kf.HeatedProblem.from_parameters(0.5)
     with pytest.raises(ValueError, match="order"):
-        fem.solve_fem_heated(problem, order=3)
+        fem.solve_fem_heated(problem, order=4)
     with pytest.raises(ValueError, match="spacing"):
         fem.solve_fem_heated(problem, spacing=-1.0)
     with pytest.raises(TypeError):
