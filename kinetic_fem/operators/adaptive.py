@@ -93,13 +93,14 @@ def hump_vertices(eps: float, zeta: float, *, resolution: float = 0.1,
     cutoff : float, optional
         An explicit cut-off (thermal velocities), e.g. where a starting guess has fallen
         ``decades`` decades; at least the core's outer edge :math:`1 + w (3 \\ln
-        10^{d})^{1/3}`.
+        10^{d})^{1/3}`.  The mesh ends at the first vertex at or beyond it.
     efolds : float
         Largest fall of :math:`f` over one element of the outer edge, in e-folds
         (:data:`EDGE_EFOLDS`).
     edge_slope : callable, optional
         :math:`|d\\ln f/dc|` at :math:`c > 1` of a starting guess; default that of
-        :math:`\\psi`, :math:`y^2/w` with :math:`y = (c - 1)/w`.
+        :math:`\\psi`, :math:`y^2/w` with :math:`y = (c - 1)/w`, out to where it has
+        fallen ``decades`` decades, and :math:`1/\\zeta` (the far tail) beyond.
 
     Returns
     -------
@@ -111,8 +112,8 @@ def hump_vertices(eps: float, zeta: float, *, resolution: float = 0.1,
     >>> v = hump_vertices(1e-3, 1e-3)
     >>> bool(v[0] == -v[-1] and np.all(np.diff(v) > 0) and 0.0 in v)
     True
-    >>> round(float(v[-1]), 3)  # 1 + w (3 ln 10^45)^(1/3)
-    1.677
+    >>> bool(1.677 < v[-1] < 1.678)  # just beyond 1 + w (3 ln 10^45)^(1/3) = 1.6771
+    True
     """
     eps = _check("eps", eps)
     if eps >= 1.0:
@@ -131,7 +132,9 @@ def hump_vertices(eps: float, zeta: float, *, resolution: float = 0.1,
     h0 = resolution * w
     if edge_slope is None:
         def edge_slope(c: float) -> float:
-            return ((c - 1.0) / w) ** 2 / w
+            # psi's outer edge, then the far tail e^(-c/zeta)
+            y = (c - 1.0) / w
+            return y * y / w if y < outer else 1.0 / zeta
 
     def size(c: float) -> float:
         if c > 1.0:  # the outer edge: at most ``efolds`` e-folds per element
@@ -144,9 +147,9 @@ def hump_vertices(eps: float, zeta: float, *, resolution: float = 0.1,
     half = [0.0]
     while half[-1] < cutoff:
         half.append(half[-1] + size(half[-1]))
-    if half[-1] - cutoff > 0.5 * (half[-1] - half[-2]) and len(half) > 2:
-        half.pop()
-    half[-1] = cutoff
+    # the mesh ends at the first vertex beyond the cut-off: a last element stretched to
+    # end exactly there falls 3 to 4 e-folds and is unstable (a growing mode of the
+    # linearised discrete operator at the cut-off, +3.7 eps at eps = 2.4e-5)
     arr = np.array(half)
     return np.concatenate([-arr[:0:-1], arr])
 

@@ -101,6 +101,7 @@ from .fem_cooling_newton import CoolingState, newton_cooling
 
 __all__ = ["solve_fem_cooling", "cooling_state", "CoolingState", "continued_state",
            "hump_chain", "hump_start", "uses_hump_mesh", "HUMP_EPS", "HUMP_RESOLUTION",
+           "HUMP_FRONTIER",
            "hcs_cutoff", "hcs_spacing", "hcs_vertices", "maxwell_hcs", "initial_log_f",
            "newton_cooling", "MAXWELL_CUTOFF"]
 
@@ -109,6 +110,9 @@ logger = logging.getLogger(__name__)
 HUMP_EPS = 0.1
 """Below this inelasticity (hard rods) the state is reached by continuation in eps on
 meshes that follow the humps (:func:`kinetic_fem.operators.adaptive.hump_vertices`)."""
+HUMP_FRONTIER = 2.4e-5
+"""Smallest inelasticity the continuation is known to reach (measured: 2.44e-5 converges,
+1.22e-5 does not, at 0.07 hump widths); below it a failure is reported as this limit."""
 HUMP_RATIO = 2.0
 """Largest ratio of successive inelasticities of the continuation."""
 HUMP_RESOLUTION = 0.04
@@ -304,12 +308,21 @@ def _hump_state(problem: CoolingProblem, *, order: int, intorder: int | None, to
             logger.info("HCS continuation: step %.3g -> %.3g failed; halving it (log scale)",
                         eps_prev, step)
         else:
+            where = (f"FEM cooling Newton did not converge at eps = {step:.3g} on the way "
+                     f"to alpha = {problem.gas.alpha} (hump mesh of "
+                     f"{state.disc.vertices.size - 1} elements, {res:g} hump widths "
+                     f"eps^(1/3) = {step ** (1 / 3):.3g}, step from eps = {eps_prev:.3g}; "
+                     f"{state.info.message})")
+            if step < HUMP_FRONTIER:
+                raise ConvergenceError(
+                    f"{where}: below eps = {HUMP_FRONTIER:g} the Galerkin drift of the "
+                    "outer edge of the humps is unstable at the cut-off (growing modes of "
+                    "the linearised discrete operator; finer edge elements do not remove "
+                    "them), a known limit of this solver; for the leading-order state use "
+                    "kf.scaling.solve_psi().humps(c, eps)")
             raise ConvergenceError(
-                f"FEM cooling Newton did not converge at eps = {step:.3g} on the way to "
-                f"alpha = {problem.gas.alpha} (hump mesh of {state.disc.vertices.size - 1} "
-                f"elements, {res:g} hump widths eps^(1/3) = {step ** (1 / 3):.3g}, step "
-                f"from eps = {eps_prev:.3g}; {state.info.message}): the mesh does not "
-                f"resolve the humps; pass a smaller resolution (e.g. resolution={res / 2:g})")
+                f"{where}: the mesh does not resolve the humps; pass a smaller "
+                f"resolution (e.g. resolution={res / 2:g})")
     return prev
 
 

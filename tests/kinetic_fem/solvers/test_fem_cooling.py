@@ -127,3 +127,27 @@ def test_unresolved_humps_say_so():
     """A Newton that cannot converge on the hump mesh names the mesh and the fix."""
     with pytest.raises(fem_cooling.ConvergenceError, match="smaller resolution"):
         kf.solve_cooling(0.93, resolution=0.14, max_iter=1)
+
+
+def test_failure_below_the_frontier_names_the_limit(monkeypatch):
+    """Below HUMP_FRONTIER a failed continuation step is reported as the known limit of
+    the solver with the leading-order alternative, not as a resolution problem."""
+    from types import SimpleNamespace
+
+    def state(converged: bool) -> SimpleNamespace:
+        return SimpleNamespace(info=SimpleNamespace(converged=converged, message="stalled"),
+                               disc=SimpleNamespace(vertices=np.zeros(11)))
+
+    lowest = {"eps": 1.5e-5}
+
+    def step(prev, eps_prev, eps, **kwargs):  # converges down to lowest["eps"] only
+        return state(eps >= lowest["eps"])
+
+    monkeypatch.setattr(fem_cooling, "hump_start", lambda order, intorder: state(True))
+    monkeypatch.setattr(fem_cooling, "continued_state", step)
+    monkeypatch.setattr(fem_cooling, "HUMP_MIN_RATIO", 1e9)  # no step halving
+    with pytest.raises(fem_cooling.ConvergenceError, match="solve_psi"):
+        kf.solve_cooling(1 - 1e-6)
+    lowest["eps"] = 1e-3
+    with pytest.raises(fem_cooling.ConvergenceError, match="smaller resolution"):
+        kf.solve_cooling(1 - 5e-4)
