@@ -82,7 +82,7 @@ from numpy.typing import NDArray
 
 from ..distribution import VelocityDistribution
 from ..model import CoolingProblem, UnsupportedModelError, check_positive
-from ..operators.adaptive import HUMP_DECADES, hump_vertices
+from ..operators.adaptive import EDGE_EFOLDS, HUMP_DECADES, hump_vertices
 from ..solve import register_solver
 from .fem import (
     ELEMENTS,
@@ -271,8 +271,10 @@ def continued_state(prev: CoolingState, eps_prev: float, eps: float, *,
     cutoff = float(probe[np.argmax(low)]) if low.any() else float(probe[-1])
     # the outer edge's elements follow the start's slope (EDGE_EFOLDS e-folds each)
     slope = np.maximum(-np.gradient(start, probe), 0.0)
+    # (and refine with the resolution below that of the continuation steps)
     verts = hump_vertices(eps, zeta0, resolution=resolution, cutoff=cutoff,
-                          edge_slope=lambda c: float(np.interp(c, probe, slope)))
+                          edge_slope=lambda c: float(np.interp(c, probe, slope)),
+                          efolds=EDGE_EFOLDS * min(1.0, resolution / HUMP_STEP_RESOLUTION))
     disc = _discretisation(CoolingProblem.from_parameters(alpha), verts, order, intorder)
     u0 = prev.rescaled_log_f(eps_prev, eps, disc.dof_locations)
     state = newton_cooling(disc, u0, zeta0, tol=tol, max_iter=max_iter, pseudo_time=np.inf)
