@@ -53,12 +53,19 @@ the previous state rescaled on :math:`y = (1 - c)/w` (:meth:`CoolingState.rescal
 by Newton's method with backtracking (:func:`kinetic_fem.solvers.newton.newton`) on
 :math:`\\ln f` itself.  The a posteriori indicator of
 :func:`kinetic_fem.operators.adaptive.element_indicator` (:meth:`CoolingState.indicator`)
-estimates the error of :math:`\\ln f_h` per element.  Measured
-(``benchmarks/results/fem_cooling.md``): the continuation converges down to
-:math:`\\varepsilon \\approx 4\\cdot 10^{-4}` at the default resolutions and fails
-below (Newton diverges in the outer edge of the humps, where the drift dominates and
-the Galerkin drift term has a near-null mode); the error says so and names the fix to
-try.
+estimates the error of :math:`\\ln f_h` per element from the local interpolation error;
+:meth:`CoolingState.error_estimate` (one Newton step on the bisected mesh) estimates it
+globally, including the error the drift carries outward, within 15 % at
+:math:`\\varepsilon = 10^{-4}` (:mod:`kinetic_fem.solvers.fem_cooling_adapt` refines by
+it).  In the outer edge of the humps the elements fall at most
+:data:`~kinetic_fem.operators.adaptive.EDGE_EFOLDS` e-folds (coarser, the Galerkin drift
+is unstable there), and the normalisation replaces the equation at the hump peak (at
+:math:`c = 0`, where :math:`f \\sim e^{-1.2/w}`, it made the Jacobian singular to
+round-off).  Measured (``benchmarks/results/fem_cooling.md``): the continuation converges
+down to :math:`\\varepsilon = 2.44\\cdot 10^{-5}` (zeta to about 1e-11 relative, order 6)
+and fails at :math:`1.2\\cdot 10^{-5}` (growing modes of the outer-edge drift at the
+cut-off); below :data:`HUMP_FRONTIER` the error says so and names the leading-order
+:math:`\\psi` state.
 
 The inelastic Maxwell model (:math:`\\gamma = 0`) has the closed-form state
 :math:`f(c) = 2/(\\pi(1+c^2)^2)` for every alpha (Baldassarri, Marini Bettolo Marconi,

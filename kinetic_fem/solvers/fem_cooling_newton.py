@@ -137,9 +137,10 @@ class CoolingState:
         assert j is not None
         delta = EquilibratedLU(j).solve(-r)
         du = np.abs(system.sym @ delta[:-1])
-        owner = np.clip(np.searchsorted(verts, loc, side="right") - 1, 0, verts.size - 2)
         eta = np.zeros(verts.size - 1)
-        np.maximum.at(eta, owner, du)
+        for side in ("left", "right"):  # a dof on a vertex counts for both its elements
+            owner = np.clip(np.searchsorted(verts, loc, side=side) - 1, 0, verts.size - 2)
+            np.maximum.at(eta, owner, du)
         return eta, abs(float(delta[-1])) / abs(self.zeta)
 
     def rescaled_log_f(self, eps_from: float, eps_to: float, c: NDArray) -> NDArray:
@@ -173,10 +174,8 @@ class CoolingState:
 class _CoolingSystem:
     """The residual and Jacobian of the HCS equations on the even dofs, plus ``zeta``."""
 
-    def __init__(self, disc: FEMDiscretisation, u0: NDArray | None = None,
-                 inflow: float = 0.0) -> None:
+    def __init__(self, disc: FEMDiscretisation, u0: NDArray | None = None) -> None:
         self.disc = disc
-        self.inflow = inflow
         self.sym = disc.symmetry
         self.n_red = self.sym.shape[1]
         if u0 is None:
@@ -204,15 +203,6 @@ class _CoolingSystem:
         grad_mass = asm(mass, basis, u=field)
         grad_temp = asm(second_moment, basis, u=field)
         full = coll + zeta * drift
-        if self.inflow:
-            # the collisions of the particles beyond the cut-off V move them inward by
-            # (1 - alpha)/2 (V - c') each: the flux a <(V - c')|V - c'|> f(V) through V
-            # (hard rods: a (V^2 m0 + m2) f(V)), which the truncated weak form lacks
-            v_edge = np.abs(disc.dof_locations[edges[1]])
-            k_edge = v_edge**2 * grad_mass.sum() + grad_temp.sum()
-            inflow = np.zeros(u.size)
-            inflow[edges] = self.inflow * k_edge * np.exp(u[edges])
-            full = full + inflow
         r = np.empty(n_red + 1)
         r[:n_red] = sym.T @ full
         r[row0] = grad_mass.sum() - 1.0
@@ -222,10 +212,6 @@ class _CoolingSystem:
         djac = asm(bath_drift_jacobian, basis, u=field).toarray()
         djac[edges, edges] -= outflow[edges]
         jac = cjac + zeta * djac
-        if self.inflow:
-            jac[edges, edges] += inflow[edges]
-            jac[edges, :] += np.outer(inflow[edges] / k_edge,
-                                      v_edge**2 * grad_mass + grad_temp)
         j = np.zeros((n_red + 1, n_red + 1))
         j[:n_red, :n_red] = sym.T @ (sym.T @ jac.T).T
         j[:n_red, n_red] = sym.T @ drift
@@ -277,7 +263,7 @@ def _step_size(delta: NDArray, x: NDArray) -> float:
 def newton_cooling(disc: FEMDiscretisation, u0: NDArray, zeta0: float, *, tol: float = 1e-11,
                    max_iter: int = 40, step_limit: float = 10.0,
                    pseudo_time: float = PSEUDO_TIME_STEP,
-                   log_steps: bool | None = None, inflow: float = 0.0) -> CoolingState:
+                   log_steps: bool | None = None) -> CoolingState:
     """Newton's method for :math:`(u_h, \\zeta)` with unit mass and temperature.
 
     Parameters
@@ -311,7 +297,7 @@ def newton_cooling(disc: FEMDiscretisation, u0: NDArray, zeta0: float, *, tol: f
     CoolingState
     """
     start = time.perf_counter()
-    system = _CoolingSystem(disc, u0, inflow)
+    system = _CoolingSystem(disc, u0)
     n_red, row0, sym = system.n_red, system.row0, system.sym
 
     def update(x: NDArray, delta: NDArray) -> NDArray:
