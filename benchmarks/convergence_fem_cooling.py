@@ -71,7 +71,7 @@ def chain_states(eps_min: float) -> dict[float, fc.CoolingState]:
 
 
 def hump_study(eps: float, states: dict[float, fc.CoolingState],
-               resolutions: list[float]) -> None:
+               resolutions: list[float]) -> list[tuple[float, fc.CoolingState, float]]:
     start_eps = min(e for e in states if e >= eps * (1 - 1e-12) and e > eps) \
         if any(e > eps for e in states) else fc.HUMP_EPS
     prev = states[start_eps]
@@ -106,6 +106,7 @@ def hump_study(eps: float, states: dict[float, fc.CoolingState],
               f"{shown[1]:>9} {orders[1]:>5} {shown[2]:>9} {orders[2]:>5} {ind:9.2e} "
               f"{'' if last else f'{rel:8.2f}':>8} {ident:9.1e}", flush=True)
         prev_err, prev_r = errs, r
+    return runs
 
 
 def moderate_study(alpha: float, spacings: list[float]) -> None:

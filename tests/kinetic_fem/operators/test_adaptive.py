@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from kinetic_fem.operators.adaptive import (
+    EDGE_EFOLDS,
     HUMP_DECADES,
     element_indicator,
     hump_vertices,
@@ -30,6 +31,33 @@ def test_hump_mesh_resolves_the_hump_width(eps):
     outer = (3 * HUMP_DECADES * math.log(10)) ** (1 / 3)
     assert v[-1] >= 1 + w * outer - 1e-12
     assert v.size < 3000  # geometric grading away from the humps
+
+
+@pytest.mark.parametrize("eps", [1e-2, 1e-4, 1e-6])
+def test_outer_edge_elements_fall_at_most_efolds(eps):
+    """Beyond the humps (c > 1) each element spans at most EDGE_EFOLDS e-folds of
+    psi's outer edge e^(-y^3/3) (coarser elements make the Galerkin drift unstable), and
+    the mesh ends at the first vertex past the cut-off (no stretched last element)."""
+    w = eps ** (1 / 3)
+    v = hump_vertices(eps, eps, resolution=0.07)
+    edge = v[v > 1.0]
+    y = (edge - 1.0) / w
+    falls = np.diff(y**3 / 3)
+    assert falls.max() <= 1.25 * EDGE_EFOLDS  # y^2 h at the left vertex is the rule
+    h = np.diff(v)
+    assert h[-1] <= h[-2] * (1 + 1e-9)  # the last element is not stretched
+    outer = (3 * HUMP_DECADES * math.log(10)) ** (1 / 3)
+    assert 0.0 <= v[-1] - (1 + w * outer) <= h[-1]
+
+
+def test_edge_slope_sets_the_outer_elements():
+    """An explicit edge slope (a starting guess's |d ln f/dc|) replaces psi's."""
+    eps, w = 1e-3, 0.1
+    v = hump_vertices(eps, eps, resolution=0.07, edge_slope=lambda c: 50.0)
+    h = np.diff(v)[v[:-1] >= 1.0]
+    assert np.allclose(h[:-1], min(0.07 * w, EDGE_EFOLDS / 50.0))
+    with pytest.raises(ValueError, match="efolds"):
+        hump_vertices(eps, eps, efolds=0.0)
 
 
 def test_indicator_tracks_the_interpolation_error():

@@ -127,3 +127,74 @@ def test_unresolved_humps_say_so():
     """A Newton that cannot converge on the hump mesh names the mesh and the fix."""
     with pytest.raises(fem_cooling.ConvergenceError, match="smaller resolution"):
         kf.solve_cooling(0.93, resolution=0.14, max_iter=1)
+
+
+def test_failure_below_the_frontier_names_the_limit(monkeypatch):
+    """Below HUMP_FRONTIER a failed continuation step is reported as the known limit of
+    the solver with the leading-order alternative, not as a resolution problem."""
+    from types import SimpleNamespace
+
+    def state(converged: bool) -> SimpleNamespace:
+        return SimpleNamespace(info=SimpleNamespace(converged=converged, message="stalled"),
+                               disc=SimpleNamespace(vertices=np.zeros(11)))
+
+    lowest = {"eps": 1.5e-5}
+
+    def step(prev, eps_prev, eps, **kwargs):  # converges down to lowest["eps"] only
+        return state(eps >= lowest["eps"])
+
+    monkeypatch.setattr(fem_cooling, "hump_start", lambda order, intorder: state(True))
+    monkeypatch.setattr(fem_cooling, "continued_state", step)
+    monkeypatch.setattr(fem_cooling, "HUMP_MIN_RATIO", 1e9)  # no step halving
+    with pytest.raises(fem_cooling.ConvergenceError, match="solve_psi"):
+        kf.solve_cooling(1 - 1e-6)
+    lowest["eps"] = 1e-3
+    with pytest.raises(fem_cooling.ConvergenceError, match="smaller resolution"):
+        kf.solve_cooling(1 - 5e-4)
+
+
+@pytest.fixture(scope="module")
+def states_093():
+    problem = kf.CoolingProblem.from_parameters(0.93)
+    return (fem_cooling.cooling_state(problem, resolution=0.14),
+            fem_cooling.cooling_state(problem, resolution=0.07))
+
+
+def test_two_level_error_estimate_is_reliable(states_093):
+    """One Newton step on the bisected mesh estimates the error of zeta and ln f.
+
+    Measured at alpha = 0.93, 0.14 hump widths: zeta error 4.86e-9 against the state at
+    0.07 (5.12e-9 against 0.035), estimate 4.86e-9; ln f on |c| < 1.2 1.04e-4 (1.28e-4),
+    estimate 1.07e-4.  At eps = 1e-4 true/estimate is 0.86 to 1.02
+    (benchmarks/results/fem_cooling.md)."""
+    coarse, fine = states_093
+    eta, dzeta = coarse.error_estimate()
+    assert dzeta == pytest.approx(abs(coarse.zeta / fine.zeta - 1), rel=0.1)
+    c = np.linspace(-1.2, 1.2, 2001)
+    true = np.abs(coarse.log_f(c) - fine.log_f(c)).max()
+    verts = coarse.disc.vertices
+    inside = np.abs(0.5 * (verts[1:] + verts[:-1])) < 1.2
+    assert 0.7 < true / eta[inside].max() < 1.4
+    assert eta.shape == (verts.size - 1,)
+    assert np.allclose(eta, eta[::-1])  # an even state has an even estimate
+
+
+def test_adapted_state_bad_target():
+    from kinetic_fem.solvers.fem_cooling_adapt import adapted_state
+    with pytest.raises(ValueError, match="target"):
+        adapted_state(None, 0.0)  # type: ignore[arg-type]
+
+
+@pytest.mark.slow
+def test_deep_near_elastic_state_alpha_09999():
+    """The default path at eps = 1e-4 (the frontier was 1.95e-4 before round 5).
+
+    Convergence study (benchmarks/results/fem_cooling.md, reference 0.035 hump widths):
+    zeta/eps = 1.000000886407483, error 4e-12 at 0.05 (order 6); a2 = -0.663288246599,
+    error 5e-13 at 0.05."""
+    dist = kf.solve_cooling(0.9999)
+    extra = dist.info.extra
+    assert dist.info.converged
+    assert extra["zeta"] / 1e-4 == pytest.approx(1.000000886407483, rel=1e-11)
+    assert dist.a2 == pytest.approx(-0.663288246599, abs=1e-10)
+    assert extra["zeta_identity"] == pytest.approx(extra["zeta"], rel=1e-10)
