@@ -59,8 +59,9 @@ FAR_RATIO_FACTOR = 1.25
 """Geometric ratio beyond :math:`c = 30`: :math:`1 + ` this :math:`\\times h_0`, at most
 :math:`1 +` :data:`FAR_RATIO_MAX`."""
 FAR_RATIO_MAX = 0.1
-"""The far ratio is at most :math:`1 + ` this (the coarse meshes of the mesh sequencing:
-Newton from the Gaussian start fails at alpha = 0.9 on a far ratio of 1.25)."""
+"""The far ratio is at most :math:`1 + r` with :math:`r` this value (the coarse meshes
+of the mesh sequencing: Newton from the Gaussian start fails at alpha = 0.9 on a far ratio
+of 1.25)."""
 _NEAR_END = 30.0
 _BULK_END = 2.0
 
