@@ -160,9 +160,9 @@ def exact_curves(alpha: float, gamma: float, times: NDArray[np.float64], diffusi
     if gamma == 0.0:
         from ..solvers.maxwell import evolve_moments
 
-        ev = evolve_moments(alpha, times, diffusion=diffusion, initial_moments=moments,
-                            rtol=1e-12)
-        return Curves(times, ev.temperature, ev.a2), ev
+        mom = evolve_moments(alpha, times, diffusion=diffusion, initial_moments=moments,
+                             rtol=1e-12)
+        return Curves(times, mom.temperature, mom.a2), mom
     from ..evolve import evolve_heated
 
     assert initial is not None  # FEM needs a distribution
