@@ -113,6 +113,11 @@ def mpemba_item(ctx: Context) -> list[ClaimRow]:
                      "none" if son_threshold is None else f"{son_threshold:.4f}", "finite",
                      son_threshold is not None and not math.isnan(son_threshold), "sonine",
                      BEYOND),
+            *([] if ctx.quick else [ClaimRow(
+                "B2", "exact threshold a2, hard rods alpha=0.6 (FEM secant)",
+                f"{mpemba_threshold(0.6, method='exact', **opts):.4f}",
+                "above first Sonine (0.4575 in benchmarks/results/memory_effects.md)",
+                None, "fem", BEYOND)]),
             ClaimRow("B2", "Maxwell alpha=0.6: crossing", str(maxwell.crossing),
                      "none (closed energy balance)", maxwell.crossing is None,
                      "maxwell moments", BEYOND)]
