@@ -36,7 +36,7 @@ from __future__ import annotations
 
 import logging
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -226,7 +226,7 @@ class KovacsResult:
     sonine_diffusion: float
     sonine_steady_temperature: float
     restart_mismatch: float = 0.0
-    info: dict = None  # type: ignore[assignment]
+    info: dict = field(default_factory=dict)
 
     def deviation(self, sonine: bool = False) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """:math:`(t - t_w, T/T_{st} - 1)` after the switch.
