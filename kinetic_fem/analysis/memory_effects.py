@@ -1,51 +1,56 @@
 """Memory effects of the heated gas: the Kovacs hump and the Mpemba effect.
 
-Both protocols use white noise of strength :math:`D` (steady temperature
-:math:`T_{st}(D)`, for hard rods :math:`\\propto D^{2/3}`, Maxwell :math:`\\propto D`;
-the steady :math:`a_2` does not depend on :math:`D`).
+Both protocols use white noise of strength :math:`D`.  For a power-law kernel
+:math:`|g|^\\gamma` the steady temperature scales as
+:math:`T_{st}(D) = T_{st}(D_0)(D/D_0)^{2/(\\gamma+2)}` and the steady shape
+(:math:`a_2`) does not depend on :math:`D`; the same holds for the first-Sonine ODEs.
 
-*Kovacs* (Prados and Trizac 2014): from the steady state at :math:`D_0`, quench to
-:math:`D_1 < D_0`; at the waiting time :math:`t_w` where :math:`T(t_w) =
-T_{st}(D_2)`, :math:`D_1 < D_2 < D_0`, switch to :math:`D_2`.  Had :math:`T` been
-the only variable it would stay put; the energy balance
-:math:`dT/dt = 2D - \\tfrac n4(1-\\alpha^2)\\langle|g|^{\\gamma+2}\\rangle` depends on
-the shape through :math:`a_2` (hard rods:
-:math:`\\langle|g|^3\\rangle \\propto T^{3/2}(1 + 3a_2/16)`), so right after the
-switch :math:`dT/dt \\propto a_2^{st} - a_2(t_w)`: a hump whose sign is that of
-:math:`a_2^{st} - a_2(t_w)` (not fixed here: the measured sign is reported by
-:attr:`KovacsResult.hump`), and which vanishes for the Maxwell model, whose energy
-balance is closed.
+*Kovacs* (Prados and Trizac 2014): start in the steady state at :math:`D_0`, quench
+to :math:`D_1 \\ll D_0` and age for a waiting time :math:`t_w`; then switch to the
+:math:`D_2` whose steady temperature equals :math:`T(t_w)` (by the scaling above,
+:math:`D_2 = D_0 (T(t_w)/T_{st}(D_0))^{(\\gamma+2)/2}`: each method, exact or
+first-Sonine, switches to its own :math:`D_2`).  Had :math:`T` been the only variable
+it would stay put.  The energy balance
+:math:`dT/dt = 2D - \\tfrac n4(1-\\alpha^2)\\langle|g|^{\\gamma+2}\\rangle` depends on the
+shape (hard rods: :math:`\\langle|g|^3\\rangle \\propto T^{3/2}(1 + 3a_2/16)`), and during
+the quench the gas cools almost freely, so :math:`a_2(t_w)` moves towards the cooling
+state's value, away from :math:`a_2^{st}`.  Right after the switch
+:math:`dT/dt \\propto -(a_2(t_w) - a_2^{st})`: a hump of the sign of
+:math:`a_2^{st} - a_2(t_w)`, in practice the sign of :math:`-a_2^{st}` (negative for
+:math:`\\alpha < 1/\\sqrt 2` where :math:`a_2^{st} > 0`, positive above).  The deeper
+the quench (:math:`D_1 \\to 0`) and the longer the wait, the larger the hump.  For the
+Maxwell model the energy balance is closed, :math:`dT/dt = 2D - \\tfrac n2(1-\\alpha^2)T`,
+and there is no hump at all.
 
-*Mpemba* (Lasanta, Vega Reyes, Prados and Santos 2017): two initial states above the
-steady temperature, the hotter one with a larger :math:`a_2` (it dissipates faster);
-if the difference is large enough the hotter one overtakes the colder one and
-reaches the steady temperature first.  :func:`mpemba_threshold` finds the smallest
-initial :math:`a_2` of the hotter state for which the first-Sonine curves cross;
-there is none for the Maxwell model (:math:`T(t)` does not depend on the shape).
+*Mpemba* (Lasanta, Vega Reyes, Prados and Santos 2017): see :mod:`.mpemba`.
 
-Each function returns the exact curves (hard rods and other kernels:
-:func:`kinetic_fem.evolve_heated`; Maxwell: the closed moment equations of
-:mod:`kinetic_fem.solvers.maxwell`) beside the first-Sonine ones
-(:mod:`kinetic_fem.analysis.sonine_dynamics`), with the protocol and initial states
-so that particle methods can run the same.
+The exact curves come from :func:`kinetic_fem.evolve_heated` (any kernel; the quench
+is one run, the relaxation after the switch a second run started from the state at
+:math:`t_w`) or, for Maxwell, from the closed moment equations of
+:mod:`kinetic_fem.solvers.maxwell`; the first-Sonine ones from
+:mod:`kinetic_fem.analysis.sonine_dynamics`.  The result holds the protocol and the
+initial state so that particle methods can run the same.
 """
 
 from __future__ import annotations
 
+import logging
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.optimize import brentq
 
 from ..distribution import VelocityDistribution
+from ..model import HeatedProblem
 from ..model.protocol import Protocol, steps
 from .sonine_dynamics import evolve_sonine, steady_sonine
 
-__all__ = ["Curves", "KovacsResult", "MpembaResult", "kovacs", "mpemba", "mpemba_threshold",
-           "sonine_distribution"]
+__all__ = ["Curves", "KovacsResult", "kovacs", "extremum", "sonine_distribution",
+           "sonine_waiting_time", "sonine_kovacs", "exact_curves", "transient_spacing"]
+
+logger = logging.getLogger(__name__)
 
 
 @dataclass(frozen=True)
@@ -65,6 +70,118 @@ class Curves:
     a2: NDArray[np.float64]
 
 
+def extremum(times: NDArray[np.float64], values: NDArray[np.float64]) -> tuple[float, float]:
+    """Time and value of the largest ``|values|`` (parabola through its neighbours).
+
+    Parameters
+    ----------
+    times, values : ndarray, shape (n,)
+        A sampled curve, ``n >= 3``.
+
+    Returns
+    -------
+    (t, value) : tuple of float
+        At an end point the sample itself.
+
+    Examples
+    --------
+    >>> t = np.linspace(0.0, 2.0, 9)
+    >>> [round(x, 12) for x in extremum(t, -(t - 0.9) ** 2 * 0 - 1 + (t - 0.9) ** 2)]
+    [0.9, -1.0]
+    """
+    k = int(np.argmax(np.abs(values)))
+    if k == 0 or k == len(values) - 1:
+        return float(times[k]), float(values[k])
+    c = np.polyfit(times[k - 1:k + 2] - times[k], values[k - 1:k + 2], 2)
+    if c[0] == 0.0:
+        return float(times[k]), float(values[k])
+    dt = -c[1] / (2.0 * c[0])
+    return float(times[k] + dt), float(np.polyval(c, dt))
+
+
+def transient_spacing(spacing: float, alpha: float, gamma: float, d_min: float,
+                      t_min: float, t_start: float) -> float:
+    """The ``spacing`` option of :func:`kinetic_fem.evolve_heated` for a quench.
+
+    The FEM transient sizes its elements from the Gaussian-closure steady temperature
+    of the smallest :math:`D` of the protocol; a quench never gets that cold.  This
+    returns the option that gives elements of ``spacing`` thermal velocities of
+    ``t_min``, the coldest temperature the run meets.
+
+    Parameters
+    ----------
+    spacing : float
+        Wanted element size in thermal velocities of ``t_min``.
+    alpha, gamma : float
+        Restitution coefficient and kernel exponent.
+    d_min : float
+        Smallest :math:`D` of the protocol.
+    t_min : float
+        Coldest temperature of the run.
+    t_start : float
+        Temperature of the initial state.
+
+    Returns
+    -------
+    float
+    """
+    est = HeatedProblem.from_parameters(alpha, diffusion=d_min, kernel=gamma).temperature_estimate()
+    return float(spacing * math.sqrt(max(t_min / min(est, t_start), 1.0)))
+
+
+def exact_curves(alpha: float, gamma: float, times: NDArray[np.float64], diffusion: float,
+                 initial: VelocityDistribution | None, moments: list[float] | None,
+                 options: dict[str, Any], t_min: float | None = None
+                 ) -> tuple[Curves, Any]:
+    """Exact :math:`T(t), a_2(t)` at constant white noise from an initial state.
+
+    Parameters
+    ----------
+    alpha, gamma : float
+        Restitution coefficient and kernel exponent (0: the Maxwell moment equations).
+    times : ndarray, shape (n_t,)
+        Output times from 0.
+    diffusion : float
+        :math:`D`.
+    initial : VelocityDistribution or None
+        Initial state (FEM).
+    moments : list of float or None
+        Initial moments :math:`M_0 .. M_4` (Maxwell).
+    options : dict
+        Options of :func:`kinetic_fem.evolve_heated` (``spacing`` in thermal
+        velocities of ``t_min``, see :func:`transient_spacing`).
+    t_min : float, optional
+        Coldest temperature of the run (default: that of ``initial``).
+
+    Returns
+    -------
+    (Curves, Evolution or MaxwellTransient)
+    """
+    if gamma == 0.0:
+        from ..solvers.maxwell import evolve_moments
+
+        mom = evolve_moments(alpha, times, diffusion=diffusion, initial_moments=moments,
+                             rtol=1e-12)
+        return Curves(times, mom.temperature, mom.a2), mom
+    from ..evolve import evolve_heated
+
+    assert initial is not None  # FEM needs a distribution
+    opts = dict(options)
+    t_low = initial.temperature if t_min is None else t_min
+    opts["spacing"] = transient_spacing(opts.get("spacing", 0.25), alpha, gamma, diffusion,
+                                        t_low, initial.temperature)
+    # The integrator accepts any step up to its minimum step whatever its error; by
+    # default that is the time to diffuse over one node at the largest D, which for a
+    # small D exceeds the whole run.  Smooth starts need no such floor: a first step
+    # of a tenth of sqrt(rtol) collision times sets it instead.
+    t_coll = 1.0 / math.sqrt(t_low) ** gamma
+    opts.setdefault("first_step", 0.1 * math.sqrt(opts.get("rtol", 1e-6)) * t_coll)
+    ev = evolve_heated(alpha, kernel=gamma, diffusion=diffusion, times=times, initial=initial,
+                       **opts)
+    logger.info("exact curve: %s (%.1f s)", ev.info.message, ev.info.wall_time)
+    return Curves(times, ev.temperature, ev.a2), ev
+
+
 @dataclass(frozen=True)
 class KovacsResult:
     """A Kovacs protocol and its curves.
@@ -72,20 +189,29 @@ class KovacsResult:
     Attributes
     ----------
     alpha, gamma : float
+        Restitution coefficient and kernel exponent.
     diffusion : tuple of float
-        :math:`(D_0, D_1, D_2)`.
+        :math:`(D_0, D_1, D_2)` of the exact solution.
     waiting_time : float
-        :math:`t_w` of the exact solution (the protocol's switch).
+        :math:`t_w` (the same for every method).
     steady_temperature : float
-        :math:`T_{st}(D_2)` of the exact solution.
+        :math:`T_{st}(D_2) = T(t_w)` of the exact solution.
     protocol : Protocol
-        :math:`D(t)`: :math:`D_1` on :math:`[0, t_w)`, then :math:`D_2`.
+        :math:`D(t)`: :math:`D_1` on :math:`[0, t_w)`, then :math:`D_2` (exact).
     initial : VelocityDistribution or None
         The steady state at :math:`D_0` (None for Maxwell, whose exact curves start from
         its exact moments).
     exact, sonine : Curves
-        Exact and first-Sonine curves (the Sonine one with its own :math:`t_w` and
-        :math:`T_{st}`, ``sonine_waiting_time``, ``sonine_steady_temperature``).
+        Exact and first-Sonine curves on the same times.
+    sonine_diffusion : float
+        :math:`D_2` of the first-Sonine protocol.
+    sonine_steady_temperature : float
+        Its :math:`T_{st}(D_2) = T_{sonine}(t_w)`.
+    restart_mismatch : float
+        :math:`T/T(t_w) - 1` of the state the second exact run starts from (the FEM
+        state at :math:`t_w` interpolated on the second run's mesh; 0 for Maxwell).
+    info : dict
+        Run details (FEM messages and wall times).
     """
 
     alpha: float
@@ -97,57 +223,117 @@ class KovacsResult:
     initial: VelocityDistribution | None
     exact: Curves
     sonine: Curves
-    sonine_waiting_time: float
+    sonine_diffusion: float
     sonine_steady_temperature: float
+    restart_mismatch: float = 0.0
+    info: dict = field(default_factory=dict)
+
+    def deviation(self, sonine: bool = False) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """:math:`(t - t_w, T/T_{st} - 1)` after the switch.
+
+        Parameters
+        ----------
+        sonine : bool
+            The first-Sonine curve instead of the exact one.
+
+        Returns
+        -------
+        (ndarray, ndarray)
+        """
+        c, t_st = (self.sonine, self.sonine_steady_temperature) if sonine else (
+            self.exact, self.steady_temperature)
+        after = c.times >= self.waiting_time
+        return c.times[after] - self.waiting_time, c.temperature[after] / t_st - 1.0
 
     @property
     def hump(self) -> float:
-        """Largest :math:`|T/T_{st} - 1|` after :math:`t_w` of the exact curve, signed."""
-        after = self.exact.times >= self.waiting_time
-        dev = self.exact.temperature[after] / self.steady_temperature - 1.0
-        return float(dev[np.argmax(np.abs(dev))])
+        """Extremum of :math:`T/T_{st} - 1` after :math:`t_w` of the exact curve, signed."""
+        return extremum(*self.deviation())[1]
+
+    @property
+    def hump_time(self) -> float:
+        """:math:`t - t_w` of the exact hump's extremum."""
+        return extremum(*self.deviation())[0]
+
+    @property
+    def sonine_hump(self) -> float:
+        """Extremum of the first-Sonine :math:`T/T_{st} - 1` after :math:`t_w`."""
+        return extremum(*self.deviation(sonine=True))[1]
 
 
-def _maxwell_exact(alpha: float, times: NDArray[np.float64], protocol: Protocol,
-                   moments: list[float], diffusion: float) -> Curves:
-    from ..solvers.maxwell import evolve_moments
+def sonine_kovacs(alpha: float, gamma: float, d_start: float, d_quench: float, tw: float,
+                  before: NDArray[np.float64], after: NDArray[np.float64]
+                  ) -> tuple[Curves, float, float]:
+    """First-Sonine Kovacs curve: quench to ``d_quench`` for ``tw``, then its own :math:`D_2`.
 
-    ev = evolve_moments(alpha, times, diffusion=lambda t: protocol.diffusion_at(t, diffusion),
-                        initial_moments=moments, breakpoints=protocol.breakpoints(times[-1]),
-                        rtol=1e-10)
-    return Curves(times, ev.temperature, ev.a2)
+    Parameters
+    ----------
+    alpha, gamma : float
+        Restitution coefficient and kernel exponent.
+    d_start, d_quench : float
+        :math:`D_0` (steady start) and :math:`D_1`.
+    tw : float
+        Waiting time.
+    before, after : ndarray
+        Output times in ``[0, tw]`` and after ``tw``.
 
-
-def _exact(alpha: float, gamma: float, times: NDArray[np.float64], protocol: Protocol,
-           diffusion: float, initial: VelocityDistribution | None, moments: list[float],
-           options: dict[str, Any]) -> Curves:
-    if gamma == 0.0:
-        return _maxwell_exact(alpha, times, protocol, moments, diffusion)
-    from ..evolve import evolve_heated
-
-    ev = evolve_heated(alpha, kernel=gamma, diffusion=diffusion, times=times, protocol=protocol,
-                       initial=initial, **options)
-    return Curves(times, ev.temperature, ev.a2)
-
-
-def _crossing(times: NDArray[np.float64], values: NDArray[np.float64], level: float) -> float:
-    """First time the decreasing curve falls to ``level`` (cubic through 4 points)."""
-    k = int(np.argmax(values <= level))
-    if k == 0:
-        raise ValueError("the quench never reaches the target temperature in the time span; "
-                         "lengthen it or raise d_final")
-    lo = max(0, min(k - 2, len(times) - 4))
-    coeffs = np.polyfit(times[lo:lo + 4], values[lo:lo + 4] - level, 3)
-    roots = [r.real for r in np.roots(coeffs) if abs(r.imag) < 1e-12
-             and times[k - 1] - 1e-12 <= r.real <= times[k] + 1e-12]
-    return float(roots[0]) if roots else float(np.interp(level, values[k - 1:k + 1][::-1],
-                                                         times[k - 1:k + 1][::-1]))
+    Returns
+    -------
+    (Curves, float, float)
+        The curve on ``before`` and ``after``, :math:`D_2` and :math:`T(t_w)`.
+    """
+    s0, a0 = steady_sonine(alpha, gamma=gamma, diffusion=d_start)
+    q = evolve_sonine(alpha, kernel=gamma, diffusion=d_quench, times=[0.0, tw],
+                      initial_temperature=s0, initial_a2=a0)
+    t_tw = float(q.temperature[-1])
+    d2 = d_start * (t_tw / s0) ** ((gamma + 2.0) / 2.0)
+    times = np.concatenate([before, after])
+    s = evolve_sonine(alpha, kernel=gamma, diffusion=d_quench, times=times,
+                      protocol=Protocol(diffusion=steps([tw], [d_quench, d2])),
+                      initial_temperature=s0, initial_a2=a0)
+    return Curves(times, s.temperature, s.a2), d2, t_tw
 
 
-def kovacs(alpha: float, *, kernel: float = 1.0, d_start: float = 1.0, d_quench: float = 0.05,
-           d_final: float = 0.3, duration: float = 6.0, n_times: int = 61,
-           **options: Any) -> KovacsResult:
-    """The Kovacs protocol: exact and first-Sonine curves.
+def sonine_waiting_time(alpha: float, *, kernel: float = 1.0, d_start: float = 1.0,
+                        d_quench: float = 1e-3, d_final: float = 0.1) -> float:
+    """First-Sonine time for the quench from :math:`T_{st}(D_0)` to reach :math:`T_{st}(D_2)`.
+
+    Parameters
+    ----------
+    alpha : float
+        Restitution coefficient.
+    kernel : float
+        :math:`\\gamma`.
+    d_start, d_quench, d_final : float
+        :math:`D_0 > D_2 > D_1 > 0`.
+
+    Returns
+    -------
+    float
+    """
+    from scipy.optimize import brentq
+
+    gamma = float(kernel)
+    s0, a0 = steady_sonine(alpha, gamma=gamma, diffusion=d_start)
+    target = s0 * (d_final / d_start) ** (2.0 / (gamma + 2.0))
+
+    def gap(t: float) -> float:
+        if t <= 0.0:
+            return s0 - target
+        q = evolve_sonine(alpha, kernel=gamma, diffusion=d_quench, times=[0.0, t],
+                          initial_temperature=s0, initial_a2=a0)
+        return float(q.temperature[-1] - target)
+
+    hi = 1.0 / (s0 ** (gamma / 2.0) * max(1.0 - alpha * alpha, 1e-3))
+    while gap(hi) > 0:
+        hi *= 2.0
+    return float(brentq(gap, 0.0, hi, xtol=1e-12, rtol=1e-12))
+
+
+def kovacs(alpha: float, *, kernel: float = 1.0, d_start: float = 1.0, d_quench: float = 1e-3,
+           d_final: float = 0.1, waiting_time: float | None = None, duration: float = 4.0,
+           n_before: int = 11, n_times: int = 41, **options: Any) -> KovacsResult:
+    """The Kovacs protocol (module docstring): exact and first-Sonine curves.
 
     Parameters
     ----------
@@ -155,60 +341,80 @@ def kovacs(alpha: float, *, kernel: float = 1.0, d_start: float = 1.0, d_quench:
         Restitution coefficient.
     kernel : float
         :math:`\\gamma` (0 Maxwell, 1 hard rods).
-    d_start, d_quench, d_final : float
-        :math:`D_0 > D_2 > D_1 > 0`.
+    d_start, d_quench : float
+        :math:`D_0 > D_1 > 0`.
+    d_final : float
+        Sets the default waiting time: the first-Sonine time for the quench to reach
+        :math:`T_{st}(D_{final})` (:func:`sonine_waiting_time`); ``d_quench < d_final
+        < d_start``.
+    waiting_time : float, optional
+        :math:`t_w` instead.
     duration : float
         Time after the switch to follow, in units of :math:`t_w`.
-    n_times : int
-        Output times after the switch (geometric in :math:`t - t_w`).
+    n_before, n_times : int
+        Output times before the switch (uniform) and after it (geometric in
+        :math:`t - t_w`, from :math:`10^{-3} t_w`).
     **options
-        For :func:`kinetic_fem.evolve_heated` and :func:`kinetic_fem.solve_heated`
-        (e.g. ``spacing``, ``rtol``).
+        For :func:`kinetic_fem.evolve_heated` (``rtol``, ``cutoff``, ``order`` and
+        ``spacing``, here in thermal velocities of the coldest temperature met); the
+        initial steady state is :func:`kinetic_fem.solve_heated` at its defaults.
 
     Returns
     -------
     KovacsResult
-    """
-    from ..solve import solve_heated
 
+    Raises
+    ------
+    ValueError
+        Unless ``0 < d_quench < d_final < d_start`` and ``waiting_time > 0``.
+    """
     if not 0 < d_quench < d_final < d_start:
         raise ValueError(f"need 0 < d_quench < d_final < d_start, got {d_quench}, {d_final}, "
                          f"{d_start}")
     gamma = float(kernel)
-    solve_opts = {k: v for k, v in options.items() if k in ("spacing", "cutoff", "order")}
-    initial = solve_heated(alpha, kernel=gamma, diffusion=d_start, **solve_opts)
-    final = solve_heated(alpha, kernel=gamma, diffusion=d_final, **solve_opts)
+    tw = (sonine_waiting_time(alpha, kernel=gamma, d_start=d_start, d_quench=d_quench,
+                              d_final=d_final) if waiting_time is None else float(waiting_time))
+    if not (math.isfinite(tw) and tw > 0):
+        raise ValueError(f"waiting_time={waiting_time!r} must be finite and > 0")
+    before = np.linspace(0.0, tw, n_before)
+    offsets = tw * duration * np.geomspace(1e-3, 1.0, n_times)
+    sonine, d2_s, t_s = sonine_kovacs(alpha, gamma, d_start, d_quench, tw, before, tw + offsets)
+    info: dict[str, Any] = {}
+    mismatch = 0.0
     if gamma == 0.0:
         from ..solvers.maxwell import steady_state
 
         st0 = steady_state(alpha, order=2, diffusion=d_start)
-        moments = [float(x) for x in st0.moments]
-        t_st = steady_state(alpha, order=2, diffusion=d_final).temperature
+        t0, initial = st0.temperature, None
+        first, _ = exact_curves(alpha, gamma, before, d_quench, None,
+                                [float(x) for x in st0.moments], options)
+        t_tw = float(first.temperature[-1])
+        d2 = d_start * t_tw / t0
+        m4 = 3.0 * t_tw**2 * (1.0 + float(first.a2[-1]))
+        second, _ = exact_curves(alpha, gamma, np.concatenate([[0.0], offsets]), d2, None,
+                                 [1.0, 0.0, t_tw, 0.0, m4], options)
     else:
-        moments = []
-        t_st = final.temperature
-    s0, a0 = steady_sonine(alpha, gamma=gamma, diffusion=d_start)
-    s_st, _ = steady_sonine(alpha, gamma=gamma, diffusion=d_final)
-    # waiting times: the quench alone, on a fine grid up to the Sonine estimate x 2
-    probe = np.linspace(0.0, 1.0, 201)
-    quench = evolve_sonine(alpha, kernel=gamma, diffusion=d_quench, times=probe * 50.0,
-                           initial_temperature=s0, initial_a2=a0)
-    tw_s = _crossing(quench.times, quench.temperature, s_st)
-    span = probe * 2.0 * tw_s
-    first = _exact(alpha, gamma, span, Protocol(), d_quench, initial, moments, options)
-    tw = _crossing(span, first.temperature, t_st)
-    after = tw + tw * duration * np.geomspace(1e-3, 1.0, n_times)
-    times = np.concatenate([np.linspace(0.0, tw, 11), after])
-    protocol = Protocol(diffusion=steps([tw], [d_quench, d_final]))
-    exact = _exact(alpha, gamma, times, protocol, d_quench, initial, moments, options)
-    s_times = np.concatenate([np.linspace(0.0, tw_s, 11),
-                              tw_s + tw_s * duration * np.geomspace(1e-3, 1.0, n_times)])
-    sonine = evolve_sonine(alpha, kernel=gamma, diffusion=d_quench, times=s_times,
-                           protocol=Protocol(diffusion=steps([tw_s], [d_quench, d_final])),
-                           initial_temperature=s0, initial_a2=a0)
-    return KovacsResult(float(alpha), gamma, (d_start, d_quench, d_final), tw, float(t_st),
-                        protocol, initial, exact,
-                        Curves(sonine.times, sonine.temperature, sonine.a2), tw_s, s_st)
+        from ..solve import solve_heated
+
+        initial = solve_heated(alpha, kernel=gamma, diffusion=d_start)
+        t0 = initial.temperature
+        t_guess = t0 * t_s / steady_sonine(alpha, gamma=gamma, diffusion=d_start)[0]
+        first, ev1 = exact_curves(alpha, gamma, before, d_quench, initial, None, options,
+                                  t_min=0.95 * t_guess)
+        t_tw = float(first.temperature[-1])
+        d2 = d_start * (t_tw / t0) ** ((gamma + 2.0) / 2.0)
+        second, ev2 = exact_curves(alpha, gamma, np.concatenate([[0.0], offsets]), d2, ev1[-1],
+                                   None, options, t_min=0.95 * t_tw)
+        mismatch = float(second.temperature[0] / t_tw - 1.0)
+        info = {"quench": ev1.info.message, "relaxation": ev2.info.message,
+                "wall_time": ev1.info.wall_time + ev2.info.wall_time}
+        logger.info("Kovacs alpha=%g: restart mismatch %.2e", alpha, mismatch)
+    exact = Curves(np.concatenate([before, tw + offsets]),
+                   np.concatenate([first.temperature, second.temperature[1:]]),
+                   np.concatenate([first.a2, second.a2[1:]]))
+    protocol = Protocol(diffusion=steps([tw], [d_quench, d2]))
+    return KovacsResult(float(alpha), gamma, (d_start, d_quench, d2), tw, t_tw, protocol,
+                        initial, exact, sonine, d2_s, t_s, mismatch, info)
 
 
 def sonine_distribution(temperature: float, a2: float, *, c_max: float = 10.0,
@@ -247,132 +453,10 @@ def sonine_distribution(temperature: float, a2: float, *, c_max: float = 10.0,
     return VelocityDistribution.from_values(v, p / math.sqrt(temperature))
 
 
-@dataclass(frozen=True)
-class MpembaResult:
-    """Two relaxations towards the steady state; the hotter one overtakes if ``crossing``.
+def __getattr__(name: str) -> Any:
+    """The Mpemba names, moved to :mod:`.mpemba`, stay importable from here."""
+    if name in ("MpembaResult", "mpemba", "mpemba_threshold"):
+        from . import mpemba as _mpemba_module
 
-    Attributes
-    ----------
-    alpha, gamma : float
-    steady_temperature : float
-        Exact :math:`T_{st}`.
-    initial_temperatures : (float, float)
-        Hot and cold start, :math:`T_A > T_B`.
-    initial_a2 : (float, float)
-        Their :math:`a_2`.
-    threshold : float or None
-        Smallest :math:`a_2` of the hot start for which the first-Sonine curves cross
-        (None: no crossing for any allowed :math:`a_2`, e.g. Maxwell).
-    hot, cold : Curves
-        Exact curves; ``hot_sonine``, ``cold_sonine`` the first-Sonine ones.
-    """
-
-    alpha: float
-    gamma: float
-    steady_temperature: float
-    initial_temperatures: tuple[float, float]
-    initial_a2: tuple[float, float]
-    threshold: float | None
-    hot: Curves
-    cold: Curves
-    hot_sonine: Curves
-    cold_sonine: Curves
-
-    @property
-    def crossing(self) -> float | None:
-        """First output time at which the exact hot curve is below the cold one."""
-        below = np.flatnonzero(self.hot.temperature < self.cold.temperature)
-        return float(self.hot.times[below[0]]) if below.size else None
-
-
-def mpemba_threshold(alpha: float, *, kernel: float = 1.0, hot: float = 1.5, cold: float = 1.4,
-                     cold_a2: float = 0.0, horizon: float = 10.0) -> float | None:
-    """Smallest :math:`a_2` of the hot start whose first-Sonine curve crosses the cold one.
-
-    Parameters
-    ----------
-    alpha : float
-    kernel : float
-        :math:`\\gamma`.
-    hot, cold : float
-        Initial temperatures over the steady one (``hot > cold > 0``).
-    cold_a2 : float
-        :math:`a_2` of the cold start.
-    horizon : float
-        Time span searched, in units of the relaxation time of :math:`T`.
-
-    Returns
-    -------
-    float or None
-        None if even :math:`a_2 = 4/3` gives no crossing.
-    """
-    gamma = float(kernel)
-    t_st, _ = steady_sonine(alpha, gamma=gamma)
-    nu = t_st ** (gamma / 2) * max(1.0 - alpha * alpha, 1e-3)
-    times = np.linspace(0.0, horizon / nu, 800)
-    cold_curve = evolve_sonine(alpha, kernel=gamma, times=times, initial_temperature=cold * t_st,
-                               initial_a2=cold_a2).temperature
-
-    def gap(a2: float) -> float:
-        hot_curve = evolve_sonine(alpha, kernel=gamma, times=times,
-                                  initial_temperature=hot * t_st, initial_a2=a2).temperature
-        return float(np.min((hot_curve - cold_curve)[1:]) / t_st)
-
-    top = 4.0 / 3.0
-    if gap(top) >= 0:
-        return None
-    return float(brentq(gap, cold_a2, top, xtol=1e-6)) if gap(cold_a2) > 0 else cold_a2
-
-
-def mpemba(alpha: float, *, kernel: float = 1.0, hot: float = 1.5, cold: float = 1.4,
-           hot_a2: float = 1.0, cold_a2: float = 0.0, n_times: int = 41,
-           horizon: float = 4.0, **options: Any) -> MpembaResult:
-    """The Mpemba protocol: exact and first-Sonine relaxations of a hot and a cold start.
-
-    Parameters
-    ----------
-    alpha : float
-    kernel : float
-        :math:`\\gamma` (0 Maxwell, 1 hard rods).
-    hot, cold : float
-        Initial temperatures over the exact steady one.
-    hot_a2, cold_a2 : float
-        Initial :math:`a_2` (the initial states are
-        :func:`sonine_distribution`; in ``[0, 4/3]``).
-    n_times : int
-        Output times (geometric).
-    horizon : float
-        Time span in relaxation times of :math:`T`.
-    **options
-        For :func:`kinetic_fem.evolve_heated` and :func:`kinetic_fem.solve_heated`.
-
-    Returns
-    -------
-    MpembaResult
-    """
-    from ..solve import solve_heated
-
-    gamma = float(kernel)
-    if not hot > cold > 0:
-        raise ValueError(f"need hot > cold > 0, got hot={hot}, cold={cold}")
-    solve_opts = {k: v for k, v in options.items() if k in ("spacing", "cutoff", "order")}
-    if gamma == 0.0:
-        from ..solvers.maxwell import steady_state
-
-        t_st = steady_state(alpha, order=2).temperature
-    else:
-        t_st = solve_heated(alpha, kernel=gamma, **solve_opts).temperature
-    s_st, _ = steady_sonine(alpha, gamma=gamma)
-    nu = s_st ** (gamma / 2) * max(1.0 - alpha * alpha, 1e-3)
-    times = np.concatenate([[0.0], np.geomspace(1e-2, horizon, n_times - 1) / nu])
-    curves = []
-    for temp, a2 in ((hot, hot_a2), (cold, cold_a2)):
-        start = sonine_distribution(temp * t_st, a2)
-        moments = [1.0, 0.0, temp * t_st, 0.0, 3 * (temp * t_st) ** 2 * (1 + a2)]
-        curves.append(_exact(alpha, gamma, times, Protocol(), 1.0, start, moments, options))
-        son = evolve_sonine(alpha, kernel=gamma, times=times, initial_temperature=temp * t_st,
-                            initial_a2=a2)
-        curves.append(Curves(times, son.temperature, son.a2))
-    threshold = mpemba_threshold(alpha, kernel=gamma, hot=hot, cold=cold, cold_a2=cold_a2)
-    return MpembaResult(float(alpha), gamma, float(t_st), (hot * t_st, cold * t_st),
-                        (hot_a2, cold_a2), threshold, curves[0], curves[2], curves[1], curves[3])
+        return getattr(_mpemba_module, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

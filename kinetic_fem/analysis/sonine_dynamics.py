@@ -71,7 +71,7 @@ from ..model import HeatedProblem, PowerLawKernel, RestitutionLaw
 from ..model.protocol import Protocol
 
 __all__ = ["SonineTrajectory", "pair_average", "sonine_rates", "evolve_sonine",
-           "steady_sonine"]
+           "steady_sonine", "sonine_relaxation_rates"]
 
 
 def _gaussian_moment(k: int, variance: float) -> float:
@@ -315,3 +315,50 @@ def steady_sonine(alpha: float, *, gamma: float = 1.0, density: float = 1.0,
     if not np.all(np.abs(f(y)) < 1e-11):
         raise RuntimeError(f"steady first-Sonine state not found: {msg}")
     return float(y[0] * scale[0]), float(y[1])
+
+
+def sonine_relaxation_rates(alpha: float, *, gamma: float = 1.0, density: float = 1.0,
+                            diffusion: float = 1.0, friction: float = 0.0,
+                            linear: bool = True) -> tuple[float, float]:
+    """Relaxation rates of the first-Sonine ODEs about their steady state.
+
+    The eigenvalues of :math:`-\\partial(\\dot T, \\dot a_2)/\\partial(T, a_2)` at
+    :func:`steady_sonine` (central differences), slowest first: the first-Sonine
+    counterpart of the two slowest even rates of
+    :func:`kinetic_fem.relaxation_spectrum`.
+
+    Parameters
+    ----------
+    alpha : float
+        Restitution coefficient.
+    gamma, density, diffusion, friction : float
+        As :func:`sonine_rates`.
+    linear : bool
+        As :func:`sonine_rates`.
+
+    Returns
+    -------
+    (slow, fast) : tuple of float
+        Real parts of the two rates (> 0 for a stable steady state).
+
+    Examples
+    --------
+    The Maxwell model (exact): the rates of T and of the fourth moment,
+    :math:`n(1-\\alpha^2)/2` and :math:`n(1 - a^4 - b^4)` with
+    :math:`a, b = (1 \\mp \\alpha)/2`.
+
+    >>> slow, fast = sonine_relaxation_rates(0.5, gamma=0.0)
+    >>> round(slow, 8), round(fast, 8)
+    (0.375, 0.6796875)
+    """
+    t0, a0 = steady_sonine(alpha, gamma=gamma, density=density, diffusion=diffusion,
+                           friction=friction, linear=linear)
+    kw = dict(gamma=gamma, density=density, diffusion=diffusion, friction=friction,
+              linear=linear)
+    jac = np.empty((2, 2))
+    for j, (dt_, da_) in enumerate(((1e-5 * t0, 0.0), (0.0, 1e-5))):
+        plus = sonine_rates(t0 + dt_, a0 + da_, alpha, **kw)  # type: ignore[arg-type]
+        minus = sonine_rates(t0 - dt_, a0 - da_, alpha, **kw)  # type: ignore[arg-type]
+        jac[:, j] = (np.array(plus) - np.array(minus)) / (2.0 * (dt_ + da_))
+    rates = np.sort(-np.linalg.eigvals(jac).real)
+    return float(rates[0]), float(rates[1])

@@ -4,4 +4,4 @@ Importing this package registers its items with :mod:`kinetic_fem.reproduce`; ea
 submodule owns the items of one capability.
 """
 
-from . import analytic, cooling, heated, scaling  # noqa: F401
+from . import analytic, cooling, heated, memory, scaling  # noqa: F401

@@ -1,42 +1,160 @@
-"""Tests of kinetic_fem.analysis.memory_effects (Kovacs and Mpemba protocols).
+"""Tests of kinetic_fem.analysis.memory_effects and .mpemba (Kovacs and Mpemba protocols).
 
-Fast checks only, where the answer is exact: the Maxwell model's energy balance is
-closed (dT/dt = 2D - k(alpha) n T depends on T alone), so its Kovacs hump
-vanishes and no Mpemba crossing exists; the first-Sonine threshold for hard rods is a
-property of two ODEs, found by bisection.
+Fast checks where the answer is exact: the Maxwell model's energy balance is closed
+(dT/dt = 2D - k(alpha) n T depends on T alone), so its Kovacs hump vanishes and no
+Mpemba crossing exists, and its first-Sonine ODEs are its exact moment equations; the
+first-Sonine hump and threshold are properties of two ODEs.  The slow tests run the
+FEM transient at the converged settings of ``benchmarks/memory_effects.py``.
 """
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 
-from kinetic_fem.analysis.memory_effects import kovacs, mpemba, mpemba_threshold
+from kinetic_fem.analysis.memory_effects import (
+    extremum,
+    kovacs,
+    sonine_distribution,
+    sonine_kovacs,
+    sonine_waiting_time,
+    transient_spacing,
+)
+from kinetic_fem.analysis.mpemba import crossing_time, mpemba, mpemba_threshold
 
 
-def test_maxwell_kovacs_has_no_hump():
-    """Closed energy balance: T stays at T_st(D2) after the switch, to the ODE tolerance."""
-    k = kovacs(0.6, kernel=0.0)
-    assert k.waiting_time > 0
-    assert abs(k.hump) < 1e-8
-    assert np.all(np.diff(k.exact.times) >= 0)
+def test_extremum_parabola():
+    t = np.linspace(0.0, 3.0, 13)
+    tm, vm = extremum(t, 5.0 - 0.5 * (t - 1.1) ** 2)
+    assert tm == pytest.approx(1.1, abs=1e-12) and vm == pytest.approx(5.0, abs=1e-12)
+    # the largest |value| here is at the end point: returned as sampled
+    assert extremum(t, t)[0] == 3.0
+    tm, vm = extremum(t, -np.exp(-((t - 1.3) ** 2)))
+    assert tm == pytest.approx(1.3, abs=2e-3) and vm == pytest.approx(-1.0, abs=2e-3)
 
 
-def test_maxwell_has_no_mpemba_threshold():
+def test_transient_spacing_rescales_to_the_coldest_state_met():
+    """The FEM mesh is sized by the steady T of the smallest D; a quench stays hotter."""
+    from kinetic_fem.model import HeatedProblem
+
+    est = HeatedProblem.from_parameters(0.3, diffusion=1e-3).temperature_estimate()
+    assert transient_spacing(0.25, 0.3, 1.0, 1e-3, 100 * est, 200 * est) == pytest.approx(2.5)
+    assert transient_spacing(0.25, 0.3, 1.0, 1e-3, 0.5 * est, 200 * est) == 0.25
+
+
+def test_maxwell_kovacs_has_no_hump_and_sonine_is_exact():
+    """Closed energy balance: T stays at T_st(D2) after the switch; the first-Sonine
+    ODEs are the Maxwell moment equations, so both curves agree."""
+    k = kovacs(0.3, kernel=0.0, n_times=21)
+    assert k.waiting_time > 0 and k.diffusion[1] < k.diffusion[2] < k.diffusion[0]
+    assert abs(k.hump) < 1e-9
+    assert np.all(np.diff(k.exact.times) > 0)
+    assert k.sonine.temperature == pytest.approx(k.exact.temperature, rel=1e-8)
+    assert k.sonine.a2 == pytest.approx(k.exact.a2, abs=1e-8)
+    # a2 does move: the quench drives it away from the steady value and back
+    assert np.ptp(k.exact.a2) > 1e-2
+
+
+@pytest.mark.parametrize("alpha, sign", [(0.3, -1.0), (0.9, 1.0)])
+def test_sonine_kovacs_hump_sign_is_minus_sign_of_a2(alpha, sign):
+    """First Sonine, hard rods: the hump has the sign of -a2_st (Prados and Trizac)."""
+    from kinetic_fem.analysis.sonine_dynamics import steady_sonine
+
+    tw = sonine_waiting_time(alpha)
+    assert np.sign(steady_sonine(alpha)[1]) == -sign
+    before = np.linspace(0.0, tw, 5)
+    after = tw + tw * 4.0 * np.geomspace(1e-3, 1.0, 81)
+    curves, d2, t_tw = sonine_kovacs(alpha, 1.0, 1.0, 1e-3, tw, before, after)
+    dev = curves.temperature[5:] / t_tw - 1.0
+    hump = extremum(after - tw, dev)[1]
+    assert np.sign(hump) == sign and 1e-3 < abs(hump) < 2e-2
+
+
+def test_sonine_waiting_time_reaches_the_target():
+    from kinetic_fem.analysis.sonine_dynamics import evolve_sonine, steady_sonine
+
+    tw = sonine_waiting_time(0.6, d_quench=1e-3, d_final=0.1)
+    s0, a0 = steady_sonine(0.6)
+    q = evolve_sonine(0.6, diffusion=1e-3, times=[0.0, tw], initial_temperature=s0,
+                      initial_a2=a0)
+    assert q.temperature[-1] == pytest.approx(s0 * 0.1 ** (2 / 3), rel=1e-9)
+
+
+def test_maxwell_has_no_mpemba_effect():
     assert mpemba_threshold(0.6, kernel=0.0) is None
-    assert mpemba(0.6, kernel=0.0).threshold is None
+    assert mpemba_threshold(0.6, kernel=0.0, method="exact") is None
+    res = mpemba(0.6, kernel=0.0, n_times=21)
+    assert res.threshold is None and res.crossing is None and res.sonine_crossing is None
+    # the shapes differ all along, the temperatures not by the shape
+    assert res.hot.a2[1] > res.cold.a2[1]
 
 
-def test_hard_rod_sonine_threshold_crosses():
-    """Above the threshold the first-Sonine hot curve overtakes the cold one, below not."""
-    a_c = mpemba_threshold(0.6)
-    assert a_c is not None and 0.0 < a_c < 4.0 / 3.0
+def test_hard_rod_sonine_threshold_converges_with_horizon():
+    """Above the threshold the hot curve is below the cold one at the horizon; the
+    threshold decreases to its eventual-crossing limit as the horizon grows."""
+    a4, a8, a12 = (mpemba_threshold(0.6, horizon=h) for h in (4.0, 8.0, 12.0))
+    assert 0.0 < a12 < a8 < a4 < 4.0 / 3.0
+    assert a4 == pytest.approx(0.41356, abs=1e-4)
+    assert a12 == pytest.approx(0.4024, abs=3e-4)
     wider = mpemba_threshold(0.6, hot=1.6)  # a larger head start needs a larger a2
-    assert wider is None or wider > a_c
+    assert wider is None or wider > a4
 
 
-def test_bad_protocol_raises():
+def test_crossing_time_interpolates():
+    from kinetic_fem.analysis.memory_effects import Curves
+
+    t = np.linspace(0.0, 1.0, 11)
+    hot = Curves(t, 2.0 - 2.0 * t, t)
+    cold = Curves(t, np.full_like(t, 1.0), t)
+    assert crossing_time(hot, cold) == pytest.approx(0.5)
+    assert crossing_time(cold, hot) is None
+
+
+def test_sonine_distribution_moments():
+    d = sonine_distribution(1.5, 1.0)
+    assert d.temperature == pytest.approx(1.5, rel=1e-9)
+    assert d.a2 == pytest.approx(1.0, rel=1e-8)
+
+
+def test_bad_input_raises():
     with pytest.raises(ValueError, match="d_quench < d_final < d_start"):
         kovacs(0.6, kernel=0.0, d_quench=0.5, d_final=0.3)
+    with pytest.raises(ValueError, match="waiting_time"):
+        kovacs(0.6, kernel=0.0, waiting_time=-1.0)
     with pytest.raises(ValueError, match="hot > cold"):
         mpemba(0.6, kernel=0.0, hot=1.0, cold=1.2)
+    with pytest.raises(ValueError, match="hot > cold"):
+        mpemba_threshold(0.6, hot=1.0, cold=1.2)
+    with pytest.raises(ValueError, match="method"):
+        mpemba_threshold(0.6, method="fem")
+    with pytest.raises(ValueError, match="a2"):
+        sonine_distribution(1.0, 2.0)
+    with pytest.raises(ValueError, match="temperature"):
+        sonine_distribution(math.inf, 0.5)
+
+
+def test_mpemba_names_still_importable_from_memory_effects():
+    from kinetic_fem.analysis import memory_effects
+
+    assert memory_effects.mpemba is mpemba
+    with pytest.raises(AttributeError):
+        memory_effects.no_such_name  # noqa: B018
+
+
+@pytest.mark.slow
+def test_hard_rod_kovacs_hump_converged():
+    """alpha = 0.3 (benchmarks/memory_effects.py): the hump extremum is -4.0858e-3 at
+    spacing 0.25, rtol 1e-6, -4.0884e-3 at rtol 1e-7, -4.0803e-3 at spacing 0.35 and
+    -4.0535e-3 at 0.5.  At spacing 0.35 the error against the finest is 8.1e-6."""
+    k = kovacs(0.3, spacing=0.35, rtol=1e-6)
+    assert k.waiting_time == pytest.approx(1.74618, abs=1e-5)
+    assert k.hump == pytest.approx(-4.0884e-3, abs=1.5e-5)
+    assert k.hump_time == pytest.approx(0.740, abs=2e-3)
+    assert abs(k.restart_mismatch) < 3e-5
+    # first Sonine has the sign right and the size 58 % too large
+    assert k.sonine_hump == pytest.approx(-6.4543e-3, rel=1e-4)
+    # the exact a2 at the switch is above the steady one (the quench drove it up)
+    i = int(np.searchsorted(k.exact.times, k.waiting_time))
+    assert k.exact.a2[i] > k.exact.a2[0] + 0.05
