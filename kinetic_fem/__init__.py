@@ -25,6 +25,7 @@ from .model import (
     HeatedProblem,
     InelasticGas,
     PowerLawKernel,
+    SaturatingKernel,
     ThresholdRestitution,
     ViscoelasticRestitution,
     WhiteNoise,
@@ -47,8 +48,8 @@ __version__ = "0.1.0"
 __all__ = [
     "InelasticGas", "HeatedProblem", "CoolingProblem", "VelocityDistribution", "RunInfo",
     "solve_heated", "solve_cooling", "register_solver", "HEATED_SOLVERS", "COOLING_SOLVERS",
-    "PowerLawKernel", "ThresholdRestitution", "ViscoelasticRestitution", "WhiteNoise",
-    "FokkerPlanckBath", "sonine", "scaling", "grid", "gas", "model",
+    "PowerLawKernel", "SaturatingKernel", "ThresholdRestitution", "ViscoelasticRestitution",
+    "WhiteNoise", "FokkerPlanckBath", "sonine", "scaling", "grid", "gas", "model",
     "evolve_heated", "evolve_cooling", "relaxation_spectrum",
 ]
 

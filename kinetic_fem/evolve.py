@@ -22,7 +22,7 @@ from numpy.typing import ArrayLike
 
 from .distribution import VelocityDistribution
 from .evolution import Evolution
-from .model import CoolingProblem, HeatedProblem, PowerLawKernel, RestitutionLaw, check_positive
+from .model import CollisionKernel, CoolingProblem, HeatedProblem, RestitutionLaw, check_positive
 from .model.protocol import Protocol
 from .solvers.fem_evolution import evolve_cooling_fem, evolve_heated_fem
 
@@ -94,7 +94,7 @@ def _method(problem: str, method: str) -> Callable[..., Evolution]:
 
 def evolve_heated(alpha: float | RestitutionLaw, *, density: float = 1.0,
                   diffusion: float = 1.0, friction: float = 0.0,
-                  kernel: float | PowerLawKernel = 1.0,
+                  kernel: float | CollisionKernel = 1.0,
                   initial_temperature: float | None = None,
                   initial: VelocityDistribution | None = None, times: ArrayLike,
                   protocol: Protocol | None = None, method: str = "fem",
@@ -108,7 +108,7 @@ def evolve_heated(alpha: float | RestitutionLaw, *, density: float = 1.0,
     density, diffusion, friction : float
         :math:`n`, :math:`D` and :math:`\\xi` (values at ``t = 0``, or throughout if the
         protocol leaves them alone).
-    kernel : float or PowerLawKernel
+    kernel : float or CollisionKernel
         Collision kernel :math:`|g|^\\gamma` (0 Maxwell, 1 hard rods).
     initial_temperature : float, optional
         Start from the Gaussian at this temperature (default: the Gaussian-closure
@@ -155,7 +155,7 @@ def evolve_heated(alpha: float | RestitutionLaw, *, density: float = 1.0,
 
 
 def evolve_cooling(alpha: float | RestitutionLaw, *, density: float = 1.0,
-                   kernel: float | PowerLawKernel = 1.0,
+                   kernel: float | CollisionKernel = 1.0,
                    initial_temperature: float | None = None,
                    initial: VelocityDistribution | None = None, times: ArrayLike,
                    method: str = "fem", **options: Any) -> Evolution:
@@ -173,7 +173,7 @@ def evolve_cooling(alpha: float | RestitutionLaw, *, density: float = 1.0,
         Constant coefficient of restitution, ``0 <= alpha < 1``.
     density : float
         Number density ``n``.
-    kernel : float or PowerLawKernel
+    kernel : float or CollisionKernel
         Collision kernel :math:`|g|^\\gamma`.
     initial_temperature : float, optional
         Start from the Gaussian at this temperature (default 1).

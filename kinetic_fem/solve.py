@@ -13,7 +13,7 @@ from __future__ import annotations
 from typing import Any, Callable
 
 from .distribution import VelocityDistribution
-from .model import CoolingProblem, HeatedProblem, PowerLawKernel, RestitutionLaw
+from .model import CollisionKernel, CoolingProblem, HeatedProblem, RestitutionLaw
 
 __all__ = ["HEATED_SOLVERS", "COOLING_SOLVERS", "register_solver", "solve_heated",
            "solve_cooling"]
@@ -57,7 +57,7 @@ def _lookup(table: dict[str, Solver], method: str, problem: str) -> Solver:
 
 def solve_heated(alpha: float | RestitutionLaw, *, density: float = 1.0,
                  diffusion: float = 1.0, friction: float = 0.0,
-                 kernel: float | PowerLawKernel = 1.0, method: str = "fem",
+                 kernel: float | CollisionKernel = 1.0, method: str = "fem",
                  **options: Any) -> VelocityDistribution:
     """Steady state of the heated inelastic gas.
 
@@ -70,7 +70,7 @@ def solve_heated(alpha: float | RestitutionLaw, *, density: float = 1.0,
         Number density :math:`n > 0` and noise strength :math:`D > 0`.
     friction : float
         Friction :math:`\\xi \\ge 0` of a Fokker-Planck bath (0: white noise, the paper).
-    kernel : float or PowerLawKernel
+    kernel : float or CollisionKernel
         Collision kernel :math:`|g|^\\gamma`, given by ``gamma`` in ``[0, 2]`` (1: hard rods).
     method : str
         Registry key: ``"fem"`` (Galerkin, Newton), ``"fd"`` (the paper's iteration), ...
@@ -108,7 +108,7 @@ def solve_heated(alpha: float | RestitutionLaw, *, density: float = 1.0,
 
 
 def solve_cooling(alpha: float | RestitutionLaw, *, density: float = 1.0,
-                  kernel: float | PowerLawKernel = 1.0, method: str = "fem",
+                  kernel: float | CollisionKernel = 1.0, method: str = "fem",
                   **options: Any) -> VelocityDistribution:
     """Homogeneous cooling state in scaled variables (see :func:`solve_heated`).
 
@@ -121,7 +121,7 @@ def solve_cooling(alpha: float | RestitutionLaw, *, density: float = 1.0,
         Constant coefficient of restitution, ``0 <= alpha < 1``.
     density : float
         Number density ``n`` (the scaled state does not depend on it).
-    kernel : float or PowerLawKernel
+    kernel : float or CollisionKernel
         Collision kernel :math:`|g|^\\gamma`.
     method : str
         ``"fem"`` (default), ``"fd"`` or ``"spectral"``.

@@ -58,7 +58,7 @@ internal energy.  Numerical defaults come from the model: the reference temperat
 ``T_ref`` is the Gaussian closure of the energy balance
 (:meth:`~kinetic_fem.model.HeatedProblem.temperature_estimate`), the collision
 rate per particle :math:`n\\langle|g|^\\gamma\\rangle` at ``T_ref``
-(:meth:`~kinetic_fem.model.PowerLawKernel.gaussian_mean`).
+(:meth:`~kinetic_fem.model.CollisionKernel.gaussian_mean`).
 
 *Free cooling* (:func:`simulate_cooling`): velocities are moved to the centre-of-mass
 frame and rescaled to unit temperature every ``N`` candidates (inside the kernel)
@@ -106,17 +106,17 @@ from numpy.typing import ArrayLike, NDArray
 
 from kinetic_fem.distribution import VelocityDistribution
 from kinetic_fem.model import (
+    CollisionKernel,
     CoolingProblem,
     HeatedProblem,
     InelasticGas,
-    PowerLawKernel,
     RestitutionLaw,
     check_positive,
 )
 from kinetic_fem.sonine import a2_first_order
 
 from ._dsmc_engine import DSMCOptions, DSMCRun, Engine
-from ._dsmc_kernels import kernel_code
+from ._dsmc_kernels import kernel_model
 from .run import Checkpointing
 from .sampling import initial_velocities_of
 
@@ -188,14 +188,15 @@ def _window(gas: InelasticGas, temperature: float, friction: float = 0.0) -> flo
     """Relaxation window: three linear relaxation times of T, in collisions per particle.
 
     The Gaussian closure gives the relaxation rate of T over the collision rate
-    :math:`\\nu = n\\langle|g|^\\gamma\\rangle`:
-    :math:`\\lambda/\\nu = (2+\\gamma)(1+\\gamma)(1-\\alpha^2)/4 + 2\\xi/\\nu`, so
+    :math:`\\nu = n\\langle B(g)\\rangle`:
+    :math:`\\lambda/\\nu = (2+\\gamma)(1+\\gamma)(1-\\alpha^2)/4 + 2\\xi/\\nu`, with
+    :math:`\\gamma` the kernel's local exponent at thermal speeds (that of a power law), so
     :math:`W = \\max(2, 3\\nu/\\lambda)`; hard rods under white noise:
     :math:`2/(1-\\alpha^2)`.
     """
     diss = _dissipation(gas, temperature)
-    gamma = gas.gamma
-    inverse = diss / 2.0 if gamma == 1.0 else (2 + gamma) * (1 + gamma) * diss / 12.0
+    gamma = gas.kernel.local_exponent(temperature)  # the exponent of a power law
+    inverse = diss / 2.0 if gas.kernel.is_hard_rods else (2 + gamma) * (1 + gamma) * diss / 12.0
     if friction > 0.0:
         nu = gas.density * gas.kernel.gaussian_mean(temperature)
         inverse += 2.0 * friction / (3.0 * nu)
@@ -215,7 +216,8 @@ def _model(gas: InelasticGas) -> dict[str, Any]:
     """The model in kernel form (codes and parameters) and the key entries beyond hard rods."""
     law = gas.restitution
     p0, p1 = law.parameters
-    return {"kcode": kernel_code(gas.gamma), "gamma": gas.gamma, "lcode": law.code,
+    kcode, kparam = kernel_model(gas.kernel)
+    return {"kcode": kcode, "gamma": kparam, "lcode": law.code,
             "p0": float(p0), "p1": float(p1), "g_limit": float(law.max_speed)}
 
 
@@ -235,7 +237,7 @@ def _check_range(gas: InelasticGas, v: NDArray[np.float64], where: str) -> None:
 
 def simulate_heated(alpha: float | RestitutionLaw, n_particles: int, *, density: float = 1.0,
                     diffusion: float = 1.0, friction: float = 0.0,
-                    kernel: float | PowerLawKernel = 1.0,
+                    kernel: float | CollisionKernel = 1.0,
                     seed: int | np.random.SeedSequence | None = None,
                     collisions_per_particle: float = 100.0, dt: float | None = None,
                     relax: str | float = "auto", sample_every: float = 1.0,
@@ -257,7 +259,7 @@ def simulate_heated(alpha: float | RestitutionLaw, n_particles: int, *, density:
     density, diffusion, friction : float
         :math:`n`, the noise strength :math:`D` and the bath friction :math:`\\xi \\ge 0`
         (``0``: white noise; ``> 0``: Fokker-Planck bath at :math:`T_b = D/\\xi`).
-    kernel : float or PowerLawKernel
+    kernel : float or CollisionKernel
         Collision kernel :math:`|g|^\\gamma`, ``gamma`` in ``[0, 2]`` (1: hard rods).
     seed : int or SeedSequence, optional
         Root seed; the same seed gives the same run (``None``: fresh entropy, recorded
@@ -338,7 +340,8 @@ def simulate_heated(alpha: float | RestitutionLaw, n_particles: int, *, density:
                 progress, _window(gas, t_ref, problem.friction))
     c_max = check_positive("c_max", c_max)
     init_seq, run_seq, entropy = _seeds(seed)
-    paper = gas.gamma == 1.0 and gas.restitution.constant is not None and problem.friction == 0
+    paper = gas.kernel.is_hard_rods and gas.restitution.constant is not None and \
+        problem.friction == 0
     a2 = float(a2_first_order(gas.alpha)) if paper else 0.0
     v = initial_velocities_of(initial_velocities, o["n"], t_ref, init_seq, a2=a2)
     _check_range(gas, v, "the initial velocities")
@@ -372,7 +375,7 @@ def simulate_heated(alpha: float | RestitutionLaw, n_particles: int, *, density:
 
 
 def simulate_cooling(alpha: float | RestitutionLaw, n_particles: int, *, density: float = 1.0,
-                     kernel: float | PowerLawKernel = 1.0,
+                     kernel: float | CollisionKernel = 1.0,
                      seed: int | np.random.SeedSequence | None = None,
                      collisions_per_particle: float = 100.0, relax: str | float = "auto",
                      sample_every: float = 1.0, average_every: str | float = "auto",
@@ -402,7 +405,7 @@ def simulate_cooling(alpha: float | RestitutionLaw, n_particles: int, *, density
         Number of particles ``N``, ``2 <= N < 2^32``.
     density : float
         Number density ``n``.
-    kernel : float or PowerLawKernel
+    kernel : float or CollisionKernel
         Collision kernel :math:`|g|^\\gamma`, ``gamma`` in ``[0, 2]``.
     seed : int or SeedSequence, optional
         Root seed (``None``: fresh entropy, recorded in the result).

@@ -58,10 +58,10 @@ from numpy.typing import ArrayLike, NDArray
 
 from kinetic_fem.distribution import RunInfo, VelocityDistribution
 from kinetic_fem.evolve import check_times
-from kinetic_fem.model import HeatedProblem, PowerLawKernel, RestitutionLaw, check_positive
+from kinetic_fem.model import CollisionKernel, HeatedProblem, RestitutionLaw, check_positive
 from kinetic_fem.model.protocol import Protocol
 
-from ._dsmc_kernels import collide_model, kernel_code
+from ._dsmc_kernels import collide_model, kernel_majorant, kernel_model
 from ._jit import jit
 from .rng import normal_slow, xoshiro, ziggurat_tables
 
@@ -177,15 +177,7 @@ def _segment(v, decay, amp, h, rate, kcode, gamma, lcode, p0, p1, g_limit, debt,
         g_max = hi - lo
         if g_max > g_limit:
             return accepted, debt, step, g_max
-        if kcode == 0:
-            power = 1.0
-        elif kcode == 1:
-            power = g_max
-        elif kcode == 2:
-            power = g_max * g_max
-        else:
-            power = g_max**gamma
-        x = debt + h * rate * power
+        x = debt + h * rate * kernel_majorant(kcode, gamma, g_max)
         m = int(math.floor(x))
         debt = x - m
         a, _ = collide_model(v, m, kcode, gamma, lcode, p0, p1, g_max, 1.0, s)
@@ -295,7 +287,7 @@ def _replica(problem: HeatedProblem, protocol: Protocol, pieces: list, steps: li
     state = np.random.default_rng(run_seq).integers(1, 2**63, size=4, dtype=np.uint64)
     ki, wi, fi = ziggurat_tables()
     gas = problem.gas
-    kcode, gamma = kernel_code(gas.gamma), float(gas.gamma)
+    kcode, gamma = kernel_model(gas.kernel)
     rate = 0.5 * gas.density * n
     temps, a2s = [], []
     if measure_zero:
@@ -349,7 +341,7 @@ def _default_dt(problem: HeatedProblem, protocol: Protocol, times: NDArray[np.fl
 def simulate_protocol(alpha: float | RestitutionLaw, n_particles: int, *, times: ArrayLike,
                       protocol: Protocol | None = None, density: float = 1.0,
                       diffusion: float = 1.0, friction: float = 0.0,
-                      kernel: float | PowerLawKernel = 1.0,
+                      kernel: float | CollisionKernel = 1.0,
                       initial_temperature: float | None = None, initial_a2: float = 0.0,
                       initial: VelocityDistribution | None = None, replicas: int = 16,
                       seed: int | np.random.SeedSequence | None = None,
@@ -370,7 +362,7 @@ def simulate_protocol(alpha: float | RestitutionLaw, n_particles: int, *, times:
         :func:`kinetic_fem.evolve_heated`).
     density, diffusion, friction : float
         :math:`n`, and :math:`D`, :math:`\\xi` where the protocol leaves them alone.
-    kernel : float or PowerLawKernel
+    kernel : float or CollisionKernel
         :math:`|g|^\\gamma` (0 Maxwell, 1 hard rods).
     initial_temperature : float, optional
         Temperature of the initial state (default: the Gaussian-closure steady
@@ -453,7 +445,8 @@ def simulate_protocol(alpha: float | RestitutionLaw, n_particles: int, *, times:
     root_scale = 1.0 / math.sqrt(n_rep)
     logger.info("DSMC protocol: %d replicas x %d particles, %d steps, %.2f s", n_rep, n,
                 sum(steps), wall)
-    params = {"alpha": repr(problem.gas.restitution), "gamma": problem.gas.gamma,
+    params = {"alpha": repr(problem.gas.restitution),
+              **{k: v for k, v in problem.gas.as_dict().items() if k in ("gamma", "kernel")},
               "density": problem.gas.density, "diffusion": problem.diffusion,
               "friction": problem.friction, "protocol": repr(protocol), "dt": h_max,
               "initial_temperature": temperature, "initial_a2": a2,

@@ -14,6 +14,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from kinetic_fem.model import (
+    CollisionKernel,
     PowerLawKernel,
     UnsupportedModelError,
     as_kernel,
@@ -46,12 +47,12 @@ def mean_free_time(temperature: float, density: float, sigma: float) -> float:
     return 1.0 / (n_free * 2.0 * math.sqrt(temperature / math.pi))
 
 
-def hard_rods(kernel: float | PowerLawKernel) -> PowerLawKernel:
+def hard_rods(kernel: float | CollisionKernel) -> PowerLawKernel:
     """The kernel of MD, which simulates hard rods only (:math:`\\gamma = 1`).
 
     Parameters
     ----------
-    kernel : float or PowerLawKernel
+    kernel : float or CollisionKernel
         The requested kernel.
 
     Returns
@@ -69,10 +70,10 @@ def hard_rods(kernel: float | PowerLawKernel) -> PowerLawKernel:
     True
     """
     k = as_kernel(kernel)
-    if not k.is_hard_rods:
+    if not (isinstance(k, PowerLawKernel) and k.is_hard_rods):
         raise UnsupportedModelError(
             f"MD simulates hard rods only (kernel gamma = 1: rods on a line meet at the rate "
-            f"of their relative speed), got gamma={k.gamma:g}; for other kernels use "
+            f"of their relative speed), got the {k.name} kernel {k!r}; for other kernels use "
             f"particles.dsmc (every 0 <= gamma <= 2) or kinetic_fem's solve_heated/"
             f"solve_cooling with method='fem'")
     return k

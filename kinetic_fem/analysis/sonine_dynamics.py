@@ -67,7 +67,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.integrate import solve_ivp
 from scipy.signal import convolve2d
 
-from ..model import HeatedProblem, PowerLawKernel, RestitutionLaw
+from ..model import CollisionKernel, HeatedProblem, RestitutionLaw
 from ..model.protocol import Protocol
 
 __all__ = ["SonineTrajectory", "pair_average", "sonine_rates", "evolve_sonine",
@@ -192,7 +192,7 @@ class SonineTrajectory:
 def evolve_sonine(alpha: float | RestitutionLaw, *, times: ArrayLike,
                   protocol: Protocol | None = None, density: float = 1.0,
                   diffusion: float = 1.0, friction: float = 0.0,
-                  kernel: float | PowerLawKernel = 1.0,
+                  kernel: float | CollisionKernel = 1.0,
                   initial_temperature: float | None = None,
                   initial_a2: float = 0.0, linear: bool = True, rtol: float = 1e-10
                   ) -> SonineTrajectory:
@@ -209,7 +209,7 @@ def evolve_sonine(alpha: float | RestitutionLaw, *, times: ArrayLike,
         :math:`D(t)`, :math:`\\xi(t)` and restitution changes.
     density, diffusion, friction : float
         :math:`n`, and :math:`D`, :math:`\\xi` where the protocol leaves them alone.
-    kernel : float or PowerLawKernel
+    kernel : float or CollisionKernel
         :math:`|g|^\\gamma`.
     initial_temperature : float, optional
         Default: the Gaussian-closure steady temperature at ``t = 0``.

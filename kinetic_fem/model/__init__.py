@@ -9,7 +9,8 @@ Adding a kernel or a thermostat is one class here plus the support each solver n
 in its own module.
 """
 
-from .kernel import HARD_RODS, MAXWELL, PowerLawKernel, as_kernel
+from .kernel import HARD_RODS, MAXWELL, CollisionKernel, PowerLawKernel, as_kernel
+from .kernel_saturating import SaturatingKernel
 from .problem import CoolingProblem, HeatedProblem, InelasticGas
 from .restitution import (
     ConstantRestitution,
@@ -30,7 +31,7 @@ from .validation import (
 )
 
 __all__ = [
-    "PowerLawKernel", "HARD_RODS", "MAXWELL", "as_kernel",
+    "CollisionKernel", "PowerLawKernel", "SaturatingKernel", "HARD_RODS", "MAXWELL", "as_kernel",
     "RestitutionLaw", "ConstantRestitution", "ThresholdRestitution",
     "ViscoelasticRestitution", "as_restitution", "restitution_value",
     "Thermostat", "WhiteNoise", "FokkerPlanckBath", "NoThermostat", "as_thermostat",

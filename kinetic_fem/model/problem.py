@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from .kernel import PowerLawKernel, as_kernel
+from .kernel import CollisionKernel, PowerLawKernel, as_kernel
 from .restitution import RestitutionLaw, ThresholdRestitution, as_restitution
 from .thermostat import FokkerPlanckBath, NoThermostat, Thermostat, WhiteNoise, as_thermostat
 from .validation import UnsupportedModelError, check_positive
@@ -40,8 +40,9 @@ class InelasticGas:
         Restitution coefficient in ``[0, 1]`` or a restitution law.
     density : float
         Number density :math:`n > 0` (rods per unit length).
-    kernel : float or PowerLawKernel
-        Collision kernel :math:`B(g) = |g|^\\gamma` given by ``gamma`` in ``[0, 2]``.
+    kernel : float or CollisionKernel
+        Collision kernel: ``gamma`` in ``[0, 2]`` for :math:`B(g) = |g|^\\gamma`, or a
+        kernel object (:mod:`kinetic_fem.model.kernel`).
 
     Examples
     --------
@@ -52,10 +53,10 @@ class InelasticGas:
 
     restitution: RestitutionLaw
     density: float
-    kernel: PowerLawKernel
+    kernel: CollisionKernel
 
     def __init__(self, alpha: float | RestitutionLaw, density: float = 1.0,
-                 kernel: float | PowerLawKernel = 1.0) -> None:
+                 kernel: float | CollisionKernel = 1.0) -> None:
         object.__setattr__(self, "restitution", as_restitution(alpha))
         object.__setattr__(self, "density", check_positive("density", density))
         object.__setattr__(self, "kernel", as_kernel(kernel))
@@ -84,7 +85,14 @@ class InelasticGas:
 
     @property
     def gamma(self) -> float:
-        """Kernel exponent :math:`\\gamma`."""
+        """Kernel exponent :math:`\\gamma` of a power law.
+
+        Raises
+        ------
+        UnsupportedModelError
+            For a kernel that is not a power law (:attr:`CollisionKernel.gamma`): the
+            computations that read it assume :math:`|g|^\\gamma`.
+        """
         return self.kernel.gamma
 
     def collide(self, v1: np.ndarray, v2: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -103,36 +111,42 @@ class InelasticGas:
     def loss_rate(self, temperature: float) -> float:
         """Gaussian estimate of the collisional loss :math:`-d\\langle v^2\\rangle/dt`.
 
-        :math:`\\tfrac n4\\langle(1-\\alpha(g)^2)|g|^{\\gamma+2}\\rangle` over two
-        independent Gaussians of variance ``temperature`` (exact for a Gaussian).
+        :math:`\\tfrac n4\\langle(1-\\alpha(g)^2)B(g)g^2\\rangle` over two
+        independent Gaussians of variance ``temperature`` (exact for a Gaussian), from
+        the kernel's Gaussian averages.
+
+        Parameters
+        ----------
+        temperature : float
+            Temperature, > 0.
+
+        Returns
+        -------
+        float
         """
         law = self.restitution
         if law.constant is not None:
             return 0.25 * self.density * (1.0 - law.constant**2) * \
                 self.kernel.gaussian_mean(temperature, 2.0)
-        # |g| of two Gaussians of variance T has density exp(-g^2/4T)/sqrt(pi T), g > 0.
         # The law is continued beyond its range (viscoelastic) by its value there: this
         # is a scale estimate, and problems that reach such speeds are refused elsewhere.
-        from scipy.integrate import quad
-
-        scale = 2.0 * float(np.sqrt(temperature))
-        gamma = self.gamma
-
-        def integrand(x: float) -> float:  # x = g / (2 sqrt T)
-            g = scale * x
+        def weight(g: float) -> float:
             a = float(law(min(g, law.max_speed)))
-            return (1.0 - a * a) * x ** (gamma + 2.0) * float(np.exp(-x * x))
+            return 1.0 - a * a
 
-        points = [law.threshold / scale] if isinstance(law, ThresholdRestitution) else None
-        value, _ = quad(integrand, 0.0, 12.0, points=points, epsabs=0.0, epsrel=1e-12,
-                        limit=200)
-        mean = 2.0 * scale ** (gamma + 2.0) * value / float(np.sqrt(np.pi))
-        return 0.25 * self.density * mean
+        breaks = [law.threshold] if isinstance(law, ThresholdRestitution) else []
+        return 0.25 * self.density * self.kernel.gaussian_average(temperature, weight, 2.0,
+                                                                  breaks)
 
     def as_dict(self) -> dict[str, Any]:
         """Plain parameters, as stored with results."""
         law = self.restitution
-        out: dict[str, Any] = {"density": self.density, "gamma": self.gamma}
+        kernel = self.kernel
+        out: dict[str, Any] = {"density": self.density}
+        if isinstance(kernel, PowerLawKernel):
+            out["gamma"] = kernel.gamma
+        else:
+            out["kernel"] = repr(kernel)
         if law.constant is not None:
             out["alpha"] = law.constant
         else:
@@ -145,6 +159,11 @@ class InelasticGas:
 def _require(problem: Any, method: str, *, gammas: tuple[float, ...] | None,
              constant_restitution: bool, thermostats: tuple[type, ...] | None) -> None:
     gas = problem.gas
+    if gammas is not None and not isinstance(gas.kernel, PowerLawKernel):
+        raise UnsupportedModelError(
+            f"method {method!r} supports the power-law kernels gamma in {list(gammas)} "
+            f"only, got the {gas.kernel.name} kernel {gas.kernel!r}; the 'fem' method "
+            "supports every kernel")
     if gammas is not None and gas.gamma not in gammas:
         raise UnsupportedModelError(
             f"method {method!r} supports the kernels gamma in {list(gammas)} only, got "
@@ -180,9 +199,11 @@ class HeatedProblem:
     Notes
     -----
     Dimensional analysis maps every steady state onto one at :math:`n = D = 1`:
-    :math:`P_{n,D}(v) = P_{1,1}(v/u)/u` with :math:`u = (D/n)^{1/(2+\\gamma)}`
-    (see :attr:`velocity_scale`); with a bath the friction becomes
-    :math:`\\xi/(n u^\\gamma)`.
+    :math:`P_{n,D}(v) = P_{1,1}(v/u)/u` with :math:`u = (D/n)^{1/(2+d)}`
+    (see :attr:`velocity_scale`), :math:`d` the kernel's
+    :attr:`~kinetic_fem.model.kernel.CollisionKernel.scale_degree` (:math:`\\gamma` for a
+    power law), and the kernel :attr:`unit_kernel`, :math:`B(ug)/u^d` (the same
+    kernel for a power law); with a bath the friction becomes :math:`\\xi/(n u^d)`.
 
     Examples
     --------
@@ -212,7 +233,7 @@ class HeatedProblem:
     @classmethod
     def from_parameters(cls, alpha: float | RestitutionLaw, *, density: float = 1.0,
                         diffusion: float = 1.0, friction: float = 0.0,
-                        kernel: float | PowerLawKernel = 1.0) -> HeatedProblem:
+                        kernel: float | CollisionKernel = 1.0) -> HeatedProblem:
         """Build the problem from plain numbers (or model objects), validating each."""
         return cls(InelasticGas(alpha, density, kernel), as_thermostat(diffusion, friction))
 
@@ -228,13 +249,21 @@ class HeatedProblem:
 
     @property
     def velocity_scale(self) -> float:
-        """:math:`u = (D/n)^{1/(2+\\gamma)}`, the velocity built from ``D`` and ``n``."""
-        return (self.diffusion / self.gas.density) ** (1.0 / (2.0 + self.gas.gamma))
+        """:math:`u = (D/n)^{1/(2+d)}`, the velocity built from ``D`` and ``n``
+        (:math:`d` the kernel's ``scale_degree``, :math:`\\gamma` for a power law)."""
+        return (self.diffusion / self.gas.density) ** (1.0 / (2.0 + self.gas.kernel.scale_degree))
 
     @property
     def time_scale(self) -> float:
-        """:math:`1/(n u^\\gamma)`, the collision time at the velocity :attr:`velocity_scale`."""
-        return 1.0 / (self.gas.density * self.velocity_scale ** self.gas.gamma)
+        """:math:`1/(n u^d)`, the collision time at the velocity :attr:`velocity_scale`."""
+        return 1.0 / (self.gas.density * self.velocity_scale ** self.gas.kernel.scale_degree)
+
+    @property
+    def unit_kernel(self) -> CollisionKernel:
+        """The kernel of the problem at :math:`n = D = 1`, :math:`B(ug)/u^d`
+        (:meth:`~kinetic_fem.model.kernel.CollisionKernel.rescaled`; a power law is its
+        own)."""
+        return self.gas.kernel.rescaled(self.velocity_scale)
 
     def temperature_estimate(self) -> float:
         """Steady temperature of the Gaussian closure of the energy balance C1.
@@ -296,6 +325,10 @@ class CoolingProblem:
     ------
     ValueError
         For elastic collisions (no cooling).
+    UnsupportedModelError
+        For a kernel that is not homogeneous (:math:`B(ug) \\ne u^d B(g)`, e.g.
+        :class:`~kinetic_fem.model.SaturatingKernel`): the cooling gas has no
+        time-independent scaled state then.
     """
 
     gas: InelasticGas
@@ -307,13 +340,32 @@ class CoolingProblem:
         if gas.restitution.is_elastic:
             raise ValueError("elastic collisions (alpha = 1) do not cool: there is no "
                              "homogeneous cooling state; take alpha < 1")
+        if gas.kernel.homogeneity_degree is None:
+            raise UnsupportedModelError(
+                f"free cooling is solved in scaled variables, which needs a homogeneous "
+                f"kernel B(ug) = u^d B(g) (a power law |g|^gamma); the {gas.kernel.name} "
+                f"kernel {gas.kernel!r} is not: its cooling gas has no scaled steady state")
         object.__setattr__(self, "gas", gas)
         object.__setattr__(self, "thermostat", NoThermostat())
 
     @classmethod
     def from_parameters(cls, alpha: float | RestitutionLaw, *, density: float = 1.0,
-                        kernel: float | PowerLawKernel = 1.0) -> CoolingProblem:
-        """Build the problem from plain numbers (or model objects), validating each."""
+                        kernel: float | CollisionKernel = 1.0) -> CoolingProblem:
+        """Build the problem from plain numbers (or model objects), validating each.
+
+        Parameters
+        ----------
+        alpha : float or RestitutionLaw
+            Restitution coefficient or law.
+        density : float
+            :math:`n`.
+        kernel : float or CollisionKernel
+            ``gamma`` of a power law, or a homogeneous kernel.
+
+        Returns
+        -------
+        CoolingProblem
+        """
         return cls(InelasticGas(alpha, density, kernel))
 
     def zeta_estimate(self) -> float:

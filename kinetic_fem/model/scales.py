@@ -11,8 +11,9 @@ first-order Sonine for hard rods under white noise (the paper's scale,
 :func:`kinetic_fem.sonine.steady_temperature`), otherwise the Gaussian closure of the
 energy balance (:meth:`HeatedProblem.temperature_estimate`; exact for the Maxwell kernel).
 
-**Mean free time** :math:`1/(n\\langle|g|^\\gamma\\rangle)`, the average over a Gaussian at
-:math:`T` of the collision rate, :math:`g \\sim N(0, 2T)`:
+**Mean free time** :math:`1/(n\\langle B(g)\\rangle)`, the average over a Gaussian at
+:math:`T` of the collision rate, :math:`g \\sim N(0, 2T)`
+(:meth:`~kinetic_fem.model.kernel.CollisionKernel.gaussian_mean`); for a power law
 
 .. math::
 
@@ -33,6 +34,10 @@ a target value of :math:`f(c)` (:data:`TAIL_TARGET` by default):
   grows like :math:`|v|^\\gamma`, so :math:`P'' \\approx n|v|^\\gamma P` gives the tail
   :math:`e^{-\\frac{2}{2+\\gamma}|v|^{1+\\gamma/2}}` (WKB), which reduces to both cases
   above;
+* any kernel growing as :math:`B(g) \\sim c\\,g^p` (its
+  :attr:`~kinetic_fem.model.kernel.CollisionKernel.tail_growth`): the same WKB tail
+  :math:`e^{-\\frac{2\\sqrt c}{2+p}|v|^{1+p/2}}` (the saturating kernel: :math:`p = 0`,
+  :math:`c = g_0`, an exponential tail);
 * Fokker-Planck bath: the friction adds the Gaussian :math:`e^{-\\xi v^2/2}` of the bath
   temperature, which bounds the cut-off from above.
 
@@ -46,13 +51,15 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from scipy.integrate import quad
+
 from ..sonine import steady_temperature
-from .kernel import PowerLawKernel
+from .kernel import HARD_RODS, CollisionKernel, as_kernel
 from .problem import HeatedProblem
 from .validation import check_alpha, check_positive
 
 __all__ = ["TAIL_TARGET", "ModelScales", "heated_cutoff", "cooling_cutoff",
-           "cooling_rate_estimate"]
+           "cooling_rate_estimate", "tail_action"]
 
 TAIL_TARGET = 1e-60
 """Value of f(c) at the default cut-off of the heated state."""
@@ -66,10 +73,11 @@ class ModelScales:
     ----------
     alpha : float
         Constant restitution coefficient, :math:`0 \\le \\alpha \\le 1`.
-    gamma : float
-        Kernel exponent, :math:`0 \\le \\gamma \\le 2` (1: hard rods, 0: Maxwell).
+    kernel : float or CollisionKernel
+        The kernel of the unit problem, or the exponent ``gamma`` of a power law
+        (1: hard rods, 0: Maxwell).
     friction : float
-        Bath friction of the unit problem, :math:`\\xi/(n u^\\gamma)` (0: white noise).
+        Bath friction of the unit problem, :math:`\\xi/(n u^d)` (0: white noise).
     temperature : float
         Estimated steady temperature of the unit problem (module docstring), > 0.
 
@@ -81,15 +89,13 @@ class ModelScales:
     """
 
     alpha: float
-    gamma: float
+    kernel: CollisionKernel
     friction: float
     temperature: float
 
     def __post_init__(self) -> None:
         check_alpha(self.alpha, allow_elastic=True)
-        if not 0.0 <= self.gamma <= 2.0:
-            raise ValueError(f"gamma={self.gamma!r} is not allowed; the kernel exponent must "
-                             "be in [0, 2]")
+        object.__setattr__(self, "kernel", as_kernel(self.kernel))
         if not self.friction >= 0.0:
             raise ValueError(f"friction={self.friction!r} is not allowed; it must be >= 0")
         check_positive("temperature", self.temperature)
@@ -108,13 +114,20 @@ class ModelScales:
         ModelScales
         """
         alpha = problem.gas.alpha
-        gamma = problem.gas.gamma
-        xi = problem.friction / (problem.gas.density * problem.velocity_scale**gamma)
-        if gamma == 1.0 and xi == 0.0:
-            return cls(alpha, gamma, 0.0, steady_temperature(alpha))
+        kernel = problem.unit_kernel
+        degree = problem.gas.kernel.scale_degree
+        xi = problem.friction / (problem.gas.density * problem.velocity_scale**degree)
+        if kernel.is_hard_rods and xi == 0.0:
+            return cls(alpha, kernel, 0.0, steady_temperature(alpha))
         unit = HeatedProblem.from_parameters(alpha, density=1.0, diffusion=1.0, friction=xi,
-                                             kernel=gamma)
-        return cls(alpha, gamma, xi, unit.temperature_estimate())
+                                             kernel=kernel)
+        return cls(alpha, kernel, xi, unit.temperature_estimate())
+
+    @property
+    def gamma(self) -> float:
+        """The exponent of a power-law kernel (other kernels refuse,
+        :attr:`~kinetic_fem.model.kernel.CollisionKernel.gamma`)."""
+        return self.kernel.gamma
 
     @property
     def thermal_speed(self) -> float:
@@ -123,8 +136,8 @@ class ModelScales:
 
     @property
     def mean_free_time(self) -> float:
-        """:math:`1/\\langle|g|^\\gamma\\rangle` over a Gaussian at :math:`T` (``n = 1``)."""
-        return 1.0 / PowerLawKernel(self.gamma).gaussian_mean(self.temperature)
+        """:math:`1/\\langle B(g)\\rangle` over a Gaussian at :math:`T` (``n = 1``)."""
+        return 1.0 / self.kernel.gaussian_mean(self.temperature)
 
     def cutoff(self, target: float = TAIL_TARGET, *, core_margin: float = 1.25) -> float:
         """Where :math:`f(c)` falls below ``target``, in units of :math:`\\sqrt T`.
@@ -154,7 +167,7 @@ class ModelScales:
         s = self.thermal_speed
         log_target = -math.log(target)
         gauss = math.sqrt(2.0 * log_target)
-        if self.gamma == 1.0:
+        if self.kernel.is_hard_rods:
             tail = (log_target / (2.0 / 3.0 * self.temperature**0.75)) ** (2.0 / 3.0)
             if self.friction == 0.0 and self.alpha < 1.0:
                 x_core = (6.0 * log_target) ** (1.0 / 3.0)
@@ -163,8 +176,9 @@ class ModelScales:
             else:
                 core = gauss
         else:
-            power = 1.0 + 0.5 * self.gamma
-            tail = (log_target / (1.0 / power)) ** (1.0 / power) / s
+            coefficient, growth = self.kernel.tail_growth
+            power = 1.0 + 0.5 * growth
+            tail = (log_target / (math.sqrt(coefficient) / power)) ** (1.0 / power) / s
             core = gauss
         white = max(tail, core)
         if self.friction > 0.0:
@@ -196,7 +210,7 @@ def heated_cutoff(alpha: float, target: float = TAIL_TARGET, *,
     >>> [round(heated_cutoff(a), 1) for a in (0.0, 0.9, 0.99, 0.9999)]
     [29.2, 16.6, 12.1, 12.1]
     """
-    return ModelScales(alpha, 1.0, 0.0, steady_temperature(alpha)).cutoff(
+    return ModelScales(alpha, HARD_RODS, 0.0, steady_temperature(alpha)).cutoff(
         target, core_margin=core_margin)
 
 
@@ -243,3 +257,45 @@ def cooling_cutoff(alpha: float) -> float:
     check_alpha(alpha)
     eps = 1.0 - alpha
     return max(1.0 + 12.0 * eps ** (1.0 / 3.0), 1.5 + 80.0 * cooling_rate_estimate(alpha))
+
+
+def tail_action(v: float, kernel: float | CollisionKernel, friction: float) -> float:
+    """WKB action :math:`S(v)` of the far tail :math:`P \\sim e^{-S}` at ``n = D = 1``.
+
+    Far from the bulk :math:`P'' + \\xi (vP)' \\approx B(v) P` (the loss dominates the
+    gain, the loss frequency of a fast particle is :math:`B(v)`), so
+
+    .. math::
+
+        S'(v) = \\tfrac12\\big(\\xi v + \\sqrt{\\xi^2 v^2 + 4 B(v)}\\big),
+
+    :math:`S = \\int_0^v\\sqrt{B}` for white noise
+    (:meth:`~kinetic_fem.model.kernel.CollisionKernel.wkb_action`:
+    :math:`\\tfrac{2}{2+\\gamma}v^{1+\\gamma/2}` for a power law).
+
+    Parameters
+    ----------
+    v : float
+        Velocity (``n = D = 1``), >= 0.
+    kernel : float or CollisionKernel
+        The kernel of the unit problem, or the exponent of a power law.
+    friction : float
+        Bath friction (0: white noise).
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> round(tail_action(4.0, 1.0, 0.0), 12)  # (2/3) v^(3/2)
+    5.333333333333
+    """
+    k = as_kernel(kernel)
+    if friction == 0.0:
+        return float(k.wkb_action(v))
+
+    def rate(w: float) -> float:
+        return 0.5 * (friction * w + math.sqrt((friction * w) ** 2 + 4.0 * float(k.rate(w))))
+
+    return quad(rate, 0.0, v, limit=200)[0]

@@ -4,7 +4,7 @@ Lagrange elements (scikit-fem) on a velocity mesh; the unknown is :math:`u_h = \
 Weak forms: the white-noise term :math:`\\int\\varphi_i' P'`
 (:func:`fokker_planck`), the bath drift :math:`\\int \\varphi_i' v P` (:func:`bath_drift`),
 the mass :math:`\\int\\varphi_i P`, each with its Jacobian; the collision weak form
-(kernel :math:`|g|^\\gamma`, any restitution law) by the pair rule of
+(any kernel :math:`B(g)`, any restitution law) by the pair rule of
 :mod:`kinetic_fem.operators.fem_kernels`.  See :mod:`kinetic_fem.solvers.fem` for the equations.
 """
 
@@ -31,7 +31,7 @@ from skfem.helpers import dot, grad
 from skfem.refdom import RefLine
 
 from ..distribution import VelocityDistribution
-from ..model import RestitutionLaw
+from ..model import CollisionKernel, RestitutionLaw, as_kernel
 from ..model.restitution import CONSTANT
 from .fem_kernels import collision_operator, evaluate_field
 
@@ -132,8 +132,10 @@ class FEMDiscretisation:
         Full collision bracket, exact conservation for any P (default: the reduced
         bracket, more accurate as alpha -> 1; see
         :func:`kinetic_fem.operators.fem_kernels.collision_operator`); constant laws only.
-    gamma : float
-        Kernel exponent, :math:`B(g) = |g|^\\gamma`.
+    gamma : float or CollisionKernel
+        The collision kernel (a float: the exponent of :math:`B(g) = |g|^\\gamma`); the
+        pair rule evaluates it through its
+        :attr:`~kinetic_fem.model.kernel.CollisionKernel.numeric`.
     law : RestitutionLaw, optional
         A velocity-dependent restitution law (evaluated at ``speed_scale`` times the
         relative speed); ``None``: the constant ``alpha``.
@@ -148,7 +150,7 @@ class FEMDiscretisation:
     order: int = 2
     intorder: int = 5
     symmetric: bool = False
-    gamma: float = 1.0
+    gamma: float | CollisionKernel = 1.0
     law: RestitutionLaw | None = None
     friction: float = 0.0
     speed_scale: float = 1.0
@@ -158,6 +160,11 @@ class FEMDiscretisation:
             raise ValueError("symmetric=True (the full collision bracket) needs a constant "
                              f"restitution coefficient, got {self.law!r}; use the default "
                              "reduced bracket")
+
+    @cached_property
+    def kernel(self) -> CollisionKernel:
+        """The collision kernel (:attr:`gamma` as a kernel object)."""
+        return as_kernel(self.gamma)
 
     @cached_property
     def _law_arrays(self) -> tuple[int, float, float, float]:
@@ -242,7 +249,7 @@ class FEMDiscretisation:
         code, p0, p1, b_lo = self._law_arrays
         args = (verts, dofs, self.order, np.ascontiguousarray(u), xq, wq, eq,
                 np.ascontiguousarray(ref_x[0]), ref_w, p0, 1.0, jacobian, int(energy_power),
-                self.symmetric, float(self.gamma), code, p0, p1, float(self.speed_scale), b_lo)
+                self.symmetric, self.kernel.numeric, code, p0, p1, float(self.speed_scale), b_lo)
         if even:
             return collision_operator(*args, self.mirror)
         return collision_operator(*args)

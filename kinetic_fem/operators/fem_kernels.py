@@ -37,6 +37,7 @@ from ..model.restitution import CONSTANT, VISCOELASTIC, restitution_value
 from .fem_pair_breaks import (
     GRADING_LEVELS,
     GRADING_RATIO,
+    kernel_graded,
     kernel_rate,
     law_breaks,
     merge_breaks,
@@ -101,7 +102,7 @@ def evaluate_field(verts: np.ndarray, dofs: np.ndarray, order: int, coef: np.nda
 def collision_operator(verts: np.ndarray, dofs: np.ndarray, order: int, coef: np.ndarray,
                        xq: np.ndarray, wq: np.ndarray, eq: np.ndarray, ref_x: np.ndarray,
                        ref_w: np.ndarray, alpha: float, density: float, with_jacobian: bool,
-                       energy_power: int, symmetric: bool, gamma: float, code: int,
+                       energy_power: int, symmetric: bool, kernel: tuple[int, float], code: int,
                        p0: float, p1: float, speed_scale: float, b_lo: float,
                        mirror: np.ndarray | None = None
                        ) -> tuple[np.ndarray, np.ndarray, float, float]:
@@ -136,8 +137,11 @@ def collision_operator(verts: np.ndarray, dofs: np.ndarray, order: int, coef: np
         symmetric mesh, while the outer integrand stays smooth as alpha -> 1 (the
         pre-images of the vertices under y -> y' sweep past the mesh at rate
         (1+alpha)/(1-alpha)).
-    gamma : float
-        Kernel exponent, :math:`B(g) = |g|^\\gamma`.
+    kernel : tuple of (int, float)
+        The kernel's ``(family, parameter)``
+        (:attr:`kinetic_fem.model.kernel.CollisionKernel.numeric`), evaluated by
+        :func:`~kinetic_fem.operators.fem_pair_breaks.kernel_rate`; a float is the
+        exponent of a power law.
     code, p0, p1 : int, float, float
         Restitution law (:func:`kinetic_fem.model.restitution_value`); with
         ``code == CONSTANT`` the coefficient is ``alpha``.
@@ -167,11 +171,11 @@ def collision_operator(verts: np.ndarray, dofs: np.ndarray, order: int, coef: np
     k = dofs.shape[1]
     constant = code == CONSTANT
     moments = energy_power >= 0
-    graded = (gamma != 0.0 and gamma != 1.0 and gamma != 2.0) or code == VISCOELASTIC
+    graded = kernel_graded(kernel) or code == VISCOELASTIC
     if order >= 2 and constant and not symmetric:
         # P2/P3, constant alpha, reduced bracket: per-piece sums in scalars
         return collision_constant(verts, dofs, coef, xq, wq, eq, ref_x, ref_w, alpha, density,
-                                  with_jacobian, energy_power, gamma, graded, mirror)
+                                  with_jacobian, energy_power, kernel, graded, mirror)
     a = 0.5 * (1.0 - alpha)
     b = 0.5 * (1.0 + alpha)
     res = np.zeros(n_dof)
@@ -277,7 +281,7 @@ def collision_operator(verts: np.ndarray, dofs: np.ndarray, order: int, coef: np
                 if symmetric:
                     shape_values(order, (b * x + a * y - verts[e2]) * h2, ph2)
                 w = wm * ref_w[r] * np.exp(uy)
-                rate = kernel_rate(gamma, g)
+                rate = kernel_rate(kernel, g)
                 if moments:
                     gp = 1.0
                     for _ in range(energy_power):

@@ -13,11 +13,15 @@ not smooth there.
 from __future__ import annotations
 
 import numpy as np
+from numba import types
+from numba.extending import overload
 
 from .._jit import jit
+from ..model.kernel import FAMILY_POWER_LAW
 from ..model.restitution import THRESHOLD, restitution_value
 
-__all__ = ["merge_breaks", "law_breaks", "pieces", "kernel_rate", "preimage_distance",
+__all__ = ["merge_breaks", "law_breaks", "pieces", "kernel_rate", "kernel_numeric",
+           "kernel_graded", "preimage_distance",
            "GRADING_RATIO", "GRADING_LEVELS"]
 
 GRADING_RATIO = 0.15
@@ -60,16 +64,63 @@ def merge_breaks(verts: np.ndarray, x: float, a: float, b: float, buf: np.ndarra
     return n
 
 
+def kernel_numeric(kernel: float | tuple[int, float]) -> tuple[int, float]:
+    """``(family, parameter)`` of a kernel given as such a pair or as a power-law exponent.
+
+    The compiled pair rule takes the kernel's
+    :attr:`~kinetic_fem.model.kernel.CollisionKernel.numeric`; a plain float is read as
+    the exponent ``gamma`` of a power law (the older spelling, still accepted).
+
+    Parameters
+    ----------
+    kernel : float or tuple of (int, float)
+        The exponent of a power law, or ``(family, parameter)``.
+
+    Returns
+    -------
+    tuple of (int, float)
+    """
+    if isinstance(kernel, tuple):
+        return kernel
+    return FAMILY_POWER_LAW, float(kernel)
+
+
+# (numba's TypedDict of jit options omits "cache", which overload accepts)
+@overload(kernel_numeric, jit_options={"cache": True})  # type: ignore[typeddict-unknown-key]
+def _kernel_numeric_compiled(kernel):  # pragma: no cover - compiled
+    if isinstance(kernel, types.Float):
+        return lambda kernel: (FAMILY_POWER_LAW, kernel)
+    return lambda kernel: kernel
+
+
 @jit
-def kernel_rate(gamma: float, g: float) -> float:
-    """:math:`B(g) = g^\\gamma` for ``g >= 0`` (multiplications for gamma in {0, 1, 2})."""
-    if gamma == 1.0:
-        return g
-    if gamma == 0.0:
-        return 1.0
-    if gamma == 2.0:
-        return g * g
-    return g ** gamma
+def kernel_rate(kernel: float | tuple[int, float], g: float) -> float:
+    """:math:`B(g)` for ``g >= 0`` of the kernel ``(family, parameter)``
+    (:attr:`kinetic_fem.model.kernel.CollisionKernel.numeric`; a float: the exponent of
+    a power law).
+
+    Power law :math:`g^\\gamma` (multiplications for gamma in {0, 1, 2}, so the hard-rod
+    and Maxwell rules are unchanged bit for bit); saturating :math:`g/(1 + g/g_0)`.
+    """
+    family, p = kernel_numeric(kernel)
+    if family == FAMILY_POWER_LAW:
+        if p == 1.0:
+            return g
+        if p == 0.0:
+            return 1.0
+        if p == 2.0:
+            return g * g
+        return g ** p
+    return g / (1.0 + g / p)  # FAMILY_SATURATING
+
+
+@jit
+def kernel_graded(kernel: float | tuple[int, float]) -> bool:
+    """Whether :math:`B` has a kink of fractional order at :math:`g = 0`, so that the
+    pieces next to :math:`y = x` are split geometrically (power laws with gamma not in
+    {0, 1, 2}); the saturating kernel is analytic on either side of :math:`y = x`."""
+    family, p = kernel_numeric(kernel)
+    return family == FAMILY_POWER_LAW and p != 0.0 and p != 1.0 and p != 2.0
 
 
 @jit

@@ -28,7 +28,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..model import HeatedProblem
+from ..model import HeatedProblem, as_kernel
 from ..model.scales import TAIL_TARGET, ModelScales, heated_cutoff
 from ..operators.collision import kernel_power
 from ..sonine import relaxation_time
@@ -104,7 +104,7 @@ class UnitModel:
 
     def scales(self) -> ModelScales:
         """The model's scales of this unit problem (:mod:`kinetic_fem.model.scales`)."""
-        return ModelScales(self.alpha, self.gamma, self.friction, self.temperature)
+        return ModelScales(self.alpha, as_kernel(self.gamma), self.friction, self.temperature)
 
     def cutoff(self) -> float:
         """Default cut-off in units of :math:`\\sqrt{T}`: the model's rule

@@ -184,7 +184,7 @@ def discretisation(model: ScaledModel, vertices: NDArray, order: int = 2,
     """
     law = None if model.law.constant is not None else model.law
     return FEMDiscretisation(model.alpha, vertices, order, intorder or 2 * order + 1, symmetric,
-                             gamma=model.gamma, law=law, friction=model.friction,
+                             gamma=model.kernel, law=law, friction=model.friction,
                              speed_scale=model.speed_scale)
 
 
@@ -255,7 +255,7 @@ def steady_state(model: float | HeatedProblem, *, order: int | None = None,
         # limits are approached smoothly in c; Newton from a Gaussian is not robust there)
         coarse_problem = HeatedProblem.from_parameters(
             max(1.0 - 10.0 * (1.0 - alpha), CONTINUATION_ALPHA - 0.05),
-            friction=scaled.friction, kernel=scaled.gamma)
+            friction=scaled.friction, kernel=scaled.kernel)
         # (P2 at 0.2 also for P3: P3 at 0.3 fails at alpha = 0.99 and for gamma = 2)
         guess = steady_state(coarse_problem, order=min(order, 2), spacing=0.2,
                              symmetric=symmetric, tol=1e-6, max_iter=max_iter)

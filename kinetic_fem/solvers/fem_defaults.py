@@ -1,23 +1,27 @@
 """The model as the FEM solvers see it: scaled parameters, cut-offs, spacings, meshes.
 
 Every heated steady state maps onto one at :math:`n = D = 1` by the velocity
-:math:`u = (D/n)^{1/(2+\\gamma)}` (:attr:`kinetic_fem.model.HeatedProblem.velocity_scale`);
-there the bath friction is :math:`\\xi/(n u^\\gamma)` and a restitution law is evaluated
-at the physical speed :math:`u\\,|x - y|`.  The numerical defaults derive from the
-model's own scales:
+:math:`u = (D/n)^{1/(2+d)}` (:attr:`kinetic_fem.model.HeatedProblem.velocity_scale`,
+:math:`d = \\gamma` for a power law); there the kernel is
+:attr:`~kinetic_fem.model.HeatedProblem.unit_kernel`, the bath friction is
+:math:`\\xi/(n u^d)` and a restitution law is evaluated at the physical speed
+:math:`u\\,|x - y|`.  Every rule below asks the kernel
+(:class:`~kinetic_fem.model.kernel.CollisionKernel`), never an exponent.  The
+numerical defaults derive from the model's own scales:
 
 * the temperature of the Gaussian closure of the energy balance C1
   (:meth:`~kinetic_fem.model.HeatedProblem.temperature_estimate`);
-* the tail: far from the bulk, :math:`D P'' + \\xi (vP)' \\approx n |v|^\\gamma P`
+* the tail: far from the bulk, :math:`D P'' + \\xi (vP)' \\approx n B(v) P`
   (the loss dominates the gain), whose WKB solution :math:`P \\sim e^{-S(v)}` has
 
   .. math::
 
-      S'(v) = \\frac{\\xi v + \\sqrt{\\xi^2 v^2 + 4 D n v^\\gamma}}{2D},
+      S'(v) = \\frac{\\xi v + \\sqrt{\\xi^2 v^2 + 4 D n B(v)}}{2D},
 
   :math:`S = \\tfrac{2}{2+\\gamma}\\sqrt{n/D}\\,v^{1+\\gamma/2}` for white noise
   (:math:`\\tfrac23 v^{3/2}` for hard rods, claim C4; :math:`v` for the Maxwell model,
-  an exponential tail).  The cut-off is where :math:`S` reaches 33 decades.
+  an exponential tail; :func:`kinetic_fem.model.scales.tail_action` for any kernel).
+  The cut-off is where :math:`S` reaches 33 decades.
 * the element size grows in the tail as :math:`h \\propto c^{\\kappa}` with
   :math:`\\kappa = (3 - \\beta)/3`, :math:`\\beta` the tail exponent of :math:`\\ln f`
   (P2 interpolates :math:`\\ln f` with error :math:`h^3 (\\ln f)'''`).
@@ -33,12 +37,12 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.integrate import quad
 from scipy.optimize import brentq
 
 from .. import sonine
-from ..model import HeatedProblem, RestitutionLaw
+from ..model import CollisionKernel, HeatedProblem, PowerLawKernel, RestitutionLaw, as_kernel
 from ..model.scales import heated_cutoff
+from ..model.scales import tail_action as model_tail_action
 from ..operators.grid import symmetric_grid, uniform_grid
 
 __all__ = ["default_cutoff", "default_spacing", "ScaledModel", "scaled_model",
@@ -132,10 +136,10 @@ class ScaledModel:
     Attributes
     ----------
     law : RestitutionLaw
-    gamma : float
-        Kernel exponent.
+    kernel : CollisionKernel
+        The kernel at ``n = D = 1`` (a float: the exponent of a power law).
     friction : float
-        Scaled bath friction :math:`\\xi/(n u^\\gamma)` (0 for white noise).
+        Scaled bath friction :math:`\\xi/(n u^d)` (0 for white noise).
     speed_scale : float
         :math:`u`, the physical speed of a unit of scaled velocity.
     temperature : float
@@ -144,10 +148,18 @@ class ScaledModel:
     """
 
     law: RestitutionLaw
-    gamma: float
+    kernel: CollisionKernel
     friction: float
     speed_scale: float
     temperature: float
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "kernel", as_kernel(self.kernel))
+
+    @property
+    def gamma(self) -> float:
+        """Exponent of a power-law kernel (other kernels refuse)."""
+        return self.kernel.gamma
 
     @property
     def alpha(self) -> float:
@@ -158,12 +170,13 @@ class ScaledModel:
     @property
     def is_paper_model(self) -> bool:
         """Hard rods, constant alpha, white noise: the measured defaults apply."""
-        return self.gamma == 1.0 and self.law.constant is not None and self.friction == 0.0
+        return self.kernel.is_hard_rods and self.law.constant is not None and self.friction == 0.0
 
     @property
     def continues_near_elastic(self) -> bool:
         """Whether a near-elastic state (white noise, effective alpha above 0.95) starts
-        from the state at ten times the inelasticity: for :math:`\\gamma \\ge 1`, whose
+        from the state at ten times the inelasticity: for kernels that grow at least
+        linearly (:math:`\\gamma \\ge 1`; the kernel's ``tail_growth``), whose
         quasi-elastic :math:`f(c)` is approached smoothly and Newton from a Gaussian is
         not robust.  Soft kernels :math:`\\gamma < 1` start from
         :func:`initial_log_density` instead: near elastic collisions their bulk is close
@@ -171,17 +184,17 @@ class ScaledModel:
         rescaled, lies many decades above the tail, and Newton diverges from it
         (measured: Maxwell model and :math:`\\gamma = 0.5` at alpha = 0.99; from the
         Gaussian start 4 to 9 Newton steps at alpha = 0.99 and 0.999)."""
-        return self.gamma >= 1.0
+        return self.kernel.tail_growth[1] >= 1.0
 
     @property
     def effective_epsilon(self) -> float:
         """:math:`1 - \\alpha_{eff}`, with :math:`1 - \\alpha_{eff}^2` the Gaussian average
-        of :math:`1 - \\alpha(g)^2` weighted by the energy loss :math:`|g|^{\\gamma+2}`."""
+        of :math:`1 - \\alpha(g)^2` weighted by the energy loss :math:`B(g)g^2`."""
         if self.law.constant is not None:
             return 1.0 - self.law.constant
         s, w = np.polynomial.hermite.hermgauss(120)
         g = 2.0 * math.sqrt(self.temperature) * np.abs(s)
-        weight = w * g ** (self.gamma + 2.0)
+        weight = w * self.kernel.weighted_rate(g, 2.0)
         alpha_g = self.law(np.minimum(g * self.speed_scale, self.law.max_speed))
         mean = float(np.sum(weight * (1.0 - alpha_g**2)) / np.sum(weight))
         return 1.0 - math.sqrt(max(1.0 - mean, 0.0))
@@ -201,24 +214,26 @@ def scaled_model(problem: HeatedProblem) -> ScaledModel:
     """
     gas = problem.gas
     u = problem.velocity_scale
-    friction = problem.friction / (gas.density * u**gas.gamma)
+    friction = problem.friction / (gas.density * u**gas.kernel.scale_degree)
     law = gas.restitution
-    if law.constant is not None and gas.gamma == 1.0 and friction == 0.0:
+    kernel = problem.unit_kernel
+    if law.constant is not None and kernel.is_hard_rods and friction == 0.0:
         temperature = sonine.steady_temperature(law.constant)
     else:
         temperature = problem.temperature_estimate() / u**2
-    return ScaledModel(law, gas.gamma, friction, u, temperature)
+    return ScaledModel(law, kernel, friction, u, temperature)
 
 
-def tail_action(v: float, gamma: float, friction: float) -> float:
-    """:math:`S(v) = \\int_0^v S'` of the module docstring (``n = D = 1``).
+def tail_action(v: float, gamma: float | CollisionKernel, friction: float) -> float:
+    """:math:`S(v) = \\int_0^v S'` of the module docstring (``n = D = 1``): the model's
+    :func:`kinetic_fem.model.scales.tail_action`.
 
     Parameters
     ----------
     v : float
         Velocity (``n = D = 1``).
-    gamma : float
-        Kernel exponent.
+    gamma : float or CollisionKernel
+        The kernel at ``n = D = 1`` (a float: the exponent of a power law).
     friction : float
         Bath friction (0: white noise).
 
@@ -231,13 +246,7 @@ def tail_action(v: float, gamma: float, friction: float) -> float:
     >>> round(tail_action(4.0, 1.0, 0.0), 12)  # (2/3) v^(3/2)
     5.333333333333
     """
-    if friction == 0.0:
-        return 2.0 / (2.0 + gamma) * v ** (1.0 + 0.5 * gamma)
-
-    def rate(w: float) -> float:
-        return 0.5 * (friction * w + math.sqrt((friction * w) ** 2 + 4.0 * w**gamma))
-
-    return quad(rate, 0.0, v, limit=200)[0]
+    return model_tail_action(v, gamma, friction)
 
 
 def initial_log_density(v: NDArray[np.float64], model: ScaledModel) -> NDArray[np.float64]:
@@ -261,10 +270,10 @@ def initial_log_density(v: NDArray[np.float64], model: ScaledModel) -> NDArray[n
     top = max(float(v.max()), 1e-12)
     fine = np.linspace(0.0, top, 20001)
     if model.friction == 0.0:
-        action = 2.0 / (2.0 + model.gamma) * fine ** (1.0 + 0.5 * model.gamma)
+        action = model.kernel.wkb_action(fine)
     else:
         xi = model.friction
-        rate = 0.5 * (xi * fine + np.sqrt((xi * fine) ** 2 + 4.0 * fine**model.gamma))
+        rate = 0.5 * (xi * fine + np.sqrt((xi * fine) ** 2 + 4.0 * model.kernel.rate(fine)))
         action = np.concatenate([[0.0], np.cumsum(0.5 * (rate[1:] + rate[:-1])
                                                   * np.diff(fine))])
     log_p = -np.minimum(0.5 * fine**2 / model.temperature, action)
@@ -309,20 +318,26 @@ def gain_margin(model: ScaledModel) -> float:
     >>> round(gain_margin(m), 3)                          # (T/2) / sqrt(T) + 1
     3.294
     """
-    if model.friction > 0.0 or model.gamma >= 1.0:
+    coefficient, gamma = model.kernel.tail_growth  # B(g) ~ c g^gamma far out
+    if model.friction > 0.0 or gamma >= 1.0:
         return 0.0
     target = DECADES * math.log(10.0)
-    temp, gamma = model.temperature, model.gamma
-    # the Gaussian slope v/T meets the tail's v^(gamma/2) at v_t
-    v_t = temp ** (1.0 / (1.0 - 0.5 * gamma))
+    temp, kernel, root = model.temperature, model.kernel, math.sqrt(coefficient)
+    # the Gaussian slope v/T meets the tail's sqrt(c) v^(gamma/2) at v_t
+    v_t = (temp * root) ** (1.0 / (1.0 - 0.5 * gamma))
     gauss_t = 0.5 * v_t**2 / temp
+    reach = (target * (1.0 + 0.5 * gamma) / root) ** (1.0 / (1.0 + 0.5 * gamma))
     if gauss_t >= target:  # the Gaussian reaches 33 decades first
         v_cut = math.sqrt(2.0 * target * temp)
     else:
-        s_t = tail_action(v_t, gamma, 0.0)
-        v_cut = brentq(lambda v: tail_action(v, gamma, 0.0) - s_t + gauss_t - target,
-                       v_t, 2.0 * v_t + 4.0 * target ** (1.0 / (1.0 + 0.5 * gamma)) + 1.0)
-    v_bare = (target * (1.0 + 0.5 * gamma)) ** (1.0 / (1.0 + 0.5 * gamma))
+        s_t = tail_action(v_t, kernel, 0.0)
+        v_cut = brentq(lambda v: tail_action(v, kernel, 0.0) - s_t + gauss_t - target,
+                       v_t, 2.0 * v_t + 4.0 * (target / root) ** (1.0 / (1.0 + 0.5 * gamma))
+                       + 1.0)
+    if isinstance(kernel, PowerLawKernel):  # S = reach at v_bare, in closed form
+        v_bare = reach
+    else:
+        v_bare = brentq(lambda v: tail_action(v, kernel, 0.0) - target, 0.0, 4.0 * reach + 1.0)
     return max(v_cut - v_bare, 0.0) / math.sqrt(temp) + 1.0
 
 
@@ -344,15 +359,16 @@ def model_cutoff(model: ScaledModel) -> float:
         return default_cutoff(model.law.constant)
     target = DECADES * math.log(10.0)
     top = 1.0
-    while tail_action(top, model.gamma, model.friction) < target:
+    while tail_action(top, model.kernel, model.friction) < target:
         top *= 2.0
-    v_cut = brentq(lambda v: tail_action(v, model.gamma, model.friction) - target,
+    v_cut = brentq(lambda v: tail_action(v, model.kernel, model.friction) - target,
                    0.0, top, xtol=1e-10)
     return v_cut / math.sqrt(model.temperature) + 1.0 + gain_margin(model)
 
 
 def tail_exponent(model: ScaledModel) -> float:
-    """:math:`\\beta` of :math:`\\ln f \\sim -c^\\beta`: 2 with friction, else 1 + gamma/2.
+    """:math:`\\beta` of :math:`\\ln f \\sim -c^\\beta`: 2 with friction, else 1 + p/2 with
+    :math:`B(g) \\sim g^p` (the kernel's ``tail_growth``; 1 + gamma/2 for a power law).
 
     Parameters
     ----------
@@ -363,7 +379,7 @@ def tail_exponent(model: ScaledModel) -> float:
     -------
     float
     """
-    return 2.0 if model.friction > 0.0 else 1.0 + 0.5 * model.gamma
+    return 2.0 if model.friction > 0.0 else 1.0 + 0.5 * model.kernel.tail_growth[1]
 
 
 def model_spacing(model: ScaledModel) -> float:

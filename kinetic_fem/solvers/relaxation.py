@@ -144,9 +144,9 @@ def relaxation_spectrum(alpha: float, *, density: float = 1.0, diffusion: float 
     values, vectors = values[finite], vectors[:, finite]
     order = np.argsort(values.real)
     values, vectors = values[order].real, vectors[:, order].real
-    # scaled units: n = D = 1 with speeds in units of u, times in units of 1/(n u^gamma)
+    # scaled units: n = D = 1 with speeds in units of u, times in units of 1/(n u^d)
     u_scale = scaled.speed_scale
-    rate_unit = problem.gas.density * u_scale**problem.gas.gamma
+    rate_unit = problem.gas.density * u_scale**problem.gas.kernel.scale_degree
     zero = np.abs(values) < zero_tol
     x = disc.dof_locations
     # the dof at -x of each dof (the mesh is symmetric; dofs are not stored in order)

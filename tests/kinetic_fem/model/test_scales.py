@@ -94,11 +94,11 @@ def test_cooling_cutoff_values():
 
 
 @pytest.mark.parametrize("kw, match", [
-    ({"alpha": 1.5}, "alpha"), ({"gamma": 2.5}, "gamma"), ({"gamma": -0.1}, "gamma"),
+    ({"alpha": 1.5}, "alpha"), ({"kernel": 2.5}, "gamma"), ({"kernel": -0.1}, "gamma"),
     ({"friction": -1.0}, "friction"), ({"temperature": 0.0}, "temperature"),
 ])
 def test_bad_scales_raise(kw, match):
-    args = {"alpha": 0.5, "gamma": 1.0, "friction": 0.0, "temperature": 1.0} | kw
+    args = {"alpha": 0.5, "kernel": 1.0, "friction": 0.0, "temperature": 1.0} | kw
     with pytest.raises(ValueError, match=match):
         ModelScales(**args)
 
