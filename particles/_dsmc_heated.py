@@ -45,14 +45,11 @@ from kinetic_fem.model.restitution import CONSTANT
 
 from ._dsmc_kernels import (
     KERNEL_HARD_RODS,
-    KERNEL_MAXWELL,
-    KERNEL_SATURATING,
-    KERNEL_SQUARE,
     PREFETCH_BATCH,
     PREFETCH_MIN_N,
     collide_model,
-    saturating_rate,
 )
+from ._dsmc_kernels import kernel_majorant as majorant_power
 from ._jit import jit, prefetch
 from .rng import WYRAND_WORD, mul128, normal_slow, wyrand
 
@@ -250,21 +247,6 @@ def collide_heated(v, n_candidates, alpha, g_max, s, batch=-1):  # pragma: no co
         done += m
     s[WYRAND_WORD] = w
     return accepted, sum_g2
-
-
-@jit
-def majorant_power(kcode, gamma, g_max):  # pragma: no cover - compiled
-    """:math:`B(g_{max})`: :math:`g_{max}^\\gamma` (exact for the kernel codes 0, 1, 2), or
-    the saturating kernel's (:func:`particles._dsmc_kernels.kernel_majorant`)."""
-    if kcode == KERNEL_HARD_RODS:
-        return g_max
-    if kcode == KERNEL_MAXWELL:
-        return 1.0
-    if kcode == KERNEL_SQUARE:
-        return g_max * g_max
-    if kcode == KERNEL_SATURATING:
-        return saturating_rate(g_max, gamma)
-    return g_max**gamma
 
 
 @jit

@@ -199,14 +199,14 @@ def evolve_heated_fem(problem: HeatedProblem, *, times: NDArray, protocol: Proto
     t_init = initial.temperature if initial is not None else (
         initial_temperature if initial_temperature is not None else temps[0])
     hot, cold = max(max(temps), t_init), min(min(temps), t_init)
-    c_cut = default_transient_cutoff(gas.gamma) if cutoff is None else cutoff
+    c_cut = default_transient_cutoff(gas.kernel.tail_growth[1]) if cutoff is None else cutoff
     verts = build_mesh(c_cut * math.sqrt(hot), spacing * math.sqrt(cold))
     laws = {}
 
     def disc_at(t: float):
         law = protocol.restitution_at(t, gas.restitution)
         if law not in laws:
-            laws[law] = make_discretisation(law, gas.gamma, verts, order)
+            laws[law] = make_discretisation(law, gas.kernel, verts, order)
         return laws[law]
 
     def coefficients(t: float, left: bool = True) -> tuple[float, float, float]:
@@ -214,7 +214,7 @@ def evolve_heated_fem(problem: HeatedProblem, *, times: NDArray, protocol: Proto
         return (gas.density, protocol.diffusion_at(t, problem.diffusion, left=left),
                 protocol.friction_at(t, problem.friction, left=left))
 
-    t_coll = 1.0 / (gas.density * math.sqrt(cold) ** gas.gamma)
+    t_coll = 1.0 / (gas.density * float(gas.kernel.rate(math.sqrt(cold))))
     # restarts from smooth states: a small step; the first step from the initial data
     # spreads diffusion over a node at least (see fem_transient.floor_log)
     h0 = first_step if first_step is not None else 0.1 * math.sqrt(rtol) * t_coll
@@ -224,7 +224,8 @@ def evolve_heated_fem(problem: HeatedProblem, *, times: NDArray, protocol: Proto
     d_max = max(protocol.diffusion_at(t, problem.diffusion) for t in times)
     opt = TransientOptions(rtol, min(h_first, node * node / (2.0 * d_max)), order, spacing,
                            cutoff, first_step, max_step, max_steps, newton_tol, max_newton)
-    integ = Integrator(disc_at(0.0), coefficients, cooling=False, options=opt, gamma=gas.gamma)
+    integ = Integrator(disc_at(0.0), coefficients, cooling=False, options=opt,
+                       gamma=gas.kernel.scale_degree)
     x = integ.x
     if initial is not None:
         u = initial_log_density(initial, x)

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from ..model import RestitutionLaw
+from ..model import CollisionKernel, RestitutionLaw
 from ..operators.grid import symmetric_grid, uniform_grid
 from .fem import FEMDiscretisation
 
@@ -152,8 +152,8 @@ def build_mesh(v_max: float, h: float) -> NDArray[np.float64]:
     return symmetric_grid(uniform_grid(v_max, half + 1))
 
 
-def make_discretisation(law: RestitutionLaw, gamma: float, vertices: NDArray,
-                        order: int) -> FEMDiscretisation:
+def make_discretisation(law: RestitutionLaw, gamma: float | CollisionKernel,
+                        vertices: NDArray, order: int) -> FEMDiscretisation:
     """The FEM discretisation of the collision operator with ``law`` and ``|g|^gamma``.
 
     Velocities are physical (``speed_scale = 1``); the collision term is that of unit
@@ -163,8 +163,8 @@ def make_discretisation(law: RestitutionLaw, gamma: float, vertices: NDArray,
     ----------
     law : RestitutionLaw
         The restitution law.
-    gamma : float
-        Kernel exponent.
+    gamma : float or CollisionKernel
+        The kernel (a float: the exponent of a power law).
     vertices : ndarray
         Mesh vertices.
     order : int
