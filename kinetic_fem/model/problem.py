@@ -326,9 +326,9 @@ class CoolingProblem:
     ValueError
         For elastic collisions (no cooling).
     UnsupportedModelError
-        For a kernel that is not homogeneous (:math:`B(ug) \\ne u^d B(g)`, e.g.
-        :class:`~kinetic_fem.model.SaturatingKernel`): the cooling gas has no
-        time-independent scaled state then.
+        For a kernel that is not homogeneous (:math:`B(ug) \\ne u^d B(g)`: its
+        ``homogeneity_degree`` is None): the cooling gas has no time-independent scaled
+        state then.
     """
 
     gas: InelasticGas

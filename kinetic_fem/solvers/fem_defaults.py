@@ -337,7 +337,10 @@ def gain_margin(model: ScaledModel) -> float:
     if isinstance(kernel, PowerLawKernel):  # S = reach at v_bare, in closed form
         v_bare = reach
     else:
-        v_bare = brentq(lambda v: tail_action(v, kernel, 0.0) - target, 0.0, 4.0 * reach + 1.0)
+        top = reach + 1.0
+        while tail_action(top, kernel, 0.0) < target:
+            top *= 2.0
+        v_bare = brentq(lambda v: tail_action(v, kernel, 0.0) - target, 0.0, top)
     return max(v_cut - v_bare, 0.0) / math.sqrt(temp) + 1.0
 
 
