@@ -109,7 +109,7 @@ def evolve_heated(alpha: float | RestitutionLaw, *, density: float = 1.0,
         :math:`n`, :math:`D` and :math:`\\xi` (values at ``t = 0``, or throughout if the
         protocol leaves them alone).
     kernel : float or CollisionKernel
-        Collision kernel :math:`|g|^\\gamma` (0 Maxwell, 1 hard rods).
+        ``gamma`` of :math:`|g|^\\gamma` (0 Maxwell, 1 hard rods) or a kernel object.
     initial_temperature : float, optional
         Start from the Gaussian at this temperature (default: the Gaussian-closure
         steady temperature of the parameters at ``t = 0``).
@@ -174,7 +174,7 @@ def evolve_cooling(alpha: float | RestitutionLaw, *, density: float = 1.0,
     density : float
         Number density ``n``.
     kernel : float or CollisionKernel
-        Collision kernel :math:`|g|^\\gamma`.
+        Collision kernel :math:`|g|^\\gamma` (homogeneous kernels only).
     initial_temperature : float, optional
         Start from the Gaussian at this temperature (default 1).
     initial : VelocityDistribution, optional

@@ -71,7 +71,9 @@ def solve_heated(alpha: float | RestitutionLaw, *, density: float = 1.0,
     friction : float
         Friction :math:`\\xi \\ge 0` of a Fokker-Planck bath (0: white noise, the paper).
     kernel : float or CollisionKernel
-        Collision kernel :math:`|g|^\\gamma`, given by ``gamma`` in ``[0, 2]`` (1: hard rods).
+        Collision kernel: ``gamma`` in ``[0, 2]`` of :math:`|g|^\\gamma` (1: hard rods), or
+        a kernel object (:class:`~kinetic_fem.model.CollisionKernel`; ``"fem"`` takes
+        every kernel, the other methods power laws).
     method : str
         Registry key: ``"fem"`` (Galerkin, Newton), ``"fd"`` (the paper's iteration), ...
     **options
@@ -122,7 +124,7 @@ def solve_cooling(alpha: float | RestitutionLaw, *, density: float = 1.0,
     density : float
         Number density ``n`` (the scaled state does not depend on it).
     kernel : float or CollisionKernel
-        Collision kernel :math:`|g|^\\gamma`.
+        Collision kernel :math:`|g|^\\gamma` (homogeneous kernels only).
     method : str
         ``"fem"`` (default), ``"fd"`` or ``"spectral"``.
     **options

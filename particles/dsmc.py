@@ -260,7 +260,8 @@ def simulate_heated(alpha: float | RestitutionLaw, n_particles: int, *, density:
         :math:`n`, the noise strength :math:`D` and the bath friction :math:`\\xi \\ge 0`
         (``0``: white noise; ``> 0``: Fokker-Planck bath at :math:`T_b = D/\\xi`).
     kernel : float or CollisionKernel
-        Collision kernel :math:`|g|^\\gamma`, ``gamma`` in ``[0, 2]`` (1: hard rods).
+        Collision kernel: ``gamma`` in ``[0, 2]`` of :math:`|g|^\\gamma` (1: hard rods), or
+        a kernel object (:class:`~kinetic_fem.model.CollisionKernel`).
     seed : int or SeedSequence, optional
         Root seed; the same seed gives the same run (``None``: fresh entropy, recorded
         in ``info.extra["seed_entropy"]``).
@@ -406,7 +407,8 @@ def simulate_cooling(alpha: float | RestitutionLaw, n_particles: int, *, density
     density : float
         Number density ``n``.
     kernel : float or CollisionKernel
-        Collision kernel :math:`|g|^\\gamma`, ``gamma`` in ``[0, 2]``.
+        Collision kernel :math:`|g|^\\gamma`, ``gamma`` in ``[0, 2]`` (a homogeneous kernel:
+        other families have no scaled cooling state and are refused).
     seed : int or SeedSequence, optional
         Root seed (``None``: fresh entropy, recorded in the result).
     collisions_per_particle : float

@@ -363,7 +363,7 @@ def simulate_protocol(alpha: float | RestitutionLaw, n_particles: int, *, times:
     density, diffusion, friction : float
         :math:`n`, and :math:`D`, :math:`\\xi` where the protocol leaves them alone.
     kernel : float or CollisionKernel
-        :math:`|g|^\\gamma` (0 Maxwell, 1 hard rods).
+        ``gamma`` of :math:`|g|^\\gamma` (0 Maxwell, 1 hard rods) or a kernel object.
     initial_temperature : float, optional
         Temperature of the initial state (default: the Gaussian-closure steady
         temperature of the parameters at ``t = 0``).

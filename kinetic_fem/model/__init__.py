@@ -6,7 +6,13 @@ enter (the constructors below); solvers state what they support with
 naming the method that does.
 
 Adding a kernel or a thermostat is one class here plus the support each solver needs
-in its own module.
+in its own module.  A kernel is a :class:`CollisionKernel`, which answers every question
+a method asks of it (Gaussian averages, DSMC majorant, tail growth, the rescaling of the
+reduction to ``n = D = 1``, a numeric form for compiled code); no method outside the
+power-law derivations (Sonine, FD, cooling) reads an exponent.  A new kernel family is
+its class (see :class:`SaturatingKernel` in :mod:`kinetic_fem.model.kernel_saturating`)
+plus its rate in the FEM pair rule and its acceptance in the DSMC
+(``docs/user_guide/models.rst``, "Adding a kernel").
 """
 
 from .kernel import HARD_RODS, MAXWELL, CollisionKernel, PowerLawKernel, as_kernel
