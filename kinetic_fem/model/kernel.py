@@ -120,7 +120,10 @@ class CollisionKernel(ABC):
         With :math:`d` = :attr:`scale_degree` a heated problem at density :math:`n` and
         noise strength :math:`D` maps onto one at :math:`n = D = 1` with the kernel
         :math:`K_u`, :math:`u = (D/n)^{1/(2+d)}`
-        (:attr:`kinetic_fem.model.HeatedProblem.unit_kernel`).
+        (:attr:`kinetic_fem.model.HeatedProblem.unit_kernel`).  A family that is not
+        closed under this rescaling may raise
+        :class:`~kinetic_fem.model.UnsupportedModelError` for ``u != 1``: its heated
+        problems are then solvable at ``D = n`` only.
 
         Parameters
         ----------

@@ -32,6 +32,7 @@ from skfem.refdom import RefLine
 
 from ..distribution import VelocityDistribution
 from ..model import CollisionKernel, RestitutionLaw, as_kernel
+from ..model.kernel import FAMILY_POWER_LAW
 from ..model.restitution import CONSTANT
 from .fem_kernels import collision_operator, evaluate_field
 
@@ -167,6 +168,14 @@ class FEMDiscretisation:
         return as_kernel(self.gamma)
 
     @cached_property
+    def _kernel_argument(self) -> float | tuple[int, float]:
+        """The kernel for the compiled pair rule: a power law as its exponent (numba
+        specialises on the type, so the power-law loop is the one from before, bit for bit
+        and at the same speed), another family as its ``(family, parameter)``."""
+        family, parameter = self.kernel.numeric
+        return float(parameter) if family == FAMILY_POWER_LAW else (family, float(parameter))
+
+    @cached_property
     def _law_arrays(self) -> tuple[int, float, float, float]:
         """``(code, p0, p1, b_lo)`` of the law for the kernels."""
         law = self.law
@@ -249,7 +258,8 @@ class FEMDiscretisation:
         code, p0, p1, b_lo = self._law_arrays
         args = (verts, dofs, self.order, np.ascontiguousarray(u), xq, wq, eq,
                 np.ascontiguousarray(ref_x[0]), ref_w, p0, 1.0, jacobian, int(energy_power),
-                self.symmetric, self.kernel.numeric, code, p0, p1, float(self.speed_scale), b_lo)
+                self.symmetric, self._kernel_argument, code, p0, p1, float(self.speed_scale),
+                b_lo)
         if even:
             return collision_operator(*args, self.mirror)
         return collision_operator(*args)

@@ -102,8 +102,8 @@ def evaluate_field(verts: np.ndarray, dofs: np.ndarray, order: int, coef: np.nda
 def collision_operator(verts: np.ndarray, dofs: np.ndarray, order: int, coef: np.ndarray,
                        xq: np.ndarray, wq: np.ndarray, eq: np.ndarray, ref_x: np.ndarray,
                        ref_w: np.ndarray, alpha: float, density: float, with_jacobian: bool,
-                       energy_power: int, symmetric: bool, kernel: tuple[int, float], code: int,
-                       p0: float, p1: float, speed_scale: float, b_lo: float,
+                       energy_power: int, symmetric: bool, kernel: float | tuple[int, float],
+                       code: int, p0: float, p1: float, speed_scale: float, b_lo: float,
                        mirror: np.ndarray | None = None
                        ) -> tuple[np.ndarray, np.ndarray, float, float]:
     """Weak collision term ``C_i`` for ``P = exp(u_h)``, its Jacobian and pair moments.
@@ -137,11 +137,11 @@ def collision_operator(verts: np.ndarray, dofs: np.ndarray, order: int, coef: np
         symmetric mesh, while the outer integrand stays smooth as alpha -> 1 (the
         pre-images of the vertices under y -> y' sweep past the mesh at rate
         (1+alpha)/(1-alpha)).
-    kernel : tuple of (int, float)
-        The kernel's ``(family, parameter)``
+    kernel : float or tuple of (int, float)
+        The exponent of a power law, or another kernel's ``(family, parameter)``
         (:attr:`kinetic_fem.model.kernel.CollisionKernel.numeric`), evaluated by
-        :func:`~kinetic_fem.operators.fem_pair_breaks.kernel_rate`; a float is the
-        exponent of a power law.
+        :func:`~kinetic_fem.operators.fem_pair_breaks.kernel_rate` (numba compiles one
+        loop per type: the power-law loop is unchanged).
     code, p0, p1 : int, float, float
         Restitution law (:func:`kinetic_fem.model.restitution_value`); with
         ``code == CONSTANT`` the coefficient is ``alpha``.

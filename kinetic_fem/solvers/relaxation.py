@@ -31,7 +31,7 @@ import scipy.linalg
 from numpy.typing import NDArray
 from skfem import asm
 
-from ..model import HeatedProblem
+from ..model import CollisionKernel, HeatedProblem
 from ..operators.fem_thermostat import weighted_mass
 from . import maxwell
 from .fem import steady_state
@@ -84,7 +84,8 @@ class RelaxationSpectrum:
 
 
 def relaxation_spectrum(alpha: float, *, density: float = 1.0, diffusion: float = 1.0,
-                        friction: float = 0.0, kernel: float = 1.0, n_rates: int = 6,
+                        friction: float = 0.0, kernel: float | CollisionKernel = 1.0,
+                        n_rates: int = 6,
                         spacing: float | None = None, cutoff: float | None = None,
                         zero_tol: float = 1e-8) -> RelaxationSpectrum:
     """Relaxation rates of the heated gas by the linearised FEM system (module notes).
@@ -95,8 +96,10 @@ def relaxation_spectrum(alpha: float, *, density: float = 1.0, diffusion: float 
         Constant coefficient of restitution.
     density, diffusion, friction : float
         :math:`n`, :math:`D` and the bath friction :math:`\\xi` (0: white noise).
-    kernel : float
-        Kernel exponent :math:`\\gamma` of :math:`|g|^\\gamma`.
+    kernel : float or CollisionKernel
+        Exponent :math:`\\gamma` of :math:`|g|^\\gamma`, or a kernel object (any kernel:
+        the unit problem's rates times :math:`n u^d`, the inverse of
+        :attr:`~kinetic_fem.model.HeatedProblem.time_scale`).
     n_rates : int
         Number of non-conserved rates returned (the slowest).
     spacing, cutoff : float, optional
