@@ -33,6 +33,7 @@ from kinetic_fem.model import (
     as_kernel,
 )
 from kinetic_fem.model.scales import ModelScales, tail_action
+from kinetic_fem.operators.fem_discretisation import FEMDiscretisation
 from kinetic_fem.operators.fem_pair_breaks import kernel_graded, kernel_rate
 from particles import _dsmc_kernels as kern
 from particles import dsmc, md
@@ -128,6 +129,17 @@ def test_compiled_rates_are_the_kernels_rates():
     assert kernel_rate(0.5, 4.0) == 2.0  # a float is the exponent of a power law
     assert kernel_graded((0, 0.5)) and not kernel_graded((0, 1.0))
     assert not kernel_graded(SaturatingKernel(1.0).numeric)
+
+
+@pytest.mark.parametrize("g0", [0.2, 1.0])
+def test_fem_pair_rule_integrates_the_kernel(g0):
+    """The compiled pair rule's energy loss of a Gaussian equals the kernel's Gaussian
+    average :math:`\\tfrac14(1-\\alpha^2)\\langle B g^2\\rangle` (P2 on [-12, 12]: 241
+    vertices, measured 3.7e-10 at g0 = 0.2 and 3.6e-12 at g0 = 1, sixth order in h)."""
+    k = SaturatingKernel(g0)
+    disc = FEMDiscretisation(0.6, np.linspace(-12.0, 12.0, 241), 2, 5, gamma=k)
+    loss = disc.energy_loss(disc.gaussian(1.3))
+    assert loss == pytest.approx(0.25 * (1 - 0.36) * k.gaussian_mean(1.3, 2.0), rel=1e-8)
 
 
 def test_fem_reaches_both_limits_of_the_saturating_kernel():
