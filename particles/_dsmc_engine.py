@@ -172,9 +172,8 @@ class DSMCOptions:
     key : dict
         What a checkpoint must match to be resumed.
     kcode, gamma, lcode, p0, p1, g_limit : int, float, int, float, float, float
-        The model in kernel form: kernel code and parameter
-        (:func:`particles._dsmc_kernels.kernel_model`: the exponent of a power law),
-        restitution law code and parameters, largest relative speed the law allows.
+        The model in kernel form: kernel code and parameter (``kernel_model``), restitution
+        law code and parameters, largest relative speed the law allows.
     dt, steps : float, int
         Heated: time step and steps per measurement.
     decay, amp, half_decay, half_amp : float

@@ -49,7 +49,7 @@ from ._dsmc_kernels import (
     PREFETCH_MIN_N,
     collide_model,
 )
-from ._dsmc_kernels import kernel_majorant as majorant_power
+from ._dsmc_model import kernel_majorant as majorant_power
 from ._jit import jit, prefetch
 from .rng import WYRAND_WORD, mul128, normal_slow, wyrand
 

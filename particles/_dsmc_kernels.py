@@ -32,7 +32,7 @@ two parameters, :func:`kinetic_fem.model.restitution_value`) to three loops:
   (``gamma = 1``), ``g^2`` (``gamma = 2``) or, for other exponents, first with the
   bounds :math:`x \\le x^\\gamma` (``gamma < 1``) or :math:`x^2 \\le x^\\gamma
   \\le x` (``1 < gamma < 2``) of :math:`x = |g|/g_{max}` and only in between with
-  the power itself; for the saturating kernel (:data:`KERNEL_SATURATING`) with
+  the power itself; for the saturating kernel (:data:`particles._dsmc_model.KERNEL_SATURATING`) with
   :math:`B(|g|)` itself, :math:`U B(g_{max})` the threshold.
 
 Post-collision velocities are convex combinations of the pre-collision ones for
@@ -54,33 +54,23 @@ from __future__ import annotations
 
 import numpy as np
 
-from kinetic_fem.model import UnsupportedModelError
-from kinetic_fem.model.kernel import (
-    FAMILY_POWER_LAW,
-    FAMILY_SATURATING,
-    CollisionKernel,
-    as_kernel,
-)
 from kinetic_fem.model.restitution import CONSTANT, restitution_value
 
+from ._dsmc_model import (
+    KERNEL_HARD_RODS,
+    KERNEL_MAXWELL,
+    KERNEL_POWER,
+    KERNEL_SATURATING,
+    KERNEL_SQUARE,
+    kernel_code,
+    saturating_rate,
+)
 from ._jit import jit, prefetch
 from .rng import mul128, xoshiro
 
 __all__ = ["KERNEL_MAXWELL", "KERNEL_HARD_RODS", "KERNEL_SQUARE", "KERNEL_POWER",
-           "KERNEL_SATURATING", "kernel_code", "kernel_model", "kernel_majorant",
-           "saturating_rate", "collide_model", "collide", "collide_maxwell", "collide_power",
+           "kernel_code", "collide_model", "collide", "collide_maxwell", "collide_power",
            "PREFETCH_MIN_N", "PREFETCH_BATCH", "MAXWELL_ONE_DRAW_MAX_N"]
-
-KERNEL_MAXWELL = 0
-"""Kernel code of :math:`\\gamma = 0` (no rejection)."""
-KERNEL_HARD_RODS = 1
-"""Kernel code of :math:`\\gamma = 1`."""
-KERNEL_SQUARE = 2
-"""Kernel code of :math:`\\gamma = 2` (acceptance ``g^2 > U g_max^2``, no power)."""
-KERNEL_POWER = 3
-"""Kernel code of any other exponent in ``(0, 2)``."""
-KERNEL_SATURATING = 4
-"""Kernel code of the saturating kernel :math:`|g|/(1 + |g|/g_0)` (parameter :math:`g_0`)."""
 
 PREFETCH_MIN_N = 1 << 17
 """Smallest ``N`` for which :func:`collide` draws ahead and prefetches (``v`` of 1 MiB,
@@ -94,82 +84,6 @@ MAXWELL_ONE_DRAW_MAX_N = 1 << 22
 (relative non-uniformity of ``j`` at most ``N^2 / 2^64 < 1e-6``)."""
 
 _INV53 = 1.0 / 9007199254740992.0  # 2^-53
-
-
-def kernel_code(gamma: float | CollisionKernel) -> int:
-    """The kernel code of a kernel or of the exponent ``gamma`` of a power law.
-
-    Parameters
-    ----------
-    gamma : float or CollisionKernel
-        The kernel (validated by the model layer).
-
-    Returns
-    -------
-    int
-
-    Examples
-    --------
-    >>> kernel_code(0.0), kernel_code(1.0), kernel_code(2.0), kernel_code(0.5)
-    (0, 1, 2, 3)
-    """
-    return kernel_model(gamma)[0]
-
-
-def kernel_model(kernel: float | CollisionKernel) -> tuple[int, float]:
-    """``(kernel code, parameter)`` of the compiled loops, from the kernel's
-    :attr:`~kinetic_fem.model.kernel.CollisionKernel.numeric`: the exponent of a power
-    law (codes 0-3) or :math:`g_0` of the saturating kernel (:data:`KERNEL_SATURATING`).
-
-    Parameters
-    ----------
-    kernel : float or CollisionKernel
-        The kernel, or the exponent of a power law.
-
-    Returns
-    -------
-    tuple of (int, float)
-
-    Raises
-    ------
-    UnsupportedModelError
-        For a kernel family the DSMC has no acceptance rule for.
-
-    Examples
-    --------
-    >>> from kinetic_fem.model import SaturatingKernel
-    >>> kernel_model(1.0), kernel_model(SaturatingKernel(2.0))
-    ((1, 1.0), (4, 2.0))
-    """
-    family, parameter = as_kernel(kernel).numeric
-    if family == FAMILY_POWER_LAW:
-        code = {0.0: KERNEL_MAXWELL, 1.0: KERNEL_HARD_RODS, 2.0: KERNEL_SQUARE}.get(
-            float(parameter), KERNEL_POWER)
-        return code, float(parameter)
-    if family == FAMILY_SATURATING:
-        return KERNEL_SATURATING, float(parameter)
-    raise UnsupportedModelError(f"the DSMC has no acceptance rule for the kernel {kernel!r}")
-
-
-@jit
-def saturating_rate(g, g0):  # pragma: no cover - compiled
-    """:math:`B(g) = g/(1 + g/g_0)` for ``g >= 0`` (the saturating kernel)."""
-    return g / (1.0 + g / g0)
-
-
-@jit
-def kernel_majorant(kcode, kparam, g_max):  # pragma: no cover - compiled
-    """:math:`B(g_{max})`, the majorant of :math:`B` over :math:`|g| \\le g_{max}`
-    (exact multiplications for the kernel codes 0, 1, 2)."""
-    if kcode == KERNEL_HARD_RODS:
-        return g_max
-    if kcode == KERNEL_MAXWELL:
-        return 1.0
-    if kcode == KERNEL_SQUARE:
-        return g_max * g_max
-    if kcode == KERNEL_SATURATING:
-        return saturating_rate(g_max, kparam)
-    return g_max**kparam
 
 
 @jit

@@ -116,7 +116,7 @@ from kinetic_fem.model import (
 from kinetic_fem.sonine import a2_first_order
 
 from ._dsmc_engine import DSMCOptions, DSMCRun, Engine
-from ._dsmc_kernels import kernel_model
+from ._dsmc_model import kernel_model
 from .run import Checkpointing
 from .sampling import initial_velocities_of
 

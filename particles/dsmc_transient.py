@@ -61,7 +61,8 @@ from kinetic_fem.evolve import check_times
 from kinetic_fem.model import CollisionKernel, HeatedProblem, RestitutionLaw, check_positive
 from kinetic_fem.model.protocol import Protocol
 
-from ._dsmc_kernels import collide_model, kernel_majorant, kernel_model
+from ._dsmc_kernels import collide_model
+from ._dsmc_model import kernel_majorant, kernel_model
 from ._jit import jit
 from .rng import normal_slow, xoshiro, ziggurat_tables
 

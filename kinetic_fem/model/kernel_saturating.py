@@ -12,10 +12,10 @@ cools it tends to hard rods), and the heated state's tail is exponential,
 
 This module is the whole model side of the family: the methods evaluate :math:`B` in
 the FEM pair rule and the DSMC acceptance through :attr:`SaturatingKernel.numeric`
-(family code :data:`~kinetic_fem.model.kernel.FAMILY_SATURATING`), and everything
+(family code :data:`~kinetic_fem.model.kernel_base.FAMILY_SATURATING`), and everything
 else (temperature estimates, cut-offs, mesh grading, time steps, the reduction to
 :math:`n = D = 1`) asks the kernel the questions of
-:class:`~kinetic_fem.model.kernel.CollisionKernel`.
+:class:`~kinetic_fem.model.kernel_base.CollisionKernel`.
 """
 
 from __future__ import annotations
@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .kernel import FAMILY_SATURATING, CollisionKernel
+from .kernel_base import FAMILY_SATURATING, CollisionKernel
 from .validation import check_real
 
 __all__ = ["SaturatingKernel"]

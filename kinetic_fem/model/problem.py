@@ -201,7 +201,7 @@ class HeatedProblem:
     Dimensional analysis maps every steady state onto one at :math:`n = D = 1`:
     :math:`P_{n,D}(v) = P_{1,1}(v/u)/u` with :math:`u = (D/n)^{1/(2+d)}`
     (see :attr:`velocity_scale`), :math:`d` the kernel's
-    :attr:`~kinetic_fem.model.kernel.CollisionKernel.scale_degree` (:math:`\\gamma` for a
+    :attr:`~kinetic_fem.model.kernel_base.CollisionKernel.scale_degree` (:math:`\\gamma` for a
     power law), and the kernel :attr:`unit_kernel`, :math:`B(ug)/u^d` (the same
     kernel for a power law); with a bath the friction becomes :math:`\\xi/(n u^d)`.
 
@@ -261,7 +261,7 @@ class HeatedProblem:
     @property
     def unit_kernel(self) -> CollisionKernel:
         """The kernel of the problem at :math:`n = D = 1`, :math:`B(ug)/u^d`
-        (:meth:`~kinetic_fem.model.kernel.CollisionKernel.rescaled`; a power law is its
+        (:meth:`~kinetic_fem.model.kernel_base.CollisionKernel.rescaled`; a power law is its
         own)."""
         return self.gas.kernel.rescaled(self.velocity_scale)
 

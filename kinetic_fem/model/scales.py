@@ -13,7 +13,7 @@ energy balance (:meth:`HeatedProblem.temperature_estimate`; exact for the Maxwel
 
 **Mean free time** :math:`1/(n\\langle B(g)\\rangle)`, the average over a Gaussian at
 :math:`T` of the collision rate, :math:`g \\sim N(0, 2T)`
-(:meth:`~kinetic_fem.model.kernel.CollisionKernel.gaussian_mean`); for a power law
+(:meth:`~kinetic_fem.model.kernel_base.CollisionKernel.gaussian_mean`); for a power law
 
 .. math::
 
@@ -35,7 +35,7 @@ a target value of :math:`f(c)` (:data:`TAIL_TARGET` by default):
   :math:`e^{-\\frac{2}{2+\\gamma}|v|^{1+\\gamma/2}}` (WKB), which reduces to both cases
   above;
 * any kernel growing as :math:`B(g) \\sim c\\,g^p` (its
-  :attr:`~kinetic_fem.model.kernel.CollisionKernel.tail_growth`): the same WKB tail
+  :attr:`~kinetic_fem.model.kernel_base.CollisionKernel.tail_growth`): the same WKB tail
   :math:`e^{-\\frac{2\\sqrt c}{2+p}|v|^{1+p/2}}` (the saturating kernel: :math:`p = 0`,
   :math:`c = g_0`, an exponential tail);
 * Fokker-Planck bath: the friction adds the Gaussian :math:`e^{-\\xi v^2/2}` of the bath
@@ -126,7 +126,7 @@ class ModelScales:
     @property
     def gamma(self) -> float:
         """The exponent of a power-law kernel (other kernels refuse,
-        :attr:`~kinetic_fem.model.kernel.CollisionKernel.gamma`)."""
+        :attr:`~kinetic_fem.model.kernel_base.CollisionKernel.gamma`)."""
         return self.kernel.gamma
 
     @property
@@ -270,7 +270,7 @@ def tail_action(v: float, kernel: float | CollisionKernel, friction: float) -> f
         S'(v) = \\tfrac12\\big(\\xi v + \\sqrt{\\xi^2 v^2 + 4 B(v)}\\big),
 
     :math:`S = \\int_0^v\\sqrt{B}` for white noise
-    (:meth:`~kinetic_fem.model.kernel.CollisionKernel.wkb_action`:
+    (:meth:`~kinetic_fem.model.kernel_base.CollisionKernel.wkb_action`:
     :math:`\\tfrac{2}{2+\\gamma}v^{1+\\gamma/2}` for a power law).
 
     Parameters

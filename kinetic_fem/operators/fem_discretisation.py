@@ -136,7 +136,7 @@ class FEMDiscretisation:
     gamma : float or CollisionKernel
         The collision kernel (a float: the exponent of :math:`B(g) = |g|^\\gamma`); the
         pair rule evaluates it through its
-        :attr:`~kinetic_fem.model.kernel.CollisionKernel.numeric`.
+        :attr:`~kinetic_fem.model.kernel_base.CollisionKernel.numeric`.
     law : RestitutionLaw, optional
         A velocity-dependent restitution law (evaluated at ``speed_scale`` times the
         relative speed); ``None``: the constant ``alpha``.

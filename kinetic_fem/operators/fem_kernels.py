@@ -139,7 +139,7 @@ def collision_operator(verts: np.ndarray, dofs: np.ndarray, order: int, coef: np
         (1+alpha)/(1-alpha)).
     kernel : float or tuple of (int, float)
         The exponent of a power law, or another kernel's ``(family, parameter)``
-        (:attr:`kinetic_fem.model.kernel.CollisionKernel.numeric`), evaluated by
+        (:attr:`kinetic_fem.model.kernel_base.CollisionKernel.numeric`), evaluated by
         :func:`~kinetic_fem.operators.fem_pair_breaks.kernel_rate` (numba compiles one
         loop per type: the power-law loop is unchanged).
     code, p0, p1 : int, float, float

@@ -68,7 +68,7 @@ def kernel_numeric(kernel: float | tuple[int, float]) -> tuple[int, float]:
     """``(family, parameter)`` of a kernel given as such a pair or as a power-law exponent.
 
     The compiled pair rule takes the kernel's
-    :attr:`~kinetic_fem.model.kernel.CollisionKernel.numeric`; a plain float is read as
+    :attr:`~kinetic_fem.model.kernel_base.CollisionKernel.numeric`; a plain float is read as
     the exponent ``gamma`` of a power law (the older spelling, still accepted).
 
     Parameters
@@ -96,7 +96,7 @@ def _kernel_numeric_compiled(kernel):  # pragma: no cover - compiled
 @jit
 def kernel_rate(kernel: float | tuple[int, float], g: float) -> float:
     """:math:`B(g)` for ``g >= 0`` of the kernel ``(family, parameter)``
-    (:attr:`kinetic_fem.model.kernel.CollisionKernel.numeric`; a float: the exponent of
+    (:attr:`kinetic_fem.model.kernel_base.CollisionKernel.numeric`; a float: the exponent of
     a power law).
 
     Power law :math:`g^\\gamma` (multiplications for gamma in {0, 1, 2}, so the hard-rod

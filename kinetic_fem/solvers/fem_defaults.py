@@ -6,7 +6,7 @@ Every heated steady state maps onto one at :math:`n = D = 1` by the velocity
 :attr:`~kinetic_fem.model.HeatedProblem.unit_kernel`, the bath friction is
 :math:`\\xi/(n u^d)` and a restitution law is evaluated at the physical speed
 :math:`u\\,|x - y|`.  Every rule below asks the kernel
-(:class:`~kinetic_fem.model.kernel.CollisionKernel`), never an exponent.  The
+(:class:`~kinetic_fem.model.kernel_base.CollisionKernel`), never an exponent.  The
 numerical defaults derive from the model's own scales:
 
 * the temperature of the Gaussian closure of the energy balance C1

@@ -21,6 +21,7 @@ import kinetic_fem as kf
 from kinetic_fem.model import SaturatingKernel, ViscoelasticRestitution
 from kinetic_fem.model.restitution import VISCOELASTIC
 from particles import _dsmc_kernels as kern
+from particles import _dsmc_model as model
 from particles import _dsmc_segments as seg
 from particles import dsmc, dsmc_transient, rng
 
@@ -43,7 +44,7 @@ def test_saturating_acceptance_is_b_over_b_max(g0, wrapping):
     m = 100_000
     for x in (0.2, 0.7):
         v = np.array([x, 0.0])
-        acc, _ = kern.collide_power(v, m, kern.KERNEL_SATURATING, g0, 0, -1.0, 0.0, 1.0, 1.0,
+        acc, _ = kern.collide_power(v, m, model.KERNEL_SATURATING, g0, 0, -1.0, 0.0, 1.0, 1.0,
                                     _state(3))
         p = (x / (1 + x / g0)) / (1 / (1 + 1 / g0))
         assert abs(acc - m * p) < 4.5 * math.sqrt(m * p * (1 - p)), (x, acc / m, p)
@@ -53,7 +54,7 @@ def test_saturating_conserves_momentum_and_loses_the_stated_energy(wrapping):
     v = np.random.default_rng(4).normal(size=400)
     p_tot, e0 = v.sum(), np.sum(v**2)
     lo, hi = seg.extent(v)
-    acc, loss = kern.collide_model(v, 20_000, kern.KERNEL_SATURATING, 0.8, VISCOELASTIC, 0.2,
+    acc, loss = kern.collide_model(v, 20_000, model.KERNEL_SATURATING, 0.8, VISCOELASTIC, 0.2,
                                    0.0, hi - lo, 1.0, _state(4))
     assert acc > 1000
     assert abs(v.sum() - p_tot) < 1e-10
@@ -62,7 +63,7 @@ def test_saturating_conserves_momentum_and_loses_the_stated_energy(wrapping):
 
 def test_saturating_heated_segment_is_its_python_version(wrapping):
     v0 = np.random.default_rng(5).normal(size=60)
-    args = (4, 0.1, 1.0, 0.3, 1.0, 0.2, 30.0, kern.KERNEL_SATURATING, 0.7, 0, 0.6, 0.0,
+    args = (4, 0.1, 1.0, 0.3, 1.0, 0.2, 30.0, model.KERNEL_SATURATING, 0.7, 0, 0.6, 0.0,
             math.inf, 0.0)
     outs = []
     for f in (seg.heated_segment, seg.heated_segment.py_func):

@@ -2,7 +2,7 @@
 
 Checks (issue 9, item 6):
 
-* the questions of :class:`~kinetic_fem.model.kernel.CollisionKernel` answered by the
+* the questions of :class:`~kinetic_fem.model.kernel_base.CollisionKernel` answered by the
   base class's numerical defaults equal the power law's closed forms (so a new family
   that only implements ``rate`` gets correct averages, tails and majorants);
 * the saturating kernel :math:`B(g) = |g|/(1 + |g|/g_0)` (the family added to prove the
@@ -35,18 +35,19 @@ from kinetic_fem.model import (
 from kinetic_fem.model.scales import ModelScales, tail_action
 from kinetic_fem.operators.fem_discretisation import FEMDiscretisation
 from kinetic_fem.operators.fem_pair_breaks import kernel_graded, kernel_rate
-from particles import _dsmc_kernels as kern
+from particles import _dsmc_model as dsmc_model
 from particles import dsmc, md
 
 ROOT = Path(__file__).resolve().parents[3]
 
 FAMILY_FILES = {
-    "kinetic_fem/model/kernel.py",             # the family code FAMILY_SATURATING
+    "kinetic_fem/model/kernel_base.py",        # the family code FAMILY_SATURATING
     "kinetic_fem/model/kernel_saturating.py",  # the class
     "kinetic_fem/model/__init__.py",           # export
     "kinetic_fem/__init__.py",                 # export (kf.SaturatingKernel)
     "kinetic_fem/operators/fem_pair_breaks.py",  # FEM pair rule: B(g) in compiled code
-    "particles/_dsmc_kernels.py",              # DSMC: acceptance and majorant
+    "particles/_dsmc_model.py",                # DSMC: kernel code, rate, majorant
+    "particles/_dsmc_kernels.py",              # DSMC: the acceptance in collide_power
 }
 """Every file of the package that names the saturating family (docs/user_guide/models.rst,
 "Adding a kernel")."""
@@ -123,8 +124,8 @@ def test_compiled_rates_are_the_kernels_rates():
               PowerLawKernel(2.0), SaturatingKernel(0.7)):
         fem = np.array([kernel_rate(k.numeric, x) for x in g])
         np.testing.assert_allclose(fem, k.rate(g), rtol=1e-15)
-        code, parameter = kern.kernel_model(k)
-        assert kern.kernel_majorant(code, parameter, 7.5) == pytest.approx(k.majorant(7.5),
+        code, parameter = dsmc_model.kernel_model(k)
+        assert dsmc_model.kernel_majorant(code, parameter, 7.5) == pytest.approx(k.majorant(7.5),
                                                                           rel=1e-15)
     assert kernel_rate(0.5, 4.0) == 2.0  # a float is the exponent of a power law
     assert kernel_graded((0, 0.5)) and not kernel_graded((0, 1.0))
