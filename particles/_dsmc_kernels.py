@@ -32,8 +32,9 @@ two parameters, :func:`kinetic_fem.model.restitution_value`) to three loops:
   (``gamma = 1``), ``g^2`` (``gamma = 2``) or, for other exponents, first with the
   bounds :math:`x \\le x^\\gamma` (``gamma < 1``) or :math:`x^2 \\le x^\\gamma
   \\le x` (``1 < gamma < 2``) of :math:`x = |g|/g_{max}` and only in between with
-  the power itself; for the saturating kernel (:data:`particles._dsmc_model.KERNEL_SATURATING`) with
-  :math:`B(|g|)` itself, :math:`U B(g_{max})` the threshold.
+  the power itself; for the saturating kernel
+  (:data:`particles._dsmc_model.KERNEL_SATURATING`) with :math:`B(|g|)` itself,
+  :math:`U B(g_{max})` the threshold.
 
 Post-collision velocities are convex combinations of the pre-collision ones for
 every :math:`0 \\le \\alpha(g) \\le 1`, so ``g_max = max(v) - min(v)`` stays a true
