@@ -15,7 +15,8 @@ plus its rate in the FEM pair rule and its acceptance in the DSMC
 (``docs/user_guide/models.rst``, "Adding a kernel").
 """
 
-from .kernel import HARD_RODS, MAXWELL, CollisionKernel, PowerLawKernel, as_kernel
+from .kernel import HARD_RODS, MAXWELL, PowerLawKernel, as_kernel
+from .kernel_base import CollisionKernel
 from .kernel_saturating import SaturatingKernel
 from .problem import CoolingProblem, HeatedProblem, InelasticGas
 from .restitution import (

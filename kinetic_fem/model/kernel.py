@@ -11,7 +11,7 @@ The Boltzmann collision operator of the one-dimensional gas with kernel :math:`B
 inelastic Maxwell model (a collision rate independent of the relative speed), anything
 between "variable hard rods".  It answers the questions of
 :class:`~kinetic_fem.model.kernel_base.CollisionKernel` in closed form; the base class
-(re-exported here) lists them and the other families.
+lists them and the other families.
 """
 
 from __future__ import annotations
@@ -28,8 +28,7 @@ from scipy.special import roots_genlaguerre
 from .kernel_base import FAMILY_POWER_LAW, CollisionKernel
 from .validation import check_real
 
-__all__ = ["CollisionKernel", "PowerLawKernel", "HARD_RODS", "MAXWELL", "as_kernel",
-           "FAMILY_POWER_LAW"]
+__all__ = ["PowerLawKernel", "HARD_RODS", "MAXWELL", "as_kernel"]
 
 
 @dataclass(frozen=True)

@@ -22,7 +22,8 @@ from typing import Any
 
 import numpy as np
 
-from .kernel import CollisionKernel, PowerLawKernel, as_kernel
+from .kernel import PowerLawKernel, as_kernel
+from .kernel_base import CollisionKernel
 from .restitution import RestitutionLaw, ThresholdRestitution, as_restitution
 from .thermostat import FokkerPlanckBath, NoThermostat, Thermostat, WhiteNoise, as_thermostat
 from .validation import UnsupportedModelError, check_positive

@@ -54,7 +54,8 @@ from dataclasses import dataclass
 from scipy.integrate import quad
 
 from ..sonine import steady_temperature
-from .kernel import HARD_RODS, CollisionKernel, as_kernel
+from .kernel import HARD_RODS, as_kernel
+from .kernel_base import CollisionKernel
 from .problem import HeatedProblem
 from .validation import check_alpha, check_positive
 

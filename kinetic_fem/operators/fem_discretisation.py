@@ -32,7 +32,7 @@ from skfem.refdom import RefLine
 
 from ..distribution import VelocityDistribution
 from ..model import CollisionKernel, RestitutionLaw, as_kernel
-from ..model.kernel import FAMILY_POWER_LAW
+from ..model.kernel_base import FAMILY_POWER_LAW
 from ..model.restitution import CONSTANT
 from .fem_kernels import collision_operator, evaluate_field
 

@@ -17,7 +17,7 @@ from numba import types
 from numba.extending import overload
 
 from .._jit import jit
-from ..model.kernel import FAMILY_POWER_LAW
+from ..model.kernel_base import FAMILY_POWER_LAW
 from ..model.restitution import THRESHOLD, restitution_value
 
 __all__ = ["merge_breaks", "law_breaks", "pieces", "kernel_rate", "kernel_numeric",
@@ -67,9 +67,10 @@ def merge_breaks(verts: np.ndarray, x: float, a: float, b: float, buf: np.ndarra
 def kernel_numeric(kernel: float | tuple[int, float]) -> tuple[int, float]:
     """``(family, parameter)`` of a kernel given as such a pair or as a power-law exponent.
 
-    The compiled pair rule takes the kernel's
-    :attr:`~kinetic_fem.model.kernel_base.CollisionKernel.numeric`; a plain float is read as
-    the exponent ``gamma`` of a power law (the older spelling, still accepted).
+    The compiled pair rule takes a power law as its exponent ``gamma`` (a float), any
+    other kernel as its :attr:`~kinetic_fem.model.kernel_base.CollisionKernel.numeric`:
+    numba compiles one loop per argument type, so the power-law loop has no family
+    branch at run time (the family code is a compile-time constant there).
 
     Parameters
     ----------
