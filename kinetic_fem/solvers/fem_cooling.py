@@ -128,6 +128,8 @@ HUMP_RESOLUTION = 0.04
 ``benchmarks/convergence_fem_cooling.py``)."""
 HUMP_STEP_RESOLUTION = 0.07
 """Element size (hump widths) of the intermediate states of the continuation."""
+HUMP_LINK_RESOLUTION = 0.14
+"""Element size (hump widths) of the links before the last, at eps >= HUMP_LINK_EPS = 1e-3."""
 HUMP_STEP_TOL = 1e-7
 """Newton tolerance of the intermediate states (they only start the next step)."""
 HUMP_STEP_ITER = 40
@@ -303,7 +305,8 @@ def _hump_state(problem: CoolingProblem, *, order: int, intorder: int | None, to
         # eps (mesh sequencing: the many Newton steps of a continuation step are taken
         # on the coarse mesh, the fine one needs three or four)
         final = step == eps and (eps_prev == eps or resolution >= HUMP_STEP_RESOLUTION)
-        res = resolution if final else max(resolution, HUMP_STEP_RESOLUTION)
+        link = HUMP_LINK_RESOLUTION if step != eps and step >= 1e-3 else HUMP_STEP_RESOLUTION
+        res = resolution if final else max(resolution, link)
         state = continued_state(prev, eps_prev, step, resolution=res, order=order,
                                 intorder=intorder, tol=tol if final else HUMP_STEP_TOL,
                                 max_iter=min(max_iter, HUMP_STEP_ITER)
