@@ -2,20 +2,24 @@
 
 For hard rods away from the near-elastic humps (:math:`\\varepsilon \\ge 0.1`), P3
 elements at :data:`P3_SPACING` times the P2 bulk spacing of
-:func:`kinetic_fem.solvers.fem_cooling_mesh.hcs_spacing` (0.125 instead of 0.05) give a
-cooling rate and :math:`a_2` about a thousand times more accurate than the P2 default
-with 0.6 times its dofs, and :math:`f` no less accurate where :math:`f > 10^{-30}`.
-Measured against P3 at spacing 0.025 (``benchmarks/results/fem_speed.md``, section
-"cooling"; relative error of zeta, absolute of a2, max relative of f):
+:func:`kinetic_fem.solvers.fem_cooling_mesh.hcs_spacing` (0.1 instead of 0.05) give a
+cooling rate and :math:`a_2` about ten thousand times more accurate than the P2 default,
+and :math:`f` 2 to 50 times more accurate where :math:`f > 10^{-30}`, with 0.75 times
+its dofs.  Measured against P3 at spacing 0.025 (``benchmarks/results/fem_speed.md``,
+section "cooling"; relative error of zeta, absolute of a2, max relative of f):
 
 ====== ========================= =========================
-alpha  P2 default (0.05)         P3 at 0.125
+alpha  P2 default (0.05)         P3 default (0.1)
 ====== ========================= =========================
-0      7.6e-10, 4.2e-9, 3.8e-5   1.2e-13, 5.6e-13, 3.4e-6
-0.5    6.0e-10, 3.2e-9, 1.7e-5   1.1e-13, 5.1e-13, 7.6e-6
-0.8    1.1e-9, 5.1e-9, 2.4e-5    4.7e-13, 2.0e-12, 3.8e-6
-0.9    1.9e-9, 9.4e-9, 4.9e-5    1.5e-12, 8.8e-12, 2.6e-5
+0      7.6e-10, 4.2e-9, 3.1e-5   2.2e-14, 9.7e-14, 8.9e-7
+0.5    6.0e-10, 3.2e-9, 1.3e-5   2.0e-14, 8.7e-14, 1.7e-6
+0.7    1.3e-10, 3.9e-10, 1.4e-5  2.5e-14, 1.2e-13, 5.8e-6
+0.8    1.1e-9, 5.1e-9, 2.4e-5    7.6e-14, 3.5e-13, 5.0e-7
+0.9    1.9e-9, 9.4e-9, 4.1e-5    1.4e-13, 8.1e-13, 3.4e-6
 ====== ========================= =========================
+
+At 2.5 times the P2 spacing zeta and a2 were still 1000 times better, but the error of
+f near the cut-off (f ~ 1e-30) at alpha = 0.7 was twice the P2 default's (3.0e-5).
 
 The mesh sequencing of :func:`kinetic_fem.solvers.fem_cooling.cooling_state` keeps P2
 on its coarse mesh (the coarse state only starts Newton's method on the fine one).
@@ -30,7 +34,7 @@ from ..model import CoolingProblem
 
 __all__ = ["P3_SPACING", "COARSE_ORDER", "P3_COARSE_SPACING", "cooling_order", "order_spacing"]
 
-P3_SPACING = 2.5
+P3_SPACING = 2.0
 """Bulk spacing of the P3 default, in units of the P2 default spacing."""
 COARSE_ORDER = 2
 """Degree of the coarse state of the mesh sequencing."""

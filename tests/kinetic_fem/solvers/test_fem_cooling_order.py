@@ -21,11 +21,11 @@ def test_default_order():
 
 
 def test_p3_default_matches_fine_p2():
-    """P3 at 0.125 against P2 at 0.025, alpha = 0.6.
+    """The P3 default (spacing 0.1) against P2 at 0.025, alpha = 0.6.
 
     Measured: zeta 2.2e-11 relative, a2 1.2e-10 apart, about the reference's own P2 error
     (the P2 default at 0.05 is 3.4e-10 and 1.8e-9 from it: fourth order, 16 times);
-    the P3 default is 1e-13 from P3 at 0.025 (``fem_cooling_order`` notes)."""
+    the P3 default is 1e-14 from P3 at 0.025 (``fem_cooling_order`` notes)."""
     dist = kf.solve_cooling(0.6)
     assert dist.info.extra["order"] == 3
     ref = kf.solve_cooling(0.6, order=2, spacing=0.025)
