@@ -44,3 +44,16 @@ def test_energy_identity_reuses_the_last_loss_moment():
     other = state.u + 1e-3 * np.cos(state.disc.dof_locations)
     state.disc.collision(other, even=True)
     assert state.energy_identity() == reused
+
+
+def test_continuation_link_takes_few_newton_steps():
+    """eps = 0.1 -> 0.05 on the link mesh: 8 Newton steps once decreases of ln f take the
+    step on f after zeta settles (34 before: the far tail fell one e-fold per step)."""
+    from kinetic_fem.solvers import fem_cooling as fc
+
+    start = fc.hump_start(2, None)
+    state = fc.continued_state(start, 0.1, 0.05, resolution=fc.HUMP_LINK_RESOLUTION,
+                               tol=fc.HUMP_STEP_TOL, max_iter=fc.HUMP_STEP_ITER)
+    assert state.info.converged
+    assert state.info.iterations <= 12
+    assert state.zeta / 0.05 == pytest.approx(1.00233726835, rel=1e-9)
