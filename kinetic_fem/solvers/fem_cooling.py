@@ -22,9 +22,10 @@ kernel and does not depend on :math:`n`.  Multiplying by :math:`c^2` and integra
 
 which the solver does not impose (it is a check, reported in ``info.extra``).
 
-Discretisation: P2 (or P1) Lagrange elements on :math:`[-V, V]`, the unknown
-:math:`u_h = \\ln f_h` (even), the collision weak form :math:`C_i` of the heated solver
-(:class:`kinetic_fem.solvers.fem.FEMDiscretisation`) and the drift in weak form,
+Discretisation: P2 (P1; P3 for hard rods, :mod:`.fem_cooling_order`) Lagrange elements
+on :math:`[-V, V]`, the unknown :math:`u_h = \\ln f_h` (even), the collision weak form
+:math:`C_i` of the heated solver (:class:`~kinetic_fem.solvers.fem.FEMDiscretisation`)
+and the drift in weak form,
 
 .. math::
 
@@ -91,12 +92,9 @@ from numpy.typing import NDArray
 from ..distribution import VelocityDistribution
 from ..model import CoolingProblem, UnsupportedModelError, check_positive
 from ..operators.adaptive import EDGE_EFOLDS, HUMP_DECADES, hump_vertices
+from ..operators.fem_discretisation import LAGRANGE_ELEMENTS
 from ..solve import register_solver
-from .fem import (
-    ELEMENTS,
-    ConvergenceError,
-    FEMDiscretisation,
-)
+from .fem import ConvergenceError, FEMDiscretisation
 from .fem_cooling_mesh import (
     MAXWELL_CUTOFF,
     hcs_bulk,
@@ -106,6 +104,7 @@ from .fem_cooling_mesh import (
     initial_log_f,
 )
 from .fem_cooling_newton import CoolingState, newton_cooling
+from .fem_cooling_order import COARSE_ORDER, P3_COARSE_SPACING, cooling_order, order_spacing
 from .fem_cooling_tail import recovered_distribution
 
 __all__ = ["solve_fem_cooling", "cooling_state", "CoolingState", "continued_state",
@@ -127,8 +126,9 @@ HUMP_RATIO = 2.0
 HUMP_RESOLUTION = 0.04
 """Default element size in the humps, in hump widths eps^(1/3) (convergence study in
 ``benchmarks/convergence_fem_cooling.py``)."""
-HUMP_STEP_RESOLUTION = 0.07
-"""Element size (hump widths) of the intermediate states of the continuation."""
+HUMP_STEP_RESOLUTION, HUMP_LINK_RESOLUTION = 0.07, 0.14
+"""Element sizes (hump widths) of the intermediate states of the continuation, below and
+at or above eps = 1e-3 (the coarser: 2-4 times faster, same final mesh and state)."""
 HUMP_STEP_TOL = 1e-7
 """Newton tolerance of the intermediate states (they only start the next step)."""
 HUMP_STEP_ITER = 40
@@ -304,7 +304,8 @@ def _hump_state(problem: CoolingProblem, *, order: int, intorder: int | None, to
         # eps (mesh sequencing: the many Newton steps of a continuation step are taken
         # on the coarse mesh, the fine one needs three or four)
         final = step == eps and (eps_prev == eps or resolution >= HUMP_STEP_RESOLUTION)
-        res = resolution if final else max(resolution, HUMP_STEP_RESOLUTION)
+        link = HUMP_LINK_RESOLUTION if step >= 1e-3 else HUMP_STEP_RESOLUTION
+        res = resolution if final else max(resolution, link)
         state = continued_state(prev, eps_prev, step, resolution=res, order=order,
                                 intorder=intorder, tol=tol if final else HUMP_STEP_TOL,
                                 max_iter=min(max_iter, HUMP_STEP_ITER)
@@ -337,8 +338,9 @@ def _hump_state(problem: CoolingProblem, *, order: int, intorder: int | None, to
     return prev
 
 
-def cooling_state(problem: CoolingProblem, *, order: int = 2, spacing: float | None = None,
-                  cutoff: float | None = None, vertices=None, intorder: int | None = None,
+def cooling_state(problem: CoolingProblem, *, order: int | None = None,
+                  spacing: float | None = None, cutoff: float | None = None, vertices=None,
+                  intorder: int | None = None,
                   tol: float = 1e-11, max_iter: int = 100,
                   resolution: float | None = None, sequence: bool = True) -> CoolingState:
     """The HCS by Newton's method (see :func:`solve_fem_cooling` for the options).
@@ -373,11 +375,15 @@ def cooling_state(problem: CoolingProblem, *, order: int = 2, spacing: float | N
             f"{problem.gas.restitution!r}: a velocity-dependent law has its own speed scale, "
             "so no scaling state exists (the gas approaches elastic collisions as it cools); "
             "use particles.dsmc.simulate_cooling for the transient")
-    if order not in ELEMENTS:
-        raise ValueError(f"order must be one of {sorted(ELEMENTS)}, got {order!r}")
+    hump = uses_hump_mesh(problem) and vertices is None and spacing is None and cutoff is None
+    order = cooling_order(problem, order, default_mesh=not hump and spacing is None
+                          and vertices is None)
+    if order not in LAGRANGE_ELEMENTS or (hump and order == 3):
+        raise ValueError(f"order must be one of {sorted(LAGRANGE_ELEMENTS)} (1 or 2 on the "
+                         f"near-elastic hump mesh), got {order!r}")
     if resolution is not None:
         resolution = check_positive("resolution", resolution)
-    if uses_hump_mesh(problem) and vertices is None and spacing is None and cutoff is None:
+    if hump:
         return _hump_state(problem, order=order, intorder=intorder, tol=tol,
                            max_iter=max_iter,
                            resolution=HUMP_RESOLUTION if resolution is None else resolution)
@@ -386,7 +392,8 @@ def cooling_state(problem: CoolingProblem, *, order: int = 2, spacing: float | N
                          f"(hard rods, eps < {HUMP_EPS}, no spacing/cutoff/vertices), not "
                          f"used at eps = {problem.gas.epsilon:g}, gamma = {problem.gas.gamma:g};"
                          " pass spacing instead")
-    spacing = hcs_spacing(problem) if spacing is None else check_positive("spacing", spacing)
+    spacing = order_spacing(hcs_spacing(problem), order) if spacing is None else \
+        check_positive("spacing", spacing)
     if vertices is None:
         c_max = hcs_cutoff(problem) if cutoff is None else check_positive("cutoff", cutoff)
         verts = hcs_vertices(c_max, spacing, gamma=problem.gas.gamma,
@@ -397,9 +404,10 @@ def cooling_state(problem: CoolingProblem, *, order: int = 2, spacing: float | N
                 or not np.any(verts == 0.0):
             raise ValueError("vertices must be symmetric about 0 and include c = 0")
     disc = _discretisation(problem, verts, order, intorder)
-    if sequence and vertices is None and spacing < COARSE_SPACING:
-        coarse = cooling_state(problem, order=order,
-                               spacing=min(COARSE_FACTOR * spacing, COARSE_SPACING),
+    cap = P3_COARSE_SPACING if order == 3 else COARSE_SPACING
+    if sequence and vertices is None and spacing < cap:
+        coarse = cooling_state(problem, order=min(order, COARSE_ORDER),
+                               spacing=min(COARSE_FACTOR * spacing, cap),
                                cutoff=c_max, intorder=intorder, tol=COARSE_TOL,
                                max_iter=max_iter, sequence=False)
         state = newton_cooling(disc, coarse.log_f(disc.dof_locations), coarse.zeta, tol=tol,
@@ -429,7 +437,7 @@ def cooling_state(problem: CoolingProblem, *, order: int = 2, spacing: float | N
 
 
 @register_solver("fem", problem="cooling")
-def solve_fem_cooling(problem: CoolingProblem, *, order: int = 2,
+def solve_fem_cooling(problem: CoolingProblem, *, order: int | None = None,
                       spacing: float | None = None, cutoff: float | None = None,
                       vertices=None, intorder: int | None = None, tol: float = 1e-11,
                       max_iter: int = 100, resolution: float | None = None
@@ -440,8 +448,9 @@ def solve_fem_cooling(problem: CoolingProblem, *, order: int = 2,
     ----------
     problem : CoolingProblem
         Constant restitution, any kernel :math:`|g|^\\gamma`.
-    order : int
-        Lagrange degree, 1 or 2.
+    order : int, optional
+        Lagrange degree, 1, 2 or 3; default 3 for hard rods on the default mesh at
+        :math:`\\varepsilon \\ge` :data:`HUMP_EPS` (:mod:`.fem_cooling_order`), else 2.
     spacing : float, optional
         Bulk element size (thermal velocities); default :func:`hcs_spacing`.
     cutoff : float, optional
@@ -481,7 +490,7 @@ def solve_fem_cooling(problem: CoolingProblem, *, order: int = 2,
                           resolution=resolution)
     info = replace(state.info, extra={"zeta": float(state.zeta),
                                       "zeta_identity": float(state.energy_identity()),
-                                      "n_dofs": int(state.u.size), "order": order,
+                                      "n_dofs": int(state.u.size), "order": state.disc.order,
                                       "cutoff": float(state.disc.vertices[-1])})
     if problem.gas.gamma == 0.0:
         # --- the Maxwell model's c^-4 tail: kinetic_fem.solvers.fem_cooling_tail ---

@@ -68,7 +68,9 @@ def test_velocity_dependent_law_is_refused():
 
 def test_bad_options():
     with pytest.raises(ValueError, match="order"):
-        kf.solve_cooling(0.5, order=3)
+        kf.solve_cooling(0.5, order=4)
+    with pytest.raises(ValueError, match="order"):  # the hump mesh is P2
+        kf.solve_cooling(0.99, order=3)
     with pytest.raises(TypeError):
         kf.solve_cooling(0.5, spacin=0.1)
 
