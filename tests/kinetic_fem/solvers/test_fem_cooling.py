@@ -138,7 +138,7 @@ def test_failure_below_the_frontier_names_the_limit(monkeypatch):
         return SimpleNamespace(info=SimpleNamespace(converged=converged, message="stalled"),
                                disc=SimpleNamespace(vertices=np.zeros(11)))
 
-    lowest = {"eps": 1.5e-5}
+    lowest = {"eps": 8e-7}
 
     def step(prev, eps_prev, eps, **kwargs):  # converges down to lowest["eps"] only
         return state(eps >= lowest["eps"])
@@ -147,7 +147,7 @@ def test_failure_below_the_frontier_names_the_limit(monkeypatch):
     monkeypatch.setattr(fem_cooling, "continued_state", step)
     monkeypatch.setattr(fem_cooling, "HUMP_MIN_RATIO", 1e9)  # no step halving
     with pytest.raises(fem_cooling.ConvergenceError, match="solve_psi"):
-        kf.solve_cooling(1 - 1e-6)
+        kf.solve_cooling(1 - 5e-7)
     lowest["eps"] = 1e-3
     with pytest.raises(fem_cooling.ConvergenceError, match="smaller resolution"):
         kf.solve_cooling(1 - 5e-4)
