@@ -128,9 +128,11 @@ the Gauss degree HUMP_INTORDER; the former limit 2.4e-5 came from the 3-point ru
 below it a failure is reported as this limit."""
 HUMP_RATIO = 2.0
 """Largest ratio of successive inelasticities of the continuation."""
-HUMP_RESOLUTION = 0.04
+HUMP_RESOLUTION = 0.07
 """Default element size in the humps, in hump widths eps^(1/3) (convergence study in
-``benchmarks/convergence_fem_cooling.py``)."""
+``benchmarks/convergence_fem_cooling.py``: with the Gauss degree HUMP_INTORDER, zeta to
+3e-13, a2 to 3e-11, ln f where f > 1e-30 to 1.3e-5 at eps = 1e-4; the state is then
+solved on the continuation's own mesh, without a finer last solve)."""
 HUMP_STEP_RESOLUTION = 0.07
 """Element size (hump widths) of the intermediate states of the continuation."""
 HUMP_STEP_TOL = 1e-7
