@@ -107,6 +107,7 @@ from .fem_cooling_mesh import (
     hcs_spacing,
     hcs_vertices,
     initial_log_f,
+    step_intorder,
 )
 from .fem_cooling_newton import CoolingState, newton_cooling
 from .fem_cooling_tail import recovered_distribution
@@ -314,7 +315,8 @@ def _hump_state(problem: CoolingProblem, *, order: int, intorder: int | None, to
         final = step == eps and (eps_prev == eps or resolution >= HUMP_STEP_RESOLUTION)
         res = resolution if final else max(resolution, HUMP_STEP_RESOLUTION)
         state = continued_state(prev, eps_prev, step, resolution=res, order=order,
-                                intorder=intorder, tol=tol if final else HUMP_STEP_TOL,
+                                intorder=intorder or step_intorder(step, order, final),
+                                tol=tol if final else HUMP_STEP_TOL,
                                 max_iter=min(max_iter, HUMP_STEP_ITER)
                                 if eps_prev / step > HUMP_MIN_RATIO else max_iter)
         if state.info.converged:

@@ -21,6 +21,7 @@ import math
 from collections.abc import Iterable
 
 from . import fem_cooling as fc
+from .fem_cooling_mesh import step_intorder
 from .fem_cooling_newton import CoolingState
 
 __all__ = ["hump_states"]
@@ -81,6 +82,7 @@ def hump_states(eps_values: Iterable[float], *, resolution: float = fc.HUMP_STEP
         step = pending[-1]
         last = step == wanted[-1]
         state = fc.continued_state(prev, eps_prev, step, resolution=step_res, order=order,
+                                   intorder=step_intorder(step, order, step in wanted),
                                    tol=tol if step in wanted else fc.HUMP_STEP_TOL,
                                    max_iter=fc.HUMP_STEP_ITER
                                    if eps_prev / step > fc.HUMP_MIN_RATIO else 100)
