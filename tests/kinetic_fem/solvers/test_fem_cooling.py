@@ -189,6 +189,18 @@ def test_two_level_error_estimate_is_reliable(states_093):
     assert np.allclose(eta, eta[::-1])  # an even state has an even estimate
 
 
+def test_no_growing_modes_on_the_hump_mesh(states_093):
+    """The linearised discrete dynamics of a converged hump state has no mode growing
+    faster than the cooling itself (an unresolved outer edge shows modes of tens to
+    thousands of zeta at the cut-off: benchmarks/results/fem_cooling.md)."""
+    coarse, _ = states_093
+    rates, where = coarse.growth_rates(4)
+    assert rates.shape == where.shape == (4,)
+    assert np.all(np.diff(rates) <= 0.0)
+    assert rates[0] < 1.0
+    assert np.all(where >= 0.0) and np.all(where <= coarse.disc.vertices[-1])
+
+
 def test_adapted_state_bad_target():
     from kinetic_fem.solvers.fem_cooling_adapt import adapted_state
     with pytest.raises(ValueError, match="target"):
