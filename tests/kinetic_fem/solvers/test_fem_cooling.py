@@ -220,3 +220,20 @@ def test_deep_near_elastic_state_alpha_09999():
     assert extra["zeta"] / 1e-4 == pytest.approx(1.000000886408331, rel=2e-12)
     assert dist.a2 == pytest.approx(-0.663288246600, abs=1e-10)
     assert extra["zeta_identity"] == pytest.approx(extra["zeta"], rel=1e-10)
+
+
+@pytest.mark.slow
+def test_near_elastic_frontier_alpha_0999999():
+    """The default path at eps = 1e-6 (the frontier; 2.4e-5 before round 6).
+
+    Convergence study (benchmarks/results/fem_cooling.md, reference 0.035 hump widths):
+    zeta/eps = 1.000000001941814, a2 = -0.666506511629; at this eps zeta's round-off is
+    ~6e-11 relative (the Newton zeta and the energy identity differ by 5.6e-11), a2's
+    differences between meshes 2e-11 to 4e-11; the default measured 3.6e-11 and 2.3e-11
+    from the reference (107 CPU s at load 13)."""
+    dist = kf.solve_cooling(0.999999)
+    extra = dist.info.extra
+    assert dist.info.converged
+    assert extra["zeta"] / 1e-6 == pytest.approx(1.000000001941814, rel=2e-10)
+    assert dist.a2 == pytest.approx(-0.666506511629, abs=1e-10)
+    assert extra["zeta_identity"] == pytest.approx(extra["zeta"], rel=2e-10)
