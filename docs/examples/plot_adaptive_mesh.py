@@ -11,9 +11,12 @@ equation (claims C11, C12).  The default mesh
 elements of ``resolution`` hump widths over the humps; in the outer edge
 (:math:`\ln f \simeq -|y|^3/3`) at most ``EDGE_EFOLDS`` e-folds of :math:`f` per element,
 following the slope of the starting guess (coarser edge elements make the Galerkin drift
-unstable); growing geometrically along the exponential inner tail and shrinking again at
-:math:`c = 0` where the two inner tails meet.  The state is reached by continuation in
-:math:`\varepsilon` from 0.1 (measured down to :math:`\varepsilon = 2.4\cdot 10^{-5}`).
+unstable), with a 5-point Gauss rule (``HUMP_INTORDER``: the 3-point rule's error on
+:math:`e^{u_h}` over the exponential edge, amplified by :math:`\varepsilon^{-2/3}`, was
+the whole error of :math:`\ln f` there); growing geometrically along the exponential
+inner tail and shrinking again at :math:`c = 0` where the two inner tails meet.  The
+state is reached by continuation in :math:`\varepsilon` from 0.1 (measured down to
+:math:`\varepsilon = 10^{-6}`).
 
 Two error estimates of :math:`\ln f_h` are plotted per element:
 

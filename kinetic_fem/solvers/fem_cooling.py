@@ -52,21 +52,15 @@ It is reached by continuation in :math:`\\varepsilon` from 0.1 in steps of at mo
 the humps and their outer edge, geometric grading along the exponential inner tail), from
 the previous state rescaled on :math:`y = (1 - c)/w` (:meth:`CoolingState.rescaled_log_f`),
 by Newton's method with backtracking (:func:`kinetic_fem.solvers.newton.newton`) on
-:math:`\\ln f` itself.  The a posteriori indicator of
-:func:`kinetic_fem.operators.adaptive.element_indicator` (:meth:`CoolingState.indicator`)
-estimates the error of :math:`\\ln f_h` per element from the local interpolation error;
-:meth:`CoolingState.error_estimate` (one Newton step on the bisected mesh) estimates it
-globally, including the error the drift carries outward, within 15 % at
-:math:`\\varepsilon = 10^{-4}` (:mod:`kinetic_fem.solvers.fem_cooling_adapt` refines by
-it).  In the outer edge of the humps the elements fall at most
-:data:`~kinetic_fem.operators.adaptive.EDGE_EFOLDS` e-folds (coarser, the Galerkin drift
-is unstable there), and the normalisation replaces the equation at the hump peak (at
-:math:`c = 0`, where :math:`f \\sim e^{-1.2/w}`, it made the Jacobian singular to
-round-off).  Measured (``benchmarks/results/fem_cooling.md``): the continuation converges
-down to :math:`\\varepsilon = 2.44\\cdot 10^{-5}` (zeta to about 1e-11 relative, order 6)
-and fails at :math:`1.2\\cdot 10^{-5}` (growing modes of the outer-edge drift at the
-cut-off); below :data:`HUMP_FRONTIER` the error says so and names the leading-order
-:math:`\\psi` state.
+:math:`\\ln f` itself; :meth:`CoolingState.error_estimate` (a Newton step on the bisected
+mesh) estimates the error of :math:`\\ln f_h`.  In the outer edge of the humps elements fall
+at most :data:`~kinetic_fem.operators.adaptive.EDGE_EFOLDS` e-folds, the Gauss rule is of degree
+:data:`~kinetic_fem.solvers.fem_cooling_mesh.HUMP_INTORDER` (the 3-point rule's error on
+:math:`e^{u_h}` over the exponential edge gave the old ln f error and growing modes at the
+cut-off), and the normalisation replaces the equation at the hump peak (at :math:`c = 0`
+it made the Jacobian singular).  The continuation converges down to
+:math:`\\varepsilon = 10^{-6}` (``benchmarks/results/fem_cooling.md``); below
+:data:`HUMP_FRONTIER` a failure says so and names the leading-order :math:`\\psi` state.
 
 The inelastic Maxwell model (:math:`\\gamma = 0`) has the closed-form state
 :math:`f(c) = 2/(\\pi(1+c^2)^2)` for every alpha (Baldassarri, Marini Bettolo Marconi,
@@ -96,12 +90,14 @@ from ..operators.fem_discretisation import LAGRANGE_ELEMENTS
 from ..solve import register_solver
 from .fem import ConvergenceError, FEMDiscretisation
 from .fem_cooling_mesh import (
+    HUMP_INTORDER,
     MAXWELL_CUTOFF,
     hcs_bulk,
     hcs_cutoff,
     hcs_spacing,
     hcs_vertices,
     initial_log_f,
+    step_intorder,
 )
 from .fem_cooling_newton import CoolingState, newton_cooling
 from .fem_cooling_order import COARSE_ORDER, P3_COARSE_SPACING, cooling_order, order_spacing
@@ -118,14 +114,17 @@ logger = logging.getLogger(__name__)
 HUMP_EPS = 0.1
 """Below this inelasticity (hard rods) the state is reached by continuation in eps on
 meshes that follow the humps (:func:`kinetic_fem.operators.adaptive.hump_vertices`)."""
-HUMP_FRONTIER = 2.4e-5
-"""Smallest inelasticity the continuation is known to reach (measured: 2.44e-5 converges,
-1.22e-5 does not, at 0.07 hump widths); below it a failure is reported as this limit."""
+HUMP_FRONTIER = 1e-6
+"""Smallest inelasticity the continuation is measured to reach (it converges at 1e-6 with
+the Gauss degree HUMP_INTORDER; the former limit 2.4e-5 came from the 3-point rule);
+below it a failure is reported as this limit."""
 HUMP_RATIO = 2.0
 """Largest ratio of successive inelasticities of the continuation."""
-HUMP_RESOLUTION = 0.04
+HUMP_RESOLUTION = 0.07
 """Default element size in the humps, in hump widths eps^(1/3) (convergence study in
-``benchmarks/convergence_fem_cooling.py``)."""
+``benchmarks/convergence_fem_cooling.py``: with the Gauss degree HUMP_INTORDER, zeta to
+3e-13, a2 to 3e-11, ln f where f > 1e-30 to 1.3e-5 at eps = 1e-4; the state is then
+solved on the continuation's own mesh, without a finer last solve)."""
 HUMP_STEP_RESOLUTION, HUMP_LINK_RESOLUTION = 0.07, 0.14
 """Element sizes (hump widths) of the intermediate states of the continuation, below and
 at or above eps = 1e-3 (the coarser: 2-4 times faster, same final mesh and state)."""
@@ -257,7 +256,8 @@ def continued_state(prev: CoolingState, eps_prev: float, eps: float, *,
     order : int
         Lagrange degree.
     intorder : int, optional
-        Gauss degree; default ``2 * order + 1``.
+        Gauss degree; default :data:`~kinetic_fem.solvers.fem_cooling_mesh.HUMP_INTORDER`
+        (the exponential outer edge of the humps needs it).
     tol : float
         Newton tolerance (step of :math:`\\ln f` and relative step of :math:`\\zeta`).
     max_iter : int
@@ -284,7 +284,8 @@ def continued_state(prev: CoolingState, eps_prev: float, eps: float, *,
     verts = hump_vertices(eps, zeta0, resolution=resolution, cutoff=cutoff,
                           edge_slope=lambda c: float(np.interp(c, probe, slope)),
                           efolds=EDGE_EFOLDS * min(1.0, resolution / HUMP_STEP_RESOLUTION))
-    disc = _discretisation(CoolingProblem.from_parameters(alpha), verts, order, intorder)
+    disc = _discretisation(CoolingProblem.from_parameters(alpha), verts, order,
+                           intorder or max(HUMP_INTORDER, 2 * order + 1))
     u0 = prev.rescaled_log_f(eps_prev, eps, disc.dof_locations)
     state = newton_cooling(disc, u0, zeta0, tol=tol, max_iter=max_iter, pseudo_time=np.inf)
     logger.info("HCS continuation eps = %.3g: %d dofs, %d Newton steps, zeta/eps = %.12g",
@@ -307,7 +308,8 @@ def _hump_state(problem: CoolingProblem, *, order: int, intorder: int | None, to
         link = HUMP_LINK_RESOLUTION if step >= 1e-3 else HUMP_STEP_RESOLUTION
         res = resolution if final else max(resolution, link)
         state = continued_state(prev, eps_prev, step, resolution=res, order=order,
-                                intorder=intorder, tol=tol if final else HUMP_STEP_TOL,
+                                intorder=intorder or step_intorder(step, order, final),
+                                tol=tol if final else HUMP_STEP_TOL,
                                 max_iter=min(max_iter, HUMP_STEP_ITER)
                                 if eps_prev / step > HUMP_MIN_RATIO else max_iter)
         if state.info.converged:
@@ -327,11 +329,10 @@ def _hump_state(problem: CoolingProblem, *, order: int, intorder: int | None, to
                      f"{state.info.message})")
             if step < HUMP_FRONTIER:
                 raise ConvergenceError(
-                    f"{where}: below eps = {HUMP_FRONTIER:g} the Galerkin drift of the "
-                    "outer edge of the humps is unstable at the cut-off (growing modes of "
-                    "the linearised discrete operator; finer edge elements do not remove "
-                    "them), a known limit of this solver; for the leading-order state use "
-                    "kf.scaling.solve_psi().humps(c, eps)")
+                    f"{where}: below eps = {HUMP_FRONTIER:g} the continuation is not "
+                    "measured (there zeta/eps - 1 ~ 0.18 eps^(4/3) nears the round-off of "
+                    "the collision balance), a known limit of this solver; for the "
+                    "leading-order state use kf.scaling.solve_psi().humps(c, eps)")
             raise ConvergenceError(
                 f"{where}: the mesh does not resolve the humps; pass a smaller "
                 f"resolution (e.g. resolution={res / 2:g})")

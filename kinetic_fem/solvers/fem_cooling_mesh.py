@@ -20,12 +20,53 @@ from ..model import CoolingProblem
 from .fem_cooling_tail import POWER_TAIL_CUTOFF, POWER_TAIL_SPACING, power_tail_vertices
 
 __all__ = ["hcs_bulk", "BULK_EPS", "hcs_cutoff", "hcs_spacing", "hcs_vertices", "initial_log_f",
-           "MAXWELL_CUTOFF", "DECADES"]
+           "MAXWELL_CUTOFF", "DECADES", "HUMP_INTORDER", "LOW_ORDER_EPS", "step_intorder"]
 
 MAXWELL_CUTOFF = POWER_TAIL_CUTOFF
 """Cut-off of the Maxwell-model mesh: the energy beyond, 4/(pi V), is 1e-8."""
 DECADES = 33.0
 """The default cut-off is where the tail estimate has fallen this many decades."""
+HUMP_INTORDER = 9
+"""Gauss degree (5 points per element) of the near-elastic hump meshes, instead of
+``2 * order + 1`` (3 points for P2).
+
+In the outer edge of the humps :math:`\\ln f \\simeq -|y|^3/3` falls up to one e-fold
+per element, and the 3-point Gauss rule integrates :math:`e^{u_h}` there with a relative
+error of about 1e-5.  The outer edge is a balance of the cooling drift against the net
+collisional shift, each of relative size :math:`\\varepsilon^{2/3} y^2` against the gain
+and the loss, so that error is amplified by :math:`\\varepsilon^{-2/3}` and accumulates
+over the :math:`|\\ln f|` e-folds of the edge.  Measured at :math:`\\varepsilon = 10^{-4}`,
+0.05 hump widths (``benchmarks/results/fem_cooling.md``): ln f where f > 1e-30 moves
+by 8.7e-3 from degree 5 to 9 (the whole error of the old default), and by 3e-6 from
+9 at 0.71 e-folds per edge element to 9 at 0.25; zeta by 4.6e-12.  With degree 5 the
+linearised operator has a growing mode at the cut-off (+26 zeta at
+:math:`\\varepsilon = 1.22\\cdot 10^{-5}`, the former frontier); with 9 none, and the
+continuation converges down to :math:`\\varepsilon = 10^{-6}`."""
+LOW_ORDER_EPS = 1e-4
+"""Intermediate continuation states at or above this inelasticity keep the cheaper
+``2 * order + 1`` rule (they only start the next step; the 3-point rule converged on
+them down to 2.4e-5)."""
+
+
+def step_intorder(eps: float, order: int, final: bool) -> int | None:
+    """Gauss degree of a continuation step on the hump mesh.
+
+    Parameters
+    ----------
+    eps : float
+        Inelasticity of the step.
+    order : int
+        Lagrange degree.
+    final : bool
+        The state asked for (not an intermediate one).
+
+    Returns
+    -------
+    int or None
+        ``2 * order + 1`` for an intermediate state at ``eps >=`` :data:`LOW_ORDER_EPS`,
+        else None (the default :data:`HUMP_INTORDER` of the hump meshes).
+    """
+    return 2 * order + 1 if not final and eps >= LOW_ORDER_EPS else None
 
 
 def hcs_cutoff(problem: CoolingProblem) -> float:

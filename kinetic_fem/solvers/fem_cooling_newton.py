@@ -143,6 +143,54 @@ class CoolingState:
             np.maximum.at(eta, owner, du)
         return eta, abs(float(delta[-1])) / abs(self.zeta)
 
+    def growth_rates(self, count: int = 5) -> tuple[NDArray, NDArray]:
+        """The fastest-growing modes of the linearised discrete dynamics at fixed zeta.
+
+        The eigenvalues of :math:`J v = \\lambda M v` on the even dofs, :math:`J` the
+        Jacobian of the Galerkin residual :math:`C[f_h] + \\zeta D[f_h]` in
+        :math:`\\ln f_h`, :math:`M_{ij} = \\int\\varphi_i\\varphi_j f_h` (the pencil
+        scaled to a unit mass diagonal, as in :func:`kinetic_fem.relaxation_spectrum`).
+        A stable discretisation has no eigenvalue with a real part large against
+        :math:`\\zeta` (the scale mode, a time shift of the cooling, is of order
+        :math:`\\zeta`); an unresolved outer edge shows eigenvalues of hundreds of
+        :math:`\\zeta` localised at the cut-off (``benchmarks/results/fem_cooling.md``).
+
+        Parameters
+        ----------
+        count : int
+            Number of modes returned.
+
+        Returns
+        -------
+        rates : ndarray, shape (count,)
+            The largest real parts, in units of :math:`\\zeta`, decreasing.
+        where : ndarray, shape (count,)
+            The velocity :math:`c \\ge 0` where each mode's eigenvector is largest
+            (in the scaled norm).
+        """
+        import scipy.linalg
+
+        disc, sym = self.disc, self.disc.symmetry
+        field = disc.field(self.u)
+        _, cjac, _ = disc.collision(self.u, jacobian=True, even=True)
+        edges = np.array([np.argmin(disc.dof_locations), np.argmax(disc.dof_locations)])
+        djac = asm(bath_drift_jacobian, disc.basis, u=field).toarray()
+        djac[edges, edges] -= np.abs(disc.dof_locations[edges]) * np.exp(self.u[edges])
+        full = cjac + self.zeta * djac
+        jac = sym.T @ (sym.T @ full.T).T
+        weight = asm(weighted_mass, disc.basis, u=field).toarray()
+        mass_red = sym.T @ (sym.T @ weight.T).T
+        scale = 1.0 / np.sqrt(np.abs(np.diag(mass_red)))
+        values, vectors = scipy.linalg.eig(jac * scale[:, None] * scale[None, :],
+                                           mass_red * scale[:, None] * scale[None, :])
+        ok = np.isfinite(values)
+        values, vectors = values[ok], vectors[:, ok]
+        order = np.argsort(-values.real)[:count]
+        loc = np.zeros(sym.shape[1])
+        loc[sym.indices] = np.abs(disc.dof_locations)
+        where = loc[np.argmax(np.abs(vectors[:, order]), axis=0)]
+        return values.real[order] / self.zeta, where
+
     def rescaled_log_f(self, eps_from: float, eps_to: float, c: NDArray) -> NDArray:
         """A starting :math:`\\ln f` at inelasticity ``eps_to`` from this state at
         ``eps_from``, by the hump scaling :math:`f(c) \\approx [\\psi((1-c)/w) +

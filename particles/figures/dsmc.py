@@ -13,6 +13,7 @@ from functools import lru_cache
 import numpy as np
 
 import kinetic_fem as kf
+from kinetic_fem.figures.cooling import fem_psi_profile, near_elastic_states
 from kinetic_fem.figures.plotting import save, subplots
 from kinetic_fem.reproduce import ClaimRow, Context, register
 from kinetic_fem.sonine import A2_ELASTIC_LIMIT, a2_first_order, steady_temperature
@@ -305,8 +306,11 @@ def cooling_humps(ctx: Context) -> list[ClaimRow]:
                              bool(abs(kappa - 4) < 0.3), "dsmc",
                              _note(ctx, f"N={n}, averaging after {relax:g} collisions "
                                         "per particle")))
+    c = np.linspace(-1.8, 1.8, 1801)  # the FEM states beside (kinetic_fem.figures.cooling)
+    for eps, dist in near_elastic_states(ctx.quick).items():
+        ax.plot(c, dist.f(c), "k--", lw=0.7, label=f"FEM eps={eps:.3g}")
     ax.set(xlabel="c", ylabel="f(c)", xlim=(-1.8, 1.8), title="free cooling DSMC")
-    ax.legend()
+    ax.legend(fontsize=7)
     save(fig, ctx.out / "F9_dsmc_humps.png")
     # Haff's law T ~ t^-2 at alpha = 0.9
     run = dsmc.simulate_cooling(0.9, 2000 if ctx.quick else 25_000, seed=ctx.seed,
@@ -462,6 +466,12 @@ def psi_from_dsmc(ctx: Context) -> list[ClaimRow]:
             ref = (psi(nodes.ravel()).reshape(nodes.shape) @ w) / 2.0
             dev.append(float(np.sum(np.abs(val[core] - ref[core]) * dy[core])))
             floor.append(float(math.sqrt(2 / math.pi) * np.sum(err[core] * dy[core])))
+    fem = near_elastic_states(ctx.quick)
+    for eps in epss:
+        if eps in fem:
+            hump = fem_psi_profile(fem[eps], eps)
+            show = (hump.y > -4) & (hump.y < 12)
+            ax.plot(hump.y[show], hump.psi[show], "--", lw=0.8, label=f"FEM eps={eps:g}")
     if psi is not None:
         yy = np.linspace(-4, 12, 400)
         ax.plot(yy, psi(yy), "k-", label="psi equation")

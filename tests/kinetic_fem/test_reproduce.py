@@ -102,3 +102,15 @@ def test_quick_mode_warnings_are_summarised_once(tmp_path, capsys, caplog):
     finally:
         root.removeHandler(handler)
         ITEMS.pop("Z8")
+
+
+@pytest.mark.slow
+def test_fem_hump_items_quick(tmp_path):
+    """F9-HCS (FEM hump panel, C9) and F11-HCS from the FEM cooling state, quick mode
+    (eps = 1e-2, 1e-3 at 0.14 hump widths; about a minute)."""
+    load_plugins()
+    rows = run_items(Context(out=tmp_path, quick=True, seed=1), ["F11-HCS"])
+    assert (tmp_path / "F11-HCS_psi.png").exists()
+    assert {r.claim for r in rows} == {"C11", "C12"}
+    assert all(r.agrees for r in rows), rows
+    assert all(r.method.startswith("fem") for r in rows)
