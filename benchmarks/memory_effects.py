@@ -123,9 +123,53 @@ def mpemba_part(alpha: float, spacing: float, rtol: float, n_particles: int, rep
           f"replicas); exact - DSMC = {(exact - root) / root_err:+.2f} sigma")
 
 
+def mpemba_exact(alpha: float, spacing: float, rtol: float, guess: float, xtol: float = 2e-4,
+                 step: float = 0.02, cutoff: float | None = None) -> float:
+    """Exact Mpemba threshold by a secant started at ``guess`` (each gap one FEM run).
+
+    The gap :math:`(T_{hot} - T_{cold})(t_H)/T_{st}` is nearly linear in the hot
+    :math:`a_2` (the initial state is linear in it), so from a guess within a few
+    1e-2 the secant needs two or three runs besides the cold one.
+    """
+    import kinetic_fem as kf
+    from kinetic_fem.analysis.memory_effects import exact_curves
+
+    t_st = kf.solve_heated(alpha).temperature
+    times = np.array([0.0, 4.0 / sonine_relaxation_rates(alpha)[0]])
+    opts = {"spacing": spacing, "rtol": rtol, **({} if cutoff is None else {"cutoff": cutoff})}
+
+    def final_t(temp: float, a2: float) -> float:
+        start = time.process_time()
+        curve, _ = exact_curves(alpha, 1.0, times, 1.0, sonine_distribution(temp, a2), None,
+                                opts, t_min=t_st)
+        print(f"    T({times[-1]:.4f}) from ({temp / t_st:.2f} T_st, a2 = {a2:.6f}): "
+              f"{curve.temperature[-1]:.10f} ({time.process_time() - start:.0f} CPU s)",
+              flush=True)
+        return float(curve.temperature[-1])
+
+    t_cold = final_t(1.4 * t_st, 0.0)
+
+    def gap(a2: float) -> float:
+        return (final_t(1.5 * t_st, a2) - t_cold) / t_st
+
+    x0, x1 = guess, guess + step
+    f0, f1 = gap(x0), gap(x1)
+    for _ in range(8):
+        x2 = x1 - f1 * (x1 - x0) / (f1 - f0)
+        print(f"  secant: a2 = {x2:.6f} (gaps {f0:+.3e} at {x0:.6f}, {f1:+.3e} at {x1:.6f})",
+              flush=True)
+        if abs(x2 - x1) < xtol:
+            print(f"  exact threshold (spacing {spacing}, rtol {rtol:g}, cutoff {cutoff}): "
+                  f"{x2:.5f}")
+            return float(x2)
+        x0, f0, x1, f1 = x1, f1, x2, gap(x2)
+    raise RuntimeError("secant did not converge")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--part", choices=["kovacs", "kovacs-dsmc", "mpemba"], required=True)
+    parser.add_argument("--part", required=True,
+                        choices=["kovacs", "kovacs-dsmc", "mpemba", "mpemba-exact"])
     parser.add_argument("--alpha", type=float, default=0.3)
     parser.add_argument("--grid", nargs="+", default=["0.5:1e-4", "0.5:1e-6", "0.25:1e-6"],
                         help="spacing:rtol pairs of the Kovacs table")
@@ -134,10 +178,12 @@ def main() -> None:
     parser.add_argument("--particles", type=int, default=100_000)
     parser.add_argument("--replicas", type=int, default=64)
     parser.add_argument("--seed", type=int, default=20261125)
+    parser.add_argument("--cutoff", type=float, help="FEM cutoff option (thermal velocities)")
     parser.add_argument("--save", help="pickle the last Kovacs result here")
     parser.add_argument("--load", help="Kovacs result (pickle) for the DSMC part")
     parser.add_argument("--threshold", type=float,
-                        help="exact Mpemba threshold (skips the FEM secant)")
+                        help="exact Mpemba threshold (skips the FEM secant); with "
+                        "--part mpemba-exact the secant's first guess")
     args = parser.parse_args()
     if args.part == "kovacs":
         grid = [(float(a), float(b)) for a, b in (g.split(":") for g in args.grid)]
@@ -145,6 +191,10 @@ def main() -> None:
     elif args.part == "kovacs-dsmc":
         kovacs_dsmc(args.alpha, args.spacing, args.rtol, args.particles, args.replicas,
                     args.seed, args.load)
+    elif args.part == "mpemba-exact":
+        mpemba_exact(args.alpha, args.spacing, args.rtol,
+                     0.4575 if args.threshold is None else args.threshold,
+                     cutoff=args.cutoff)
     else:
         mpemba_part(args.alpha, args.spacing, args.rtol, args.particles, args.replicas,
                     args.seed, args.threshold)
