@@ -57,23 +57,28 @@ def kovacs_dsmc(alpha: float, spacing: float, rtol: float, n_particles: int, rep
         alpha = k.alpha
     else:
         k = kovacs(alpha, spacing=spacing, rtol=rtol)
-    start = time.process_time()
+    start, wall = time.process_time(), time.perf_counter()
     run = simulate_protocol(alpha, n_particles, times=k.exact.times, protocol=k.protocol,
                             diffusion=k.diffusion[1], initial=k.initial, replicas=replicas,
                             seed=seed)
     cpu = time.process_time() - start
+    wall = time.perf_counter() - wall
     z_t, z_a = run.deviation(k.exact.temperature, k.exact.a2)
     after = k.exact.times >= k.waiting_time
     dev = run.temperature[after] / k.steady_temperature - 1.0
     err = run.temperature_error[after] / k.steady_temperature
     i = int(np.argmin(np.abs(k.exact.times[after] - k.waiting_time - k.hump_time)))
     print(f"Kovacs DSMC, alpha = {alpha}, N = {n_particles}, {replicas} replicas "
-          f"({cpu:.0f} CPU s); FEM at spacing {spacing}, rtol {rtol:g}")
+          f"({cpu:.0f} CPU s, {wall:.0f} s wall); FEM at spacing {spacing}, rtol {rtol:g}")
     print(f"  FEM hump {k.hump:+.4e} at t - t_w = {k.hump_time:.3f}; DSMC at the nearest output "
           f"(t - t_w = {k.exact.times[after][i] - k.waiting_time:.3f}): {dev[i]:+.4e} "
           f"+- {err[i]:.1e}; min over outputs {dev.min():+.4e}")
+    print(f"  at that time: {dev[i] / err[i]:+.1f} sigma from 0, "
+          f"{(dev[i] - k.deviation()[1][i]) / err[i]:+.2f} sigma from FEM, "
+          f"{(dev[i] - k.sonine_hump) / err[i]:+.1f} sigma from the first-Sonine extremum "
+          f"{k.sonine_hump:+.4e}")
     print(f"  max |z| over {z_t.size} times: T {np.max(np.abs(z_t)):.2f}, "
-          f"a2 {np.max(np.abs(z_a)):.2f}")
+          f"a2 {np.max(np.abs(z_a)):.2f}; times with |z_T| > 3: {int(np.sum(np.abs(z_t) > 3))}")
 
 
 def mpemba_part(alpha: float, spacing: float, rtol: float, n_particles: int, replicas: int,
