@@ -76,6 +76,12 @@ __all__ = ["TransientOptions", "TransientStats", "EquilibratedLU", "log_update",
 
 logger = logging.getLogger(__name__)
 
+MAX_RETRIES = 60
+"""Tries (Newton failures and rejected steps) for one step before a run is given up: a
+step rejected at the smallest step and a Newton failure just above it can otherwise
+alternate until ``max_steps`` (measured: the Mpemba start past its tabulated range,
+the alpha = 0.9 Kovacs quench); normal runs need a few."""
+
 
 class Integrator:
     """Adaptive BDF2 for one discretisation (see the module docstring).
@@ -276,7 +282,15 @@ class Integrator:
         The step is shortened to end exactly at ``s_stop``; the second value says
         whether ``s_stop`` was reached.
         """
+        tries = 0
         while True:
+            tries += 1
+            if tries > MAX_RETRIES:
+                raise ConvergenceError(
+                    f"no step accepted after {MAX_RETRIES} tries at s={hist[-1].s:.6g} (last "
+                    f"step {h:.3g}, smallest step {self.opt.min_step:.3g}): the state cannot "
+                    "be continued on this mesh; refine the mesh (spacing), or check that the "
+                    "cutoff does not reach past where the initial state is known")
             if self.stats.accepted + self.stats.rejected + self.stats.newton_failures \
                     >= self.opt.max_steps:
                 raise ConvergenceError(

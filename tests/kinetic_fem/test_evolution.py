@@ -111,3 +111,21 @@ def test_evolve_cooling_says_it_is_not_available_yet():
     """The FEM cooling transient fails after its first step; the call says so at once."""
     with pytest.raises(NotImplementedError, match="not available yet.*solve_cooling"):
         kf.evolve_cooling(0.9, times=[0.0, 1.0])
+
+
+def test_a_step_that_never_succeeds_is_given_up_with_a_clear_error(monkeypatch):
+    """Newton failing at every step must end after MAX_RETRIES tries, not cycle between
+    the smallest step and twice it until max_steps (the stuck runs of the Mpemba start
+    past its tabulated range and of the alpha = 0.9 Kovacs quench)."""
+    from kinetic_fem.exceptions import ConvergenceError
+    from kinetic_fem.solvers import fem_transient
+
+    calls = []
+
+    def never(self, hist, h):
+        calls.append(h)
+
+    monkeypatch.setattr(fem_transient.Integrator, "attempt", never)
+    with pytest.raises(ConvergenceError, match="no step accepted after 60 tries"):
+        kf.evolve_heated(0.6, times=[1.0], spacing=0.6)
+    assert len(calls) == fem_transient.MAX_RETRIES
