@@ -57,8 +57,7 @@ mesh) estimates the error of :math:`\\ln f_h`.  In the outer edge of the humps e
 at most :data:`~kinetic_fem.operators.adaptive.EDGE_EFOLDS` e-folds, the Gauss rule is of degree
 :data:`~kinetic_fem.solvers.fem_cooling_mesh.HUMP_INTORDER` (the 3-point rule's error on
 :math:`e^{u_h}` over the exponential edge gave the old ln f error and growing modes at the
-cut-off), and the normalisation replaces the equation at the hump peak (at :math:`c = 0`
-it made the Jacobian singular).  The continuation converges down to
+cut-off), the normalisation replaces the equation at the peak.  The continuation converges down to
 :math:`\\varepsilon = 10^{-6}` (``benchmarks/results/fem_cooling.md``); below
 :data:`HUMP_FRONTIER` a failure says so and names the leading-order :math:`\\psi` state.
 
@@ -287,7 +286,8 @@ def continued_state(prev: CoolingState, eps_prev: float, eps: float, *,
     disc = _discretisation(CoolingProblem.from_parameters(alpha), verts, order,
                            intorder or max(HUMP_INTORDER, 2 * order + 1))
     u0 = prev.rescaled_log_f(eps_prev, eps, disc.dof_locations)
-    state = newton_cooling(disc, u0, zeta0, tol=tol, max_iter=max_iter, pseudo_time=np.inf)
+    state = newton_cooling(disc, u0, zeta0, tol=tol, max_iter=max_iter, pseudo_time=np.inf,
+                           settle_steps=eps >= 1e-4)  # LOG_STEP_ZETA: measured there
     logger.info("HCS continuation eps = %.3g: %d dofs, %d Newton steps, zeta/eps = %.12g",
                 eps, state.u.size, state.info.iterations, state.zeta / eps)
     return state
