@@ -125,8 +125,9 @@ HUMP_RESOLUTION = 0.07
 3e-13, a2 to 3e-11, ln f where f > 1e-30 to 1.3e-5 at eps = 1e-4; the state is then
 solved on the continuation's own mesh, without a finer last solve)."""
 HUMP_STEP_RESOLUTION, HUMP_LINK_RESOLUTION = 0.07, 0.14
-"""Element sizes (hump widths) of the intermediate states of the continuation, below and
-at or above eps = 1e-3 (the coarser: 2-4 times faster, same final mesh and state)."""
+"""Element sizes (hump widths): the step mesh (the final state at the default resolution
+is solved on it) and the intermediate states' (2-4 times faster; at eps = 1e-6 ln f moves
+by 7e-6, zeta by 1e-12: benchmarks/results/fem_cooling.md)."""
 HUMP_STEP_TOL = 1e-7
 """Newton tolerance of the intermediate states (they only start the next step)."""
 HUMP_STEP_ITER = 40
@@ -305,8 +306,7 @@ def _hump_state(problem: CoolingProblem, *, order: int, intorder: int | None, to
         # eps (mesh sequencing: the many Newton steps of a continuation step are taken
         # on the coarse mesh, the fine one needs three or four)
         final = step == eps and (eps_prev == eps or resolution >= HUMP_STEP_RESOLUTION)
-        link = HUMP_LINK_RESOLUTION if step >= 1e-3 else HUMP_STEP_RESOLUTION
-        res = resolution if final else max(resolution, link)
+        res = resolution if final else max(resolution, HUMP_LINK_RESOLUTION)
         state = continued_state(prev, eps_prev, step, resolution=res, order=order,
                                 intorder=intorder or step_intorder(step, order, final),
                                 tol=tol if final else HUMP_STEP_TOL,
