@@ -10,7 +10,8 @@ from an initial distribution (any normalised
 ``initial_temperature``) to the requested output ``times``; the time dependence of
 :math:`D`, :math:`\\xi` and :math:`\\alpha` is a :class:`~kinetic_fem.model.protocol.Protocol`.
 Parameters are validated here; methods are registered in :data:`TRANSIENT_SOLVERS`
-(``"fem"``: adaptive BDF2 on the Galerkin system, :mod:`kinetic_fem.solvers.fem_evolution`).
+(``"fem"``: adaptive BDF2 on the Galerkin system, :mod:`kinetic_fem.solvers.fem_evolution`
+and :mod:`kinetic_fem.solvers.fem_cooling_transient`).
 """
 
 from __future__ import annotations
@@ -24,7 +25,8 @@ from .distribution import VelocityDistribution
 from .evolution import Evolution
 from .model import CollisionKernel, CoolingProblem, HeatedProblem, RestitutionLaw, check_positive
 from .model.protocol import Protocol
-from .solvers.fem_evolution import evolve_cooling_fem, evolve_heated_fem
+from .solvers.fem_cooling_transient import evolve_cooling_fem
+from .solvers.fem_evolution import evolve_heated_fem
 
 __all__ = ["evolve_heated", "evolve_cooling", "TRANSIENT_SOLVERS", "check_times"]
 
@@ -161,11 +163,17 @@ def evolve_cooling(alpha: float | RestitutionLaw, *, density: float = 1.0,
                    method: str = "fem", **options: Any) -> Evolution:
     """Free cooling from an initial state, :math:`T(t)` in physical units.
 
-    The scaled distribution :math:`f(c, \\tau)` is evolved (unit temperature enforced,
-    the drift coefficient :math:`\\zeta(\\tau)` an unknown) and the physical temperature
-    follows from :math:`dT/dt = -2\\zeta n T^{1+\\gamma/2}`; ``ev.series["zeta"]``.
-    See :func:`evolve_heated` for the parameters (default start: the Gaussian at
-    ``initial_temperature = 1``).
+    :math:`\\partial_t P = n\\,Q_\\alpha[P]` is integrated in physical velocities by
+    adaptive BDF2 with local error control (``rtol``: relative on :math:`T`, absolute on
+    :math:`a_2`), on segments of fixed velocity scale that are remapped to the current
+    thermal speed each time :math:`T` has fallen by ``rescale`` (default 4), so that
+    :math:`T(t)` is followed over many decades
+    (:mod:`kinetic_fem.solvers.fem_cooling_transient`).  Mass is conserved to round-off
+    and :math:`P = e^{u_h} > 0`.  ``ev.series["zeta"]`` is the instantaneous cooling
+    rate in the convention :math:`dT/dt = -2\\zeta n T^{1+d/2}` (:math:`d` the kernel's
+    degree of homogeneity: :math:`\\gamma`); at late times it tends to the
+    homogeneous cooling state's :math:`\\zeta` (:func:`kinetic_fem.solve_cooling`) and
+    :math:`T(t)` to Haff's law.
 
     Parameters
     ----------
@@ -184,7 +192,9 @@ def evolve_cooling(alpha: float | RestitutionLaw, *, density: float = 1.0,
     method : str
         Registry key (``"fem"``).
     **options
-        Passed to the method (``rtol``, ``spacing``, ...).
+        Passed to the method: ``rtol`` (default 1e-6), ``spacing`` (element size in
+        thermal velocities, default 0.25), ``cutoff``, ``rescale``, ``order``, step and
+        Newton options (:func:`kinetic_fem.solvers.fem_cooling_transient.evolve_cooling_fem`).
 
     Returns
     -------
@@ -192,20 +202,18 @@ def evolve_cooling(alpha: float | RestitutionLaw, *, density: float = 1.0,
 
     Raises
     ------
-    NotImplementedError
-        Always, for now: with method ``"fem"`` the first step from a Gaussian converges
-        but Newton's method fails on every later step (any step size down to the
-        minimum step), so rather than spend a run on it the call stops at once.  The
-        homogeneous cooling state itself is :func:`kinetic_fem.solve_cooling`, and DSMC
-        cooling runs (``particles.dsmc.simulate_cooling``) give the transient.
+    ValueError, TypeError
+        For invalid parameters, times or initial states, unknown methods or options.
+    UnsupportedModelError
+        For a speed-dependent restitution law or a kernel that is not homogeneous.
+
+    Examples
+    --------
+    >>> ev = evolve_cooling(0.8, times=[0.5, 1.0], spacing=0.5, rtol=1e-4)
+    >>> bool(ev.temperature[1] < ev.temperature[0] < 1.0)
+    True
     """
     problem = CoolingProblem.from_parameters(alpha, density=density, kernel=kernel)
-    if method == "fem" and not options.pop("experimental", False):
-        raise NotImplementedError(
-            "kf.evolve_cooling is not available yet: the FEM transient in scaled variables "
-            "fails after its first step. Use kf.solve_cooling for the homogeneous cooling "
-            "state and particles.dsmc.simulate_cooling for the transient (pass "
-            "experimental=True to run the unfinished FEM integrator anyway)")
     initial, initial_temperature = _initial(initial, initial_temperature)
     return _method("cooling", method)(problem, times=check_times(times), initial=initial,
                                       initial_temperature=initial_temperature, **options)

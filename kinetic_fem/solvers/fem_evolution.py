@@ -10,8 +10,8 @@ integrator of :mod:`kinetic_fem.solvers.fem_transient`, and collects the output 
   ``spacing`` thermal velocities of the coldest.  The integrator stops exactly at the
   output times and restarts (backward Euler, small step) at the protocol's
   discontinuities.
-* Free cooling: scaled velocities :math:`c = v/\\sqrt{T}`; output at physical times by
-  interpolation in the scaled time (quadratic, the order of the scheme).
+* Free cooling: :mod:`kinetic_fem.solvers.fem_cooling_transient` (physical velocities on
+  segments of fixed velocity scale).
 """
 
 from __future__ import annotations
@@ -26,10 +26,8 @@ from numpy.typing import NDArray
 from ..distribution import RunInfo, VelocityDistribution
 from ..evolution import Evolution
 from ..model import (
-    CoolingProblem,
     HeatedProblem,
     InelasticGas,
-    UnsupportedModelError,
     as_thermostat,
 )
 from ..model.protocol import Protocol
@@ -39,18 +37,13 @@ from .fem_transient import (
     TransientOptions,
     build_mesh,
     floor_log,
-    lagrange_weights,
     make_discretisation,
 )
 
-__all__ = ["evolve_heated_fem", "evolve_cooling_fem", "default_transient_cutoff",
-           "initial_log_density", "check_normalised"]
+__all__ = ["evolve_heated_fem", "default_transient_cutoff", "initial_log_density",
+           "check_normalised"]
 
 logger = logging.getLogger(__name__)
-
-COOLING_MIN_STEP = 0.01
-"""Smallest scaled-time step of a cooling run (see ``TransientOptions.min_step``)."""
-
 
 def default_transient_cutoff(gamma: float) -> float:
     """Half-width of the mesh in thermal velocities: :math:`\\max(10, 26 - 11\\gamma)`.
@@ -263,125 +256,3 @@ def evolve_heated_fem(problem: HeatedProblem, *, times: NDArray, protocol: Proto
     logger.info(message)
     return _evolution(outputs, [1.0] * len(outputs), integ, times, params, start, message,
                       series)
-
-
-def evolve_cooling_fem(problem: CoolingProblem, *, times: NDArray,
-                       initial: VelocityDistribution | None,
-                       initial_temperature: float | None, rtol: float = 1e-6, order: int = 2,
-                       spacing: float | None = None, cutoff: float | None = None,
-                       first_step: float | None = None, max_step: float = math.inf,
-                       max_steps: int = 20000, newton_tol: float = 1e-11,
-                       max_newton: int = 12) -> Evolution:
-    """Free cooling in scaled variables, T(t) in physical units (see the module).
-
-    Parameters
-    ----------
-    problem : CoolingProblem
-        Constant restitution, any kernel.
-    times : ndarray, shape (n_t,)
-        Output times (physical), checked by :func:`kinetic_fem.evolve.check_times`.
-    initial : VelocityDistribution or None
-        Initial state (normalised), or None for a Gaussian.
-    initial_temperature : float or None
-        Temperature of the Gaussian start.
-    rtol, order, spacing, cutoff, first_step, max_step, max_steps, newton_tol, max_newton
-        Numerical options (:class:`kinetic_fem.solvers.fem_transient.TransientOptions`).
-
-    Returns
-    -------
-    Evolution
-    """
-    start = time.perf_counter()
-    gas = problem.gas
-    if gas.restitution.constant is None:
-        raise UnsupportedModelError(
-            "evolve_cooling (method 'fem') needs a constant restitution coefficient: with a "
-            f"speed-dependent law {gas.restitution!r} the scaled state has no fixed law; use "
-            "evolve_heated with a protocol instead")
-    if order not in (1, 2):
-        raise ValueError(f"order must be 1 or 2, got {order!r}")
-    eps = 1.0 - gas.restitution.constant
-    zeta_est = (1.0 - (1.0 - eps) ** 2) / math.sqrt(math.pi)
-    if spacing is None:
-        spacing = min(0.25, max(eps, 1e-12) ** (1.0 / 3.0) / 6.0)
-    c_cut = max(12.0, 1.5 + 80.0 * zeta_est) if cutoff is None else cutoff
-    verts = build_mesh(c_cut, spacing)
-    disc = make_discretisation(gas.restitution, gas.gamma, verts, order)
-    # steps below ~0.01 collision times from a Gaussian start have no positive solution
-    # in the steep initial tail (as for the heated gas): they are the minimum step
-    h_min = COOLING_MIN_STEP if first_step is None else min(first_step, COOLING_MIN_STEP)
-    opt = TransientOptions(rtol, h_min, order, spacing, cutoff, first_step, max_step,
-                           max_steps, newton_tol, max_newton)
-    integ = Integrator(disc, lambda t, left=True: (gas.density, 0.0, 0.0), cooling=True,
-                       options=opt, gamma=gas.gamma)
-    x = integ.x
-    if initial is not None:
-        t0 = initial.temperature
-        u = initial_log_density(initial, x, scale=math.sqrt(t0))
-    else:
-        t0 = 1.0 if initial_temperature is None else initial_temperature
-        u = floor_log(x, -0.5 * x**2 - 0.5 * math.log(2.0 * math.pi))
-    # unit mass and unit temperature (the constraint x^2.m = 1, exact for P2):
-    # u -> u + a + b x^2, Newton on b
-    x2 = x**2
-    for _ in range(50):
-        m = integ.masses(u)
-        m0, m2, m4 = m.sum(), x2 @ m, (x2 * x2) @ m
-        u = u - math.log(m0)
-        if abs(m2 / m0 - 1.0) < 1e-14:
-            break
-        u = u - (m2 / m0 - 1.0) / (m4 / m0 - (m2 / m0) ** 2) * x2
-    y0 = np.array([math.log(t0), 0.0])
-    hist = [Level(0.0, u, integ.masses(u), integ.zeta_of(u), y0, integ.observables(u, y0))]
-    h = first_step if first_step is not None else h_min
-    outputs, temps, zetas, taus = [], [], [], []
-    k = 0
-    while k < times.size and times[k] <= 0.0:
-        outputs.append(u)
-        temps.append(t0)
-        zetas.append(hist[0].zeta)
-        taus.append(0.0)
-        k += 1
-    while k < times.size:
-        h, _ = integ.advance(hist, h, math.inf)
-        while k < times.size and hist[-1].y[1] >= times[k]:
-            levels = hist[-3:]
-            s_star = _invert(levels, times[k])
-            w = lagrange_weights([lv.s for lv in levels], s_star)
-            u_k = np.sum([c * lv.u for c, lv in zip(w, levels, strict=True)], axis=0)
-            log_t = sum(c * lv.y[0] for c, lv in zip(w, levels, strict=True))
-            outputs.append(u_k)
-            temps.append(math.exp(log_t))
-            zetas.append(sum(c * lv.zeta for c, lv in zip(w, levels, strict=True)))
-            taus.append(s_star)
-            k += 1
-    # cooling-rate convention dT/dt = -2 zeta n T^(1 + gamma/2): scaled zeta is that zeta
-    params = {**problem.as_dict(), "problem": "cooling transient"}
-    st = integ.stats
-    message = (f"adaptive BDF2 in scaled time, rtol={rtol:g}: {st.accepted} steps "
-               f"({st.rejected} rejected, {st.newton_failures} Newton failures), "
-               f"{st.newton_iterations} Newton iterations; tau_end={hist[-1].s:.4g}")
-    logger.info(message)
-    scales = [math.sqrt(t) for t in temps]
-    return _evolution(outputs, scales, integ, times, params, start, message,
-                      {"zeta": np.array(zetas), "scaled_time": np.array(taus)})
-
-
-def _invert(levels: list[Level], t_target: float) -> float:
-    """Scaled time at which the interpolated physical time equals ``t_target``."""
-    s = [lv.s for lv in levels]
-    lo, hi = (s[-2], s[-1]) if len(s) > 1 else (s[0], s[0])
-    f_lo = sum(c * lv.y[1] for c, lv in zip(lagrange_weights(s, lo), levels, strict=True))
-    f_hi = sum(c * lv.y[1] for c, lv in zip(lagrange_weights(s, hi), levels, strict=True))
-    if hi == lo or f_hi == f_lo:
-        return hi
-    # secant iterations on the (nearly linear) interpolant
-    a, b, fa, fb = lo, hi, f_lo - t_target, f_hi - t_target
-    for _ in range(50):
-        c = b - fb * (b - a) / (fb - fa)
-        fc = sum(w * lv.y[1] for w, lv in zip(lagrange_weights(s, c), levels,
-                                              strict=True)) - t_target
-        a, fa, b, fb = b, fb, c, fc
-        if abs(fc) <= 1e-15 * max(1.0, abs(t_target)) or fb == fa:
-            break
-    return b

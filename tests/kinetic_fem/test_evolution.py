@@ -107,12 +107,6 @@ def test_lte_ratio_constant_steps():
     assert lte_ratio((0.3,), 1) == 0.5
 
 
-def test_evolve_cooling_says_it_is_not_available_yet():
-    """The FEM cooling transient fails after its first step; the call says so at once."""
-    with pytest.raises(NotImplementedError, match="not available yet.*solve_cooling"):
-        kf.evolve_cooling(0.9, times=[0.0, 1.0])
-
-
 def test_a_step_that_never_succeeds_is_given_up_with_a_clear_error(monkeypatch):
     """Newton failing at every step must end after MAX_RETRIES tries, not cycle between
     the smallest step and twice it until max_steps (the stuck runs of the Mpemba start
