@@ -10,7 +10,8 @@
   :mod:`~kinetic_fem.solvers.fem_cooling_mesh` and
   :mod:`~kinetic_fem.solvers.fem_cooling_newton`),
   :mod:`~kinetic_fem.solvers.fem_evolution`, :mod:`~kinetic_fem.solvers.fem_transient`
-  and :mod:`~kinetic_fem.solvers.fem_cooling_transient` (transients), :mod:`~kinetic_fem.solvers.fem_defaults` (meshes and cut-offs from the
+  and :mod:`~kinetic_fem.solvers.fem_cooling_transient` (transients),
+  :mod:`~kinetic_fem.solvers.fem_defaults` (meshes and cut-offs from the
   model's scales), :mod:`~kinetic_fem.solvers.relaxation` (the relaxation spectrum: the
   linearised system about the steady state).
 - The paper's finite differences (Biben): :mod:`~kinetic_fem.solvers.finite_difference`

@@ -229,6 +229,20 @@ class Integrator:
         return None
 
     # ------------------------------------------------------------------ stepping
+    def history_target(self, c_old: NDArray, m_last: NDArray, c_new: float) -> NDArray:
+        """The BDF2 history term ``c_old`` (a hook: a subclass may keep it positive).
+
+        Parameters
+        ----------
+        c_old : ndarray
+            History term of the step, ``c_new m(u_new) - c_old = h R(u_new)``.
+        m_last : ndarray
+            Masses of the last level.
+        c_new : float
+            Coefficient of the new masses.
+        """
+        return c_old
+
     def aux_rate(self, zeta: float, log_t: float) -> NDArray:
         """Rates of ``(ln T, t)`` in the scaled time of a cooling run."""
         n, gamma = self.coefficients(0.0)[0], self.gamma
@@ -244,6 +258,7 @@ class Integrator:
             w = h / h1
             c_new = (1.0 + 2.0 * w) / (1.0 + w)
             c_old = (1.0 + w) * last.m - w * w / (1.0 + w) * hist[-2].m
+            c_old = self.history_target(c_old, last.m, c_new)
             ratio = lte_ratio((h, h1, h2), 2)
             nodes = [lv.s for lv in hist[-3:]]
             weights = lagrange_weights(nodes, s_new)
