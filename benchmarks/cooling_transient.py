@@ -67,19 +67,45 @@ def hcs(alpha: float, t_end: float, spacing: float, rtol: float) -> None:
               f"{ev.a2[k] - a2_hcs:+.2e} | {h} | {slope[k]:.4f} |")
 
 
-def dsmc(alpha: float, gamma: float, n_particles: int, replicas: int, t_end: float,
-         seed: int) -> None:
-    """DSMC ensemble against FEM: z-scores of T and a2 at every output time."""
+def dsmc(alpha: float, gamma: float, n_particles: int, replicas: int, seeds: int,
+         collisions: float, spacing: float, rtol: float) -> None:
+    """DSMC ensembles against FEM: z-scores of T and a2 at every output time, per seed."""
     from particles.dsmc import simulate_cooling
 
-    times = np.linspace(t_end / 8, t_end, 8)
-    ev = kf.evolve_cooling(alpha, kernel=gamma, times=times, rtol=1e-7)
-    temps, a2s = [], []
-    for r in range(replicas):
-        run = simulate_cooling(alpha, n_particles, kernel=gamma, seed=seed + r,
-                               collisions_per_particle=1.0, relax=0.0)
-        temps.append(run)
-    print(len(temps), a2s)
+    times = np.array([0.25, 1.0, 2.0, 4.0, 8.0])
+    start = time.process_time()
+    ev = kf.evolve_cooling(alpha, kernel=gamma, times=times, spacing=spacing, rtol=rtol)
+    print(f"alpha = {alpha}, gamma = {gamma}: FEM (spacing {spacing}, rtol {rtol:g}) "
+          f"{time.process_time() - start:.1f} CPU s; DSMC N = {n_particles} x {replicas} "
+          f"replicas, times {times.tolist()}")
+    print(f"FEM T {np.array2string(ev.temperature, precision=6)}, "
+          f"a2 {np.array2string(ev.a2, precision=5)}")
+    print("| seed | z(T) | z(a2) | max abs z | s.e. T/T (last) | s.e. a2 (last) | CPU s |")
+    print("|---|---|---|---|---|---|---|")
+    worst = []
+    for seed in range(seeds):
+        start = time.process_time()
+        temps, a2s = [], []
+        for r in range(replicas):
+            s = simulate_cooling(alpha, n_particles, kernel=gamma, seed=seed * 1000 + r,
+                                 collisions_per_particle=collisions, relax=0.0,
+                                 sample_every=0.05, n_batches=2).series
+            t = np.asarray(s["t"])
+            temps.append(np.exp(np.interp(times, t, s["log_temperature"])))
+            a2s.append(np.interp(times, t, s["a2"]))
+        temps_a, a2s_a = np.array(temps), np.array(a2s)
+        se_t = temps_a.std(0, ddof=1) / math.sqrt(replicas)
+        se_a = a2s_a.std(0, ddof=1) / math.sqrt(replicas)
+        z_t = (temps_a.mean(0) - ev.temperature) / se_t
+        z_a = (a2s_a.mean(0) - ev.a2) / se_a
+        worst.append(max(np.abs(z_t).max(), np.abs(z_a).max()))
+        print(f"| {seed} | {np.array2string(z_t, precision=2)} | "
+              f"{np.array2string(z_a, precision=2)} | {worst[-1]:.2f} | "
+              f"{se_t[-1] / temps_a.mean(0)[-1]:.1e} | {se_a[-1]:.1e} | "
+              f"{time.process_time() - start:.1f} |")
+    z_all = np.array(worst)
+    print(f"max |z| over {seeds} seeds: {z_all.max():.2f}; seeds with max |z| > 3: "
+          f"{int((z_all > 3).sum())}")
 
 
 def main() -> None:
@@ -89,6 +115,11 @@ def main() -> None:
     parser.add_argument("--t-end", type=float, default=1.0)
     parser.add_argument("--spacing", type=float, default=0.25)
     parser.add_argument("--rtol", type=float, default=1e-7)
+    parser.add_argument("--gamma", type=float, default=1.0)
+    parser.add_argument("--particles", type=int, default=20_000)
+    parser.add_argument("--replicas", type=int, default=32)
+    parser.add_argument("--seeds", type=int, default=16)
+    parser.add_argument("--collisions", type=float, default=6.0)
     parser.add_argument("--grid", nargs="*", default=["0.25:1e-6", "0.25:1e-7", "0.25:1e-8",
                                                        "0.25:2e-9", "0.125:2e-9"])
     args = parser.parse_args()
@@ -97,6 +128,9 @@ def main() -> None:
         maxwell(args.alpha, grid, args.t_end)
     elif args.part == "hcs":
         hcs(args.alpha, args.t_end, args.spacing, args.rtol)
+    else:
+        dsmc(args.alpha, args.gamma, args.particles, args.replicas, args.seeds,
+             args.collisions, args.spacing, args.rtol)
 
 
 if __name__ == "__main__":

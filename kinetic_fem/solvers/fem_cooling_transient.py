@@ -119,8 +119,9 @@ class CoolingIntegrator(Integrator):
     term, ``c_old = (1+w) m^k - w^2/(1+w) m^{k-1} < 0``, and the step has no positive
     solution: measured, every Newton failure of a hard-rod run (alpha 0.3, 123 of 123)
     had one (with the floor 0.3: 1 Newton failure in 322 steps; 0.1: 45; 1e-3 and 0:
-    the run stops at t = 2.66).  Such dofs (``c_old < HISTORY_FLOOR c_new m^k``) take a backward Euler
-    step of length ``h/c_new`` instead (``c_old = c_new m^k``, positivity preserving).
+    the run stops at t = 2.66).  Such dofs (``c_old < HISTORY_FLOOR c_new m^k``) take a
+    backward Euler step of length ``h/c_new`` instead (``c_old = c_new m^k``, positivity
+    preserving).
     The rest of the history term is scaled by ``1 - delta`` to keep its sum, so the mass
     stays conserved; :attr:`mass_defect` sums the mass moved (those dofs hold the far
     tail: measured 1e-11 over a whole run, i.e. ``delta`` ~ 1e-14 per step).

@@ -91,3 +91,30 @@ def test_bad_input_is_refused():
     bad = type(bad).from_values(bad.v, 2.0 * bad.values, normalize=False)
     with pytest.raises(ValueError, match="not normalised"):
         kf.evolve_cooling(0.5, initial=bad, times=[1.0])
+
+
+@pytest.mark.slow
+def test_maxwell_to_1e6_relative():
+    """rtol 2e-9 (spacing 0.25 and 0.125 agree): T 4.9e-7, <v^4> 2.0e-6 measured to t = 1
+    (benchmarks/cooling_transient.py --part maxwell)."""
+    times = np.array([0.1, 0.25, 0.5, 1.0])
+    ev = kf.evolve_cooling(0.5, kernel=0.0, times=times, spacing=0.5, rtol=2e-9)
+    exact = evolve_moments(0.5, np.r_[0.0, times], diffusion=0.0, friction=0.0, order=4)
+    assert np.abs(ev.temperature / exact.temperature[1:] - 1).max() < 1e-6
+    assert np.abs(ev.moment(4) / exact.moments[1:, 4] - 1).max() < 3e-6
+
+
+@pytest.mark.slow
+def test_gaussian_start_approaches_the_hcs_and_haff(hcs_state):
+    """Hard rods, alpha 0.5, from a Gaussian (spacing 0.25, rtol 1e-7) to t = 1000: zeta
+    and a2 tend to the HCS of kf.solve_cooling, T(t) to Haff's law with its zeta, and
+    d ln T / d ln t to -2 (measured figures: benchmarks/results/cooling_transient.md)."""
+    zeta = hcs_state.info.extra["zeta"]
+    times = np.array([100.0, 300.0, 1000.0])
+    ev = kf.evolve_cooling(0.5, times=times, spacing=0.25, rtol=1e-7)
+    assert abs(ev.series["zeta"][-1] / zeta - 1) < 3e-5
+    assert abs(ev.a2[-1] - hcs_state.a2) < 2e-4
+    haff = ev.temperature[0] / (1 + zeta * math.sqrt(ev.temperature[0]) * (times - times[0])) ** 2
+    assert np.abs(ev.temperature / haff - 1).max() < 1e-4
+    slope = math.log(ev.temperature[-1] / ev.temperature[-2]) / math.log(times[-1] / times[-2])
+    assert slope == pytest.approx(-2.0, abs=0.01)

@@ -39,7 +39,7 @@ def z_scores(samples: np.ndarray, reference: np.ndarray) -> np.ndarray:
 
 
 @pytest.mark.parametrize(("alpha", "gamma", "collisions"), [(0.5, 1.0, 6.0),
-                                                              (0.7, 0.0, 6.0)])
+                                                              (0.7, 0.0, 9.0)])
 def test_dsmc_cooling_follows_evolve_cooling(alpha, gamma, collisions):
     ev = kf.evolve_cooling(alpha, kernel=gamma, times=TIMES, spacing=0.5, rtol=1e-6)
     temps, a2s = dsmc_ensemble(alpha, gamma, 20_000, 32, seed=7, collisions=collisions)

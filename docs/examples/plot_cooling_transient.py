@@ -1,0 +1,50 @@
+r"""
+Free cooling in time: from a Gaussian to the homogeneous cooling state
+======================================================================
+
+``kf.evolve_cooling`` integrates :math:`\partial_t P = n\,Q_\alpha[P]` for hard rods
+from a Gaussian at :math:`T_0 = 1`.  The temperature falls by decades; the shape, seen
+through :math:`a_2(t)` and the cooling rate :math:`\zeta(t)` (with
+:math:`dT/dt = -2\zeta n T^{3/2}`), relaxes to the homogeneous cooling state of
+``kf.solve_cooling``, and :math:`T(t)` then follows Haff's law with the HCS
+:math:`\zeta`, :math:`T \propto t^{-2}`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+import kinetic_fem as kf
+from kinetic_fem.evolution import Evolution
+
+TEST_KWARGS = {"alpha": 0.5, "t_end": 3.0, "spacing": 0.5, "rtol": 1e-4}
+
+
+def main(alpha: float = 0.5, t_end: float = 1000.0, spacing: float = 0.25,
+         rtol: float = 1e-6) -> tuple[Evolution, kf.VelocityDistribution]:
+    """The cooling run to ``t_end`` and the homogeneous cooling state at ``alpha``."""
+    times = np.geomspace(0.05, t_end, 40)
+    ev = kf.evolve_cooling(alpha, times=times, spacing=spacing, rtol=rtol)
+    return ev, kf.solve_cooling(alpha)
+
+
+if __name__ == "__main__":
+    import matplotlib.pyplot as plt
+
+    ev, hcs = main()
+    zeta = hcs.info.extra["zeta"]
+    t = ev.times
+    i1 = t.size // 2
+    haff = ev.temperature[i1] / (1 + zeta * np.sqrt(ev.temperature[i1]) * (t - t[i1])) ** 2
+    fig, (ax_t, ax_a) = plt.subplots(2, 1, sharex=True, figsize=(6, 7))
+    ax_t.loglog(t, ev.temperature, label="FEM")
+    ax_t.loglog(t[i1:], haff[i1:], "--", label="Haff, HCS zeta")
+    ax_t.set_ylabel("T(t)")
+    ax_t.legend()
+    ax_a.semilogx(t, ev.a2, label="a2(t)")
+    ax_a.semilogx(t, ev.series["zeta"], label="zeta(t)")
+    ax_a.axhline(hcs.a2, ls=":", color="k", label="HCS a2, zeta")
+    ax_a.axhline(zeta, ls=":", color="k")
+    ax_a.set_xlabel("t")
+    ax_a.legend()
+    plt.show()
