@@ -52,7 +52,7 @@ def test_hcs_start_follows_haff_with_the_hcs_zeta(hcs_state):
     constant, T(t) = T0 / (1 + zeta sqrt(T0) t)^2, through several remaps."""
     zeta = hcs_state.info.extra["zeta"]
     t0 = 2.0
-    times = np.array([0.5, 2.0, 8.0, 30.0])
+    times = np.array([0.5, 2.0, 8.0])
     ev = kf.evolve_cooling(0.5, initial=hcs_state.rescaled(math.sqrt(t0)), times=times,
                            spacing=0.5, rtol=1e-5)
     haff = t0 / (1.0 + zeta * math.sqrt(t0) * times) ** 2
@@ -62,21 +62,26 @@ def test_hcs_start_follows_haff_with_the_hcs_zeta(hcs_state):
     assert np.abs(ev.series["zeta"] / zeta - 1).max() < ZETA_TOL
 
 
+# measured at spacing 0.5, rtol 1e-5 (the spacing dominates: 0.25 gives a2 to 6e-5):
+# T/T_Haff 4.8e-4, a2 1.08e-3, zeta 1.8e-4 relative
 HAFF_TOL, A2_TOL, ZETA_TOL = 1e-3, 2e-3, 5e-4
 
 
 def test_temperature_falls_over_decades_with_remaps():
-    """Hard rods from a Gaussian at T0 = 3: T falls by more than four decades."""
-    times = np.array([1.0, 10.0, 100.0, 1000.0])
+    """Hard rods from a Gaussian at T0 = 3: T falls by nearly five decades."""
+    times = np.array([1.0, 10.0, 100.0, 300.0])
     ev = kf.evolve_cooling(0.3, initial_temperature=3.0, times=times, spacing=0.5, rtol=1e-4)
     temp = ev.temperature
-    assert temp[-1] < 3e-4 * 3.0
+    assert temp[-1] < 2e-5 * 3.0
     assert np.all(np.diff(temp) < 0)
     assert ev.series["segments"][-1] >= 5
     assert np.abs(ev.series["mass"] - 1).max() < 1e-12
-    # late times: Haff's law, T ~ t^-2
-    slope = math.log(temp[-1] / temp[-2]) / math.log(times[-1] / times[-2])
-    assert slope == pytest.approx(-2.0, abs=0.01)
+    # late times: Haff's law with the run's own zeta at t = 100 (measured -2.5e-3: zeta
+    # still relaxes between t = 100 and 300, and rtol is 1e-4; the HCS comparison to
+    # 1e-5 is the slow test below)
+    zeta = ev.series["zeta"][2]
+    haff = temp[2] / (1.0 + zeta * math.sqrt(temp[2]) * (times[3] - times[2])) ** 2
+    assert temp[3] / haff - 1 == pytest.approx(0.0, abs=5e-3)
 
 
 def test_bad_input_is_refused():
