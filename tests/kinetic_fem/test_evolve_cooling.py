@@ -19,18 +19,18 @@ from kinetic_fem.solvers.maxwell import evolve_moments
 @pytest.fixture(scope="module")
 def maxwell_run():
     times = np.array([0.25, 0.5, 1.0])
-    ev = kf.evolve_cooling(0.5, kernel=0.0, times=times, spacing=0.5, rtol=1e-8)
+    ev = kf.evolve_cooling(0.5, kernel=0.0, times=times, spacing=0.5, rtol=5e-10)
     exact = evolve_moments(0.5, np.r_[0.0, times], diffusion=0.0, friction=0.0, order=4)
     return ev, exact
 
 
 def test_maxwell_follows_the_exact_moment_equations(maxwell_run):
-    """Maxwell model: T and <v^4> from the closed moment equations (exact).  Measured at
-    rtol 1e-8: T 1.42e-6, <v^4> 5.7e-6 (time error only: spacing 0.25 and 0.125 give
-    the same figures; rtol 2e-9: T 4.9e-7, slow test)."""
+    """Maxwell model: T and <v^4> from the closed moment equations (exact), to 1e-6.
+    Measured to t = 1 at rtol 5e-10: T 2.0e-7, <v^4> 8.3e-7 (time error only: the
+    spacings 0.5, 0.25 and 0.125 give the same figures; rtol 1e-8: 1.4e-6, 5.7e-6)."""
     ev, exact = maxwell_run
-    assert np.abs(ev.temperature / exact.temperature[1:] - 1).max() < 2e-6
-    assert np.abs(ev.moment(4) / exact.moments[1:, 4] - 1).max() < 8e-6
+    assert np.abs(ev.temperature / exact.temperature[1:] - 1).max() < 1e-6
+    assert np.abs(ev.moment(4) / exact.moments[1:, 4] - 1).max() < 1e-6
     # zeta of the Maxwell model is (1 - alpha^2)/4 (measured 1.5e-9: the truncated tail)
     np.testing.assert_allclose(ev.series["zeta"], 0.1875, rtol=1e-8)
 
@@ -99,14 +99,14 @@ def test_bad_input_is_refused():
 
 
 @pytest.mark.slow
-def test_maxwell_to_1e6_relative():
-    """rtol 2e-9 (spacing 0.25 and 0.125 agree): T 4.9e-7, <v^4> 2.0e-6 measured to t = 1
-    (benchmarks/cooling_transient.py --part maxwell)."""
-    times = np.array([0.1, 0.25, 0.5, 1.0])
-    ev = kf.evolve_cooling(0.5, kernel=0.0, times=times, spacing=0.5, rtol=2e-9)
+def test_maxwell_to_1e6_over_three_segments():
+    """To t = 8 (T falls to 0.05, two remaps): the global error grows with the number
+    of steps (rtol is per step); measured in benchmarks/results/cooling_transient.md."""
+    times = np.array([1.0, 2.0, 4.0, 8.0])
+    ev = kf.evolve_cooling(0.5, kernel=0.0, times=times, spacing=0.5, rtol=MAXWELL_LONG_RTOL)
     exact = evolve_moments(0.5, np.r_[0.0, times], diffusion=0.0, friction=0.0, order=4)
+    assert ev.series["segments"][-1] == 2
     assert np.abs(ev.temperature / exact.temperature[1:] - 1).max() < 1e-6
-    assert np.abs(ev.moment(4) / exact.moments[1:, 4] - 1).max() < 3e-6
 
 
 @pytest.mark.slow
