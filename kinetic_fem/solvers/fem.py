@@ -246,9 +246,10 @@ def steady_state(model: float | HeatedProblem, *, order: int | None = None,
         c_max = cutoff
     # Gaussian bulk, WKB tail: from the plain Gaussian (far too low in the tail of hard
     # rods) Newton needs one more Jacobian (measured at alpha = 0, 0.3, 0.6)
-    def start(v: NDArray) -> NDArray:
+    def default_start(v: NDArray) -> NDArray:
         return initial_log_density(v, scaled)
 
+    start: Callable[[NDArray], NDArray] = default_start
     if isinstance(initial, SteadyState):
         def start(v: NDArray) -> NDArray:
             return initial.initial_guess(v, scaled.temperature, linear_tail=not paper)
