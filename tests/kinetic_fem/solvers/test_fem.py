@@ -397,6 +397,22 @@ def test_heated_curve_continuation_keeps_the_pointwise_meshes_and_states():
         assert dist.a2 == pytest.approx(direct.a2, abs=1e-10)
 
 
+@pytest.mark.slow
+def test_heated_curve_25_points_equals_pointwise_solves():
+    """The 25-point default curve over [0, 0.99] by continuation: every state on the
+    pointwise mesh, T and a2 equal to the pointwise solves to the Newton tolerance
+    (measured |dT/T| 7.8e-16, |da2| 6.0e-16; tolerance 1e-10)."""
+    from kinetic_fem.solvers.fem_curve import heated_curve
+
+    alphas = np.linspace(0.0, 0.99, 25)
+    curve = heated_curve(alphas)
+    for alpha, dist in zip(alphas, curve.distributions, strict=True):
+        direct = kf.solve_heated(float(alpha))
+        assert dist.c.size == direct.c.size
+        assert dist.temperature == pytest.approx(direct.temperature, rel=1e-10)
+        assert dist.a2 == pytest.approx(direct.a2, abs=1e-10)
+
+
 def test_predict_log_density_extrapolates_linearly():
     """Two states: ln f(c) and ln(T / T_est) extrapolated linearly in alpha (the error
     at alpha = 0.54 from 0.46 and 0.5 is 10 times smaller than from 0.5 alone in the bulk,
