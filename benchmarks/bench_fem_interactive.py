@@ -132,8 +132,7 @@ def main() -> None:
     parser.add_argument("--no-cooling", action="store_true", help="section 2 only")
     args = parser.parse_args()
     load = os.getloadavg()[0]
-    out = [f"# FEM states at interactive speed: before ({args.before}) and after (issue 16, "
-           "sixth round)\n",
+    out = [f"# FEM states at interactive speed: before ({args.before}) and after (issue 16)\n",
            f"Single-threaded BLAS, 2-core machine shared with other jobs (load average "
            f"{load:.1f} at the start): compare within a row; units are yardsticks (10 LU "
            "of 1000 x 1000) of the same worker.\n"]

@@ -80,10 +80,12 @@ class HeatedCurve:
 
 @dataclass(frozen=True)
 class _Point:
-    """A solved point of the curve: alpha, state, the model's temperature estimate."""
+    """A solved point of the curve: alpha, state, its temperature and the model's
+    temperature estimate (``n = D = 1``)."""
 
     alpha: float
     state: SteadyState
+    temperature: float
     estimate: float
 
 
@@ -93,7 +95,9 @@ def _temperature(state: SteadyState) -> float:
 
 def predict_log_density(states: Sequence[SteadyState], alphas: Sequence[float], alpha: float,
                         estimates: Sequence[float], estimate: float, *,
-                        linear_tail: bool = False) -> Callable[[NDArray], NDArray]:
+                        linear_tail: bool = False,
+                        temperatures: Sequence[float] | None = None
+                        ) -> Callable[[NDArray], NDArray]:
     """A start ``v -> ln P(v)`` at ``alpha`` from the states at the previous alphas.
 
     With two states, :math:`\\ln f(c)` and :math:`\\ln(T/T_{est})` are extrapolated
@@ -116,6 +120,8 @@ def predict_log_density(states: Sequence[SteadyState], alphas: Sequence[float], 
     linear_tail : bool
         Continue :math:`\\ln f` beyond a state's mesh linearly (exponential tails), else
         as a Gaussian (:meth:`~kinetic_fem.solvers.fem_state.SteadyState.initial_guess`).
+    temperatures : sequence of float, optional
+        The states' temperatures, if known (else computed).
 
     Returns
     -------
@@ -131,7 +137,9 @@ def predict_log_density(states: Sequence[SteadyState], alphas: Sequence[float], 
         raise ValueError("predict_log_density needs one or two states, each with its alpha "
                          f"and temperature estimate; got {len(states)}, {len(alphas)}, "
                          f"{len(estimates)}")
-    ratios = [_temperature(s) / e for s, e in zip(states, estimates, strict=True)]
+    if temperatures is None:
+        temperatures = [_temperature(s) for s in states]
+    ratios = [t / e for t, e in zip(temperatures, estimates, strict=True)]
     weight = 0.0
     if len(states) >= 2 and alphas[-1] != alphas[-2]:
         weight = (alpha - alphas[-1]) / (alphas[-1] - alphas[-2])
@@ -220,13 +228,16 @@ def heated_curve(alphas: ArrayLike, *, density: float = 1.0, diffusion: float = 
             guess = predict_log_density([p.state for p in near], [p.alpha for p in near],
                                         float(alpha), [p.estimate for p in near],
                                         scaled.temperature,
-                                        linear_tail=not scaled.is_paper_model)
+                                        linear_tail=not scaled.is_paper_model,
+                                        temperatures=[p.temperature for p in near])
             try:
                 state = solve(problem, guess)
             except ConvergenceError as err:
                 logger.info("prediction failed at alpha=%g (%s); default start", alpha, err)
         if state is None:
             state = solve(problem, None)
-        points.append(_Point(float(alpha), state, scaled.temperature))
-        dists.append(state_distribution(problem, state, state.disc.order))
+        dist = state_distribution(problem, state, state.disc.order)
+        temperature = dist.temperature / problem.velocity_scale**2  # at n = D = 1
+        points.append(_Point(float(alpha), state, temperature, scaled.temperature))
+        dists.append(dist)
     return HeatedCurve(values, tuple(dists), time.perf_counter() - start)
