@@ -46,7 +46,9 @@ start) by continuation in :math:`\\alpha` from 0.5.
 
 Near elastic collisions (hard rods, :math:`\\varepsilon = 1 - \\alpha <` :data:`HUMP_EPS`)
 the state is two humps of width :math:`w = \\varepsilon^{1/3}` at :math:`c = \\pm 1`.
-It is reached by continuation in :math:`\\varepsilon` from 0.1 in steps of at most 2
+While they are broad (:math:`\\varepsilon \\ge` 0.04, :mod:`.fem_cooling_band`) the default
+is P3 on the mesh above, from the state at 0.1; below, and with ``resolution``, it is
+reached by continuation in :math:`\\varepsilon` from 0.1 in steps of at most 2
 (:func:`hump_chain`), each on a mesh that follows the humps
 (:func:`kinetic_fem.operators.adaptive.hump_vertices`: ``resolution`` hump widths over
 the humps and their outer edge, geometric grading along the exponential inner tail), from
@@ -88,6 +90,7 @@ from ..operators.adaptive import EDGE_EFOLDS, HUMP_DECADES, hump_vertices
 from ..operators.fem_discretisation import LAGRANGE_ELEMENTS
 from ..solve import register_solver
 from .fem import ConvergenceError, FEMDiscretisation
+from .fem_cooling_band import band_state, in_band
 from .fem_cooling_mesh import (
     HUMP_INTORDER,
     MAXWELL_CUTOFF,
@@ -100,13 +103,12 @@ from .fem_cooling_mesh import (
 )
 from .fem_cooling_newton import CoolingState, newton_cooling
 from .fem_cooling_order import COARSE_ORDER, P3_COARSE_SPACING, cooling_order, order_spacing
-from .fem_cooling_tail import recovered_distribution
+from .fem_cooling_tail import maxwell_hcs, recovered_distribution
 
 __all__ = ["solve_fem_cooling", "cooling_state", "CoolingState", "continued_state",
            "hump_chain", "hump_start", "uses_hump_mesh", "HUMP_EPS", "HUMP_RESOLUTION",
-           "HUMP_FRONTIER",
-           "hcs_cutoff", "hcs_spacing", "hcs_vertices", "maxwell_hcs", "initial_log_f",
-           "newton_cooling", "MAXWELL_CUTOFF"]
+           "HUMP_FRONTIER", "hcs_cutoff", "hcs_spacing", "hcs_vertices", "maxwell_hcs",
+           "initial_log_f", "newton_cooling", "MAXWELL_CUTOFF"]
 
 logger = logging.getLogger(__name__)
 
@@ -149,28 +151,6 @@ COARSE_SPACING = 0.2
 """Largest bulk spacing of the coarse state (no sequencing on meshes this coarse)."""
 COARSE_TOL = 1e-7
 """Newton tolerance of the coarse state of the mesh sequencing (it only starts the fine one)."""
-
-
-def maxwell_hcs(c: NDArray[np.float64]) -> NDArray[np.float64]:
-    """:math:`f(c) = 2/(\\pi(1+c^2)^2)`, the Maxwell-model HCS at unit temperature.
-
-    Parameters
-    ----------
-    c : ndarray
-        Scaled velocities.
-
-    Returns
-    -------
-    ndarray
-
-    Examples
-    --------
-    >>> from scipy.integrate import quad
-    >>> round(quad(lambda c: c**2 * maxwell_hcs(c), -np.inf, np.inf)[0], 12)
-    1.0
-    """
-    c = np.asarray(c, dtype=float)
-    return 2.0 / (math.pi * (1.0 + c * c) ** 2)
 
 
 def _discretisation(problem: CoolingProblem, vertices: NDArray, order: int,
@@ -377,6 +357,8 @@ def cooling_state(problem: CoolingProblem, *, order: int | None = None,
             "so no scaling state exists (the gas approaches elastic collisions as it cools); "
             "use particles.dsmc.simulate_cooling for the transient")
     hump = uses_hump_mesh(problem) and vertices is None and spacing is None and cutoff is None
+    band = hump and order is None and resolution is None and in_band(problem.gas.epsilon,
+                                                                     HUMP_EPS)
     order = cooling_order(problem, order, default_mesh=not hump and spacing is None
                           and vertices is None)
     if order not in LAGRANGE_ELEMENTS or (hump and order == 3):
@@ -384,6 +366,11 @@ def cooling_state(problem: CoolingProblem, *, order: int | None = None,
                          f"near-elastic hump mesh), got {order!r}")
     if resolution is not None:
         resolution = check_positive("resolution", resolution)
+    if band:  # the broad humps of eps in [BAND_EPS, 0.1): P3 on the moderate mesh
+        state = band_state(problem, hump_start(2, None), HUMP_EPS, tol=tol,
+                           max_iter=max_iter, intorder=intorder)
+        if state is not None:
+            return state
     if hump:
         return _hump_state(problem, order=order, intorder=intorder, tol=tol,
                            max_iter=max_iter,
