@@ -101,7 +101,7 @@ from .fem_cooling_mesh import (
     initial_log_f,
     step_intorder,
 )
-from .fem_cooling_newton import CoolingState, newton_cooling
+from .fem_cooling_newton import CLOSE_DAMPING, CoolingState, newton_cooling
 from .fem_cooling_order import COARSE_ORDER, P3_COARSE_SPACING, cooling_order, order_spacing
 from .fem_cooling_tail import maxwell_hcs, recovered_distribution
 
@@ -127,9 +127,13 @@ HUMP_RESOLUTION = 0.07
 3e-13, a2 to 3e-11, ln f where f > 1e-30 to 1.3e-5 at eps = 1e-4; the state is then
 solved on the continuation's own mesh, without a finer last solve)."""
 HUMP_STEP_RESOLUTION, HUMP_LINK_RESOLUTION = 0.07, 0.14
-"""Element sizes (hump widths): the step mesh (the final state at the default resolution
-is solved on it) and the intermediate states' (2-4 times faster; at eps = 1e-6 ln f moves
-by 7e-6, zeta by 1e-12: benchmarks/results/fem_cooling.md)."""
+"""Element sizes (hump widths): the step mesh and the intermediate states' below
+HUMP_COARSE_EPS (2-4 times faster; at eps = 1e-6 ln f moves by 7e-6, zeta by 1e-12:
+benchmarks/results/fem_cooling.md)."""
+HUMP_COARSE_LINK, HUMP_COARSE_EPS = 0.2, 1e-3
+"""Element size (hump widths) of the intermediate states at eps >= HUMP_COARSE_EPS (1.3 to
+1.5 times faster than 0.14; the state asked for is reached on this mesh first and then
+solved on the finer one at the same eps: benchmarks/results/fem_cooling_speed.md)."""
 HUMP_STEP_TOL = 1e-7
 """Newton tolerance of the intermediate states (they only start the next step)."""
 HUMP_STEP_ITER = 40
@@ -268,7 +272,8 @@ def continued_state(prev: CoolingState, eps_prev: float, eps: float, *,
                            intorder or max(HUMP_INTORDER, 2 * order + 1))
     u0 = prev.rescaled_log_f(eps_prev, eps, disc.dof_locations)
     state = newton_cooling(disc, u0, zeta0, tol=tol, max_iter=max_iter, pseudo_time=np.inf,
-                           settle_steps=eps >= 1e-4)  # LOG_STEP_ZETA: measured there
+                           settle_steps=eps >= 1e-4,  # LOG_STEP_ZETA: measured there
+                           min_damping=CLOSE_DAMPING if eps == eps_prev else 1e-3)
     logger.info("HCS continuation eps = %.3g: %d dofs, %d Newton steps, zeta/eps = %.12g",
                 eps, state.u.size, state.info.iterations, state.zeta / eps)
     return state
@@ -285,8 +290,10 @@ def _hump_state(problem: CoolingProblem, *, order: int, intorder: int | None, to
         # the target is reached on the coarser step mesh first, then refined at the same
         # eps (mesh sequencing: the many Newton steps of a continuation step are taken
         # on the coarse mesh, the fine one needs three or four)
-        final = step == eps and (eps_prev == eps or resolution >= HUMP_STEP_RESOLUTION)
-        res = resolution if final else max(resolution, HUMP_LINK_RESOLUTION)
+        link = max(resolution, HUMP_COARSE_LINK if step >= HUMP_COARSE_EPS else
+                   HUMP_LINK_RESOLUTION)
+        final = step == eps and (eps_prev == eps or resolution >= link)
+        res = resolution if final else link
         state = continued_state(prev, eps_prev, step, resolution=res, order=order,
                                 intorder=intorder or step_intorder(step, order, final),
                                 tol=tol if final else HUMP_STEP_TOL,
@@ -399,7 +406,7 @@ def cooling_state(problem: CoolingProblem, *, order: int | None = None,
                                cutoff=c_max, intorder=intorder, tol=COARSE_TOL,
                                max_iter=max_iter, sequence=False)
         state = newton_cooling(disc, coarse.log_f(disc.dof_locations), coarse.zeta, tol=tol,
-                               max_iter=max_iter, pseudo_time=np.inf)
+                               max_iter=max_iter, pseudo_time=np.inf, min_damping=CLOSE_DAMPING)
         if state.info.converged:
             return state
         logger.info("HCS mesh sequencing: Newton from the coarse state failed (%s); "

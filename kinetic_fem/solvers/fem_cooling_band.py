@@ -33,7 +33,7 @@ import numpy as np
 from ..model import CoolingProblem
 from .fem import FEMDiscretisation
 from .fem_cooling_mesh import hcs_bulk, hcs_cutoff, hcs_spacing, hcs_vertices
-from .fem_cooling_newton import CoolingState, newton_cooling
+from .fem_cooling_newton import CLOSE_DAMPING, CoolingState, newton_cooling
 
 __all__ = ["BAND_EPS", "BAND_SPACING", "BAND_COARSE", "BAND_COARSE_TOL", "in_band",
            "band_state"]
@@ -124,7 +124,7 @@ def band_state(problem: CoolingProblem, start: CoolingState, eps_start: float, *
         return None
     disc = _disc(problem, BAND_SPACING * p2, 3, intorder)
     state = newton_cooling(disc, coarse.log_f(disc.dof_locations), coarse.zeta, tol=tol,
-                           max_iter=max_iter, pseudo_time=np.inf)
+                           max_iter=max_iter, pseudo_time=np.inf, min_damping=CLOSE_DAMPING)
     logger.info("HCS band eps = %.3g: %d + %d Newton steps on %d + %d dofs, converged %s",
                 eps, coarse.info.iterations, state.info.iterations, coarse.u.size,
                 state.u.size, state.info.converged)
