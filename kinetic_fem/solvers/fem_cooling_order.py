@@ -32,7 +32,8 @@ from __future__ import annotations
 
 from ..model import CoolingProblem
 
-__all__ = ["P3_SPACING", "COARSE_ORDER", "P3_COARSE_SPACING", "cooling_order", "order_spacing"]
+__all__ = ["P3_SPACING", "COARSE_ORDER", "P3_COARSE_SPACING", "cooling_order", "order_spacing",
+           "STRONG_ALPHA", "STRONG_STEP", "COARSE_FACTOR", "COARSE_SPACING", "COARSE_TOL"]
 
 P3_SPACING = 2.0
 """Bulk spacing of the P3 default, in units of the P2 default spacing."""
@@ -43,6 +44,22 @@ P3_COARSE_SPACING = 0.3
 globalised iteration costs a third (10 to 40 Jacobians on 160-220 instead of 240-330
 dofs), and Newton's method on the fine mesh still takes two Jacobians (0.4 fails to
 converge at alpha = 0.9)."""
+
+STRONG_ALPHA = 0.5
+"""Below this alpha (long exponential tails, far from the Gaussian start) the state is
+reached by continuation in alpha from here, in steps of at most STRONG_STEP."""
+STRONG_STEP = 0.125
+"""Largest step in alpha of that continuation."""
+COARSE_FACTOR = 4.0
+"""Mesh sequencing: the default mesh's state is started from the state on a mesh this
+many times coarser (same cut-off), reached by the globalised (pseudo-transient) Newton
+iteration; on the fine mesh Newton's method then converges in three or four steps
+(about 2 to 40 times faster than the globalised iteration on the fine mesh, same state:
+``benchmarks/results/fem_cooling.md``)."""
+COARSE_SPACING = 0.2
+"""Largest bulk spacing of the coarse state (no sequencing on meshes this coarse)."""
+COARSE_TOL = 1e-7
+"""Newton tolerance of the coarse state of the mesh sequencing (it only starts the fine one)."""
 
 
 def cooling_order(problem: CoolingProblem, order: int | None, *, default_mesh: bool) -> int:
