@@ -43,7 +43,7 @@ from .newton import newton
 
 __all__ = ["CoolingState", "newton_cooling", "second_moment", "PSEUDO_TIME_STEP",
            "INCREASE_LIMIT", "MONITOR_LOG_F", "RESIDUAL_STALL", "LOG_STEP_ZETA",
-           "CLOSE_DAMPING", "RESIDUAL_FLOOR"]
+           "CLOSE_DAMPING", "RESIDUAL_FLOOR", "RESIDUAL_FLOOR_REL"]
 
 logger = logging.getLogger(__name__)
 
@@ -312,15 +312,15 @@ RESIDUAL_STALL = 1e-7
 reports converged with the residual it reached."""
 
 
-RESIDUAL_FLOOR, RESIDUAL_FLOOR_REL = 3e-14, 2e-11
+RESIDUAL_FLOOR, RESIDUAL_FLOOR_REL = 3e-14, 1e-10
 """Round-off floor of the row-scaled residual (a rate): absolute, and relative to zeta.
-Newton from a close start stops, converged, once the residual is below both even if
-``tol * zeta`` is smaller.  The residual of the converged state stalls at 2.9e-13 =
-1e-11 zeta at eps = 0.03, 1.6e-14 at 1e-3 and ~1e-14 at 1e-5 and 1e-6, at or above
-``tol * zeta`` with the default tol: the step that tried to go below took a Jacobian and
-up to ten residuals on the finest mesh (a third of the solve), moving ln f by 2e-12
-(eps = 0.05 ... 0.01: the states move by <= 1.6e-12 in ln f, 2e-15 in zeta; eps >= 0.1
-does not reach the floor: benchmarks/results/fem_cooling_speed.md)."""
+Newton from a close start stops, converged, once the residual is below either, even if
+``tol * zeta`` is smaller.  The residual of a converged state stalls at 2.9e-13 = 1e-11
+zeta at eps = 0.03, 4e-14 at 1e-3 (P3) and ~1e-14 at 1e-5 and 1e-6, at or above ``tol *
+zeta`` with the default tol; the steps that tried to go below took a Jacobian and up to
+ten residuals on the finest mesh (up to a third of the solve) and moved ln f by < 1e-10.
+Measured against the floor 0 (eps = 1e-3 ... 1): the states move by <= 1.5e-14 in zeta,
+2e-14 in a2, 8e-11 in ln f (benchmarks/results/fem_cooling_speed.md)."""
 
 
 def _residual_size(r: NDArray, x: NDArray) -> float:
@@ -409,8 +409,8 @@ def newton_cooling(disc: FEMDiscretisation, u0: NDArray, zeta0: float, *, tol: f
         # the row-scaled residual is a rate; the balance it tests is zeta (c f)' = Q,
         # so tolerances scale with zeta (round-off of Q's gain-loss cancellation ~1e-15)
         scale = abs(zeta0)
-        res = newton(system, x, tol=max(tol * scale, RESIDUAL_FLOOR,
-                                        RESIDUAL_FLOOR_REL * scale), max_iter=max_iter,
+        floor = max(RESIDUAL_FLOOR, RESIDUAL_FLOOR_REL * scale)
+        res = newton(system, x, tol=max(tol * scale, floor), max_iter=max_iter,
                      criterion="residual",
                      norm=_residual_size, step_norm=_step_size, update=update,
                      row_scale=system.row_scale,
@@ -420,7 +420,7 @@ def newton_cooling(disc: FEMDiscretisation, u0: NDArray, zeta0: float, *, tol: f
         message = res.message
         if res.converged and res.residual >= tol * scale:  # stopped by the floor
             message = (f"FEM cooling Newton stalled at round-off: residual {res.residual:.2e} "
-                       f"below the floor {RESIDUAL_FLOOR:.0e} (tol {tol * scale:.1e})")
+                       f"below the floor {floor:.1e} (tol {tol * scale:.1e})")
         info = RunInfo(converged=res.converged, iterations=res.iterations,
                        residual=res.residual / scale, wall_time=time.perf_counter() - start,
                        message=f"{message} (residual / zeta {res.residual / scale:.1e}, "
