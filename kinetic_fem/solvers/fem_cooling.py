@@ -48,8 +48,11 @@ Near elastic collisions (hard rods, :math:`\\varepsilon = 1 - \\alpha <` :data:`
 the state is two humps of width :math:`w = \\varepsilon^{1/3}` at :math:`c = \\pm 1`.
 While they are broad (:math:`\\varepsilon \\ge` 0.04, :mod:`.fem_cooling_band`) the default
 is P3 on the mesh above, from the state at 0.1; below, and with ``resolution``, it is
-reached by continuation in :math:`\\varepsilon` from 0.1 in steps of at most 2
-(:func:`hump_chain`), each on a mesh that follows the humps
+reached by continuation in :math:`\\varepsilon` from 0.1 (:mod:`.fem_cooling_hump`: toward
+:math:`\\varepsilon \\ge 10^{-3}` in equal log steps of at most 8 on coarse link meshes,
+below in steps of at most 2, :func:`hump_chain`; the state asked for is solved once more on
+the finer mesh, P3 at 0.2 hump widths by default down to :math:`10^{-4}`), each on a mesh
+that follows the humps
 (:func:`kinetic_fem.operators.adaptive.hump_vertices`: ``resolution`` hump widths over
 the humps and their outer edge, geometric grading along the exponential inner tail), from
 the previous state rescaled on :math:`y = (1 - c)/w` (:meth:`CoolingState.rescaled_log_f`),
@@ -311,7 +314,8 @@ def cooling_state(problem: CoolingProblem, *, order: int | None = None,
                           and vertices is None)
     if order not in LAGRANGE_ELEMENTS or (hump and order == 3):
         raise ValueError(f"order must be one of {sorted(LAGRANGE_ELEMENTS)} (1 or 2 on the "
-                         f"near-elastic hump mesh), got {order!r}")
+                         f"near-elastic hump mesh, whose default is P3 at eps >= "
+                         f"{HUMP_P3_EPS:g}: omit order), got {order!r}")
     if resolution is not None:
         resolution = check_positive("resolution", resolution)
     if band:  # the broad humps of eps in [BAND_EPS, 0.1): P3 on the moderate mesh
