@@ -1,4 +1,4 @@
-"""Issue 16, sixth round: cooling and heated FEM states before and after, in one run.
+"""Issue 16, sixth and seventh rounds: cooling and heated FEM states before and after, in one run.
 
 The persistent workers of ``bench_fem_speed.py`` (one on ``git archive BEFORE``, one on
 the working tree; single-threaded BLAS) are driven alternately call by call, so both see
@@ -11,9 +11,12 @@ the same machine load; every time is also given in yardstick units (10 LU of
 2. ``kf.solve_heated(alpha)`` on the 25-point curve (best of two per state), and the
    25- and 100-point curves pointwise and by ``heated_curve`` (continuation).
 
-    python benchmarks/bench_fem_interactive.py [--quick] [--before COMMIT] [--no-cooling]
+    python benchmarks/bench_fem_interactive.py [--quick] [--before COMMIT]
+        [--no-cooling | --no-heated]
 
-Writes ``benchmarks/results/fem_interactive.md`` (``_quick`` with ``--quick``).
+Writes ``benchmarks/results/fem_interactive.md`` (``_quick`` with ``--quick``); with
+``--no-heated`` (section 1 only, the seventh round's cooling work, e.g. ``--before
+d8971af``) ``benchmarks/results/fem_cooling_speed_run.md``.
 """
 
 from __future__ import annotations
@@ -36,8 +39,9 @@ from bench_fem_speed import CURVE, CURVE100, ROOT, Worker  # noqa: E402
 
 BEFORE = "5503c25"
 """main at the start of the sixth round."""
-COOLING = [0.0, 0.25, 0.5, 0.7, 0.8, 0.9, 0.95, 0.98, 0.99, 0.995, 0.999]
-REPEAT_BELOW = 0.9
+COOLING = [0.0, 0.25, 0.5, 0.7, 0.8, 0.9, 0.93, 0.95, 0.96, 0.97, 0.98, 0.99, 0.995, 0.997,
+           0.999]
+REPEAT_BELOW = 0.9999
 """Cooling states at alpha <= this are timed twice each (best of two)."""
 
 
@@ -161,6 +165,8 @@ def main() -> None:
     name = "fem_interactive_quick.md" if args.quick else "fem_interactive.md"
     if args.no_cooling:
         name = name.replace(".md", "_heated.md")
+    if args.no_heated:
+        name = "fem_cooling_speed_run.md"
     (results / name).write_text(text + "\n")
 
 
