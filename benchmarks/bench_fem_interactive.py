@@ -1,4 +1,4 @@
-"""Issue 16, sixth round: cooling and heated FEM states before and after, in one run.
+"""Issue 16, sixth and seventh rounds: cooling and heated FEM states before and after, in one run.
 
 The persistent workers of ``bench_fem_speed.py`` (one on ``git archive BEFORE``, one on
 the working tree; single-threaded BLAS) are driven alternately call by call, so both see
@@ -9,11 +9,14 @@ the same machine load; every time is also given in yardstick units (10 LU of
    the near-elastic continuation is cleared before each call): nodes, order, seconds,
    units, and the change of zeta and a2 (before -> after).
 2. ``kf.solve_heated(alpha)`` on the 25-point curve (best of two per state), and the
-   25- and 100-point curves pointwise.
+   25- and 100-point curves pointwise and by ``heated_curve`` (continuation).
 
     python benchmarks/bench_fem_interactive.py [--quick] [--before COMMIT]
+        [--no-cooling | --no-heated]
 
-Writes ``benchmarks/results/fem_interactive.md`` (``_quick`` with ``--quick``).
+Writes ``benchmarks/results/fem_interactive.md`` (``_quick`` with ``--quick``); with
+``--no-heated`` (section 1 only, the seventh round's cooling work, e.g. ``--before
+d8971af``) ``benchmarks/results/fem_cooling_speed_run.md``.
 """
 
 from __future__ import annotations
@@ -36,8 +39,9 @@ from bench_fem_speed import CURVE, CURVE100, ROOT, Worker  # noqa: E402
 
 BEFORE = "5503c25"
 """main at the start of the sixth round."""
-COOLING = [0.0, 0.25, 0.5, 0.7, 0.8, 0.9, 0.95, 0.98, 0.99, 0.995, 0.999]
-REPEAT_BELOW = 0.9
+COOLING = [0.0, 0.25, 0.5, 0.7, 0.8, 0.9, 0.93, 0.95, 0.96, 0.97, 0.98, 0.99, 0.995, 0.997,
+           0.999]
+REPEAT_BELOW = 0.9999
 """Cooling states at alpha <= this are timed twice each (best of two)."""
 
 
@@ -105,18 +109,22 @@ def heated_tables(before: Worker, after: Worker, curve: list[float], full: bool,
     out.append(f"\nsum of the best per-state times: before {sums[0]:.1f} units, after "
                f"{sums[1]:.1f} units; mean per state {sums[0] / n:.2f} / {sums[1] / n:.2f} "
                "units\n")
-    out.append("| curve (pointwise kf.solve_heated) | before | after |")
+    out.append("| curve | before | after |")
     out.append("|---|---|---|")
     for alphas, label in ((curve, f"{n}-point"), (CURVE100 if full else [], "100-point")):
         if not alphas:
             continue
-        tb = before.ask("curve", alphas=alphas, warm=None)
-        ta = after.ask("curve", alphas=alphas, warm=None)
-        for i, w in enumerate((before, after)):
-            units[i].append(_units(w))
-        assert isinstance(tb, dict) and isinstance(ta, dict)
-        out.append(f"| {label} | {tb['time']:.2f} s = {tb['time'] / units[0][-1]:.1f} units | "
-                   f"{ta['time']:.2f} s = {ta['time'] / units[1][-1]:.1f} units |")
+        # pointwise kf.solve_heated, then heated_curve (before: warm starts from the
+        # previous state; after: continuation from a linear prediction)
+        for warm, how in ((None, "pointwise kf.solve_heated"), (True, "heated_curve")):
+            tb = before.ask("curve", alphas=alphas, warm=warm)
+            ta = after.ask("curve", alphas=alphas, warm=warm)
+            for i, w in enumerate((before, after)):
+                units[i].append(_units(w))
+            assert isinstance(tb, dict) and isinstance(ta, dict)
+            out.append(f"| {label}, {how} | {tb['time']:.2f} s = "
+                       f"{tb['time'] / units[0][-1]:.1f} units | {ta['time']:.2f} s = "
+                       f"{ta['time'] / units[1][-1]:.1f} units |")
     out.append("")
 
 
@@ -125,10 +133,10 @@ def main() -> None:
     parser.add_argument("--quick", action="store_true", help="few alphas, no 100-point curve")
     parser.add_argument("--before", default=BEFORE, help="commit to compare against")
     parser.add_argument("--no-heated", action="store_true", help="section 1 only")
+    parser.add_argument("--no-cooling", action="store_true", help="section 2 only")
     args = parser.parse_args()
     load = os.getloadavg()[0]
-    out = [f"# FEM states at interactive speed: before ({args.before}) and after (issue 16, "
-           "sixth round)\n",
+    out = [f"# FEM states at interactive speed: before ({args.before}) and after (issue 16)\n",
            f"Single-threaded BLAS, 2-core machine shared with other jobs (load average "
            f"{load:.1f} at the start): compare within a row; units are yardsticks (10 LU "
            "of 1000 x 1000) of the same worker.\n"]
@@ -140,8 +148,9 @@ def main() -> None:
         before, after = Worker(old), Worker(ROOT)
         units: list[list[float]] = [[_units(before)], [_units(after)]]
         alphas = [0.5, 0.9, 0.99] if args.quick else COOLING
-        cooling_table(before, after, alphas, units, out)
-        print("\n".join(out), flush=True)
+        if not args.no_cooling:
+            cooling_table(before, after, alphas, units, out)
+            print("\n".join(out), flush=True)
         if not args.no_heated:
             curve = [0.0, 0.5, 0.9, 0.99] if args.quick else CURVE
             heated_tables(before, after, curve, not args.quick, units, out)
@@ -154,6 +163,10 @@ def main() -> None:
     print(text)
     results = ROOT / "benchmarks" / "results"
     name = "fem_interactive_quick.md" if args.quick else "fem_interactive.md"
+    if args.no_cooling:
+        name = name.replace(".md", "_heated.md")
+    if args.no_heated:
+        name = "fem_cooling_speed_run.md"
     (results / name).write_text(text + "\n")
 
 

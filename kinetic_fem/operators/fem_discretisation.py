@@ -34,7 +34,8 @@ from ..distribution import VelocityDistribution
 from ..model import CollisionKernel, RestitutionLaw, as_kernel
 from ..model.kernel_base import FAMILY_POWER_LAW
 from ..model.restitution import CONSTANT
-from .fem_kernels import collision_operator, evaluate_field
+from .fem_kernels import evaluate_field
+from .fem_pair_parallel import collision
 
 __all__ = ["FEMDiscretisation", "ELEMENTS", "LAGRANGE_ELEMENTS", "ElementLineP3",
            "fokker_planck", "fokker_planck_jacobian", "bath_drift", "bath_drift_jacobian",
@@ -260,7 +261,7 @@ class FEMDiscretisation:
                 np.ascontiguousarray(ref_x[0]), ref_w, p0, 1.0, jacobian, int(energy_power),
                 self.symmetric, self._kernel_argument, code, p0, p1, float(self.speed_scale),
                 b_lo)
-        out = collision_operator(*args, self.mirror) if even else collision_operator(*args)
+        out = collision(*args, self.mirror) if even else collision(*args)
         if energy_power >= 0:
             # the loss moment does not depend on energy_power or the Jacobian (same sums
             # in the same order): energy_loss at the same u reuses it

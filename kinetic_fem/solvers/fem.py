@@ -191,7 +191,9 @@ def discretisation(model: ScaledModel, vertices: NDArray, order: int = 2,
 def steady_state(model: float | HeatedProblem, *, order: int | None = None,
                  spacing: float | None = None, cutoff: float | None = None, vertices=None,
                  intorder: int | None = None, symmetric: bool = False, tol: float = 1e-11,
-                 max_iter: int = 40, initial: SteadyState | None = None) -> SteadyState:
+                 max_iter: int = 40,
+                 initial: SteadyState | Callable[[NDArray], NDArray] | None = None
+                 ) -> SteadyState:
     """Newton steady state at ``n = D = 1`` (see :func:`solve_fem_heated` for the options).
 
     ``model`` is a heated problem (solved at ``n = D = 1``, see
@@ -199,8 +201,9 @@ def steady_state(model: float | HeatedProblem, *, order: int | None = None,
     the paper's model (hard rods, white noise).  With the default cut-off, the
     interval is widened (by 15 %, from the current solution) until :math:`f` at the
     cut-off is below :data:`CUTOFF_TARGET`.  ``initial`` (a state of a nearby model,
-    e.g. the previous point of a curve) gives the starting :math:`f(c)` in place of the
-    Gaussian and of the near-elastic continuation (see :mod:`kinetic_fem.solvers.fem_curve`).
+    e.g. the previous point of a curve, or a prediction ``v -> ln P(v)``) gives the
+    starting :math:`f(c)` in place of the Gaussian and of the near-elastic continuation
+    (see :mod:`kinetic_fem.solvers.fem_curve`).
 
     Parameters
     ----------
@@ -208,8 +211,8 @@ def steady_state(model: float | HeatedProblem, *, order: int | None = None,
         The problem, or a restitution coefficient of the paper's model.
     order, spacing, cutoff, vertices, intorder, symmetric, tol, max_iter
         As in :func:`solve_fem_heated`.
-    initial : SteadyState, optional
-        A state of a nearby model to start from.
+    initial : SteadyState or callable, optional
+        A state of a nearby model to start from, or ``v -> ln P(v)`` (``n = D = 1``).
 
     Returns
     -------
@@ -243,12 +246,15 @@ def steady_state(model: float | HeatedProblem, *, order: int | None = None,
         c_max = cutoff
     # Gaussian bulk, WKB tail: from the plain Gaussian (far too low in the tail of hard
     # rods) Newton needs one more Jacobian (measured at alpha = 0, 0.3, 0.6)
-    def start(v: NDArray) -> NDArray:
+    def default_start(v: NDArray) -> NDArray:
         return initial_log_density(v, scaled)
 
-    if initial is not None:
+    start: Callable[[NDArray], NDArray] = default_start
+    if isinstance(initial, SteadyState):
         def start(v: NDArray) -> NDArray:
             return initial.initial_guess(v, scaled.temperature, linear_tail=not paper)
+    elif initial is not None:
+        start = initial
     elif alpha_eff > CONTINUATION_ALPHA and vertices is None and \
             scaled.law.constant is not None and scaled.continues_near_elastic:
         # start from the solution at eps' = 10 eps, rescaled to f(c) (quasi-elastic

@@ -46,8 +46,13 @@ start) by continuation in :math:`\\alpha` from 0.5.
 
 Near elastic collisions (hard rods, :math:`\\varepsilon = 1 - \\alpha <` :data:`HUMP_EPS`)
 the state is two humps of width :math:`w = \\varepsilon^{1/3}` at :math:`c = \\pm 1`.
-It is reached by continuation in :math:`\\varepsilon` from 0.1 in steps of at most 2
-(:func:`hump_chain`), each on a mesh that follows the humps
+While they are broad (:math:`\\varepsilon \\ge` 0.04, :mod:`.fem_cooling_band`) the default
+is P3 on the mesh above, from the state at 0.1; below, and with ``resolution``, it is
+reached by continuation in :math:`\\varepsilon` from 0.1 (:mod:`.fem_cooling_hump`: toward
+:math:`\\varepsilon \\ge 10^{-3}` in equal log steps of at most 8 on coarse link meshes,
+below in steps of at most 2, :func:`hump_chain`; the state asked for is solved once more on
+the finer mesh, P3 at 0.2 hump widths by default down to :math:`10^{-4}`), each on a mesh
+that follows the humps
 (:func:`kinetic_fem.operators.adaptive.hump_vertices`: ``resolution`` hump widths over
 the humps and their outer edge, geometric grading along the exponential inner tail), from
 the previous state rescaled on :math:`y = (1 - c)/w` (:meth:`CoolingState.rescaled_log_f`),
@@ -84,10 +89,21 @@ from numpy.typing import NDArray
 
 from ..distribution import VelocityDistribution
 from ..model import CoolingProblem, UnsupportedModelError, check_positive
-from ..operators.adaptive import EDGE_EFOLDS, HUMP_DECADES, hump_vertices
 from ..operators.fem_discretisation import LAGRANGE_ELEMENTS
 from ..solve import register_solver
 from .fem import ConvergenceError, FEMDiscretisation
+from .fem_cooling_band import band_state, in_band
+from .fem_cooling_hump import (
+    HUMP_COARSE_EPS,
+    HUMP_COARSE_LINK,
+    HUMP_LINK_RATIO,
+    HUMP_LINK_RESOLUTION,
+    HUMP_P3_EPS,
+    HUMP_P3_RESOLUTION,
+    HUMP_RESOLUTION,
+    HUMP_STEP_RESOLUTION,
+    continued_state,
+)
 from .fem_cooling_mesh import (
     HUMP_INTORDER,
     MAXWELL_CUTOFF,
@@ -96,17 +112,28 @@ from .fem_cooling_mesh import (
     hcs_spacing,
     hcs_vertices,
     initial_log_f,
+    log_chain,
     step_intorder,
 )
-from .fem_cooling_newton import CoolingState, newton_cooling
-from .fem_cooling_order import COARSE_ORDER, P3_COARSE_SPACING, cooling_order, order_spacing
-from .fem_cooling_tail import recovered_distribution
+from .fem_cooling_newton import CLOSE_DAMPING, CoolingState, newton_cooling
+from .fem_cooling_order import (
+    COARSE_FACTOR,
+    COARSE_ORDER,
+    COARSE_SPACING,
+    COARSE_TOL,
+    P3_COARSE_SPACING,
+    STRONG_ALPHA,
+    STRONG_STEP,
+    cooling_order,
+    order_spacing,
+)
+from .fem_cooling_tail import maxwell_hcs, recovered_distribution
 
 __all__ = ["solve_fem_cooling", "cooling_state", "CoolingState", "continued_state",
            "hump_chain", "hump_start", "uses_hump_mesh", "HUMP_EPS", "HUMP_RESOLUTION",
-           "HUMP_FRONTIER",
-           "hcs_cutoff", "hcs_spacing", "hcs_vertices", "maxwell_hcs", "initial_log_f",
-           "newton_cooling", "MAXWELL_CUTOFF"]
+           "HUMP_FRONTIER", "hcs_cutoff", "hcs_spacing", "hcs_vertices", "maxwell_hcs",
+           "initial_log_f", "newton_cooling", "MAXWELL_CUTOFF", "HUMP_STEP_RESOLUTION",
+           "HUMP_LINK_RESOLUTION", "HUMP_INTORDER", "HUMP_P3_EPS", "HUMP_P3_RESOLUTION"]
 
 logger = logging.getLogger(__name__)
 
@@ -114,63 +141,16 @@ HUMP_EPS = 0.1
 """Below this inelasticity (hard rods) the state is reached by continuation in eps on
 meshes that follow the humps (:func:`kinetic_fem.operators.adaptive.hump_vertices`)."""
 HUMP_FRONTIER = 1e-6
-"""Smallest inelasticity the continuation is measured to reach (it converges at 1e-6 with
-the Gauss degree HUMP_INTORDER; the former limit 2.4e-5 came from the 3-point rule);
-below it a failure is reported as this limit."""
+"""Smallest inelasticity the continuation is measured to reach (with the Gauss degree
+HUMP_INTORDER); below it a failure is reported as this limit."""
 HUMP_RATIO = 2.0
 """Largest ratio of successive inelasticities of the continuation."""
-HUMP_RESOLUTION = 0.07
-"""Default element size in the humps, in hump widths eps^(1/3) (convergence study in
-``benchmarks/convergence_fem_cooling.py``: with the Gauss degree HUMP_INTORDER, zeta to
-3e-13, a2 to 3e-11, ln f where f > 1e-30 to 1.3e-5 at eps = 1e-4; the state is then
-solved on the continuation's own mesh, without a finer last solve)."""
-HUMP_STEP_RESOLUTION, HUMP_LINK_RESOLUTION = 0.07, 0.14
-"""Element sizes (hump widths): the step mesh (the final state at the default resolution
-is solved on it) and the intermediate states' (2-4 times faster; at eps = 1e-6 ln f moves
-by 7e-6, zeta by 1e-12: benchmarks/results/fem_cooling.md)."""
 HUMP_STEP_TOL = 1e-7
 """Newton tolerance of the intermediate states (they only start the next step)."""
 HUMP_STEP_ITER = 40
 """Newton steps allowed before a continuation step is halved (on a log scale)."""
 HUMP_MIN_RATIO = 1.1
 """Continuation steps are not halved below this ratio of inelasticities."""
-STRONG_ALPHA = 0.5
-"""Below this alpha (long exponential tails, far from the Gaussian start) the state is
-reached by continuation in alpha from here, in steps of at most STRONG_STEP."""
-STRONG_STEP = 0.125
-"""Largest step in alpha of that continuation."""
-COARSE_FACTOR = 4.0
-"""Mesh sequencing: the default mesh's state is started from the state on a mesh this
-many times coarser (same cut-off), reached by the globalised (pseudo-transient) Newton
-iteration; on the fine mesh Newton's method then converges in three or four steps
-(about 2 to 40 times faster than the globalised iteration on the fine mesh, same state:
-``benchmarks/results/fem_cooling.md``)."""
-COARSE_SPACING = 0.2
-"""Largest bulk spacing of the coarse state (no sequencing on meshes this coarse)."""
-COARSE_TOL = 1e-7
-"""Newton tolerance of the coarse state of the mesh sequencing (it only starts the fine one)."""
-
-
-def maxwell_hcs(c: NDArray[np.float64]) -> NDArray[np.float64]:
-    """:math:`f(c) = 2/(\\pi(1+c^2)^2)`, the Maxwell-model HCS at unit temperature.
-
-    Parameters
-    ----------
-    c : ndarray
-        Scaled velocities.
-
-    Returns
-    -------
-    ndarray
-
-    Examples
-    --------
-    >>> from scipy.integrate import quad
-    >>> round(quad(lambda c: c**2 * maxwell_hcs(c), -np.inf, np.inf)[0], 12)
-    1.0
-    """
-    c = np.asarray(c, dtype=float)
-    return 2.0 / (math.pi * (1.0 + c * c) ** 2)
 
 
 def _discretisation(problem: CoolingProblem, vertices: NDArray, order: int,
@@ -239,75 +219,26 @@ def hump_start(order: int, intorder: int | None) -> CoolingState:
                          cutoff=12.0)
 
 
-def continued_state(prev: CoolingState, eps_prev: float, eps: float, *,
-                    resolution: float = HUMP_RESOLUTION, order: int = 2,
-                    intorder: int | None = None, tol: float = 1e-11,
-                    max_iter: int = 100) -> CoolingState:
-    """One continuation step: the hard-rod HCS at ``eps`` from ``prev`` at ``eps_prev``.
-
-    Parameters
-    ----------
-    prev : CoolingState
-        A converged state at ``eps_prev``.
-    eps_prev, eps : float
-        Inelasticities :math:`1 - \\alpha` of ``prev`` and of the new state.
-    resolution : float
-        Element size in the humps, in hump widths :math:`\\varepsilon^{1/3}`.
-    order : int
-        Lagrange degree.
-    intorder : int, optional
-        Gauss degree; default :data:`~kinetic_fem.solvers.fem_cooling_mesh.HUMP_INTORDER`
-        (the exponential outer edge of the humps needs it).
-    tol : float
-        Newton tolerance (step of :math:`\\ln f` and relative step of :math:`\\zeta`).
-    max_iter : int
-        Newton iteration limit.
-
-    Returns
-    -------
-    CoolingState
-        Converged or not (``info.converged``); the caller decides.
-    """
-    alpha = 1.0 - eps
-    zeta0 = prev.zeta * (1.0 - alpha**2) / (1.0 - (1.0 - eps_prev) ** 2)
-    # the cut-off where the rescaled start has fallen HUMP_DECADES decades (at eps ~ 1e-2
-    # the outer edge is still slower than psi's e^(y^3/3), so the psi-based estimate
-    # alone puts the outflow boundary at f ~ 1e-15 and spoils ln f near it)
-    w = eps ** (1.0 / 3.0)
-    probe = 1.0 + w * np.linspace(0.0, 60.0, 6001)
-    start = prev.rescaled_log_f(eps_prev, eps, probe)
-    low = start < -HUMP_DECADES * math.log(10.0)
-    cutoff = float(probe[np.argmax(low)]) if low.any() else float(probe[-1])
-    # the outer edge's elements follow the start's slope (EDGE_EFOLDS e-folds each)
-    slope = np.maximum(-np.gradient(start, probe), 0.0)
-    # (and refine with the resolution below that of the continuation steps)
-    verts = hump_vertices(eps, zeta0, resolution=resolution, cutoff=cutoff,
-                          edge_slope=lambda c: float(np.interp(c, probe, slope)),
-                          efolds=EDGE_EFOLDS * min(1.0, resolution / HUMP_STEP_RESOLUTION))
-    disc = _discretisation(CoolingProblem.from_parameters(alpha), verts, order,
-                           intorder or max(HUMP_INTORDER, 2 * order + 1))
-    u0 = prev.rescaled_log_f(eps_prev, eps, disc.dof_locations)
-    state = newton_cooling(disc, u0, zeta0, tol=tol, max_iter=max_iter, pseudo_time=np.inf,
-                           settle_steps=eps >= 1e-4)  # LOG_STEP_ZETA: measured there
-    logger.info("HCS continuation eps = %.3g: %d dofs, %d Newton steps, zeta/eps = %.12g",
-                eps, state.u.size, state.info.iterations, state.zeta / eps)
-    return state
-
-
 def _hump_state(problem: CoolingProblem, *, order: int, intorder: int | None, tol: float,
-                max_iter: int, resolution: float) -> CoolingState:
-    """Continuation in eps on meshes that follow the humps (module notes)."""
+                max_iter: int, resolution: float, final_order: int) -> CoolingState:
+    """Continuation in eps on meshes that follow the humps (module notes); the state asked
+    for is of degree ``final_order`` (the continuation's: ``order``)."""
     eps = problem.gas.epsilon
     prev, eps_prev = hump_start(order, intorder), HUMP_EPS
-    pending = hump_chain(eps)[::-1]  # a stack: the next target last
+    pending = (log_chain(eps, HUMP_EPS, HUMP_LINK_RATIO) if eps >= HUMP_COARSE_EPS * (1 - 1e-9)
+               else hump_chain(eps))[::-1]  # a stack: the next target last
     while pending:
         step = pending[-1]
         # the target is reached on the coarser step mesh first, then refined at the same
         # eps (mesh sequencing: the many Newton steps of a continuation step are taken
         # on the coarse mesh, the fine one needs three or four)
-        final = step == eps and (eps_prev == eps or resolution >= HUMP_STEP_RESOLUTION)
-        res = resolution if final else max(resolution, HUMP_LINK_RESOLUTION)
-        state = continued_state(prev, eps_prev, step, resolution=res, order=order,
+        link = max(resolution, HUMP_COARSE_LINK if step >= HUMP_COARSE_EPS else
+                   HUMP_LINK_RESOLUTION)
+        final = step == eps and (eps_prev == eps or resolution >= link
+                                 and final_order == order)
+        res = resolution if final else link
+        state = continued_state(prev, eps_prev, step, resolution=res,
+                                order=final_order if final else order,
                                 intorder=intorder or step_intorder(step, order, final),
                                 tol=tol if final else HUMP_STEP_TOL,
                                 max_iter=min(max_iter, HUMP_STEP_ITER)
@@ -377,17 +308,27 @@ def cooling_state(problem: CoolingProblem, *, order: int | None = None,
             "so no scaling state exists (the gas approaches elastic collisions as it cools); "
             "use particles.dsmc.simulate_cooling for the transient")
     hump = uses_hump_mesh(problem) and vertices is None and spacing is None and cutoff is None
+    default = order is None and resolution is None
+    band = hump and default and in_band(problem.gas.epsilon, HUMP_EPS)
     order = cooling_order(problem, order, default_mesh=not hump and spacing is None
                           and vertices is None)
     if order not in LAGRANGE_ELEMENTS or (hump and order == 3):
         raise ValueError(f"order must be one of {sorted(LAGRANGE_ELEMENTS)} (1 or 2 on the "
-                         f"near-elastic hump mesh), got {order!r}")
+                         f"near-elastic hump mesh, whose default is P3 at eps >= "
+                         f"{HUMP_P3_EPS:g}: omit order), got {order!r}")
     if resolution is not None:
         resolution = check_positive("resolution", resolution)
+    if band:  # the broad humps of eps in [BAND_EPS, 0.1): P3 on the moderate mesh
+        state = band_state(problem, hump_start(2, None), HUMP_EPS, tol=tol,
+                           max_iter=max_iter, intorder=intorder)
+        if state is not None:
+            return state
     if hump:
+        p3 = default and problem.gas.epsilon >= HUMP_P3_EPS * (1.0 - 1e-9)
         return _hump_state(problem, order=order, intorder=intorder, tol=tol,
-                           max_iter=max_iter,
-                           resolution=HUMP_RESOLUTION if resolution is None else resolution)
+                           max_iter=max_iter, final_order=3 if p3 else order,
+                           resolution=HUMP_P3_RESOLUTION if p3 else resolution or
+                           HUMP_RESOLUTION)
     if resolution is not None:
         raise ValueError(f"resolution is the element size of the near-elastic hump mesh "
                          f"(hard rods, eps < {HUMP_EPS}, no spacing/cutoff/vertices), not "
@@ -412,7 +353,7 @@ def cooling_state(problem: CoolingProblem, *, order: int | None = None,
                                cutoff=c_max, intorder=intorder, tol=COARSE_TOL,
                                max_iter=max_iter, sequence=False)
         state = newton_cooling(disc, coarse.log_f(disc.dof_locations), coarse.zeta, tol=tol,
-                               max_iter=max_iter, pseudo_time=np.inf)
+                               max_iter=max_iter, pseudo_time=np.inf, min_damping=CLOSE_DAMPING)
         if state.info.converged:
             return state
         logger.info("HCS mesh sequencing: Newton from the coarse state failed (%s); "

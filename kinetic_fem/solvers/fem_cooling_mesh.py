@@ -20,7 +20,8 @@ from ..model import CoolingProblem
 from .fem_cooling_tail import POWER_TAIL_CUTOFF, POWER_TAIL_SPACING, power_tail_vertices
 
 __all__ = ["hcs_bulk", "BULK_EPS", "hcs_cutoff", "hcs_spacing", "hcs_vertices", "initial_log_f",
-           "MAXWELL_CUTOFF", "DECADES", "HUMP_INTORDER", "LOW_ORDER_EPS", "step_intorder"]
+           "MAXWELL_CUTOFF", "DECADES", "HUMP_INTORDER", "LOW_ORDER_EPS", "step_intorder",
+           "log_chain"]
 
 MAXWELL_CUTOFF = POWER_TAIL_CUTOFF
 """Cut-off of the Maxwell-model mesh: the energy beyond, 4/(pi V), is 1e-8."""
@@ -67,6 +68,32 @@ def step_intorder(eps: float, order: int, final: bool) -> int | None:
         else None (the default :data:`HUMP_INTORDER` of the hump meshes).
     """
     return 2 * order + 1 if not final and eps >= LOW_ORDER_EPS else None
+
+
+def log_chain(eps: float, start: float, ratio: float) -> list[float]:
+    """Inelasticities from ``start`` down to ``eps`` in equal steps on a log scale, each a
+    ratio of at most ``ratio``, ending exactly at ``eps`` (``start`` left out).
+
+    Parameters
+    ----------
+    eps : float
+        The last inelasticity, below ``start``.
+    start : float
+        The inelasticity of the starting state.
+    ratio : float
+        Largest ratio of successive inelasticities, > 1.
+
+    Returns
+    -------
+    list of float
+
+    Examples
+    --------
+    >>> [round(e, 6) for e in log_chain(1e-3, 0.1, 8.0)]
+    [0.021544, 0.004642, 0.001]
+    """
+    n = max(1, math.ceil(math.log(start / eps) / math.log(ratio) - 1e-9))
+    return [start * (eps / start) ** (k / n) for k in range(1, n)] + [eps]
 
 
 def hcs_cutoff(problem: CoolingProblem) -> float:

@@ -24,15 +24,18 @@ f near the cut-off (f ~ 1e-30) at alpha = 0.7 was twice the P2 default's (3.0e-5
 The mesh sequencing of :func:`kinetic_fem.solvers.fem_cooling.cooling_state` keeps P2
 on its coarse mesh (the coarse state only starts Newton's method on the fine one).
 Other kernels keep P2 (their tails and the Maxwell model's recovered :math:`f` were
-measured with it), and so do the near-elastic hump meshes (their error indicator and
-edge rule are written for P2).
+measured with it), and so do the continuation links on the near-elastic hump meshes;
+the state asked for there is P3 at 0.2 hump widths (:mod:`.fem_cooling_hump`), and in
+the band :math:`0.04 \\le \\varepsilon < 0.1` P3 on the mesh above at 1.5 times the P2
+spacing (:mod:`.fem_cooling_band`).
 """
 
 from __future__ import annotations
 
 from ..model import CoolingProblem
 
-__all__ = ["P3_SPACING", "COARSE_ORDER", "P3_COARSE_SPACING", "cooling_order", "order_spacing"]
+__all__ = ["P3_SPACING", "COARSE_ORDER", "P3_COARSE_SPACING", "cooling_order", "order_spacing",
+           "STRONG_ALPHA", "STRONG_STEP", "COARSE_FACTOR", "COARSE_SPACING", "COARSE_TOL"]
 
 P3_SPACING = 2.0
 """Bulk spacing of the P3 default, in units of the P2 default spacing."""
@@ -43,6 +46,24 @@ P3_COARSE_SPACING = 0.3
 globalised iteration costs a third (10 to 40 Jacobians on 160-220 instead of 240-330
 dofs), and Newton's method on the fine mesh still takes two Jacobians (0.4 fails to
 converge at alpha = 0.9)."""
+
+STRONG_ALPHA = 0.5
+"""Below this alpha (long exponential tails, far from the Gaussian start) the state is
+reached by continuation in alpha from here, in steps of at most STRONG_STEP."""
+STRONG_STEP = 0.5
+"""Largest step in alpha of that continuation: one step from 0.5 (0.125 before: alpha = 0
+and 0.25 1.17 and 1.06 times faster, gamma = 0.5 / 1.5 / 2 at alpha 0 ... 0.3 1.1-1.6
+times, the states equal to 1e-15: benchmarks/results/fem_cooling_speed.md)."""
+COARSE_FACTOR = 4.0
+"""Mesh sequencing: the default mesh's state is started from the state on a mesh this
+many times coarser (same cut-off), reached by the globalised (pseudo-transient) Newton
+iteration; on the fine mesh Newton's method then converges in three or four steps
+(about 2 to 40 times faster than the globalised iteration on the fine mesh, same state:
+``benchmarks/results/fem_cooling.md``)."""
+COARSE_SPACING = 0.2
+"""Largest bulk spacing of the coarse state (no sequencing on meshes this coarse)."""
+COARSE_TOL = 1e-7
+"""Newton tolerance of the coarse state of the mesh sequencing (it only starts the fine one)."""
 
 
 def cooling_order(problem: CoolingProblem, order: int | None, *, default_mesh: bool) -> int:

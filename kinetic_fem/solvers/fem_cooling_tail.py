@@ -47,7 +47,7 @@ from scipy.interpolate import CubicSpline
 
 from ..distribution import VelocityDistribution
 
-__all__ = ["POWER_TAIL_CUTOFF", "POWER_TAIL_SPACING", "FAR_RATIO_FACTOR",
+__all__ = ["maxwell_hcs", "POWER_TAIL_CUTOFF", "POWER_TAIL_SPACING", "FAR_RATIO_FACTOR",
            "FAR_RATIO_MAX", "power_tail_vertices", "superconvergent_points", "recovered_log_f",
            "recovered_distribution"]
 
@@ -172,3 +172,25 @@ def recovered_distribution(disc, u: NDArray, **kwargs) -> VelocityDistribution:
     xq, wq, _ = disc.points
     values = np.exp(recovered_log_f(disc, u, xq))
     return VelocityDistribution.from_values(xq, values, weights=wq, **kwargs)
+
+
+def maxwell_hcs(c: NDArray[np.float64]) -> NDArray[np.float64]:
+    """:math:`f(c) = 2/(\\pi(1+c^2)^2)`, the Maxwell-model HCS at unit temperature.
+
+    Parameters
+    ----------
+    c : ndarray
+        Scaled velocities.
+
+    Returns
+    -------
+    ndarray
+
+    Examples
+    --------
+    >>> from scipy.integrate import quad
+    >>> round(quad(lambda c: c**2 * maxwell_hcs(c), -np.inf, np.inf)[0], 12)
+    1.0
+    """
+    c = np.asarray(c, dtype=float)
+    return 2.0 / (math.pi * (1.0 + c * c) ** 2)

@@ -380,6 +380,62 @@ def test_heated_curve_warm_start_equals_pointwise_solutions():
         heated_curve([])
 
 
+def test_heated_curve_continuation_keeps_the_pointwise_meshes_and_states():
+    """Default options across a widened interval (alpha 0.92, 0.94) and the near-elastic
+    start (0.96): the continuation ends on the pointwise meshes with the pointwise
+    states to the Newton tolerance (measured |dT/T| <= 1e-15, |da2| <= 8e-16 on the
+    25- and 100-point curves; tolerance 1e-10)."""
+    from kinetic_fem.solvers.fem_curve import heated_curve
+
+    alphas = [0.88, 0.9, 0.92, 0.94, 0.96]
+    warm = heated_curve(alphas)
+    for alpha, dist in zip(alphas, warm.distributions, strict=True):
+        direct = kf.solve_heated(alpha)
+        assert dist.c.size == direct.c.size  # the same mesh (c = v / sqrt(T))
+        np.testing.assert_allclose(dist.c, direct.c, rtol=1e-12)
+        assert dist.temperature == pytest.approx(direct.temperature, rel=1e-10)
+        assert dist.a2 == pytest.approx(direct.a2, abs=1e-10)
+
+
+@pytest.mark.slow
+def test_heated_curve_25_points_equals_pointwise_solves():
+    """The 25-point default curve over [0, 0.99] by continuation: every state on the
+    pointwise mesh, T and a2 equal to the pointwise solves to the Newton tolerance
+    (measured |dT/T| 7.8e-16, |da2| 6.0e-16; tolerance 1e-10)."""
+    from kinetic_fem.solvers.fem_curve import heated_curve
+
+    alphas = np.linspace(0.0, 0.99, 25)
+    curve = heated_curve(alphas)
+    for alpha, dist in zip(alphas, curve.distributions, strict=True):
+        direct = kf.solve_heated(float(alpha))
+        assert dist.c.size == direct.c.size
+        assert dist.temperature == pytest.approx(direct.temperature, rel=1e-10)
+        assert dist.a2 == pytest.approx(direct.a2, abs=1e-10)
+
+
+def test_predict_log_density_extrapolates_linearly():
+    """Two states: ln f(c) and ln(T / T_est) extrapolated linearly in alpha (the error
+    at alpha = 0.54 from 0.46 and 0.5 is 10 times smaller than from 0.5 alone in the bulk,
+    measured 4.1e-4 against 4.5e-3 at c = 0)."""
+    import math
+
+    from kinetic_fem.gas import HeatedProblem
+    from kinetic_fem.solvers.fem_curve import predict_log_density
+    from kinetic_fem.solvers.fem_defaults import scaled_model
+
+    alphas = [0.46, 0.5, 0.54]
+    states = [fem.steady_state(a, order=2, spacing=0.3) for a in alphas]
+    est = [scaled_model(HeatedProblem.from_parameters(a)).temperature for a in alphas]
+    v = np.array([0.0, 0.5, 1.0])
+    exact = states[2].log_density(v)
+    one = predict_log_density(states[1:2], alphas[1:2], 0.54, est[1:2], est[2])(v)
+    two = predict_log_density(states[:2], alphas[:2], 0.54, est[:2], est[2])(v)
+    assert np.abs(two - exact).max() < 0.2 * np.abs(one - exact).max()
+    assert math.isfinite(two.sum())
+    with pytest.raises(ValueError, match="one or two states"):
+        predict_log_density([], [], 0.5, [], 1.0)
+
+
 def test_maxwell_kernel_at_alpha_07_keeps_the_state_when_widening_fails():
     """Maxwell model (gamma = 0), white noise, alpha = 0.7: Newton on the widened interval
     diverged and the call raised (f = 8e-33 at the first cut-off, below the 1e-30 floor);

@@ -1,0 +1,123 @@
+"""Issue 16, seventh round: the cooling state before and after, in CPU-time units.
+
+Two persistent workers, one on ``git archive BEFORE`` and one on the working tree
+(single-threaded BLAS and numba), are driven alternately: each cold
+``kf.solve_cooling(alpha)`` (the cached state at eps = 0.1 cleared) is timed in CPU
+seconds of the worker (``time.process_time``, less sensitive than wall time to the other
+jobs sharing the two cores) and divided by the yardstick (10 LU factorisations of a
+1000 x 1000 matrix, CPU seconds, best of three) measured right before it in the same
+worker; each row is the best of ``--repeat`` such ratios.
+
+    python benchmarks/bench_fem_cooling_speed.py [--before COMMIT] [--repeat 3]
+
+Prints a markdown table (``benchmarks/results/fem_cooling_speed.md``).
+"""
+
+from __future__ import annotations
+
+import os
+
+for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS"):
+    os.environ[_var] = "1"
+
+import argparse  # noqa: E402
+import json  # noqa: E402
+import subprocess  # noqa: E402
+import sys  # noqa: E402
+import tempfile  # noqa: E402
+import time  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+BEFORE = "d8971af"
+"""main at the start of the seventh round."""
+ALPHAS = [0.0, 0.25, 0.5, 0.7, 0.8, 0.9, 0.93, 0.95, 0.96, 0.97, 0.98, 0.99, 0.995, 0.997,
+          0.999]
+
+
+def serve() -> None:
+    """Worker: answer ``alpha`` lines with JSON (CPU s of the solve and the yardstick)."""
+    import warnings
+
+    import numpy as np
+    import scipy.linalg
+
+    import kinetic_fem as kf
+    from kinetic_fem.solvers import fem_cooling
+
+    def yardstick() -> float:
+        a = np.random.default_rng(0).standard_normal((1000, 1000))
+        best = np.inf
+        for _ in range(3):
+            t0 = time.process_time()
+            for _ in range(10):
+                scipy.linalg.lu_factor(a)
+            best = min(best, time.process_time() - t0)
+        return best
+
+    warnings.simplefilter("ignore")
+    for alpha in (0.5, 0.95, 0.99):  # compile every kernel variant
+        kf.solve_cooling(alpha)
+    for line in sys.stdin:
+        alpha = float(line)
+        unit = yardstick()
+        fem_cooling.hump_start.cache_clear()
+        t0 = time.process_time()
+        dist = kf.solve_cooling(alpha)
+        cpu = time.process_time() - t0
+        extra = dist.info.extra
+        print(json.dumps({"cpu": cpu, "unit": unit, "zeta": extra["zeta"], "a2": dist.a2,
+                          "nodes": extra["n_dofs"], "order": extra.get("order", 2)}),
+              flush=True)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--before", default=BEFORE)
+    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--alphas", type=float, nargs="*", default=ALPHAS)
+    parser.add_argument("--serve", action="store_true", help=argparse.SUPPRESS)
+    args = parser.parse_args()
+    if args.serve:
+        serve()
+        return
+    with tempfile.TemporaryDirectory() as tmp:
+        archive = subprocess.run(["git", "archive", args.before, "kinetic_fem"], cwd=ROOT,
+                                 capture_output=True, check=True).stdout
+        subprocess.run(["tar", "-x", "-C", tmp], input=archive, check=True)
+        workers = [subprocess.Popen([sys.executable, __file__, "--serve"], text=True,
+                                    env=dict(os.environ, PYTHONPATH=str(tree)), cwd=tree,
+                                    stdin=subprocess.PIPE, stdout=subprocess.PIPE)
+                   for tree in (Path(tmp), ROOT)]
+        print(f"Before = {args.before}, after = working tree; CPU seconds, best of "
+              f"{args.repeat} (solve / yardstick) per worker; load average "
+              f"{os.getloadavg()[0]:.1f} at the start.\n")
+        print("| alpha | eps | nodes before | nodes after | before CPU s | after CPU s | "
+              "before units | after units | speed-up | rel dzeta | abs da2 |")
+        print("|---|---|---|---|---|---|---|---|---|---|---|")
+        for alpha in args.alphas:
+            best: list[dict] = [{}, {}]
+            for _ in range(args.repeat):
+                for i, w in enumerate(workers):
+                    assert w.stdin is not None and w.stdout is not None
+                    w.stdin.write(f"{alpha}\n")
+                    w.stdin.flush()
+                    r = json.loads(w.stdout.readline())
+                    r["units"] = r["cpu"] / r["unit"]
+                    if not best[i] or r["units"] < best[i]["units"]:
+                        best[i] = r
+            b, a = best
+            print(f"| {alpha} | {1 - alpha:.3g} | {b['nodes']} (P{b['order']}) | {a['nodes']} "
+                  f"(P{a['order']}) | {b['cpu']:.2f} | {a['cpu']:.2f} | {b['units']:.2f} | "
+                  f"{a['units']:.2f} | {b['units'] / a['units']:.1f} | "
+                  f"{abs(a['zeta'] / b['zeta'] - 1):.1e} | {abs(a['a2'] - b['a2']):.1e} |",
+                  flush=True)
+        for w in workers:
+            assert w.stdin is not None
+            w.stdin.close()
+            w.wait()
+        print(f"\nload average at the end {os.getloadavg()[0]:.1f}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,187 @@
+"""Issue 16: heated FEM states, the a2(alpha) curves by continuation, and the mean time
+per state for every kernel, in one process on one core.
+
+1. The 25- and 100-point a2(alpha) curves over [0, 0.99] with the defaults: pointwise
+   ``kf.solve_heated`` against :func:`kinetic_fem.solvers.fem_curve.heated_curve`
+   (continuation from a linear prediction in alpha), alternately, best of ``--repeat``;
+   seconds, yardstick units, the collision-kernel calls of each (Jacobians, residuals,
+   loss moments, weighted by size^2.1 in residuals at 700 nodes), and the largest
+   difference of T and a2 between the two.
+2. The mean time per heated state over alpha in [0, 0.99] (``--points`` values) for
+   gamma = 0, 0.5, 1, 2 with white noise and for hard rods in a Fokker-Planck bath
+   (friction 1), defaults, best of two per state; against the issue's target of 0.1 s,
+   about 0.4 units at the issue's 0.25 s yardstick.
+
+Units: the yardstick (10 LU factorisations of 1000 x 1000, single-threaded BLAS) measured
+in this process before each section.
+
+    python benchmarks/bench_fem_heated_speed.py [--quick] [--repeat 2] [--points 12]
+
+Writes ``benchmarks/results/fem_heated_speed.md`` (``_quick`` with ``--quick``).
+"""
+
+from __future__ import annotations
+
+import os
+
+for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS"):
+    os.environ[_var] = "1"
+
+import argparse  # noqa: E402
+import sys  # noqa: E402
+import time  # noqa: E402
+import warnings  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+import numpy as np  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from bench_fem_speed import CURVE, CURVE100, yardstick  # noqa: E402
+
+import kinetic_fem as kf  # noqa: E402
+from kinetic_fem.operators.fem_discretisation import FEMDiscretisation  # noqa: E402
+from kinetic_fem.solvers.fem_curve import heated_curve  # noqa: E402
+
+MODELS = [("gamma 0 (Maxwell)", 0.0, 0.0), ("gamma 0.5", 0.5, 0.0),
+          ("gamma 1 (hard rods, the paper)", 1.0, 0.0), ("gamma 2", 2.0, 0.0),
+          ("gamma 1, bath (friction 1)", 1.0, 1.0)]
+"""(label, gamma, friction) of section 2."""
+TARGET_SECONDS = 0.1
+ISSUE_YARDSTICK = 0.25
+"""The issue's yardstick on its machine (s): 0.1 s is 0.4 units."""
+
+CALLS: dict[str, float] = {}
+
+
+def _count_calls() -> None:
+    """Count the collision-kernel calls (by kind, weighted by size^2.1)."""
+    collide = FEMDiscretisation._collide
+
+    def counted(self, u, jacobian, energy_power, even=False):
+        kind = "J" if jacobian else ("loss" if energy_power >= 0 else "R")
+        CALLS[kind] = CALLS.get(kind, 0.0) + 1
+        CALLS["work"] = CALLS.get("work", 0.0) + (u.size / 700) ** 2.1 * (2.4 if jacobian
+                                                                           else 1.0)
+        return collide(self, u, jacobian, energy_power, even)
+
+    FEMDiscretisation._collide = counted  # type: ignore[method-assign]
+
+
+def curves(repeat: int, full: bool, out: list[str]) -> None:
+    """Section 1."""
+    out.append("## 1. a2(alpha) curves over [0, 0.99], defaults: pointwise and by "
+               "continuation\n")
+    out.append(f"Best of {repeat}, the two ways alternately; units: the mean yardstick "
+               "before and after the row (given).  Kernel "
+               "calls: Jacobians / residuals / loss moments, and the work in residuals at "
+               "700 nodes (size^2.1, a Jacobian 2.4).\n")
+    out.append("| curve | pointwise s | units | continuation s | units | speed-up | "
+               "CPU s pointwise / continuation | calls pointwise | calls continuation | "
+               "work ratio | max abs dT/T | max abs da2 | yardstick s |")
+    out.append("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    for alphas, label in ((CURVE, "25-point"), (CURVE100 if full else [], "100-point")):
+        if not alphas:
+            continue
+        before = yardstick()
+        best = [np.inf, np.inf]
+        cpu = [np.inf, np.inf]
+        calls: list[dict[str, float]] = [{}, {}]
+        res: list[tuple[np.ndarray, np.ndarray]] = []
+        for rep in range(repeat):
+            for i in range(2):
+                CALLS.clear()
+                c0 = time.process_time()
+                t0 = time.perf_counter()
+                if i == 0:
+                    dists = [kf.solve_heated(a) for a in alphas]
+                    temp = np.array([d.temperature for d in dists])
+                    a2 = np.array([d.a2 for d in dists])
+                else:
+                    curve = heated_curve(alphas)
+                    temp, a2 = curve.temperature, curve.a2
+                best[i] = min(best[i], time.perf_counter() - t0)
+                cpu[i] = min(cpu[i], time.process_time() - c0)
+                calls[i] = dict(CALLS)
+                if rep == 0:
+                    res.append((temp, a2))
+        text = ["{:.0f} / {:.0f} / {:.0f}".format(c.get("J", 0), c.get("R", 0),
+                                                   c.get("loss", 0)) for c in calls]
+        unit = 0.5 * (before + yardstick())
+        d_t = np.abs(res[1][0] / res[0][0] - 1).max()
+        d_a2 = np.abs(res[1][1] - res[0][1]).max()
+        out.append(f"| {label} | {best[0]:.2f} | {best[0] / unit:.1f} | {best[1]:.2f} | "
+                   f"{best[1] / unit:.1f} | {best[0] / best[1]:.2f} | "
+                   f"{cpu[0]:.2f} / {cpu[1]:.2f} = {cpu[0] / cpu[1]:.2f} | {text[0]} | {text[1]} | "
+                   f"{calls[1]['work'] / calls[0]['work']:.3f} | {d_t:.1e} | {d_a2:.1e} | "
+                   f"{unit:.3f} |")
+        print(out[-1], flush=True)
+    out.append("")
+
+
+def per_state(points: int, out: list[str]) -> None:
+    """Section 2."""
+    alphas = [round(float(a), 6) for a in np.linspace(0.0, 0.99, points)]
+    out.append("## 2. Mean time per heated state, `kf.solve_heated(alpha, kernel=gamma, "
+               "friction=xi)` defaults\n")
+    out.append(f"{points} alphas over [0, 0.99], best of two per state; units: the mean of "
+               "the yardsticks measured before and after the row.  Target: 0.1 s = "
+               f"{TARGET_SECONDS / ISSUE_YARDSTICK:.1f} units (at the issue's "
+               f"{ISSUE_YARDSTICK} s yardstick).\n")
+    out.append("| model | mean s | mean units | max units (alpha) | nodes | yardstick s | met? |")
+    out.append("|---|---|---|---|---|---|---|")
+    for label, gamma, friction in MODELS:
+        before = yardstick()
+        times, nodes, failed = [], [], []
+        for alpha in alphas:
+            best = np.inf
+            for _ in range(2):
+                try:
+                    with warnings.catch_warnings():
+                        warnings.simplefilter("ignore")
+                        t0 = time.perf_counter()
+                        dist = kf.solve_heated(alpha, kernel=gamma, friction=friction)
+                        best = min(best, time.perf_counter() - t0)
+                except Exception as err:  # noqa: BLE001 - reported in the table
+                    failed.append(f"{alpha}: {type(err).__name__}")
+                    break
+            if np.isfinite(best):
+                times.append(best)
+                nodes.append(dist.c.size)
+        unit = 0.5 * (before + yardstick())
+        t = np.array(times)
+        worst = int(np.argmax(t))
+        mean_units = t.mean() / unit
+        met = "yes" if mean_units <= TARGET_SECONDS / ISSUE_YARDSTICK else "no"
+        out.append(f"| {label} | {t.mean():.3f} | {mean_units:.2f} | "
+                   f"{t[worst] / unit:.2f} ({alphas[worst]}) | {min(nodes)}-{max(nodes)} | "
+                   f"{unit:.3f} | "
+                   f"{met}{'; failed ' + ', '.join(failed) if failed else ''} |")
+        print(out[-1], flush=True)
+    out.append("")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="25-point curve only, 4 alphas")
+    parser.add_argument("--repeat", type=int, default=3, help="best of this many (curves)")
+    parser.add_argument("--points", type=int, default=12, help="alphas per model")
+    args = parser.parse_args()
+    _count_calls()
+    kf.solve_heated(0.5)  # compile
+    out = ["# Heated FEM states: curves by continuation, time per state by kernel (issue 16)\n",
+           f"One core (single-threaded BLAS and numba), load average at the start "
+           f"{os.getloadavg()[0]:.1f}; compare within a row.\n"]
+    curves(args.repeat, not args.quick, out)
+    per_state(4 if args.quick else args.points, out)
+    out.append(f"load average at the end {os.getloadavg()[0]:.1f}\n")
+    text = "\n".join(out)
+    print(text)
+    name = "fem_heated_speed_quick.md" if args.quick else "fem_heated_speed.md"
+    (ROOT / "benchmarks" / "results" / name).write_text(text + "\n")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,102 @@
+"""One continuation step of the near-elastic hard-rod HCS and the hump-mesh options.
+
+Split from :mod:`kinetic_fem.solvers.fem_cooling` (which re-exports these names; its
+module docstring describes the continuation): :func:`continued_state` solves the state
+at one inelasticity on a mesh that follows the humps
+(:func:`kinetic_fem.operators.adaptive.hump_vertices`) from a state at another, rescaled
+on the hump variable; the constants set the element sizes, degrees and ratios of the
+default path (``benchmarks/results/fem_cooling.md``, ``fem_cooling_speed.md``).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+
+import numpy as np
+
+from ..operators.adaptive import EDGE_EFOLDS, HUMP_DECADES, hump_vertices
+from .fem import FEMDiscretisation
+from .fem_cooling_mesh import HUMP_INTORDER
+from .fem_cooling_newton import CLOSE_DAMPING, CoolingState, newton_cooling
+
+__all__ = ["continued_state", "HUMP_RESOLUTION", "HUMP_STEP_RESOLUTION",
+           "HUMP_LINK_RESOLUTION", "HUMP_COARSE_LINK", "HUMP_COARSE_EPS", "HUMP_LINK_RATIO",
+           "HUMP_P3_EPS", "HUMP_P3_RESOLUTION"]
+
+logger = logging.getLogger(__name__)
+
+HUMP_RESOLUTION = 0.07
+"""Default P2 element size in the humps below HUMP_P3_EPS, in hump widths eps^(1/3)
+(``benchmarks/convergence_fem_cooling.py``: with the Gauss degree HUMP_INTORDER, zeta to
+3e-13, a2 to 3e-11, ln f where f > 1e-30 to 1.3e-5 at eps = 1e-4)."""
+HUMP_STEP_RESOLUTION, HUMP_LINK_RESOLUTION = 0.07, 0.14
+"""Element sizes (hump widths): the step mesh and the intermediate states' below
+HUMP_COARSE_EPS (2-4 times faster; at eps = 1e-6 ln f moves by 7e-6, zeta by 1e-12:
+benchmarks/results/fem_cooling.md)."""
+HUMP_COARSE_LINK, HUMP_COARSE_EPS, HUMP_LINK_RATIO = 0.2, 1e-3, 8.0
+"""Element size (hump widths) of the intermediate states at eps >= HUMP_COARSE_EPS (1.3 to
+1.5 times faster than 0.14; the state asked for is reached on this mesh first and then
+solved on the finer one at the same eps), and their largest eps ratio toward a state asked
+for there (1.2-1.3 times faster than 2: benchmarks/results/fem_cooling_speed.md)."""
+HUMP_P3_EPS, HUMP_P3_RESOLUTION = 1e-4, 0.2
+"""Default state at eps >= HUMP_P3_EPS: P3 at this many hump widths (Gauss degree 9), on
+fewer dofs than P2 at HUMP_RESOLUTION and 4 to 50 times more accurate (eps = 1e-4 ... 3e-2
+against P2 at 0.035: zeta 3e-14 ... 8e-13, a2 2e-12 ... 3e-11, ln f 6e-7 ... 4e-6;
+benchmarks/results/fem_cooling_speed.md); below, and with ``resolution``, P2."""
+
+
+def continued_state(prev: CoolingState, eps_prev: float, eps: float, *,
+                    resolution: float = HUMP_RESOLUTION, order: int = 2,
+                    intorder: int | None = None, tol: float = 1e-11,
+                    max_iter: int = 100) -> CoolingState:
+    """One continuation step: the hard-rod HCS at ``eps`` from ``prev`` at ``eps_prev``.
+
+    Parameters
+    ----------
+    prev : CoolingState
+        A converged state at ``eps_prev``.
+    eps_prev, eps : float
+        Inelasticities :math:`1 - \\alpha` of ``prev`` and of the new state.
+    resolution : float
+        Element size in the humps, in hump widths :math:`\\varepsilon^{1/3}`.
+    order : int
+        Lagrange degree.
+    intorder : int, optional
+        Gauss degree; default :data:`~kinetic_fem.solvers.fem_cooling_mesh.HUMP_INTORDER`
+        (the exponential outer edge of the humps needs it).
+    tol : float
+        Newton tolerance (step of :math:`\\ln f` and relative step of :math:`\\zeta`).
+    max_iter : int
+        Newton iteration limit.
+
+    Returns
+    -------
+    CoolingState
+        Converged or not (``info.converged``); the caller decides.
+    """
+    alpha = 1.0 - eps
+    zeta0 = prev.zeta * (1.0 - alpha**2) / (1.0 - (1.0 - eps_prev) ** 2)
+    # the cut-off where the rescaled start has fallen HUMP_DECADES decades (at eps ~ 1e-2
+    # the outer edge is still slower than psi's e^(y^3/3), so the psi-based estimate
+    # alone puts the outflow boundary at f ~ 1e-15 and spoils ln f near it)
+    w = eps ** (1.0 / 3.0)
+    probe = 1.0 + w * np.linspace(0.0, 60.0, 6001)
+    start = prev.rescaled_log_f(eps_prev, eps, probe)
+    low = start < -HUMP_DECADES * math.log(10.0)
+    cutoff = float(probe[np.argmax(low)]) if low.any() else float(probe[-1])
+    # the outer edge's elements follow the start's slope (EDGE_EFOLDS e-folds each)
+    slope = np.maximum(-np.gradient(start, probe), 0.0)
+    # (and refine with the resolution below that of the continuation steps)
+    verts = hump_vertices(eps, zeta0, resolution=resolution, cutoff=cutoff,
+                          edge_slope=lambda c: float(np.interp(c, probe, slope)),
+                          efolds=EDGE_EFOLDS * min(1.0, resolution / HUMP_STEP_RESOLUTION))
+    disc = FEMDiscretisation(alpha, verts, order, intorder or max(HUMP_INTORDER, 2 * order + 1),
+                             gamma=1.0)  # the humps are those of hard rods
+    u0 = prev.rescaled_log_f(eps_prev, eps, disc.dof_locations)
+    state = newton_cooling(disc, u0, zeta0, tol=tol, max_iter=max_iter, pseudo_time=np.inf,
+                           settle_steps=eps >= 1e-4,  # LOG_STEP_ZETA: measured there
+                           min_damping=CLOSE_DAMPING if eps == eps_prev else 1e-3)
+    logger.info("HCS continuation eps = %.3g: %d dofs, %d Newton steps, zeta/eps = %.12g",
+                eps, state.u.size, state.info.iterations, state.zeta / eps)
+    return state

@@ -1,0 +1,72 @@
+"""The faster near-elastic defaults of the FEM cooling state (issue 16, seventh round).
+
+Reference values: ``benchmarks/accuracy_fem_cooling_speed.py`` and the convergence study
+of ``benchmarks/results/fem_cooling.md`` (P2 at 0.035 hump widths, Gauss degree 9)."""
+
+import numpy as np
+import pytest
+
+import kinetic_fem as kf
+from kinetic_fem.model import CoolingProblem
+from kinetic_fem.solvers import fem_cooling as fc
+from kinetic_fem.solvers.fem_cooling_band import BAND_EPS, band_state, in_band
+from kinetic_fem.solvers.fem_cooling_mesh import log_chain
+from kinetic_fem.solvers.fem_cooling_newton import CLOSE_DAMPING
+
+
+def test_band_default_is_p3_and_matches_the_hump_mesh():
+    """alpha = 0.95: P3 on the moderate mesh from the rescaled eps = 0.1 state.
+
+    Measured against P3 at 0.1 hump widths: zeta 1.6e-14, a2 6.2e-14, ln f 3.6e-6 where
+    f > 1e-30 (the former default, P2 at 0.07 hump widths: 1.2e-10, 5.8e-10, 2.5e-5);
+    the hump mesh at 0.14 hump widths is ~5e-9 from both in zeta."""
+    dist = kf.solve_cooling(0.95)
+    assert dist.info.extra["order"] == 3
+    assert dist.info.extra["cutoff"] == pytest.approx(13.5)
+    hump = kf.solve_cooling(0.95, resolution=0.14)
+    assert hump.info.extra["order"] == 2
+    assert dist.info.extra["zeta"] == pytest.approx(hump.info.extra["zeta"], rel=2e-8)
+    assert dist.a2 == pytest.approx(hump.a2, abs=1e-7)
+    assert dist.info.extra["zeta_identity"] == pytest.approx(dist.info.extra["zeta"],
+                                                             rel=1e-11)
+
+
+def test_band_limits():
+    assert in_band(BAND_EPS, fc.HUMP_EPS) and in_band(0.099, fc.HUMP_EPS)
+    assert not in_band(0.1, fc.HUMP_EPS) and not in_band(0.9 * BAND_EPS, fc.HUMP_EPS)
+    assert 0.0 < CLOSE_DAMPING < 1.0
+
+
+def test_band_state_falls_back_when_it_fails(monkeypatch):
+    """A failed band solve returns None and the default takes the continuation."""
+    from types import SimpleNamespace
+
+    from kinetic_fem.solvers import fem_cooling_band
+
+    failed = SimpleNamespace(info=SimpleNamespace(converged=False, message="no"),
+                             u=np.zeros(3))
+    monkeypatch.setattr(fem_cooling_band, "newton_cooling", lambda *a, **k: failed)
+    problem = CoolingProblem.from_parameters(0.95)
+    assert band_state(problem, fc.hump_start(2, None), fc.HUMP_EPS) is None
+
+
+def test_p3_hump_default_at_eps_1e2():
+    """alpha = 0.99: P3 at 0.2 hump widths (degree 9) refined from the P2 link state.
+
+    Reference P2 at 0.035 hump widths: zeta/eps = 1.000518539452112, a2 =
+    -0.595104102446; the default measured 8.4e-13 and 2.6e-11 from it (the former P2
+    default at 0.07: 1.5e-11, 5.3e-10), ln f 1.7e-6 (7.6e-6)."""
+    dist = kf.solve_cooling(0.99)
+    extra = dist.info.extra
+    assert dist.info.converged and extra["order"] == 3
+    assert extra["zeta"] / 0.01 == pytest.approx(1.000518539452112, rel=5e-12)
+    assert dist.a2 == pytest.approx(-0.595104102446, abs=1e-10)
+    assert extra["zeta_identity"] == pytest.approx(extra["zeta"], rel=1e-11)
+
+
+def test_log_chain():
+    chain = log_chain(1e-3, 0.1, 8.0)
+    assert chain[-1] == 1e-3 and len(chain) == 3
+    ratios = np.array([0.1, *chain[:-1]]) / np.array(chain)
+    assert np.allclose(ratios, ratios[0]) and ratios.max() <= 8.0
+    assert log_chain(0.05, 0.1, 8.0) == [0.05]
