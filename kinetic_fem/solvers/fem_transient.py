@@ -45,10 +45,9 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg
 import scipy.sparse.linalg
 from numpy.typing import NDArray
-from skfem import asm
+from skfem import LinearForm, asm
 
 from ..exceptions import ConvergenceError
 from ..operators.fem_thermostat import (
@@ -69,6 +68,7 @@ from .fem_transient_setup import (
     lte_ratio,
     make_discretisation,
 )
+from .newton import newton
 
 __all__ = ["TransientOptions", "TransientStats", "EquilibratedLU", "log_update", "build_mesh",
            "make_discretisation", "Integrator", "Level", "lagrange_weights", "lte_ratio",
@@ -81,6 +81,25 @@ MAX_RETRIES = 60
 step rejected at the smallest step and a Newton failure just above it can otherwise
 alternate until ``max_steps`` (measured: the Mpemba start past its tabulated range,
 the alpha = 0.9 Kovacs quench); normal runs need a few."""
+
+LOG_TAIL = math.log(1e-30)
+"""Far tail: ln P this far below the peak is extrapolated (:meth:`Integrator.tail_closure`)."""
+
+CHORD_STEP = 0.1
+"""Step Newton: below this update the factorisation is reused (chord steps)."""
+
+CHORD_RATE = 0.2
+"""Step Newton: a chord step must shrink the update by this factor or better."""
+
+STEP_PREDICT = 1.0
+"""Step Newton: ``predict`` of the shared driver (a chord step whose predicted next
+update is below ``newton_tol`` ends the iteration without a confirming residual)."""
+
+
+@LinearForm
+def abs_mass(v, w):
+    """:math:`\\int |\\varphi_i| e^{u}`: the size of the terms of a dof's equation."""
+    return np.exp(w.u) * np.abs(v)
 
 
 class Integrator:
@@ -115,6 +134,8 @@ class Integrator:
         self.sym = disc.symmetry
         self.x = disc.dof_locations
         self.xq, self.wq, _ = disc.points
+        self.keep = np.flatnonzero(self.x >= 0)   # the reduced dofs (u = sym @ u[keep])
+        self.outward = self.keep[np.argsort(self.x[self.keep], kind="stable")]
 
     # ------------------------------------------------------------------ the system
     def masses(self, u: NDArray) -> NDArray:
@@ -189,44 +210,119 @@ class Integrator:
 
     def solve_step(self, u0: NDArray, zeta0: float, c_new: float, c_old: NDArray, h: float,
                    t_new: float) -> tuple[NDArray, float] | None:
-        """Solve ``c_new m(u) - c_old = h R(u)`` (even ``u``; ``x^2.m = 1`` if cooling)."""
-        sym, x2 = self.sym, self.x**2
-        u, zeta = u0.copy(), zeta0
-        lu = None
-        for _ in range(self.opt.max_newton):
-            self.stats.newton_iterations += 1
+        """Solve ``c_new m(u) - c_old = h R(u)`` (even ``u``; ``x^2.m = 1`` if cooling).
+
+        By the shared driver :func:`kinetic_fem.solvers.newton.newton`: full Newton steps
+        in ln P (:func:`log_update`), chord steps on the last factorisation below
+        ``CHORD_STEP`` while each update shrinks by ``CHORD_RATE`` and the residual
+        (each equation relative to the size of its terms) decreases, stopping on the
+        max-norm of the update of ln P; the far tail follows :meth:`tail_closure`.
+        Returns ``(u, zeta)`` or None if it fails.
+        """
+        sym, x2, n_u, cooling = self.sym, self.x**2, u0.size, self.cooling
+        basis, stats = self.disc.basis, self.stats
+        tail, in1, in2, coef = self.tail_closure(u0)
+
+        def fun(x: NDArray, jacobian: bool) -> tuple[NDArray, NDArray | None]:
+            u, zeta = (x[:n_u], float(x[n_u])) if cooling else (x, 0.0)
+            stats.residuals += 1
+            stats.jacobians += int(jacobian)
             field = self.disc.field(u)
-            fresh = lu is None
-            res, jac, dz = self.rhs(u, zeta, t_new, fresh)
-            m = asm(mass, self.disc.basis, u=field)
+            res, jac, dz = self.rhs(u, zeta, t_new, jacobian)
+            m = asm(mass, basis, u=field)
             f = sym.T @ (c_new * m - c_old - h * res)
-            if self.cooling:
+            if tail.size:
+                ur = u[self.keep]
+                f[tail] = ur[tail] - (1.0 + coef) * ur[in1] + coef * ur[in2]
+            if cooling:
                 f = np.append(f, x2 @ m - 1.0)
-            if lu is None:
-                assert jac is not None  # rhs returns the Jacobian when asked (fresh)
-                mw = asm(weighted_mass, self.disc.basis, u=field).toarray()
-                full = c_new * mw - h * jac
-                red = (sym.T @ (sym.T @ full.T).T)
-                if self.cooling:
-                    assert dz is not None  # the cooling rhs returns dR/dzeta
-                    col = -(h * (sym.T @ dz))[:, None]
-                    row = (x2 @ mw) @ sym
-                    red = np.block([[red, col], [row[None, :], np.zeros((1, 1))]])
-                lu = EquilibratedLU(red)
-            delta = lu.solve(-f)
-            if self.cooling:
-                zeta += delta[-1]
-                delta = delta[:-1]
-            size = float(np.abs(delta).max())
-            logger.debug("newton: max|du| = %.3e", size)
-            if not np.isfinite(size) or size > 1e100:
-                return None
-            u = u + sym @ log_update(delta)
-            if size < self.opt.newton_tol:
-                return u, zeta
-            if size > 0.1:  # far from converged: fresh Jacobian
-                lu = None
-        return None
+            if not jacobian:
+                return f, None
+            assert jac is not None  # rhs returns the Jacobian when asked
+            mw = asm(weighted_mass, basis, u=field).toarray()
+            red = sym.T @ (sym.T @ (c_new * mw - h * jac).T).T
+            if cooling:
+                assert dz is not None  # the cooling rhs returns dR/dzeta
+                col = -(h * (sym.T @ dz))[:, None]
+                row = (x2 @ mw) @ sym
+                red = np.block([[red, col], [row[None, :], np.zeros((1, 1))]])
+            if tail.size:
+                red[tail, :] = 0.0
+                red[tail, tail] = 1.0
+                red[tail, in1] = -(1.0 + coef)
+                red[tail, in2] = coef
+            return f, red
+
+        def factorize(jac: NDArray):
+            return EquilibratedLU(jac).solve
+
+        def update(x: NDArray, delta: NDArray) -> NDArray:
+            ur = x[self.keep] + log_update(delta[:-1] if cooling else delta)
+            if tail.size:   # the tail on its line (a linear update would miss it)
+                ur[tail] = (1.0 + coef) * ur[in1] - coef * ur[in2]
+            u = sym @ ur
+            return np.append(u, x[n_u] + delta[-1]) if cooling else u
+
+        def step_norm(delta: NDArray, x: NDArray) -> float:
+            size = float(np.abs(delta[:-1] if cooling else delta).max())
+            return size if size < 1e100 else math.inf
+
+        scale_old = sym.T @ np.abs(c_old)
+
+        def norm(r: NDArray, x: NDArray) -> float:
+            # each equation relative to the size of its terms: the tail's count too
+            field = self.disc.field(x[:n_u])
+            scale = c_new * (sym.T @ asm(abs_mass, basis, u=field)) + scale_old
+            scale[tail] = 1.0
+            rel = np.abs(r[:-1] if cooling else r) / scale
+            return float(max(rel.max(), abs(r[-1]) if cooling else 0.0))
+
+        x0 = np.append(u0, zeta0) if cooling else u0
+        with np.errstate(over="ignore", invalid="ignore"):
+            result = newton(fun, x0, tol=self.opt.newton_tol, max_iter=self.opt.max_newton,
+                            criterion="step", norm=norm, step_norm=step_norm, update=update,
+                            factorize=factorize, chord=CHORD_STEP, chord_rate=CHORD_RATE,
+                            line_search=False, predict=STEP_PREDICT, name="step Newton")
+        stats.newton_iterations += result.iterations
+        if not result.converged:
+            logger.debug("%s (h=%.3e, t=%.6g)", result.message, h, t_new)
+            return None
+        x = result.x
+        return (x[:n_u].copy(), float(x[n_u])) if cooling else (x, zeta0)
+
+    def tail_closure(self, u: NDArray) -> tuple[NDArray, int, int, NDArray]:
+        """The far tail of ``u`` and its linear extrapolation (reduced dof indices).
+
+        Dofs beyond the first speed where ``u`` falls ``-LOG_TAIL`` below its peak lie on
+        the straight line (in ln P) through the last two dofs inside: there P2 Galerkin
+        masses are not positivity preserving (ln P falls by more than 2.7 per element)
+        and the step equations can lose their positive solution, while the tail's mass,
+        below ``exp(LOG_TAIL)`` of the peak, does not reach the moments.
+
+        Parameters
+        ----------
+        u : ndarray
+            ln P at the dofs.
+
+        Returns
+        -------
+        tail : ndarray of int
+            Reduced indices of the tail dofs (empty: no tail).
+        inner1, inner2 : int
+            Reduced indices of the last and the second-last dof inside.
+        coef : ndarray
+            ``u_tail = (1 + coef) u_inner1 - coef u_inner2``.
+        """
+        out = self.outward
+        ur = u[out]
+        below = np.flatnonzero(ur < float(ur.max()) + LOG_TAIL)
+        if below.size == 0 or below[0] < 2:
+            return np.zeros(0, dtype=np.int64), 0, 0, np.zeros(0)
+        k = int(below[0])
+        xs = self.x[out]
+        coef = (xs[k:] - xs[k - 1]) / (xs[k - 1] - xs[k - 2])
+        red = np.searchsorted(self.keep, out)   # position of each outward dof in keep
+        return red[k:], int(red[k - 1]), int(red[k - 2]), coef
 
     # ------------------------------------------------------------------ stepping
     def aux_rate(self, zeta: float, log_t: float) -> NDArray:
@@ -255,6 +351,9 @@ class Integrator:
         if solved is None:
             return None
         u, zeta = solved
+        if not self.cooling:
+            # the mass to round-off (the step conserves it to the Newton tolerance)
+            u = u + math.log(float(last.m.sum()) / float(self.masses(u).sum()))
         y = last.y
         if self.cooling:
             if bdf2:

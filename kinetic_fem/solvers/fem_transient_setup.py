@@ -84,6 +84,8 @@ class TransientStats:
     ----------
     accepted, rejected, newton_failures, newton_iterations, restarts, forced : int
         Counts of steps and Newton iterations.
+    residuals, jacobians : int
+        Residual evaluations of the step Newton, and how many of them with a Jacobian.
     """
 
     accepted: int = 0
@@ -92,6 +94,8 @@ class TransientStats:
     newton_iterations: int = 0
     restarts: int = 0
     forced: int = 0
+    residuals: int = 0
+    jacobians: int = 0
 
     def as_dict(self) -> dict[str, int]:
         return dict(vars(self))
