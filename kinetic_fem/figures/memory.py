@@ -37,9 +37,8 @@ def kovacs_options(quick: bool) -> dict:
     -------
     dict
     """
-    # rtol 1e-6 in both: looser tolerances take more steps, not fewer, on the quench
-    # (benchmarks/memory_effects.py)
-    return {"spacing": 0.5, "rtol": 1e-6} if quick else {"spacing": 0.25, "rtol": 1e-6}
+    # the transient's global error is about rtol (benchmarks/convergence_transient.py)
+    return {"spacing": 0.5, "rtol": 1e-4} if quick else {"spacing": 0.25, "rtol": 1e-5}
 
 
 MPEMBA_CUTOFF = 10.0
