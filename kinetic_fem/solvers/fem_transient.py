@@ -99,6 +99,10 @@ step rejected at the smallest step and a Newton failure just above it can otherw
 alternate until ``max_steps`` (measured: the Mpemba start past its tabulated range,
 the alpha = 0.9 Kovacs quench); normal runs need a few."""
 
+CAP_GROWTH = 1.2
+"""After a Newton failure at a step h, steps stay below 0.7 h, a cap that grows by this
+factor per accepted step."""
+
 NOISE_FLOOR = 10.0
 """The local error tolerance of a step is at least this many Newton tolerances (the
 error per unit step of a very short step would otherwise be below the Newton noise)."""
@@ -150,6 +154,7 @@ class Integrator:
         self.cooling = cooling
         self.opt = options
         self.stats = TransientStats()
+        self.step_cap = math.inf   # below the last step whose Newton iteration failed
         self.set_disc(disc)
 
     def set_disc(self, disc: FEMDiscretisation) -> None:
@@ -469,6 +474,10 @@ class Integrator:
             result = self.attempt(hist, h)
             if result is None:
                 self.stats.newton_failures += 1
+                # the next steps stay below the failed one for a while (without this
+                # cap the control grew back to it at once: the alpha = 0.9 Kovacs quench
+                # failed every second step)
+                self.step_cap = 0.7 * h
                 h = 0.5 * h if h > self.opt.min_step else 2.0 * h
                 if h < 1e-14 * max(1.0, abs(hist[-1].s)):
                     raise ConvergenceError(
@@ -484,8 +493,9 @@ class Integrator:
                 self.stats.accepted += 1
                 hist.append(level)
                 del hist[:-3]
-                h_next = h * min(2.0, max(0.2, factor))
-                return (max(h_next, h_wanted) if hit else h_next), hit
+                h_next = min(h * min(2.0, max(0.2, factor)), self.step_cap)
+                self.step_cap *= CAP_GROWTH
+                return (max(h_next, min(h_wanted, self.step_cap)) if hit else h_next), hit
             self.stats.rejected += 1
             h = max(h * max(0.2, min(0.9, factor)), self.opt.min_step)
 
