@@ -57,13 +57,12 @@ from __future__ import annotations
 
 import logging
 import math
-from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
 import scipy.sparse.linalg
 from numpy.typing import NDArray
-from skfem import LinearForm, asm
+from skfem import asm
 
 from ..exceptions import ConvergenceError
 from ..operators.fem_thermostat import (
@@ -78,10 +77,13 @@ from .fem import EquilibratedLU, FEMDiscretisation, log_update
 from .fem_transient_setup import (
     INITIAL_FLOOR,
     LOG_TAIL,
+    Level,
     TransientOptions,
     TransientStats,
+    abs_mass,
     build_mesh,
     floor_log,
+    lagrange_weights,
     lte_ratio,
     make_discretisation,
 )
@@ -116,12 +118,6 @@ CHORD_RATE = 0.2
 STEP_PREDICT = 1.0
 """Step Newton: ``predict`` of the shared driver (a chord step whose predicted next
 update is below ``newton_tol`` ends the iteration without a confirming residual)."""
-
-
-@LinearForm
-def abs_mass(v, w):
-    """:math:`\\int |\\varphi_i| e^{u}`: the size of the terms of a dof's equation."""
-    return np.exp(w.u) * np.abs(v)
 
 
 class Integrator:
@@ -498,59 +494,3 @@ class Integrator:
                 return (max(h_next, min(h_wanted, self.step_cap)) if hit else h_next), hit
             self.stats.rejected += 1
             h = max(h * max(0.2, min(0.9, factor)), self.opt.min_step)
-
-
-@dataclass
-class Level:
-    """One accepted level: time ``s``, ``u``, masses, ``zeta``, aux ``y``, observables.
-
-    Parameters
-    ----------
-    s : float
-        Time of the level.
-    u : ndarray
-        Coefficients of :math:`\\ln P_h`.
-    m : ndarray
-        Masses :math:`\\int\\varphi_i P_h`.
-    zeta : float
-        Drift coefficient (cooling; 0 heated).
-    y : ndarray
-        Auxiliary variables (:math:`\\ln T` and the physical time, cooling).
-    obs : ndarray
-        Observables (T, a2, ...).
-    udot : ndarray, optional
-        Time derivative of ``u``.
-    """
-
-    s: float
-    u: NDArray[np.float64]
-    m: NDArray[np.float64]
-    zeta: float
-    y: NDArray[np.float64]
-    obs: NDArray[np.float64]
-    udot: NDArray[np.float64] | None = None
-
-
-def lagrange_weights(nodes: list[float], s: float) -> list[float]:
-    """Weights of the Lagrange interpolant through ``nodes`` evaluated at ``s``.
-
-    Parameters
-    ----------
-    nodes : list of float
-        Interpolation nodes (times).
-    s : float
-        Evaluation point.
-
-    Returns
-    -------
-    list of float
-        Weights of the Lagrange interpolant at ``s``.
-    """
-    out = []
-    for j, sj in enumerate(nodes):
-        w = 1.0
-        for k, sk in enumerate(nodes):
-            if k != j:
-                w *= (s - sk) / (sj - sk)
-        out.append(w)
-    return out

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
+from skfem import LinearForm
 
 from ..model import CollisionKernel, RestitutionLaw
 from ..operators.grid import symmetric_grid, uniform_grid
@@ -21,7 +22,7 @@ from .fem import FEMDiscretisation
 
 __all__ = ["INITIAL_FLOOR", "LOG_SMALLEST", "LOG_TAIL", "MAX_DROP", "MESH_GROWTH",
            "TransientOptions", "TransientStats", "lte_ratio", "build_mesh",
-           "make_discretisation", "floor_log"]
+           "make_discretisation", "floor_log", "Level", "lagrange_weights", "abs_mass"]
 
 INITIAL_FLOOR = 1e-45
 """Initial data are floored at this fraction of their maximum (see :func:`floor_log`).
@@ -263,4 +264,66 @@ def floor_log(x: NDArray[np.float64], u: NDArray[np.float64]) -> NDArray[np.floa
         slope = max(slope, (LOG_SMALLEST - u_sorted[j]) / span)
     beyond = speed > s_sorted[j]
     out[beyond] = u_sorted[j] + slope * (speed[beyond] - s_sorted[j])
+    return out
+
+
+@LinearForm
+def abs_mass(v, w):
+    """:math:`\\int |\\varphi_i| e^{u}`: the size of the terms of a dof's equation."""
+    return np.exp(w.u) * np.abs(v)
+
+
+@dataclass
+class Level:
+    """One accepted level: time ``s``, ``u``, masses, ``zeta``, aux ``y``, observables.
+
+    Parameters
+    ----------
+    s : float
+        Time of the level.
+    u : ndarray
+        Coefficients of :math:`\\ln P_h`.
+    m : ndarray
+        Masses :math:`\\int\\varphi_i P_h`.
+    zeta : float
+        Drift coefficient (cooling; 0 heated).
+    y : ndarray
+        Auxiliary variables (:math:`\\ln T` and the physical time, cooling).
+    obs : ndarray
+        Observables (T, a2, ...).
+    udot : ndarray, optional
+        Time derivative of ``u``.
+    """
+
+    s: float
+    u: NDArray[np.float64]
+    m: NDArray[np.float64]
+    zeta: float
+    y: NDArray[np.float64]
+    obs: NDArray[np.float64]
+    udot: NDArray[np.float64] | None = None
+
+
+def lagrange_weights(nodes: list[float], s: float) -> list[float]:
+    """Weights of the Lagrange interpolant through ``nodes`` evaluated at ``s``.
+
+    Parameters
+    ----------
+    nodes : list of float
+        Interpolation nodes (times).
+    s : float
+        Evaluation point.
+
+    Returns
+    -------
+    list of float
+        Weights of the Lagrange interpolant at ``s``.
+    """
+    out = []
+    for j, sj in enumerate(nodes):
+        w = 1.0
+        for k, sk in enumerate(nodes):
+            if k != j:
+                w *= (s - sk) / (sj - sk)
+        out.append(w)
     return out
