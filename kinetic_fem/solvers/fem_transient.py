@@ -50,7 +50,9 @@ but not below ``NOISE_FLOOR`` Newton tolerances.  Local errors per unit time bel
 ``rtol`` relax over a few collision times, so the global error of T and a2 is
 proportional to ``rtol`` (measured in ``benchmarks/convergence_transient.py``; the
 earlier control of the error per step gave a global error like :math:`\\mathrm{rtol}^{2/3}`
-and cost that did not fall as rtol loosened).  A failed Newton iteration halves the step.
+and cost that did not fall as rtol loosened).  A failed Newton iteration halves the step,
+and the following steps stay below 0.7 times the failed one (a cap growing by
+``CAP_GROWTH`` per accepted step).
 """
 
 from __future__ import annotations

@@ -3,8 +3,10 @@
 The pieces of :mod:`kinetic_fem.solvers.fem_transient` that do not step in time: the
 validated numerical options (:class:`TransientOptions`), the run counters
 (:class:`TransientStats`), the ratio of error constants of the step-size control
-(:func:`lte_ratio`), the uniform symmetric mesh (:func:`build_mesh`), the discretisation
-of a model (:func:`make_discretisation`) and the floored initial data (:func:`floor_log`).
+(:func:`lte_ratio`), the symmetric mesh, graded where a Gaussian is steep
+(:func:`build_mesh`), the discretisation of a model (:func:`make_discretisation`), the
+floored initial data (:func:`floor_log`), the accepted levels (:class:`Level`) and the
+size form of the step equations (:func:`abs_mass`).
 """
 
 from __future__ import annotations
