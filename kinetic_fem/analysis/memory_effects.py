@@ -170,12 +170,6 @@ def exact_curves(alpha: float, gamma: float, times: NDArray[np.float64], diffusi
     t_low = initial.temperature if t_min is None else t_min
     opts["spacing"] = transient_spacing(opts.get("spacing", 0.25), alpha, gamma, diffusion,
                                         t_low, initial.temperature)
-    # The integrator accepts any step up to its minimum step whatever its error; by
-    # default that is the time to diffuse over one node at the largest D, which for a
-    # small D exceeds the whole run.  Smooth starts need no such floor: a first step
-    # of a tenth of sqrt(rtol) collision times sets it instead.
-    t_coll = 1.0 / math.sqrt(t_low) ** gamma
-    opts.setdefault("first_step", 0.1 * math.sqrt(opts.get("rtol", 1e-6)) * t_coll)
     ev = evolve_heated(alpha, kernel=gamma, diffusion=diffusion, times=times, initial=initial,
                        **opts)
     logger.info("exact curve: %s (%.1f s)", ev.info.message, ev.info.wall_time)

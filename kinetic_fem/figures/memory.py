@@ -37,9 +37,8 @@ def kovacs_options(quick: bool) -> dict:
     -------
     dict
     """
-    # rtol 1e-6 in both: looser tolerances take more steps, not fewer, on the quench
-    # (benchmarks/memory_effects.py)
-    return {"spacing": 0.5, "rtol": 1e-6} if quick else {"spacing": 0.25, "rtol": 1e-6}
+    # the transient's global error is about rtol (benchmarks/convergence_transient.py)
+    return {"spacing": 0.5, "rtol": 1e-4} if quick else {"spacing": 0.25, "rtol": 1e-5}
 
 
 MPEMBA_CUTOFF = 10.0
@@ -116,8 +115,10 @@ MPEMBA_THRESHOLD = (0.4567, 0.0002)
 
 
 def exact_threshold_row(opts: dict) -> ClaimRow:
-    """The exact (FEM secant) Mpemba threshold at ``opts`` with rtol 1e-7, against
-    :data:`MPEMBA_THRESHOLD` (at rtol 1e-7 the BDF2 time error moves it by ~1.7e-4).
+    """The exact (FEM secant) Mpemba threshold at ``opts`` with rtol 1e-6, against
+    :data:`MPEMBA_THRESHOLD` (with the earlier per-step error control rtol 1e-7 moved it
+    by ~1.7e-4; the present control's global error at rtol 1e-6 is about ten times
+    smaller than that control's at 1e-7).
 
     Parameters
     ----------
@@ -129,9 +130,9 @@ def exact_threshold_row(opts: dict) -> ClaimRow:
     ClaimRow
     """
     value, err = MPEMBA_THRESHOLD
-    found = mpemba_threshold(0.6, method="exact", **{**opts, "rtol": 1e-7})
+    found = mpemba_threshold(0.6, method="exact", **{**opts, "rtol": 1e-6})
     ok = found is not None and abs(found - value) < 2.0 * err
-    return ClaimRow("B2", "exact threshold a2, hard rods alpha=0.6 (FEM secant, rtol 1e-7)",
+    return ClaimRow("B2", "exact threshold a2, hard rods alpha=0.6 (FEM secant, rtol 1e-6)",
                     "none" if found is None else f"{found:.5f}",
                     f"{value} +- {err} (converged; first Sonine 0.4136)", ok, "fem", BEYOND)
 

@@ -7,7 +7,10 @@ integrator of :mod:`kinetic_fem.solvers.fem_transient`, and collects the output 
 * Heated gas: physical velocities; the mesh covers ``cutoff`` thermal velocities of
   the hottest state met (initial state or a Gaussian-closure steady temperature
   :meth:`HeatedProblem.temperature_estimate` of any protocol value) with elements of
-  ``spacing`` thermal velocities of the coldest.  The integrator stops exactly at the
+  ``spacing`` thermal velocities of the coldest, refined where a Gaussian at the
+  coldest temperature falls by more than 2 in ln P per element (down to 1e-30 of its
+  peak; :func:`~kinetic_fem.solvers.fem_transient_setup.build_mesh`).  The error is
+  controlled per collision time of the current state.  The integrator stops exactly at the
   output times and restarts (backward Euler, small step) at the protocol's
   discontinuities.
 * Free cooling: :mod:`kinetic_fem.solvers.fem_cooling_transient` (physical velocities on
@@ -157,7 +160,7 @@ def _evolution(outputs: list, grid_scale: list[float], integ: Integrator, times:
 
 def evolve_heated_fem(problem: HeatedProblem, *, times: NDArray, protocol: Protocol,
                       initial: VelocityDistribution | None,
-                      initial_temperature: float | None, rtol: float = 1e-6, order: int = 2,
+                      initial_temperature: float | None, rtol: float = 1e-4, order: int = 2,
                       spacing: float = 0.25, cutoff: float | None = None,
                       first_step: float | None = None, max_step: float = math.inf,
                       max_steps: int = 20000, newton_tol: float = 1e-11,
@@ -193,7 +196,7 @@ def evolve_heated_fem(problem: HeatedProblem, *, times: NDArray, protocol: Proto
         initial_temperature if initial_temperature is not None else temps[0])
     hot, cold = max(max(temps), t_init), min(min(temps), t_init)
     c_cut = default_transient_cutoff(gas.kernel.tail_growth[1]) if cutoff is None else cutoff
-    verts = build_mesh(c_cut * math.sqrt(hot), spacing * math.sqrt(cold))
+    verts = build_mesh(c_cut * math.sqrt(hot), spacing * math.sqrt(cold), math.sqrt(cold))
     laws = {}
 
     def disc_at(t: float):
@@ -208,17 +211,15 @@ def evolve_heated_fem(problem: HeatedProblem, *, times: NDArray, protocol: Proto
                 protocol.friction_at(t, problem.friction, left=left))
 
     t_coll = 1.0 / (gas.density * float(gas.kernel.rate(math.sqrt(cold))))
-    # restarts from smooth states: a small step; the first step from the initial data
-    # spreads diffusion over a node at least (see fem_transient.floor_log)
-    h0 = first_step if first_step is not None else 0.1 * math.sqrt(rtol) * t_coll
-    node = spacing * math.sqrt(cold) / order
-    h_first = first_step if first_step is not None else max(
-        h0, node * node / (2.0 * protocol.diffusion_at(0.0, problem.diffusion)))
-    d_max = max(protocol.diffusion_at(t, problem.diffusion) for t in times)
-    opt = TransientOptions(rtol, min(h_first, node * node / (2.0 * d_max)), order, spacing,
-                           cutoff, first_step, max_step, max_steps, newton_tol, max_newton)
+    # first step (and after a switch): backward Euler's error per unit step is about
+    # h/t_coll, so rtol collision times; the step control grows it
+    h0 = h_first = first_step if first_step is not None else rtol * t_coll
+    opt = TransientOptions(rtol, 0.0, order, spacing, cutoff, first_step, max_step,
+                           max_steps, newton_tol, max_newton)
     integ = Integrator(disc_at(0.0), coefficients, cooling=False, options=opt,
-                       gamma=gas.kernel.scale_degree)
+                       gamma=gas.kernel.scale_degree,
+                       collision_time=lambda temp: 1.0 / (
+                           gas.density * float(gas.kernel.rate(math.sqrt(temp)))))
     x = integ.x
     if initial is not None:
         u = initial_log_density(initial, x)

@@ -28,10 +28,12 @@ def heating():
 def test_heated_run_conserves_mass_and_heats(heating):
     ev = heating
     assert np.abs(ev.mass - 1.0).max() < 1e-12
-    assert ev.temperature[0] == pytest.approx(0.8, rel=1e-12)
+    # the outer Gauss rule on the graded mesh: 1.0e-9 in T, 5.0e-8 in a2 at spacing 0.6
+    # (a uniform mesh integrates the Gaussian to round-off)
+    assert ev.temperature[0] == pytest.approx(0.8, rel=1e-8)
     assert np.all(np.diff(ev.temperature) > 0)
     assert np.all(ev.values > 0)
-    assert ev.a2[0] == pytest.approx(0.0, abs=1e-12)
+    assert ev.a2[0] == pytest.approx(0.0, abs=2e-7)
     assert ev.sonine.shape == (3, 5)
 
 
@@ -120,6 +122,46 @@ def test_a_step_that_never_succeeds_is_given_up_with_a_clear_error(monkeypatch):
         calls.append(h)
 
     monkeypatch.setattr(fem_transient.Integrator, "attempt", never)
-    with pytest.raises(ConvergenceError, match="no step accepted after 60 tries"):
+    with pytest.raises(ConvergenceError, match="no step accepted after 60 tries|Newton "
+                       "failed down to the step"):
         kf.evolve_heated(0.6, times=[1.0], spacing=0.6)
-    assert len(calls) == fem_transient.MAX_RETRIES
+    assert 0 < len(calls) <= fem_transient.MAX_RETRIES
+
+
+def _maxwell_errors(protocol, t_end, **options):
+    """Largest relative errors of T and <v^4> of the FEM transient of the Maxwell model
+    (alpha = 0.5, Gaussian start at T = 1) against its closed moment equations."""
+    from kinetic_fem.solvers.maxwell import evolve_moments
+
+    times = np.linspace(0.0, t_end, 5)
+    ev = kf.evolve_heated(0.5, kernel=0.0, times=times, initial_temperature=1.0,
+                          protocol=protocol, **options)
+    exact = evolve_moments(0.5, times, initial_temperature=1.0,
+                           diffusion=lambda t: protocol.diffusion_at(t, 1.0),
+                           friction=lambda t: protocol.friction_at(t, 0.0),
+                           breakpoints=protocol.breakpoints(t_end))
+    m4 = 3.0 * ev.temperature**2 * (1.0 + ev.a2)
+    m4_exact = 3.0 * exact.temperature**2 * (1.0 + exact.a2)
+    return (np.abs(ev.temperature / exact.temperature - 1.0).max(),
+            np.abs(m4 / m4_exact - 1.0).max())
+
+
+def test_maxwell_transient_follows_the_exact_moments_to_1e6():
+    """Issue 11 item 3 at a cheap setting (spacing 0.25, cut-off 8, rtol 1e-5, t <= 0.2):
+    measured T 2.0e-8 and <v^4> 4.4e-7 (the mesh's share; 8.0e-7 at spacing 0.35)."""
+    err_t, err_4 = _maxwell_errors(Protocol(), 0.2, spacing=0.25, cutoff=8.0, rtol=1e-5)
+    assert err_t < 1e-6
+    assert err_4 < 1e-6
+
+
+@pytest.mark.slow
+def test_maxwell_transient_follows_the_exact_moments_through_a_step_of_d():
+    """D 1 -> 0.5 at t = 0.5, to t = 2 (spacing 0.25, cut-off 10, rtol 1e-6; measured in
+    benchmarks/results/transient_integrator.md: T 2.5e-6 and <v^4> 1.0e-6 at rtol 1e-5).
+    With a bath friction step as well the time error is larger (T 2.7e-6, <v^4> 1.1e-5
+    at rtol 1e-6): the global error is rtol times the relaxation time in collision
+    times, and the Maxwell model relaxes slowly."""
+    protocol = Protocol(diffusion=steps([0.5], [1.0, 0.5]))
+    err_t, err_4 = _maxwell_errors(protocol, 2.0, spacing=0.25, cutoff=10.0, rtol=1e-6)
+    assert err_t < 1e-6
+    assert err_4 < 1e-6

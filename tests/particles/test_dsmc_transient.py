@@ -6,7 +6,7 @@ a2) and O(dt^2) from the splitting (dt = 0.05 mean free times), so the determini
 curves lie within 3 standard errors at every output time.  Maxwell model (gamma = 0):
 the closed moment equations of :mod:`kinetic_fem.solvers.maxwell` give T(t) and
 <v^4>(t) exactly for any protocol.  Hard rods: ``kf.evolve_heated`` (FEM at a coarse
-mesh, rtol 1e-4: T and a2 to ~2e-4 of the fine-mesh values, below a tenth of the
+mesh, rtol 3e-4: T and a2 to ~2e-4 of the fine-mesh values, below a tenth of the
 error bars).  The seeds are fixed; SEED_CHECK gives the exceedances measured over
 other seeds.
 """
@@ -69,7 +69,7 @@ def test_hard_rods_follow_evolve_heated():
     """A step of D and a restitution change against the FEM transient."""
     protocol = Protocol(diffusion=steps([1.5], [1.0, 0.3]), restitution=[(2.5, 0.8)])
     ev = kf.evolve_heated(0.5, times=TIMES, initial_temperature=1.0, protocol=protocol,
-                          spacing=0.5, rtol=1e-4)
+                          spacing=0.5, rtol=3e-4)
     run = simulate_protocol(0.5, 4000, times=TIMES, protocol=protocol, replicas=32, seed=1,
                             initial_temperature=1.0)
     assert_within(run, ev.temperature, ev.a2)
@@ -86,7 +86,7 @@ def test_large_ensembles_against_the_deterministic_curves(kernel):
         ref = maxwell_exact(protocol, 0.5, TIMES)
     else:
         ref = kf.evolve_heated(0.5, times=TIMES, initial_temperature=1.0, protocol=protocol,
-                               spacing=0.25, rtol=1e-6)
+                               spacing=0.25, rtol=1e-5)
     assert_within(run, ref.temperature, ref.a2)
 
 

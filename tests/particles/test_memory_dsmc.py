@@ -63,12 +63,12 @@ def test_maxwell_kovacs_dsmc_has_no_hump():
 
 @pytest.mark.slow
 def test_hard_rod_kovacs_dsmc_sees_the_hump():
-    """alpha = 0.3, FEM at spacing 0.5, rtol 1e-6 (hump -4.0535e-3, 3.5e-5 from the
+    """alpha = 0.3, FEM at spacing 0.5, rtol 1e-4 (hump -4.0535e-3, 3.5e-5 from the
     converged value).  DSMC N = 1e5, 64 replicas: error 6e-4 at the hump, so the hump
     is 5 to 7 sigma from 0 (seeds 21, 22: -4.27e-3 +- 0.68e-3, -3.25e-3 +- 0.57e-3) and
     T(t) follows the FEM curve at all 52 output times (max |z| 2.2 and 2.8 for those
     seeds; the bound 4 allows for the maximum over 52 correlated times)."""
-    k = kovacs(0.3, spacing=0.5, rtol=1e-6)
+    k = kovacs(0.3, spacing=0.5, rtol=1e-4)
     run = simulate_protocol(0.3, 100_000, times=k.exact.times, protocol=k.protocol,
                             diffusion=k.diffusion[1], initial=k.initial, replicas=64, seed=21)
     z_t, z_a = run.deviation(k.exact.temperature, k.exact.a2)

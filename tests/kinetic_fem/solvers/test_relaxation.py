@@ -74,12 +74,12 @@ def test_c2_relaxation_time_scales_as_eps_to_minus_two_thirds():
 @pytest.mark.slow
 def test_slowest_rate_is_the_late_decay_of_a_transient():
     """Independent check: T(t) of kf.evolve_heated from a Gaussian (alpha = 0.6, rtol
-    1e-8) decays at the slowest even rate.  Aitken's T_inf and the rate from T at
-    t = 4, 5, 6 give 1.53752 against 1.5373577 (1.1e-4 relative; 1e-3 with rtol 1e-7,
-    the time error grows at later windows)."""
+    1e-6) decays at the slowest even rate.  Aitken's T_inf and the rate from T at t = 4,
+    5, 6 against the spectrum (measured with the earlier per-step error control at rtol
+    1e-8: 1.53752 against 1.5373577, 1.1e-4 relative)."""
     times = np.linspace(0.0, 8.0, 33)
     temp = np.asarray(kf.evolve_heated(0.6, times=times, initial_temperature=1.0,
-                                       rtol=1e-8).temperature)
+                                       rtol=1e-6).temperature)
     t0, t1, t2 = temp[16], temp[20], temp[24]
     t_inf = (t0 * t2 - t1**2) / (t0 + t2 - 2.0 * t1)
     rate = np.log((t0 - t_inf) / (t1 - t_inf)) / (times[20] - times[16])
