@@ -316,7 +316,12 @@ def evolve_cooling_fem(problem: CoolingProblem, *, times: NDArray,
     rate0 = gas.density * float(gas.kernel.rate(1.0))
     opt = TransientOptions(rtol, 1e-9 / rate0, order, spacing, cutoff, first_step, max_step,
                            max_steps, newton_tol, max_newton)
-    integ = CoolingIntegrator(discretise(c_cut), coefficients, cooling=False, options=opt)
+    # error per collision time (as evolve_heated): the mean free time at the segment's
+    # temperature ``temp`` (in units V^2), 1 / (n V^gamma rate(sqrt(temp)))
+    integ = CoolingIntegrator(
+        discretise(c_cut), coefficients, cooling=False, options=opt,
+        collision_time=lambda temp: 1.0 / (coefficients(0.0)[0]
+                                           * float(gas.kernel.rate(math.sqrt(temp)))))
     x = integ.x
     if initial is not None:
         t0 = initial.temperature

@@ -8,18 +8,11 @@ The semi-discrete system for :math:`u_h = \\ln P_h` (Lagrange basis
     \\frac{d}{dt} m_i(P_h) = R_i = n\\,C_i[P_h] - D(t)\\int\\varphi_i' P_h'
     - \\xi(t)\\int\\varphi_i'\\, v P_h, \\qquad m_i(P) = \\int\\varphi_i P,
 
-(heated gas, physical velocities), or, for free cooling in the scaled variables
-:math:`c = v/\\sqrt{T}`, :math:`d\\tau = n T^{\\gamma/2} dt`,
-
-.. math::
-
-    \\frac{d}{d\\tau} m_i(f_h) = C_i[f_h] + \\zeta(\\tau) \\int\\varphi_i'\\, c f_h,
-    \\qquad \\sum_i c_i^2 m_i(f_h) = 1,
-
-with the drift coefficient :math:`\\zeta` an unknown fixed by the unit temperature (with
-P2, :math:`\\sum_i c_i^2\\varphi_i \\equiv c^2` makes the constraint exact), and
-:math:`d\\ln T/d\\tau = -2\\zeta`, :math:`dt/d\\tau = T^{-\\gamma/2}/n` integrated by
-the same scheme, so :math:`T` is reported in physical units over many decades.
+(heated gas, physical velocities; :func:`kinetic_fem.evolve_cooling` runs it with
+:math:`D = \\xi = 0` on segments of fixed velocity unit,
+:mod:`kinetic_fem.solvers.fem_cooling_transient`).  ``cooling=True`` is the scaled form
+:math:`\\dot m_i(f_h) = C_i[f_h] + \\zeta\\int\\varphi_i' c f_h`, :math:`\\sum_i c_i^2 m_i = 1`,
+with :math:`\\zeta` an unknown (kept for the record; its far tail fails, see there).
 
 Time stepping is variable-step BDF2 on :math:`m(P)`: with :math:`\\omega = h_k/h_{k-1}`
 
@@ -77,8 +70,13 @@ from ..operators.fem_thermostat import (
 )
 from .fem import EquilibratedLU, FEMDiscretisation, log_update
 from .fem_transient_setup import (
+    CAP_GROWTH,
+    CHORD_RATE,
+    CHORD_STEP,
     INITIAL_FLOOR,
     LOG_TAIL,
+    NOISE_FLOOR,
+    STEP_PREDICT,
     Level,
     TransientOptions,
     TransientStats,
@@ -102,24 +100,6 @@ MAX_RETRIES = 60
 step rejected at the smallest step and a Newton failure just above it can otherwise
 alternate until ``max_steps`` (measured: the Mpemba start past its tabulated range,
 the alpha = 0.9 Kovacs quench); normal runs need a few."""
-
-CAP_GROWTH = 1.2
-"""After a Newton failure at a step h, steps stay below 0.7 h, a cap that grows by this
-factor per accepted step."""
-
-NOISE_FLOOR = 10.0
-"""The local error tolerance of a step is at least this many Newton tolerances (the
-error per unit step of a very short step would otherwise be below the Newton noise)."""
-
-CHORD_STEP = 0.1
-"""Step Newton: below this update the factorisation is reused (chord steps)."""
-
-CHORD_RATE = 0.2
-"""Step Newton: a chord step must shrink the update by this factor or better."""
-
-STEP_PREDICT = 1.0
-"""Step Newton: ``predict`` of the shared driver (a chord step whose predicted next
-update is below ``newton_tol`` ends the iteration without a confirming residual)."""
 
 
 class Integrator:
@@ -386,10 +366,9 @@ class Integrator:
 
         Parameters
         ----------
-        c_old : ndarray
-            History term of the step, ``c_new m(u_new) - c_old = h R(u_new)``.
-        m_last : ndarray
-            Masses of the last level.
+        c_old, m_last : ndarray
+            History term of the step (``c_new m(u_new) - c_old = h R(u_new)``) and the
+            masses of the last level.
         c_new : float
             Coefficient of the new masses.
         """

@@ -22,9 +22,28 @@ from ..model import CollisionKernel, RestitutionLaw
 from ..operators.grid import symmetric_grid, uniform_grid
 from .fem import FEMDiscretisation
 
-__all__ = ["INITIAL_FLOOR", "LOG_SMALLEST", "LOG_TAIL", "MAX_DROP", "MESH_GROWTH",
+__all__ = ["CAP_GROWTH", "CHORD_RATE", "CHORD_STEP", "NOISE_FLOOR", "STEP_PREDICT",
+           "INITIAL_FLOOR", "LOG_SMALLEST", "LOG_TAIL", "MAX_DROP", "MESH_GROWTH",
            "TransientOptions", "TransientStats", "lte_ratio", "build_mesh",
            "make_discretisation", "floor_log", "Level", "lagrange_weights", "abs_mass"]
+
+CAP_GROWTH = 1.2
+"""After a Newton failure at a step h, steps stay below 0.7 h, a cap that grows by this
+factor per accepted step."""
+
+NOISE_FLOOR = 10.0
+"""The local error tolerance of a step is at least this many Newton tolerances (the
+error per unit step of a very short step would otherwise be below the Newton noise)."""
+
+CHORD_STEP = 0.1
+"""Step Newton: below this update the factorisation is reused (chord steps)."""
+
+CHORD_RATE = 0.2
+"""Step Newton: a chord step must shrink the update by this factor or better."""
+
+STEP_PREDICT = 1.0
+"""Step Newton: ``predict`` of the shared driver (a chord step whose predicted next
+update is below ``newton_tol`` ends the iteration without a confirming residual)."""
 
 INITIAL_FLOOR = 1e-45
 """Initial data are floored at this fraction of their maximum (see :func:`floor_log`).

@@ -56,15 +56,16 @@ def test_hcs_start_follows_haff_with_the_hcs_zeta(hcs_state):
     ev = kf.evolve_cooling(0.5, initial=hcs_state.rescaled(math.sqrt(t0)), times=times,
                            spacing=0.5, rtol=1e-5)
     haff = t0 / (1.0 + zeta * math.sqrt(t0) * times) ** 2
-    assert ev.series["segments"][-1] >= 3
+    assert ev.series["segments"][-1] >= 2  # two remaps (T/4 and the edge steepness)
     assert np.abs(ev.temperature / haff - 1).max() < HAFF_TOL
     assert np.abs(ev.a2 - hcs_state.a2).max() < A2_TOL
     assert np.abs(ev.series["zeta"] / zeta - 1).max() < ZETA_TOL
 
 
-# measured at spacing 0.5, rtol 1e-5 (the spacing dominates: 0.25 gives a2 to 6e-5):
-# T/T_Haff 4.8e-4, a2 1.08e-3, zeta 1.8e-4 relative
-HAFF_TOL, A2_TOL, ZETA_TOL = 1e-3, 2e-3, 5e-4
+# measured at spacing 0.5, rtol 1e-5 with the error per collision time (seventh round):
+# T/T_Haff 4.7e-5, a2 9.6e-5, zeta 1.6e-5 relative (error per step before: 4.8e-4,
+# 1.08e-3, 1.8e-4)
+HAFF_TOL, A2_TOL, ZETA_TOL = 1e-4, 2e-4, 5e-5
 
 
 def test_temperature_falls_over_decades_with_remaps():
