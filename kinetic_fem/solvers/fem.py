@@ -99,7 +99,7 @@ from .fem_newton import (
     newton_steady,
     stalled,
 )
-from .fem_state import SEQUENCE_BAND, SteadyState, check_energy_input, nested_coarse
+from .fem_state import SEQUENCE_BAND, LazyExtra, SteadyState, check_energy_input, nested_coarse
 
 __all__ = ["FEMDiscretisation", "SteadyState", "ResolutionWarning", "ConvergenceError",
            "default_cutoff", "default_spacing", "steady_state", "solve_fem_heated", "ELEMENTS",
@@ -436,9 +436,13 @@ def state_distribution(problem: HeatedProblem, state: SteadyState,
     order : int
         Lagrange degree of the state, recorded in ``info.extra``.
     """
-    injection, loss = state.energy_terms()
-    info = replace(state.info, extra={"n_dofs": int(state.u.size), "order": order,
-                                      "c1_injection": injection, "c1_loss": loss})
+    # the two sides of C1 on first read (the loss costs a collision-kernel call)
+    def energy_balance() -> dict[str, float]:
+        injection, loss = state.energy_terms()
+        return {"c1_injection": injection, "c1_loss": loss}
+
+    info = replace(state.info, extra=LazyExtra({"n_dofs": int(state.u.size), "order": order},
+                                               lazy=energy_balance))
     dist = state.disc.distribution(state.u, method="fem", params=problem.as_dict(), info=info)
     return dist.rescaled(problem.velocity_scale) if problem.velocity_scale != 1.0 else dist
 
