@@ -163,12 +163,85 @@ def per_state(points: int, out: list[str]) -> None:
     out.append("")
 
 
+def _before(on: bool) -> None:
+    """Switch the defaults of issue 16's second round off (``on``) or back: P2 for every
+    kernel but the paper's model (the former :func:`default_order`)."""
+    from kinetic_fem.solvers import fem, fem_defaults
+
+    fem.default_order = ((lambda m: 3 if m.is_paper_model else 2) if on  # type: ignore
+                         else fem_defaults.default_order)
+
+
+def compare(points: int, out: list[str]) -> None:
+    """Section 3: before (P2 for the other kernels, the C1 figures evaluated with the
+    state) and after (P3 by :func:`default_order`, C1 on first read), per state
+    alternately in this process; T and a2 against P2 at half the default spacing."""
+    from kinetic_fem.solvers.fem_defaults import model_spacing, scaled_model
+
+    alphas = [round(float(a), 6) for a in np.linspace(0.0, 0.99, points)]
+    out.append("## 3. Before / after the second round (P3 for constant-alpha kernels, C1 "
+               "figures on first read), per state alternately\n")
+    out.append(f"{points} alphas over [0, 0.99], best of two per state and variant; units: "
+               "the mean yardstick before and after the row.  Errors: largest over the "
+               "alphas against P2 at half the default spacing.  'before + C1 read' is the "
+               "before time (the C1 loss evaluated with the state, as it was).\n")
+    out.append("| model | before s (units) | after s (units) | ratio | nodes before | "
+               "nodes after | max dT/T before / after | max da2 before / after | "
+               "yardstick s |")
+    out.append("|---|---|---|---|---|---|---|---|---|")
+    for label, gamma, friction in MODELS:
+        before = yardstick()
+        times = np.zeros((2, len(alphas)))
+        nodes: list[list[int]] = [[], []]
+        err_t = np.zeros((2, len(alphas)))
+        err_a2 = np.zeros((2, len(alphas)))
+        for k, alpha in enumerate(alphas):
+            problem = kf.HeatedProblem.from_parameters(alpha, kernel=gamma, friction=friction)
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                ref = kf.solve_heated(alpha, kernel=gamma, friction=friction, spacing=0.5
+                                      * model_spacing(scaled_model(problem)))
+                for i in (0, 1, 0, 1):
+                    _before(i == 0)
+                    t0 = time.perf_counter()
+                    dist = kf.solve_heated(alpha, kernel=gamma, friction=friction)
+                    if i == 0:
+                        dist.info.extra["c1_loss"]  # noqa: B018 - evaluated, as before
+                    dt = time.perf_counter() - t0
+                    times[i, k] = dt if times[i, k] == 0 else min(times[i, k], dt)
+                    if len(nodes[i]) == k:
+                        nodes[i].append(dist.c.size)
+                        err_t[i, k] = abs(dist.temperature / ref.temperature - 1)
+                        err_a2[i, k] = abs(dist.a2 - ref.a2)
+            _before(False)
+        unit = 0.5 * (before + yardstick())
+        m = times.mean(axis=1)
+        out.append(f"| {label} | {m[0]:.3f} ({m[0] / unit:.2f}) | {m[1]:.3f} "
+                   f"({m[1] / unit:.2f}) | {m[0] / m[1]:.2f} | {min(nodes[0])}-{max(nodes[0])} "
+                   f"| {min(nodes[1])}-{max(nodes[1])} | {err_t[0].max():.1e} / "
+                   f"{err_t[1].max():.1e} | {err_a2[0].max():.1e} / {err_a2[1].max():.1e} | "
+                   f"{unit:.3f} |")
+        print(out[-1], flush=True)
+    out.append("")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="25-point curve only, 4 alphas")
     parser.add_argument("--repeat", type=int, default=3, help="best of this many (curves)")
     parser.add_argument("--points", type=int, default=12, help="alphas per model")
+    parser.add_argument("--compare", action="store_true",
+                        help="only section 3 (before/after), to fem_heated_speed_compare.md")
     args = parser.parse_args()
+    if args.compare:
+        kf.solve_heated(0.5)
+        out = ["# Heated FEM states: before / after (issue 16, second round)\n",
+               f"One core, load average at the start {os.getloadavg()[0]:.1f}.\n"]
+        compare(4 if args.quick else args.points, out)
+        out.append(f"load average at the end {os.getloadavg()[0]:.1f}\n")
+        (ROOT / "benchmarks" / "results" / "fem_heated_speed_compare.md").write_text(
+            "\n".join(out) + "\n")
+        return
     _count_calls()
     kf.solve_heated(0.5)  # compile
     out = ["# Heated FEM states: curves by continuation, time per state by kernel (issue 16)\n",

@@ -12,7 +12,8 @@ The homogeneous Boltzmann equation with white-noise heating,
     \\partial_t P = D\\,\\partial_v^2 P + Q[P, P],
 
 is discretised in weak form on a symmetric velocity interval :math:`[-V, V]` with
-P1, P2 or P3 Lagrange elements (P3 on the default mesh of the paper's model).  The
+P1, P2 or P3 Lagrange elements (P3 on the default mesh of constant-alpha models, see
+:func:`~kinetic_fem.solvers.fem_defaults.default_order`).  The
 unknown is the logarithm :math:`u_h = \\ln P_h` in the Lagrange space,
 :math:`P_h = e^{u_h} > 0`, and the test functions are the Lagrange basis
 :math:`\\varphi_i`, so that for every :math:`i`
@@ -232,9 +233,18 @@ def steady_state(model: float | HeatedProblem, *, order: int | None = None,
     alpha_eff = 1.0 - scaled.effective_epsilon if scaled.friction == 0.0 else 0.0
     if order is None:  # P3 on the default mesh; an explicit mesh keeps its P2 meaning
         order = default_order(scaled) if spacing is None and vertices is None else 2
+        if order == 3 and not paper:
+            # P3 for the other kernels (default_order); should Newton fail, the P2 default
+            try:
+                return steady_state(problem, order=3, cutoff=cutoff, intorder=intorder,
+                                    symmetric=symmetric, tol=tol, max_iter=max_iter,
+                                    initial=initial)
+            except ConvergenceError as err:
+                logger.info("P3 default failed at alpha=%g (%s); P2", alpha, err)
+                order = 2
     if order not in LAGRANGE_ELEMENTS:
         raise ValueError(f"order must be one of {sorted(LAGRANGE_ELEMENTS)}, got {order!r}")
-    default = default_spacing(alpha, order) if paper else model_spacing(scaled)
+    default = default_spacing(alpha, order) if paper else model_spacing(scaled, order)
     spacing = default if spacing is None else check_positive("spacing", spacing)
     if alpha_eff > CONTINUATION_ALPHA and spacing > 0.3 and vertices is None:
         raise ValueError(f"spacing={spacing} thermal velocities is too coarse for alpha="
@@ -370,8 +380,9 @@ def solve_fem_heated(problem: HeatedProblem, *, order: int | None = None,
     order : int, optional
         Lagrange degree, 1, 2 or 3; default
         :func:`kinetic_fem.solvers.fem_defaults.default_order` on the default mesh (3 for
-        hard rods with constant alpha and white noise, else 2), and 2 with an explicit
-        ``spacing`` or ``vertices``.
+        a constant alpha, except near elastic collisions under white noise for kernels
+        other than hard rods; else 2; P2 also if Newton fails with P3), and 2 with an
+        explicit ``spacing`` or ``vertices``.
     spacing : float, optional
         Element size in thermal velocities :math:`\\sqrt{T}`; default
         :func:`default_spacing` for hard rods with constant alpha and white noise (T to
