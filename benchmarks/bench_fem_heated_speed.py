@@ -45,6 +45,7 @@ import kinetic_fem as kf  # noqa: E402
 from kinetic_fem.operators.fem_discretisation import FEMDiscretisation  # noqa: E402
 from kinetic_fem.solvers.fem import SEQUENCE_TOL  # noqa: E402
 from kinetic_fem.solvers.fem_curve import heated_curve  # noqa: E402
+from kinetic_fem.solvers.fem_defaults import _unstretched as UNSTRETCHED  # noqa: E402
 
 MODELS = [("gamma 0 (Maxwell)", 0.0, 0.0), ("gamma 0.5", 0.5, 0.0),
           ("gamma 1 (hard rods, the paper)", 1.0, 0.0), ("gamma 2", 2.0, 0.0),
@@ -189,10 +190,24 @@ class _AssembledTransport:
         return res, -jac.toarray(), grad_mass
 
 
+def _unstretched_by_roots(s, h0, kappa, cb):
+    """The former inverse of the graded mesh's stretching: a root per vertex."""
+    from scipy.optimize import brentq
+
+    from kinetic_fem.solvers.fem_defaults import _stretched
+
+    top = cb + 10.0
+    while _stretched(top, h0, kappa, cb) < s[-1]:
+        top *= 2.0
+    return np.array([brentq(lambda c, t=t: _stretched(c, h0, kappa, cb) - t, 0.0, top)
+                     for t in s])
+
+
 def _before(on: bool) -> None:
     """Switch the changes of issue 16's second round off (``on``) or back: P2 for every
     kernel but the paper's model (the former :func:`default_order`), the coarse-mesh
-    tolerance 1e-6, the thermostat terms assembled by scikit-fem at every call."""
+    tolerance 1e-6, the thermostat terms assembled by scikit-fem at every call, the graded
+    mesh's vertices by root finding."""
     from kinetic_fem.operators.fem_transport import TransportArrays
     from kinetic_fem.solvers import fem, fem_defaults, fem_newton
 
@@ -200,6 +215,8 @@ def _before(on: bool) -> None:
                          else fem_defaults.default_order)
     fem.SEQUENCE_TOL = 1e-6 if on else SEQUENCE_TOL
     fem_newton.TransportArrays = _AssembledTransport if on else TransportArrays  # type: ignore
+    fem_defaults._unstretched = (_unstretched_by_roots if on  # type: ignore
+                                 else UNSTRETCHED)
 
 
 def compare(points: int, out: list[str]) -> None:
@@ -211,7 +228,7 @@ def compare(points: int, out: list[str]) -> None:
     alphas = [round(float(a), 6) for a in np.linspace(0.0, 0.99, points)]
     out.append("## 3. Before / after the second round (P3 for constant-alpha kernels, C1 "
                "figures on first read, coarse tolerance 1e-2, thermostat forms from cached "
-               "element arrays), per state alternately\n")
+               "element arrays, graded vertices in closed form), per state alternately\n")
     out.append(f"{points} alphas over [0, 0.99], best of two per state and variant; units: "
                "the mean yardstick before and after the row.  Errors: largest over the "
                "alphas against P2 at half the default spacing.  'before + C1 read' is the "
