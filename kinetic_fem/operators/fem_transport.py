@@ -35,7 +35,7 @@ class TransportArrays:
     def __init__(self, basis: Basis, friction: float = 0.0) -> None:
         self.n_dofs = int(basis.N)
         self.dofs = np.asarray(basis.element_dofs)  # (n_local, n_el)
-        self.phi = np.array([f[0].value for f in basis.basis])  # (n_local, n_el, n_q)
+        self.phi = np.array([np.asarray(f[0]) for f in basis.basis])  # (n_local, n_el, n_q)
         self.dphi = np.array([f[0].grad[0] for f in basis.basis])
         self.dx = np.asarray(basis.dx)  # (n_el, n_q)
         self.x = np.asarray(basis.mapping.F(basis.X)[0])
