@@ -116,12 +116,14 @@ def default_order(model: ScaledModel) -> int:
     up to the effective :math:`\alpha =` :data:`P3_MODEL_ALPHA` (with
     :data:`P3_MODEL_SPACING` times the P2 size, :func:`model_spacing`), else 2.
 
-    Measured (``benchmarks/bench_fem_heated_speed.py``, against P2 at half the default
-    spacing): gamma = 0, 0.5, 2 at alpha = 0.3, 0.6, 0.9 and hard rods in a bath at
-    0.3-0.99, P3 at 2.5 times the P2 size has 47 % fewer nodes, its T is as accurate
-    as P2's or more (dT/T 1e-14 - 6e-10 against 1e-13 - 1e-8) and its a2 7 to 20 times
-    more (2e-11 - 2e-9 against 6e-10 - 5e-8).  Near elastic collisions (white noise)
-    P3 is slower there (the near-elastic start), so P2 is kept.
+    Measured (against P2 at half the default spacing; gamma = 0, 0.5, 2 under white
+    noise and hard rods in a bath, alpha = 0, 0.6, 0.9): P3 at 1.7 times the P2 size has
+    11 % fewer nodes, its T is 10 to 100 times more accurate (dT/T 4e-15 - 2e-10 against
+    1e-13 - 1e-8), its a2 about 10 times (2e-10 - 3e-9 against 3e-9 - 5e-8) and its
+    f(c) (f > 1e-30) 1.1 to 4 times (max df/f 3e-6 - 1.3e-3 against 1.3e-5 - 1.5e-3).
+    At 2 and 2.5 times the P2 size the far tail of f(c) is up to 2 and 12 times less
+    accurate than P2's.  Near elastic collisions (white noise) P3 is slower (the
+    near-elastic start), so P2 is kept there.
 
     Parameters
     ----------
@@ -144,8 +146,9 @@ def default_order(model: ScaledModel) -> int:
 P3_MODEL_ALPHA = 0.95
 """Largest (effective) alpha with P3 by default for kernels other than hard rods under
 white noise (:func:`default_order`)."""
-P3_MODEL_SPACING = 2.5
-"""P3 element size over the P2 :func:`model_spacing` (:func:`default_order`)."""
+P3_MODEL_SPACING = 1.7
+"""P3 element size over the P2 :func:`model_spacing` (:func:`default_order`: the largest
+factor at which f(c) stays at least as accurate as with P2)."""
 P3_SPACING_LOW = 2.5
 """P3 element size over the P2 default for alpha <= 0.3 (the f(c) error of P2 is larger
 there relative to P3's)."""
