@@ -256,7 +256,7 @@ def compare(points: int, out: list[str]) -> None:
     from kinetic_fem.solvers.fem_defaults import model_spacing, scaled_model
 
     alphas = [round(float(a), 6) for a in np.linspace(0.0, 0.99, points)]
-    out.append("## 3. Before / after the second round (P3 for constant-alpha kernels, C1 "
+    out.append("## Before / after the second round (P3 for constant-alpha kernels, C1 "
                "figures on first read, coarse tolerance 1e-2, thermostat forms from cached "
                "element arrays, graded vertices in closed form), per state alternately\n")
     out.append(f"{points} alphas over [0, 0.99], best of two per state and variant; units: "
