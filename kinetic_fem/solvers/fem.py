@@ -12,7 +12,7 @@ The homogeneous Boltzmann equation with white-noise heating,
     \\partial_t P = D\\,\\partial_v^2 P + Q[P, P],
 
 is discretised in weak form on a symmetric velocity interval :math:`[-V, V]` with
-P1, P2 or P3 Lagrange elements (P3 on the default mesh of constant-alpha models, see
+P1, P2 or P3 Lagrange elements (P3 on the default mesh of most constant-alpha models, see
 :func:`~kinetic_fem.solvers.fem_defaults.default_order`).  The
 unknown is the logarithm :math:`u_h = \\ln P_h` in the Lagrange space,
 :math:`P_h = e^{u_h} > 0`, and the test functions are the Lagrange basis
@@ -384,9 +384,9 @@ def solve_fem_heated(problem: HeatedProblem, *, order: int | None = None,
     order : int, optional
         Lagrange degree, 1, 2 or 3; default
         :func:`kinetic_fem.solvers.fem_defaults.default_order` on the default mesh (3 for
-        a constant alpha, except near elastic collisions under white noise for kernels
-        other than hard rods; else 2; P2 also if Newton fails with P3), and 2 with an
-        explicit ``spacing`` or ``vertices``.
+        a constant alpha and kernels up to hard rods, except near elastic collisions under
+        white noise for the softer ones; else 2; P2 also if Newton fails with P3), and 2
+        with an explicit ``spacing`` or ``vertices``.
     spacing : float, optional
         Element size in thermal velocities :math:`\\sqrt{T}`; default
         :func:`default_spacing` for hard rods with constant alpha and white noise (T to

@@ -112,9 +112,10 @@ P3_SPACING = 2.0
 def default_order(model: ScaledModel) -> int:
     """Lagrange degree of the default mesh: 3 for the paper's model (hard rods, constant
     alpha, white noise; as accurate as P2 with 25 to 40 % fewer nodes, see
-    :func:`default_spacing`) and for every kernel with a constant alpha, in a bath or
-    up to the effective :math:`\alpha =` :data:`P3_MODEL_ALPHA` (with
-    :data:`P3_MODEL_SPACING` times the P2 size, :func:`model_spacing`), else 2.
+    :func:`default_spacing`) and, with :data:`P3_MODEL_SPACING` times the P2 size
+    (:func:`model_spacing`), for kernels growing at most linearly (:math:`\\gamma \\le
+    1`, the kernel's ``tail_growth``) with a constant alpha, in a bath or under white noise
+    up to the effective :math:`\\alpha =` :data:`P3_MODEL_ALPHA`; else 2.
 
     Measured (against P2 at half the default spacing; gamma = 0, 0.5, 2 under white
     noise and hard rods in a bath, alpha = 0, 0.6, 0.9): P3 at 1.7 times the P2 size has
@@ -122,8 +123,10 @@ def default_order(model: ScaledModel) -> int:
     1e-13 - 1e-8), its a2 about 10 times (2e-10 - 3e-9 against 3e-9 - 5e-8) and its
     f(c) (f > 1e-30) 1.1 to 4 times (max df/f 3e-6 - 1.3e-3 against 1.3e-5 - 1.5e-3).
     At 2 and 2.5 times the P2 size the far tail of f(c) is up to 2 and 12 times less
-    accurate than P2's.  Near elastic collisions (white noise) P3 is slower (the
-    near-elastic start), so P2 is kept there.
+    accurate than P2's.  Mean CPU time per state over 12 alphas in [0, 0.99] (P2 / P3):
+    Maxwell 90 / 75 ms, gamma 0.5 122 / 101 ms, bath 61 / 51 ms, but gamma = 2 61 / 68 ms
+    (its fine solve needs more Jacobians), so faster kernels keep P2 under white noise;
+    near elastic collisions P3 is slower (the near-elastic start), so P2 is kept there.
 
     Parameters
     ----------
@@ -137,6 +140,8 @@ def default_order(model: ScaledModel) -> int:
     if model.is_paper_model:
         return 3
     if model.law.constant is None:
+        return 2
+    if model.kernel.tail_growth[1] > 1.0:
         return 2
     if model.friction > 0.0 or 1.0 - model.effective_epsilon <= P3_MODEL_ALPHA:
         return 3
