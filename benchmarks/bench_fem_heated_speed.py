@@ -43,7 +43,9 @@ from bench_fem_speed import CURVE, CURVE100, yardstick  # noqa: E402
 
 import kinetic_fem as kf  # noqa: E402
 from kinetic_fem.operators.fem_discretisation import FEMDiscretisation  # noqa: E402
+from kinetic_fem.solvers.fem import SEQUENCE_TOL  # noqa: E402
 from kinetic_fem.solvers.fem_curve import heated_curve  # noqa: E402
+from kinetic_fem.solvers.fem_defaults import _unstretched as UNSTRETCHED  # noqa: E402
 
 MODELS = [("gamma 0 (Maxwell)", 0.0, 0.0), ("gamma 0.5", 0.5, 0.0),
           ("gamma 1 (hard rods, the paper)", 1.0, 0.0), ("gamma 2", 2.0, 0.0),
@@ -163,12 +165,180 @@ def per_state(points: int, out: list[str]) -> None:
     out.append("")
 
 
+class _AssembledTransport:
+    """The former thermostat terms of the heated Newton iteration: scikit-fem ``asm``
+    at every call (the interface of :class:`TransportArrays`)."""
+
+    def __init__(self, basis, friction: float = 0.0) -> None:
+        self.basis, self.friction = basis, friction
+
+    def transport(self, u, *, jacobian: bool = False):
+        from skfem import asm
+
+        from kinetic_fem.operators import fem_discretisation as fd
+
+        field = self.basis.interpolate(u)
+        res = -asm(fd.fokker_planck, self.basis, u=field)
+        if self.friction > 0.0:
+            res -= self.friction * asm(fd.bath_drift, self.basis, u=field)
+        grad_mass = asm(fd.mass, self.basis, u=self.basis.interpolate(u))
+        if not jacobian:
+            return res, None, grad_mass
+        jac = asm(fd.fokker_planck_jacobian, self.basis, u=field)
+        if self.friction > 0.0:
+            jac = jac + self.friction * asm(fd.bath_drift_jacobian, self.basis, u=field)
+        return res, -jac.toarray(), grad_mass
+
+
+def _unstretched_by_roots(s, h0, kappa, cb):
+    """The former inverse of the graded mesh's stretching: a root per vertex."""
+    from scipy.optimize import brentq
+
+    from kinetic_fem.solvers.fem_defaults import _stretched
+
+    top = cb + 10.0
+    while _stretched(top, h0, kappa, cb) < s[-1]:
+        top *= 2.0
+    return np.array([brentq(lambda c, t=t: _stretched(c, h0, kappa, cb) - t, 0.0, top)
+                     for t in s])
+
+
+def _before(on: bool) -> None:
+    """Switch the changes of issue 16's second round off (``on``) or back: P2 for every
+    kernel but the paper's model (the former :func:`default_order`), the coarse-mesh
+    tolerance 1e-6, the thermostat terms assembled by scikit-fem at every call, the graded
+    mesh's vertices by root finding."""
+    from kinetic_fem.operators.fem_transport import TransportArrays
+    from kinetic_fem.solvers import fem, fem_defaults, fem_newton
+
+    fem.default_order = ((lambda m: 3 if m.is_paper_model else 2) if on  # type: ignore
+                         else fem_defaults.default_order)
+    fem.SEQUENCE_TOL = 1e-6 if on else SEQUENCE_TOL
+    fem_newton.TransportArrays = _AssembledTransport if on else TransportArrays  # type: ignore
+    fem_defaults._unstretched = (_unstretched_by_roots if on  # type: ignore
+                                 else UNSTRETCHED)
+
+
+def cpu_yardstick() -> float:
+    """CPU seconds (``time.process_time``) of the yardstick, best of 3: with CPU times per
+    state, units that a loaded machine does not inflate."""
+    import scipy.linalg
+
+    a = np.random.default_rng(0).standard_normal((1000, 1000))
+    best = np.inf
+    for _ in range(3):
+        t0 = time.process_time()
+        for _ in range(10):
+            scipy.linalg.lu_factor(a)
+        best = min(best, time.process_time() - t0)
+    return best
+
+
+def _f_error(state, ref) -> float:
+    """Largest relative difference of f(c) where the reference's f > 1e-30."""
+    c_top = []
+    for st in (state, ref):
+        c_top.append(st.disc.vertices[-1] / np.sqrt(st.disc.distribution(st.u).temperature))
+    c = np.linspace(0.0, 0.999 * min(c_top), 4000)
+    f = []
+    for st in (state, ref):
+        scale = np.sqrt(st.disc.distribution(st.u).temperature)
+        f.append(scale * st.disc.evaluate(st.u, c * scale))
+    keep = f[1] > 1e-30
+    return float(np.abs(f[0][keep] / f[1][keep] - 1).max())
+
+
+def compare(points: int, out: list[str]) -> None:
+    """Section 3: before (P2 for the other kernels, the C1 figures evaluated with the
+    state) and after (P3 by :func:`default_order`, C1 on first read), per state
+    alternately in this process; T and a2 against P2 at half the default spacing."""
+    from kinetic_fem.solvers import fem
+    from kinetic_fem.solvers.fem_defaults import model_spacing, scaled_model
+
+    alphas = [round(float(a), 6) for a in np.linspace(0.0, 0.99, points)]
+    out.append("## Before / after the second round (P3 for constant-alpha kernels, C1 "
+               "figures on first read, coarse tolerance 1e-2, thermostat forms from cached "
+               "element arrays, graded vertices in closed form), per state alternately\n")
+    out.append(f"{points} alphas over [0, 0.99], best of two per state and variant; units: "
+               "the mean yardstick before and after the row (CPU units: CPU seconds of the "
+               "state over CPU seconds of the yardstick, robust to the load).  Errors: "
+               "largest over the alphas against P2 at half the default spacing (f(c) where "
+               "f > 1e-30).  The "
+               "before time includes the C1 loss, evaluated with the state as it was.\n")
+    out.append("| model | before s (units) | after s (units) | ratio | before CPU s (CPU units) "
+               "| after CPU s (CPU units) | CPU ratio | worst after (alpha), CPU units | "
+               "nodes before | nodes after | max dT/T before / after | max da2 before / after "
+               "| max df/f before / after | largest df/f after/before | yardstick s wall / "
+               "CPU |")
+    out.append("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    for label, gamma, friction in MODELS:
+        before = yardstick()
+        cpu_before = cpu_yardstick()
+        times = np.zeros((2, len(alphas)))
+        cpu = np.zeros((2, len(alphas)))
+        nodes: list[list[int]] = [[], []]
+        err_t = np.zeros((2, len(alphas)))
+        err_a2 = np.zeros((2, len(alphas)))
+        err_f = np.zeros((2, len(alphas)))
+        for k, alpha in enumerate(alphas):
+            problem = kf.HeatedProblem.from_parameters(alpha, kernel=gamma, friction=friction)
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                ref_state = fem.steady_state(problem, order=2, spacing=0.5 * model_spacing(
+                    scaled_model(problem)))
+                ref = ref_state.disc.distribution(ref_state.u)
+                for i in (0, 1, 0, 1):
+                    _before(i == 0)
+                    c0 = time.process_time()
+                    t0 = time.perf_counter()
+                    dist = kf.solve_heated(alpha, kernel=gamma, friction=friction)
+                    if i == 0:
+                        dist.info.extra["c1_loss"]  # noqa: B018 - evaluated, as before
+                    dt = time.perf_counter() - t0
+                    dc = time.process_time() - c0
+                    times[i, k] = dt if times[i, k] == 0 else min(times[i, k], dt)
+                    cpu[i, k] = dc if cpu[i, k] == 0 else min(cpu[i, k], dc)
+                    if len(nodes[i]) == k:
+                        nodes[i].append(dist.c.size)
+                        err_t[i, k] = abs(dist.temperature / ref.temperature - 1)
+                        err_a2[i, k] = abs(dist.a2 - ref.a2)
+                        err_f[i, k] = _f_error(fem.steady_state(problem), ref_state)
+            _before(False)
+        unit = 0.5 * (before + yardstick())
+        cpu_unit = 0.5 * (cpu_before + cpu_yardstick())
+        m = times.mean(axis=1)
+        mc = cpu.mean(axis=1)
+        out.append(f"| {label} | {m[0]:.3f} ({m[0] / unit:.2f}) | {m[1]:.3f} "
+                   f"({m[1] / unit:.2f}) | {m[0] / m[1]:.2f} | "
+                   f"{mc[0]:.3f} ({mc[0] / cpu_unit:.2f}) | "
+                   f"{mc[1]:.3f} ({mc[1] / cpu_unit:.2f}) | {mc[0] / mc[1]:.2f} | "
+                   f"{cpu[1].max() / cpu_unit:.2f} ({alphas[int(np.argmax(cpu[1]))]}) | "
+                   f"{min(nodes[0])}-{max(nodes[0])} "
+                   f"| {min(nodes[1])}-{max(nodes[1])} | {err_t[0].max():.1e} / "
+                   f"{err_t[1].max():.1e} | {err_a2[0].max():.1e} / {err_a2[1].max():.1e} | "
+                   f"{err_f[0].max():.1e} / {err_f[1].max():.1e} | "
+                   f"{np.max(err_f[1] / err_f[0]):.2f} | {unit:.3f} / {cpu_unit:.3f} |")
+        print(out[-1], flush=True)
+    out.append("")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="25-point curve only, 4 alphas")
     parser.add_argument("--repeat", type=int, default=3, help="best of this many (curves)")
     parser.add_argument("--points", type=int, default=12, help="alphas per model")
+    parser.add_argument("--compare", action="store_true",
+                        help="only section 3 (before/after), to fem_heated_speed_compare.md")
     args = parser.parse_args()
+    if args.compare:
+        kf.solve_heated(0.5)
+        out = ["# Heated FEM states: before / after (issue 16, second round)\n",
+               f"One core, load average at the start {os.getloadavg()[0]:.1f}.\n"]
+        compare(4 if args.quick else args.points, out)
+        out.append(f"load average at the end {os.getloadavg()[0]:.1f}\n")
+        (ROOT / "benchmarks" / "results" / "fem_heated_speed_compare.md").write_text(
+            "\n".join(out) + "\n")
+        return
     _count_calls()
     kf.solve_heated(0.5)  # compile
     out = ["# Heated FEM states: curves by continuation, time per state by kernel (issue 16)\n",

@@ -20,10 +20,10 @@ from dataclasses import replace
 import numpy as np
 import scipy.linalg
 from numpy.typing import NDArray
-from skfem import asm
 
 from ..distribution import RunInfo
-from ..operators.fem_discretisation import FEMDiscretisation, mass
+from ..operators.fem_discretisation import FEMDiscretisation
+from ..operators.fem_transport import TransportArrays
 from .newton import newton
 
 __all__ = ["STALL_LEVEL", "CHORD_LEVEL", "CHORD_RATE", "PREDICT_MARGIN", "log_update",
@@ -126,14 +126,20 @@ def newton_steady(disc: FEMDiscretisation, u0: NDArray[np.float64], *, tol: floa
     red_x[sym.indices] = np.abs(disc.dof_locations)
     row0 = int(np.argmin(red_x))
 
+    # the thermostat forms from element arrays evaluated once (equal to disc.transport
+    # and asm(mass) to round-off, without the per-call assembly)
+    forms = TransportArrays(disc.basis, disc.friction)
+
     def system(u_red: NDArray, jacobian: bool) -> tuple[NDArray, NDArray | None]:
         u = sym @ u_red
-        res, jac = disc.residual(u, jacobian=jacobian, even=True)  # u is even
-        grad_mass = asm(mass, disc.basis, u=disc.field(u))
-        r = sym.T @ res
+        # u is even: the collision sums visit v > 0 only
+        coll, cjac, _ = disc.collision(u, jacobian=jacobian, energy_power=None, even=True)
+        heat, hjac, grad_mass = forms.transport(u, jacobian=jacobian)
+        r = sym.T @ (coll + heat)
         r[row0] = grad_mass.sum() - 1.0
-        if jac is None:
+        if not jacobian:
             return r, None
+        jac = cjac + hjac
         j = sym.T @ (sym.T @ jac.T).T
         j[row0] = sym.T @ grad_mass
         return r, j

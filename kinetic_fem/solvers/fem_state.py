@@ -8,7 +8,9 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -18,7 +20,8 @@ from ..exceptions import ConvergenceError
 from ..operators.fem_discretisation import FEMDiscretisation
 from ..operators.fem_kernels import evaluate_field
 
-__all__ = ["SteadyState", "check_energy_input", "nested_coarse", "SEQUENCE_BAND"]
+__all__ = ["SteadyState", "check_energy_input", "nested_coarse", "SEQUENCE_BAND",
+           "LazyExtra"]
 
 SEQUENCE_BAND = 8
 """Elements at each end kept fine in the coarse mesh (:func:`nested_coarse`)."""
@@ -49,6 +52,89 @@ def nested_coarse(vertices: NDArray, factor: int, band: int = SEQUENCE_BAND) -> 
     keep = np.union1d(np.arange(0, max(n - band, 0), factor), np.arange(max(n - band, 0), n + 1))
     kept = half[keep]
     return np.concatenate([-kept[:0:-1], kept])
+
+
+class LazyExtra(dict):
+    """A ``dict`` of run figures some of which are computed on first read.
+
+    ``info.extra`` of a heated FEM state: the loss side of C1 costs one collision-kernel
+    call (about a residual, 13-20 % of a solve), so it is evaluated only when the figures
+    are read (any key lookup, iteration, comparison, copy, pickling or JSON export),
+    from the state it was made for, then stored; the value is the eager one bit for
+    bit.  Pickles (and :func:`dataclasses.asdict` copies) as a plain ``dict``.
+
+    Parameters
+    ----------
+    *args, **kwargs
+        The figures known now, as for ``dict``.
+    lazy : callable, optional
+        ``() -> dict`` of the remaining figures (called at most once).
+    """
+
+    def __init__(self, *args: Any, lazy: Callable[[], dict[str, Any]] | None = None,
+                 **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        self._lazy = lazy
+
+    def _resolve(self) -> None:
+        lazy, self._lazy = self._lazy, None
+        if lazy is not None:
+            super().update(lazy())
+
+    def __getitem__(self, key: Any) -> Any:
+        self._resolve()
+        return super().__getitem__(key)
+
+    def __contains__(self, key: object) -> bool:
+        self._resolve()
+        return super().__contains__(key)
+
+    def __iter__(self) -> Iterator[Any]:
+        self._resolve()
+        return super().__iter__()
+
+    def __len__(self) -> int:
+        self._resolve()
+        return super().__len__()
+
+    def __eq__(self, other: object) -> bool:
+        self._resolve()
+        return super().__eq__(other)
+
+    __hash__ = None  # type: ignore[assignment]
+
+    def __repr__(self) -> str:
+        self._resolve()
+        return super().__repr__()
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        self._resolve()
+        return (dict, (dict(super().items()),))
+
+    def get(self, key: Any, default: Any = None) -> Any:
+        """``dict.get`` (computes the lazy figures first)."""
+        self._resolve()
+        return super().get(key, default)
+
+    def keys(self):  # type: ignore[override]
+        """``dict.keys`` (computes the lazy figures first)."""
+        self._resolve()
+        return super().keys()
+
+    def items(self):  # type: ignore[override]
+        """``dict.items`` (computes the lazy figures first)."""
+        self._resolve()
+        return super().items()
+
+    def values(self):  # type: ignore[override]
+        """``dict.values`` (computes the lazy figures first)."""
+        self._resolve()
+        return super().values()
+
+    def copy(self) -> dict[str, Any]:  # type: ignore[override]
+        """A plain ``dict`` with every figure."""
+        self._resolve()
+        return dict(super().items())
 
 
 @dataclass(frozen=True, eq=False)
