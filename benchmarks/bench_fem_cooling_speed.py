@@ -9,6 +9,9 @@ jobs sharing the two cores) and divided by the yardstick (10 LU factorisations o
 worker; each row is the best of ``--repeat`` such ratios.
 
     python benchmarks/bench_fem_cooling_speed.py [--before COMMIT] [--repeat 3]
+        [--alphas A ...] [--kernels GAMMA ...]
+
+A solve that raises ConvergenceError is reported as failed (its CPU time to the failure).
 
 Prints a markdown table (``benchmarks/results/fem_cooling_speed.md``).
 """
@@ -30,7 +33,7 @@ from pathlib import Path  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 BEFORE = "d8971af"
-"""main at the start of the seventh round."""
+"""main at the start of the seventh round (``--before 85cc10e``: at the start of i16c2)."""
 ALPHAS = [0.0, 0.25, 0.5, 0.7, 0.8, 0.9, 0.93, 0.95, 0.96, 0.97, 0.98, 0.99, 0.995, 0.997,
           0.999]
 
@@ -59,11 +62,16 @@ def serve() -> None:
     for alpha in (0.5, 0.95, 0.99):  # compile every kernel variant
         kf.solve_cooling(alpha)
     for line in sys.stdin:
-        alpha = float(line)
+        alpha, kernel = (float(x) for x in line.split())
         unit = yardstick()
         fem_cooling.hump_start.cache_clear()
         t0 = time.process_time()
-        dist = kf.solve_cooling(alpha)
+        try:
+            dist = kf.solve_cooling(alpha, kernel=kernel)
+        except Exception:  # noqa: BLE001 (ConvergenceError: reported as failed)
+            print(json.dumps({"cpu": time.process_time() - t0, "unit": unit,
+                              "failed": True}), flush=True)
+            continue
         cpu = time.process_time() - t0
         extra = dist.info.extra
         print(json.dumps({"cpu": cpu, "unit": unit, "zeta": extra["zeta"], "a2": dist.a2,
@@ -76,6 +84,8 @@ def main() -> None:
     parser.add_argument("--before", default=BEFORE)
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--alphas", type=float, nargs="*", default=ALPHAS)
+    parser.add_argument("--kernels", type=float, nargs="*", default=[1.0],
+                        help="kernel exponents gamma (rows per gamma and alpha)")
     parser.add_argument("--serve", action="store_true", help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.serve:
@@ -92,22 +102,33 @@ def main() -> None:
         print(f"Before = {args.before}, after = working tree; CPU seconds, best of "
               f"{args.repeat} (solve / yardstick) per worker; load average "
               f"{os.getloadavg()[0]:.1f} at the start.\n")
-        print("| alpha | eps | nodes before | nodes after | before CPU s | after CPU s | "
+        print("| gamma | alpha | eps | nodes before | nodes after | before CPU s | after CPU s | "
               "before units | after units | speed-up | rel dzeta | abs da2 |")
-        print("|---|---|---|---|---|---|---|---|---|---|---|")
-        for alpha in args.alphas:
+        print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+        for gamma, alpha in ((g, a) for g in args.kernels for a in args.alphas):
             best: list[dict] = [{}, {}]
             for _ in range(args.repeat):
                 for i, w in enumerate(workers):
                     assert w.stdin is not None and w.stdout is not None
-                    w.stdin.write(f"{alpha}\n")
+                    w.stdin.write(f"{alpha} {gamma}\n")
                     w.stdin.flush()
                     r = json.loads(w.stdout.readline())
                     r["units"] = r["cpu"] / r["unit"]
-                    if not best[i] or r["units"] < best[i]["units"]:
+                    if not best[i] or r.get("failed") or r["units"] < best[i]["units"]:
                         best[i] = r
             b, a = best
-            print(f"| {alpha} | {1 - alpha:.3g} | {b['nodes']} (P{b['order']}) | {a['nodes']} "
+            if b.get("failed") or a.get("failed"):
+                cells = [f"{r['cpu']:.2f} (failed)" if r.get("failed") else f"{r['cpu']:.2f}"
+                         for r in best]
+                print(f"| {gamma:g} | {alpha} | {1 - alpha:.3g} | "
+                      f"{'-' if b.get('failed') else b['nodes']} | "
+                      f"{'-' if a.get('failed') else a['nodes']} | {cells[0]} | {cells[1]} | "
+                      f"{'-' if b.get('failed') else format(b['units'], '.2f')} | "
+                      f"{'-' if a.get('failed') else format(a['units'], '.2f')} | - | - | - |",
+                      flush=True)
+                continue
+            print(f"| {gamma:g} | {alpha} | {1 - alpha:.3g} | {b['nodes']} (P{b['order']}) | "
+                  f"{a['nodes']} "
                   f"(P{a['order']}) | {b['cpu']:.2f} | {a['cpu']:.2f} | {b['units']:.2f} | "
                   f"{a['units']:.2f} | {b['units'] / a['units']:.1f} | "
                   f"{abs(a['zeta'] / b['zeta'] - 1):.1e} | {abs(a['a2'] - b['a2']):.1e} |",

@@ -92,6 +92,7 @@ from ..model import CoolingProblem, UnsupportedModelError, check_positive
 from ..operators.fem_discretisation import LAGRANGE_ELEMENTS
 from ..solve import register_solver
 from .fem import ConvergenceError, FEMDiscretisation
+from .fem_cooling_alpha import ALPHA_CHAIN_COARSE, alpha_chain, uses_alpha_chain
 from .fem_cooling_band import band_state, in_band
 from .fem_cooling_hump import (
     HUMP_COARSE_EPS,
@@ -346,10 +347,22 @@ def cooling_state(problem: CoolingProblem, *, order: int | None = None,
                 or not np.any(verts == 0.0):
             raise ValueError("vertices must be symmetric about 0 and include c = 0")
     disc = _discretisation(problem, verts, order, intorder)
+    if problem.gas.gamma == 0.0:
+        # the Maxwell model: Newton from the closed-form state (module notes) converges in
+        # four or five steps; the Gaussian start's globalised iteration failed on the
+        # coarse mesh at alpha = 0.99 and took 188 s on the fine one
+        state = newton_cooling(disc, np.log(maxwell_hcs(disc.dof_locations)),
+                               0.25 * (1.0 - problem.gas.alpha**2), tol=tol,
+                               max_iter=max_iter, pseudo_time=np.inf)
+        if state.info.converged:
+            return state
+        logger.info("HCS Maxwell model: Newton from the closed form failed (%s); globalised "
+                    "iteration", state.info.message)
     cap = P3_COARSE_SPACING if order == 3 else COARSE_SPACING
     if sequence and vertices is None and spacing < cap:
         coarse = cooling_state(problem, order=min(order, COARSE_ORDER),
-                               spacing=min(COARSE_FACTOR * spacing, cap),
+                               spacing=min((ALPHA_CHAIN_COARSE if uses_alpha_chain(problem)
+                                            else COARSE_FACTOR) * spacing, cap),
                                cutoff=c_max, intorder=intorder, tol=COARSE_TOL,
                                max_iter=max_iter, sequence=False)
         state = newton_cooling(disc, coarse.log_f(disc.dof_locations), coarse.zeta, tol=tol,
@@ -358,6 +371,18 @@ def cooling_state(problem: CoolingProblem, *, order: int | None = None,
             return state
         logger.info("HCS mesh sequencing: Newton from the coarse state failed (%s); "
                     "globalised iteration on the fine mesh", state.info.message)
+    if uses_alpha_chain(problem):  # bimodal at moderate eps: continuation from alpha 0.5
+        base = cooling_state(CoolingProblem.from_parameters(STRONG_ALPHA,
+                                                            kernel=problem.gas.kernel),
+                             order=order, vertices=verts, intorder=intorder, tol=COARSE_TOL,
+                             max_iter=max_iter)
+        state = alpha_chain(disc, base, STRONG_ALPHA, tol=tol, max_iter=min(max_iter, 40))
+        if not state.info.converged:
+            raise ConvergenceError(
+                f"FEM cooling continuation in alpha from {STRONG_ALPHA} did not converge at "
+                f"alpha={state.disc.alpha:.6g} on the way to {problem.gas.alpha} "
+                f"({state.info.message}); refine the mesh (smaller spacing)")
+        return state
     zeta0 = problem.zeta_estimate()
     u0 = initial_log_f(disc.dof_locations, problem.gas.gamma, zeta0)
     if problem.gas.alpha < STRONG_ALPHA and problem.gas.gamma > 0.0:

@@ -102,8 +102,8 @@ def hcs_cutoff(problem: CoolingProblem) -> float:
     The tail :math:`\\zeta c f' \\approx -c^\\gamma f` gives
     :math:`\\ln f \\approx -c^\\gamma/(\\gamma\\zeta)`; :math:`V` is where that reaches 33
     decades, at least the outer edge :math:`1 + 12\\varepsilon^{1/3}` of the near-elastic
-    humps and 12 (a Gaussian's 1e-33), plus 1.5; :data:`MAXWELL_CUTOFF` for the Maxwell
-    model's power law.
+    humps and, for :math:`\\gamma < 2`, 12 (a Gaussian's 1e-33), plus 1.5;
+    :data:`MAXWELL_CUTOFF` for the Maxwell model's power law.
 
     Parameters
     ----------
@@ -120,7 +120,11 @@ def hcs_cutoff(problem: CoolingProblem) -> float:
     zeta = problem.zeta_estimate()
     eps = problem.gas.epsilon
     tail = (DECADES * math.log(10.0) * gamma * zeta) ** (1.0 / gamma)
-    return min(max(tail, 1.0 + 12.0 * eps ** (1.0 / 3.0), 12.0) + 1.5, MAXWELL_CUTOFF)
+    # a Gaussian's 1e-33 (c = 12) bounds the cut-off from below for gamma < 2; for
+    # gamma >= 2 the tail estimate is the steeper one (gamma = 2, alpha = 0.95: ln f ~ -5 c^2,
+    # f underflows before c = 12 and the Newton system turned singular there)
+    floor = 12.0 if gamma < 2.0 else 0.0
+    return min(max(tail, 1.0 + 12.0 * eps ** (1.0 / 3.0), floor) + 1.5, MAXWELL_CUTOFF)
 
 
 def hcs_spacing(problem: CoolingProblem) -> float:
