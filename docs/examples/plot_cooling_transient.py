@@ -20,9 +20,14 @@ from kinetic_fem.evolution import Evolution
 TEST_KWARGS = {"alpha": 0.5, "t_end": 3.0, "spacing": 0.5, "rtol": 1e-4}
 
 
-def main(alpha: float = 0.5, t_end: float = 1000.0, spacing: float = 0.25,
-         rtol: float = 1e-6) -> tuple[Evolution, kf.VelocityDistribution]:
-    """The cooling run to ``t_end`` and the homogeneous cooling state at ``alpha``."""
+def main(alpha: float = 0.5, t_end: float = 1000.0, spacing: float = 0.5,
+         rtol: float = 1e-4) -> tuple[Evolution, kf.VelocityDistribution]:
+    """The cooling run to ``t_end`` and the homogeneous cooling state at ``alpha``.
+
+    The defaults draw the figure in about 20 CPU s (791 steps, 18 remaps); spacing 0.25
+    and rtol 1e-6 put a2 and zeta on the HCS to about 1e-5 (the user guide's figures)
+    at several CPU minutes.
+    """
     times = np.geomspace(0.05, t_end, 40)
     ev = kf.evolve_cooling(alpha, times=times, spacing=spacing, rtol=rtol)
     return ev, kf.solve_cooling(alpha)
