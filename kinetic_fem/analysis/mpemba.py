@@ -174,7 +174,13 @@ def mpemba_threshold(alpha: float, *, kernel: float = 1.0, hot: float = 1.5, col
     xtol : float
         Tolerance on the threshold.
     **options
-        For :func:`kinetic_fem.evolve_heated` (``method="exact"``).
+        For :func:`kinetic_fem.evolve_heated` (``method="exact"``).  The threshold is
+        sensitive to the time error (the gap moves by only :math:`3.4\times10^{-3}
+        T_{st}` per unit :math:`a_2` at :math:`\alpha = 0.6`): measured, hard rods,
+        spacing 0.25, ``cutoff=10``: rtol 1e-5 / 1e-6 / 1e-7 give 0.45717 / 0.45671 /
+        0.45666 against the converged 0.45663 (``benchmarks/results/memory_effects.md``),
+        so ``rtol=1e-6`` for four digits; rtol 1e-4 (the default, at spacing 0.5) is
+        3e-3 to 6e-3 off.
 
     Returns
     -------

@@ -135,7 +135,8 @@ def exact_threshold_row(opts: dict) -> ClaimRow:
     ok = found is not None and abs(found - value) < 2e-4
     return ClaimRow("B2", "exact threshold a2, hard rods alpha=0.6 (FEM secant, rtol 1e-6)",
                     "none" if found is None else f"{found:.5f}",
-                    f"{value} +- {err} (converged; first Sonine 0.4136); within 2e-4", ok, "fem", BEYOND)
+                    f"{value} +- {err} (converged; first Sonine 0.4136); within 2e-4", ok,
+                    "fem", BEYOND)
 
 
 @register("B2", "beyond the paper: Mpemba effect, hard rods and Maxwell")
