@@ -24,14 +24,15 @@ through :func:`kinetic_fem.analysis.memory_effects.kovacs`), beside the first So
 approximation and a DSMC ensemble of the same protocol
 (:func:`particles.dsmc_transient.simulate_protocol`, error bars from the spread of the
 replicas).  At :math:`\alpha = 0.3` the converged hump (spacing and tolerance studied
-in ``benchmarks/memory_effects.py``) is :math:`-4.089\times10^{-3}` at
+in ``benchmarks/memory_effects.py``) is :math:`(-4.094 \pm 0.005)\times10^{-3}` at
 :math:`t - t_w = 0.740`, against :math:`-6.45\times10^{-3}` from first Sonine.  At
 :math:`\alpha = 0.9` it is positive,
-:math:`(+4.84 \pm 0.20)\times10^{-3}` at :math:`t - t_w = 2.32`, against
+:math:`(+4.78 \pm 0.02)\times10^{-3}` at :math:`t - t_w = 2.3`, against
 :math:`+2.59\times10^{-3}` from first Sonine; DSMC gives
-:math:`(+4.47 \pm 0.29)\times10^{-3}` at :math:`t - t_w = 2.22`.  (The full run needs
-the SDIRK4(3) transient for :math:`\alpha = 0.9`: the BDF2 one livelocks in that
-quench.  The quick build draws :math:`\alpha = 0.3`.)
+:math:`(+4.47 \pm 0.29)\times10^{-3}` at :math:`t - t_w = 2.22`.  The default run
+(spacing 0.25, rtol :math:`10^{-5}`) is within :math:`10^{-5}` of these; the quick
+documentation build draws :math:`\alpha = 0.3` at spacing 0.5, rtol :math:`10^{-4}`
+(1 % off, about 10 CPU s).
 """
 
 from __future__ import annotations

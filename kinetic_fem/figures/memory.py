@@ -37,7 +37,9 @@ def kovacs_options(quick: bool) -> dict:
     -------
     dict
     """
-    # the transient's global error is about rtol (benchmarks/convergence_transient.py)
+    # Kovacs alpha = 0.3 hump (converged -4.094e-3): quick -4.0537e-3 (1 % off), full
+    # -4.0891e-3 (5e-6 off); after a quench the global error is several rtol
+    # (benchmarks/results/memory_effects.md, transient_integrator.md)
     return {"spacing": 0.5, "rtol": 1e-4} if quick else {"spacing": 0.25, "rtol": 1e-5}
 
 
