@@ -128,6 +128,40 @@ def test_a_step_that_never_succeeds_is_given_up_with_a_clear_error(monkeypatch):
     assert 0 < len(calls) <= fem_transient.MAX_RETRIES
 
 
+def test_step_ratio_stays_below_two_also_after_output_times(monkeypatch):
+    """Variable-step BDF2 is zero-stable for step ratios below 1 + sqrt(2): the step after
+    one shortened to reach an output time went back to the wanted size (ratios up to 47
+    in the Kovacs quench).  Dense, irregular output times force many shortened steps."""
+    from kinetic_fem.solvers import fem_transient
+
+    ratios = []
+    attempt = fem_transient.Integrator.attempt
+
+    def logged(self, hist, h):
+        if len(hist) >= 3:
+            ratios.append(h / (hist[-1].s - hist[-2].s))
+        return attempt(self, hist, h)
+
+    monkeypatch.setattr(fem_transient.Integrator, "attempt", logged)
+    times = np.concatenate([[0.0], np.cumsum(np.linspace(0.013, 0.11, 12))])
+    ev = kf.evolve_heated(0.5, times=times, initial_temperature=0.8, **COARSE)
+    assert len(ratios) > 20 and max(ratios) <= fem_transient.MAX_RATIO * (1 + 1e-12)
+    assert np.abs(ev.mass - 1.0).max() < 1e-12
+
+
+def test_retry_after_a_second_rejection_uses_the_observed_exponent():
+    """An estimate that barely falls as the step is cut (2.86 -> 2.19 for half the step)
+    gives a much shorter retry than the asymptotic factor 0.9 err^(-1/2)."""
+    from kinetic_fem.solvers.fem_transient_setup import retry_step
+
+    assert retry_step(1.0, 4.0, 2) == pytest.approx(0.45)
+    assert retry_step(1.0, 100.0, 2) == pytest.approx(0.2)
+    slow = retry_step(0.5, 2.19, 2, (1.0, 2.86))
+    assert slow < 0.5 * retry_step(0.5, 2.19, 2) and slow >= 0.05 * 0.5
+    # an estimate falling like h^2 keeps the asymptotic factor
+    assert retry_step(0.5, 1.2, 2, (1.0, 4.8)) == pytest.approx(0.5 * 0.9 / math.sqrt(1.2))
+
+
 def _maxwell_errors(protocol, t_end, **options):
     """Largest relative errors of T and <v^4> of the FEM transient of the Maxwell model
     (alpha = 0.5, Gaussian start at T = 1) against its closed moment equations."""
