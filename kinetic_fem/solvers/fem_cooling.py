@@ -89,6 +89,7 @@ from numpy.typing import NDArray
 
 from ..distribution import VelocityDistribution
 from ..model import CoolingProblem, UnsupportedModelError, check_positive
+from ..operators.adaptive import HUMP_DECADES
 from ..operators.fem_discretisation import LAGRANGE_ELEMENTS
 from ..solve import register_solver
 from .fem import ConvergenceError, FEMDiscretisation
@@ -97,6 +98,8 @@ from .fem_cooling_band import band_state, in_band
 from .fem_cooling_hump import (
     HUMP_COARSE_EPS,
     HUMP_COARSE_LINK,
+    HUMP_FAST_LINK,
+    HUMP_LINK_DECADES,
     HUMP_LINK_RATIO,
     HUMP_LINK_RESOLUTION,
     HUMP_P3_EPS,
@@ -226,15 +229,16 @@ def _hump_state(problem: CoolingProblem, *, order: int, intorder: int | None, to
     for is of degree ``final_order`` (the continuation's: ``order``)."""
     eps = problem.gas.epsilon
     prev, eps_prev = hump_start(order, intorder), HUMP_EPS
-    pending = (log_chain(eps, HUMP_EPS, HUMP_LINK_RATIO) if eps >= HUMP_COARSE_EPS * (1 - 1e-9)
+    fast = eps >= HUMP_COARSE_EPS * (1 - 1e-9)  # links toward it: HUMP_FAST_LINK meshes
+    pending = (log_chain(eps, HUMP_EPS, HUMP_LINK_RATIO) if fast
                else hump_chain(eps))[::-1]  # a stack: the next target last
     while pending:
         step = pending[-1]
         # the target is reached on the coarser step mesh first, then refined at the same
         # eps (mesh sequencing: the many Newton steps of a continuation step are taken
         # on the coarse mesh, the fine one needs three or four)
-        link = max(resolution, HUMP_COARSE_LINK if step >= HUMP_COARSE_EPS else
-                   HUMP_LINK_RESOLUTION)
+        link = max(resolution, HUMP_FAST_LINK if fast else HUMP_COARSE_LINK
+                   if step >= HUMP_COARSE_EPS else HUMP_LINK_RESOLUTION)
         final = step == eps and (eps_prev == eps or resolution >= link
                                  and final_order == order)
         res = resolution if final else link
@@ -242,6 +246,8 @@ def _hump_state(problem: CoolingProblem, *, order: int, intorder: int | None, to
                                 order=final_order if final else order,
                                 intorder=intorder or step_intorder(step, order, final),
                                 tol=tol if final else HUMP_STEP_TOL,
+                                decades=HUMP_LINK_DECADES if fast and not final
+                                else HUMP_DECADES,
                                 max_iter=min(max_iter, HUMP_STEP_ITER)
                                 if eps_prev / step > HUMP_MIN_RATIO else max_iter)
         if state.info.converged:

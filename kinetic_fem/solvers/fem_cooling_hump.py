@@ -22,7 +22,8 @@ from .fem_cooling_newton import CLOSE_DAMPING, CoolingState, newton_cooling
 
 __all__ = ["continued_state", "HUMP_RESOLUTION", "HUMP_STEP_RESOLUTION",
            "HUMP_LINK_RESOLUTION", "HUMP_COARSE_LINK", "HUMP_COARSE_EPS", "HUMP_LINK_RATIO",
-           "HUMP_P3_EPS", "HUMP_P3_RESOLUTION"]
+           "HUMP_P3_EPS", "HUMP_P3_RESOLUTION", "HUMP_FAST_LINK",
+           "HUMP_LINK_DECADES"]
 
 logger = logging.getLogger(__name__)
 
@@ -34,11 +35,20 @@ HUMP_STEP_RESOLUTION, HUMP_LINK_RESOLUTION = 0.07, 0.14
 """Element sizes (hump widths): the step mesh and the intermediate states' below
 HUMP_COARSE_EPS (2-4 times faster; at eps = 1e-6 ln f moves by 7e-6, zeta by 1e-12:
 benchmarks/results/fem_cooling.md)."""
-HUMP_COARSE_LINK, HUMP_COARSE_EPS, HUMP_LINK_RATIO = 0.2, 1e-3, 8.0
+HUMP_COARSE_LINK, HUMP_COARSE_EPS, HUMP_LINK_RATIO = 0.2, 1e-3, 16.0
 """Element size (hump widths) of the intermediate states at eps >= HUMP_COARSE_EPS (1.3 to
 1.5 times faster than 0.14; the state asked for is reached on this mesh first and then
 solved on the finer one at the same eps), and their largest eps ratio toward a state asked
-for there (1.2-1.3 times faster than 2: benchmarks/results/fem_cooling_speed.md)."""
+for there (8: 1.2-1.3 times faster than 2; 16 on the HUMP_FAST_LINK meshes:
+benchmarks/results/fem_cooling_speed.md)."""
+HUMP_FAST_LINK, HUMP_LINK_DECADES = 0.3, 20.0
+"""Links toward a state asked for at eps >= HUMP_COARSE_EPS (issue 16, eighth round): element
+size in hump widths, and the decades the start falls to the cut-off (not HUMP_DECADES).
+The links only start the next solve, and the y-rescaled start overestimates the outer edge
+by up to 30 e-folds, so the 45-decade cut-off put half of a link mesh where the state is
+below 1e-60; the state asked for is solved on the full mesh.  eps = 1e-3: 1.7 -> 0.7 CPU s,
+the final state moves by <= 2e-14 in zeta and a2, 1e-8 in ln f
+(benchmarks/results/fem_cooling_speed.md)."""
 HUMP_P3_EPS, HUMP_P3_RESOLUTION = 1e-4, 0.2
 """Default state at eps >= HUMP_P3_EPS: P3 at this many hump widths (Gauss degree 9), on
 fewer dofs than P2 at HUMP_RESOLUTION and 4 to 50 times more accurate (eps = 1e-4 ... 3e-2
@@ -49,7 +59,7 @@ benchmarks/results/fem_cooling_speed.md); below, and with ``resolution``, P2."""
 def continued_state(prev: CoolingState, eps_prev: float, eps: float, *,
                     resolution: float = HUMP_RESOLUTION, order: int = 2,
                     intorder: int | None = None, tol: float = 1e-11,
-                    max_iter: int = 100) -> CoolingState:
+                    max_iter: int = 100, decades: float = HUMP_DECADES) -> CoolingState:
     """One continuation step: the hard-rod HCS at ``eps`` from ``prev`` at ``eps_prev``.
 
     Parameters
@@ -69,6 +79,8 @@ def continued_state(prev: CoolingState, eps_prev: float, eps: float, *,
         Newton tolerance (step of :math:`\\ln f` and relative step of :math:`\\zeta`).
     max_iter : int
         Newton iteration limit.
+    decades : float
+        The mesh ends where the rescaled start has fallen this many decades.
 
     Returns
     -------
@@ -83,7 +95,7 @@ def continued_state(prev: CoolingState, eps_prev: float, eps: float, *,
     w = eps ** (1.0 / 3.0)
     probe = 1.0 + w * np.linspace(0.0, 60.0, 6001)
     start = prev.rescaled_log_f(eps_prev, eps, probe)
-    low = start < -HUMP_DECADES * math.log(10.0)
+    low = start < -decades * math.log(10.0)
     cutoff = float(probe[np.argmax(low)]) if low.any() else float(probe[-1])
     # the outer edge's elements follow the start's slope (EDGE_EFOLDS e-folds each)
     slope = np.maximum(-np.gradient(start, probe), 0.0)
