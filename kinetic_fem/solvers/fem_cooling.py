@@ -137,7 +137,8 @@ __all__ = ["solve_fem_cooling", "cooling_state", "CoolingState", "continued_stat
            "hump_chain", "hump_start", "uses_hump_mesh", "HUMP_EPS", "HUMP_RESOLUTION",
            "HUMP_FRONTIER", "hcs_cutoff", "hcs_spacing", "hcs_vertices", "maxwell_hcs",
            "initial_log_f", "newton_cooling", "MAXWELL_CUTOFF", "HUMP_STEP_RESOLUTION",
-           "HUMP_LINK_RESOLUTION", "HUMP_INTORDER", "HUMP_P3_EPS", "HUMP_P3_RESOLUTION"]
+           "HUMP_LINK_RESOLUTION", "HUMP_INTORDER", "HUMP_P3_EPS", "HUMP_P3_RESOLUTION",
+           "link_start"]
 
 logger = logging.getLogger(__name__)
 
@@ -223,13 +224,42 @@ def hump_start(order: int, intorder: int | None) -> CoolingState:
                          cutoff=12.0)
 
 
+LINK_START_SPACING, LINK_START_CUTOFF = 0.3, 9.0
+"""Mesh of the state at :data:`HUMP_EPS` that starts the links toward eps >=
+:data:`~kinetic_fem.solvers.fem_cooling_hump.HUMP_COARSE_EPS` (one solve, tolerance
+:data:`HUMP_STEP_TOL`, no mesh sequencing; ln f = -77 at c = 9): the links' coarse meshes
+do not need :func:`hump_start`'s (spacing 0.1 after 0.2, cut-off 12).  0.05 to 0.09 CPU s
+less per state at eps = 1e-3 ... 0.03, the final states equal to 1.3e-14
+(benchmarks/results/fem_cooling_speed.md)."""
+
+
+def link_start(order: int, intorder: int | None) -> CoolingState:
+    """The state at :data:`HUMP_EPS` on the coarse mesh that starts the fast links (not cached).
+
+    Parameters
+    ----------
+    order : int
+        Lagrange degree.
+    intorder : int or None
+        Gauss degree (None: ``2 * order + 1``).
+
+    Returns
+    -------
+    CoolingState
+    """
+    problem = CoolingProblem.from_parameters(1.0 - HUMP_EPS)
+    return cooling_state(problem, order=order, intorder=intorder, tol=HUMP_STEP_TOL,
+                         spacing=LINK_START_SPACING, cutoff=LINK_START_CUTOFF, sequence=False)
+
+
 def _hump_state(problem: CoolingProblem, *, order: int, intorder: int | None, tol: float,
                 max_iter: int, resolution: float, final_order: int) -> CoolingState:
     """Continuation in eps on meshes that follow the humps (module notes); the state asked
     for is of degree ``final_order`` (the continuation's: ``order``)."""
     eps = problem.gas.epsilon
-    prev, eps_prev = hump_start(order, intorder), HUMP_EPS
     fast = eps >= HUMP_COARSE_EPS * (1 - 1e-9)  # links toward it: HUMP_FAST_LINK meshes
+    prev = link_start(order, intorder) if fast else hump_start(order, intorder)
+    eps_prev = HUMP_EPS
     pending = (log_chain(eps, HUMP_EPS, HUMP_LINK_RATIO) if fast
                else hump_chain(eps))[::-1]  # a stack: the next target last
     while pending:

@@ -23,7 +23,7 @@ from .fem_cooling_newton import CLOSE_DAMPING, CoolingState, newton_cooling
 __all__ = ["continued_state", "HUMP_RESOLUTION", "HUMP_STEP_RESOLUTION",
            "HUMP_LINK_RESOLUTION", "HUMP_COARSE_LINK", "HUMP_COARSE_EPS", "HUMP_LINK_RATIO",
            "HUMP_P3_EPS", "HUMP_P3_RESOLUTION", "HUMP_FAST_LINK",
-           "HUMP_LINK_DECADES"]
+           "HUMP_LINK_DECADES", "FULL_STEP_ITER"]
 
 logger = logging.getLogger(__name__)
 
@@ -41,6 +41,11 @@ HUMP_COARSE_LINK, HUMP_COARSE_EPS, HUMP_LINK_RATIO = 0.2, 1e-3, 16.0
 solved on the finer one at the same eps), and their largest eps ratio toward a state asked
 for there (8: 1.2-1.3 times faster than 2; 16 on the HUMP_FAST_LINK meshes:
 benchmarks/results/fem_cooling_speed.md)."""
+FULL_STEP_ITER = 8
+"""Newton from the same eps on a coarser mesh takes full steps (no backtracking: every
+step was accepted at damping 1, and the trial residual came without the Jacobian, one
+residual call more per step: 10-15 % of a call at eps = 1e-3 ... 0.03, same states to the
+last digit); if it has not converged in this many steps, it is redone with backtracking."""
 HUMP_FAST_LINK, HUMP_LINK_DECADES = 0.3, 20.0
 """Links toward a state asked for at eps >= HUMP_COARSE_EPS (issue 16, eighth round): element
 size in hump widths, and the decades the start falls to the cut-off (not HUMP_DECADES).
@@ -105,10 +110,21 @@ def continued_state(prev: CoolingState, eps_prev: float, eps: float, *,
                           efolds=EDGE_EFOLDS * min(1.0, resolution / HUMP_STEP_RESOLUTION))
     disc = FEMDiscretisation(alpha, verts, order, intorder or max(HUMP_INTORDER, 2 * order + 1),
                              gamma=1.0)  # the humps are those of hard rods
-    u0 = prev.rescaled_log_f(eps_prev, eps, disc.dof_locations)
-    state = newton_cooling(disc, u0, zeta0, tol=tol, max_iter=max_iter, pseudo_time=np.inf,
-                           settle_steps=eps >= 1e-4,  # LOG_STEP_ZETA: measured there
-                           min_damping=CLOSE_DAMPING if eps == eps_prev else 1e-3)
+    same = eps == eps_prev
+    # at the same eps the state itself (the rescaled form continues the inner tail beyond
+    # y = 1/(2w) by psi's, 1.2 in ln f off at c = 0 for eps = 1e-3: a Newton step more)
+    u0 = (prev.log_f(disc.dof_locations) if same
+          else prev.rescaled_log_f(eps_prev, eps, disc.dof_locations))
+    # a finer mesh at the same eps: full steps first (FULL_STEP_ITER, no line search)
+    tries = [(False, min(max_iter, FULL_STEP_ITER))] if same else []
+    for line_search, iters in [*tries, (True, max_iter)]:
+        state = newton_cooling(disc, u0, zeta0, tol=tol, max_iter=iters,
+                               pseudo_time=np.inf,
+                               settle_steps=eps >= 1e-4,  # LOG_STEP_ZETA: measured there
+                               min_damping=CLOSE_DAMPING if same else 1e-3,
+                               line_search=line_search)
+        if state.info.converged:
+            break
     logger.info("HCS continuation eps = %.3g: %d dofs, %d Newton steps, zeta/eps = %.12g",
                 eps, state.u.size, state.info.iterations, state.zeta / eps)
     return state

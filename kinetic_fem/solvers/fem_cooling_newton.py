@@ -348,7 +348,7 @@ def newton_cooling(disc: FEMDiscretisation, u0: NDArray, zeta0: float, *, tol: f
                    max_iter: int = 40, step_limit: float = 10.0,
                    pseudo_time: float = PSEUDO_TIME_STEP,
                    log_steps: bool | None = None, settle_steps: bool = True,
-                   min_damping: float = 1e-3) -> CoolingState:
+                   min_damping: float = 1e-3, line_search: bool = True) -> CoolingState:
     """Newton's method for :math:`(u_h, \\zeta)` with unit mass and temperature.
 
     Parameters
@@ -381,6 +381,9 @@ def newton_cooling(disc: FEMDiscretisation, u0: NDArray, zeta0: float, *, tol: f
     min_damping : float
         Smallest damping of the line search (``pseudo_time = inf``;
         :data:`CLOSE_DAMPING` for a start on a coarser mesh at the same eps).
+    line_search : bool
+        Backtrack (``pseudo_time = inf``); without, every full step is taken and its
+        residual comes with the Jacobian (one residual less per step).
 
     Returns
     -------
@@ -422,6 +425,7 @@ def newton_cooling(disc: FEMDiscretisation, u0: NDArray, zeta0: float, *, tol: f
                      row_scale=system.row_scale,
                      factorize=lambda j: EquilibratedLU(j).solve, chord=CHORD_LEVEL,
                      stall_level=RESIDUAL_STALL * scale, min_damping=min_damping,
+                     line_search=line_search,
                      name="FEM cooling Newton")
         message = res.message
         if res.converged and res.residual >= tol * scale:  # stopped by the floor
