@@ -356,7 +356,7 @@ def cooling_state(problem: CoolingProblem, *, order: int | None = None,
     if resolution is not None:
         resolution = check_positive("resolution", resolution)
     if band:  # the broad humps of eps in [BAND_EPS, 0.1): P3 on the moderate mesh
-        state = band_state(problem, hump_start(2, None), HUMP_EPS, tol=tol,
+        state = band_state(problem, link_start(2, None), HUMP_EPS, tol=tol,
                            max_iter=max_iter, intorder=intorder)
         if state is not None:
             return state
