@@ -31,6 +31,7 @@ from .fem_cooling_hump import (
     HUMP_LINK_DECADES,
     HUMP_LINK_RATIO,
     HUMP_LINK_RESOLUTION,
+    P3_FAR_EFOLDS,
     continued_state,
 )
 from .fem_cooling_mesh import step_intorder
@@ -235,6 +236,8 @@ def chain_state(alpha: float, start: CoolingState, eps_start: float, *, order: i
                                 tol=tol if final else HUMP_STEP_TOL,
                                 decades=HUMP_LINK_DECADES if fast and not final
                                 else HUMP_DECADES,
+                                far_efolds=P3_FAR_EFOLDS if final and final_order == 3
+                                else 1.0,
                                 max_iter=min(max_iter, HUMP_STEP_ITER)
                                 if ratio > HUMP_MIN_RATIO else max_iter)
         if state.info.converged:
