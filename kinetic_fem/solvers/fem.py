@@ -100,7 +100,14 @@ from .fem_newton import (
     newton_steady,
     stalled,
 )
-from .fem_state import SEQUENCE_BAND, LazyExtra, SteadyState, check_energy_input, nested_coarse
+from .fem_state import (
+    SEQUENCE_BAND,
+    LazyExtra,
+    SteadyState,
+    check_energy_input,
+    nested_coarse,
+    state_temperature,
+)
 
 __all__ = ["FEMDiscretisation", "SteadyState", "ResolutionWarning", "ConvergenceError",
            "default_cutoff", "default_spacing", "steady_state", "solve_fem_heated", "ELEMENTS",
@@ -338,7 +345,7 @@ def _widened_solve(alpha: float, scaled: ScaledModel, paper: bool, order: int,
                 raise ConvergenceError(f"FEM Newton did not converge in {max_iter} iterations "
                                        f"at alpha={alpha} ({info.message}); increase max_iter "
                                        "or refine the mesh (smaller spacing)")
-            temperature = disc.distribution(u).temperature
+            temperature = state_temperature(disc, u)
             if not paper and order >= 2:
                 check_energy_input(disc, u, temperature, alpha)
         except ConvergenceError as err:
