@@ -16,6 +16,7 @@ import math
 import time
 import warnings
 import weakref
+from collections.abc import Callable
 from dataclasses import replace
 
 import numpy as np
@@ -157,6 +158,10 @@ def power_of_two_scales(jac: NDArray) -> NDArray:
     return np.ldexp(1.0, np.frexp(top)[1])
 
 
+CHORD_ROW_SCALES = True
+"""Default of ``row_scales`` in :func:`newton_steady`."""
+CHORD_IN_P = True
+"""Default of ``p_chord`` in :func:`newton_steady`."""
 CHORD_LEVEL = 1e-3
 """Below this Newton update the Jacobian's factorisation is reused (chord steps)."""
 CHORD_RATE = 0.1
@@ -168,7 +173,8 @@ PREDICT_MARGIN = 0.01
 def newton_steady(disc: FEMDiscretisation, u0: NDArray[np.float64], *, tol: float = 1e-11,
                   max_iter: int = 40, step_limit: float = 10.0,
                   chord: bool = True, chord_level: float = CHORD_LEVEL,
-                  row_scales: bool = True) -> tuple[NDArray, RunInfo]:
+                  row_scales: bool | None = None, p_chord: bool | None = None
+                  ) -> tuple[NDArray, RunInfo]:
     """Newton iteration for the even steady state with :math:`\\int P_h = 1`.
 
     The update of each dof is :math:`\\ln(1 + \\delta)` (see :func:`log_update`).
@@ -198,6 +204,10 @@ def newton_steady(disc: FEMDiscretisation, u0: NDArray[np.float64], *, tol: floa
         from a start already near the state, e.g. a coarse mesh's solution).
     """
     start = time.perf_counter()
+    if row_scales is None:
+        row_scales = CHORD_ROW_SCALES
+    if p_chord is None:
+        p_chord = CHORD_IN_P
     sym = disc.symmetry
     fold = EvenFold(sym)
     # the dof at v = 0 carries the normalisation instead of its (redundant) equation
@@ -229,14 +239,35 @@ def newton_steady(disc: FEMDiscretisation, u0: NDArray[np.float64], *, tol: floa
     scales: list[NDArray] = [np.ones(fold.counts.size)]
     n_jac = 0
 
+    # the points of the last Jacobian and of the last residual (the chord steps' iterate)
+    at: dict[str, NDArray] = {}
+
     def fun(x: NDArray, jacobian: bool) -> tuple[NDArray, NDArray | None]:
         nonlocal n_jac
         n_jac += int(jacobian)
+        at["r"] = x
+        if jacobian:
+            at["J"] = x
         return system(x, jacobian)
+
+    def factorize(jac: NDArray) -> Callable[[NDArray], NDArray]:
+        lu = EquilibratedLU(jac)
+        if not p_chord:
+            return lu.solve
+        base = at["J"]
+
+        def solve(rhs: NDArray) -> NDArray:
+            step = lu.solve(rhs)
+            here = at["r"]
+            # a chord step: the step on P with the factorised dP-Jacobian, relative to
+            # this iterate's P (exact for the equations linear in P: the tail)
+            return step if here is base else step * np.exp(base - here)
+
+        return solve
 
     out = newton(fun, u_red, tol=tol, max_iter=max_iter, criterion="step",
                  update=lambda x, d: x + log_update(d, step_limit), line_search=False,
-                 stall_level=STALL_LEVEL, factorize=lambda j: EquilibratedLU(j).solve,
+                 stall_level=STALL_LEVEL, factorize=factorize,
                  chord=chord_level if chord else 0.0, chord_rate=CHORD_RATE,
                  predict=PREDICT_MARGIN, name="FEM Newton",
                  row_scale=(lambda x: scales[0]) if row_scales else None)
