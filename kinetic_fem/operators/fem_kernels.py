@@ -34,6 +34,8 @@ import numpy as np
 
 from .._jit import jit
 from ..model.restitution import CONSTANT, VISCOELASTIC, restitution_value
+# numba caches this module's kernels with kernel_rate compiled in: edit this file too when
+# kernel_rate changes (a stale cache keeps the old rule; gamma = 1/2 by sqrt since issue 16)
 from .fem_pair_breaks import (
     GRADING_LEVELS,
     GRADING_RATIO,
