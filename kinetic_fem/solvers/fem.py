@@ -134,7 +134,9 @@ SEQUENCE_FACTOR_P3 = 2
 (``3**3 = 27`` for P2 at :data:`SEQUENCE_FACTOR`), so the fine Newton starts within about
 1e-2 in ln P and ends after one Jacobian and one or two chord steps (measured over 12
 alphas in [0, 0.99]: the Maxwell model 1.22x, the saturating kernel 1.13x, hard rods in a
-bath 1.12x, gamma = 0.5 1.04x, hard rods 0.99x against 3; P2 for gamma = 2 at 2: 0.91x)."""
+bath 1.12x, gamma = 0.5 1.04x against 3; P2 for gamma = 2 at 2: 0.91x).  Not for the
+paper's model, whose P3 spacing admits 3 only above alpha = 0.95, where the coarse solve
+starts from the continuation guess (5-6 Jacobians; 2 costs 0.6 fine Jacobians more)."""
 SEQUENCE_MAX_SPACING = 0.3
 """No sequencing when the coarse spacing would exceed this (thermal velocities) times
 half the element degree."""
@@ -295,7 +297,7 @@ def steady_state(model: float | HeatedProblem, *, order: int | None = None,
 
         def start(v: NDArray) -> NDArray:
             return guess.initial_guess(v, scaled.temperature, linear_tail=not paper)
-    first = SEQUENCE_FACTOR if order < 3 else SEQUENCE_FACTOR_P3
+    first = SEQUENCE_FACTOR_P3 if order == 3 and not paper else SEQUENCE_FACTOR
     coarsen = next((f for f in (first, 2) if f * spacing <= SEQUENCE_MAX_SPACING
                     * order / 2), 0)
     if vertices is None and coarsen:
