@@ -395,9 +395,9 @@ def quasi_elastic_cutoff(kernel: float | CollisionKernel, alpha: float, temperat
     if not 0.0 < target < 1.0:
         raise ValueError(f"target={target!r} is not allowed; it must be in (0, 1)")
     scale = math.sqrt(temperature)
-    c = np.linspace(0.0, 40.0, 1601)
+    c = np.linspace(0.0, 40.0, 801)
     # ln f(c) = ln P(v) + ln sqrt(T), P(0) of the Gaussian
-    log_f = quasi_elastic_log_density(c * scale, kernel, alpha, temperature, points=1601) \
+    log_f = quasi_elastic_log_density(c * scale, kernel, alpha, temperature, points=801) \
         - 0.5 * math.log(2.0 * math.pi)
     below = np.flatnonzero(log_f < math.log(target))
     return float(c[below[0]]) if below.size else math.inf

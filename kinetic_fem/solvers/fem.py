@@ -245,7 +245,17 @@ def steady_state(model: float | HeatedProblem, *, order: int | None = None,
     """
     problem = model if isinstance(model, HeatedProblem) else \
         HeatedProblem.from_parameters(model)
-    scaled = scaled_model(problem)
+    return _steady_state(problem, scaled_model(problem), order=order, spacing=spacing,
+                         cutoff=cutoff, vertices=vertices, intorder=intorder,
+                         symmetric=symmetric, tol=tol, max_iter=max_iter, initial=initial)
+
+
+def _steady_state(problem: HeatedProblem, scaled: ScaledModel, *, order: int | None,
+                  spacing: float | None, cutoff: float | None, vertices, intorder: int | None,
+                  symmetric: bool, tol: float, max_iter: int,
+                  initial: SteadyState | Callable[[NDArray], NDArray] | None) -> SteadyState:
+    """:func:`steady_state` of ``problem`` with its scaled model (computed once: for other
+    kernels than power laws the temperature estimate costs a few ms)."""
     paper = scaled.is_paper_model
     alpha = scaled.alpha
     # with a bath the elastic limit is a Gaussian (no quasi-elastic structure)
@@ -255,9 +265,10 @@ def steady_state(model: float | HeatedProblem, *, order: int | None = None,
         if order == 3 and not paper:
             # P3 for the other kernels (default_order); should Newton fail, the P2 default
             try:
-                return steady_state(problem, order=3, cutoff=cutoff, intorder=intorder,
-                                    symmetric=symmetric, tol=tol, max_iter=max_iter,
-                                    initial=initial)
+                return _steady_state(problem, scaled, order=3, spacing=None,
+                                     cutoff=cutoff, vertices=None, intorder=intorder,
+                                     symmetric=symmetric, tol=tol, max_iter=max_iter,
+                                     initial=initial)
             except ConvergenceError as err:
                 logger.info("P3 default failed at alpha=%g (%s); P2", alpha, err)
                 order = 2

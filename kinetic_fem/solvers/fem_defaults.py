@@ -43,7 +43,7 @@ from .. import sonine
 from ..model import CollisionKernel, HeatedProblem, PowerLawKernel, RestitutionLaw, as_kernel
 from ..model.scales import heated_cutoff, quasi_elastic_cutoff
 from ..model.scales import tail_action as model_tail_action
-from ..operators.grid import symmetric_grid, uniform_grid
+from .fem_grading import graded_vertices
 
 __all__ = ["default_cutoff", "default_spacing", "ScaledModel", "scaled_model",
            "tail_action", "tail_exponent", "gain_margin", "initial_log_density",
@@ -299,9 +299,9 @@ def initial_log_density(v: NDArray[np.float64], model: ScaledModel) -> NDArray[n
     v = np.abs(np.asarray(v, dtype=float))
     top = max(float(v.max()), 1e-12)
     fine = np.linspace(0.0, top, 20001)
-    if model.friction == 0.0:
-        action = model.kernel.wkb_action(fine)
-    else:
+    if model.friction == 0.0 and isinstance(model.kernel, PowerLawKernel):
+        action = model.kernel.wkb_action(fine)  # closed form
+    else:  # the trapezoid rule on this grid (a kernel's numeric action costs ~8 ms here)
         xi = model.friction
         rate = 0.5 * (xi * fine + np.sqrt((xi * fine) ** 2 + 4.0 * model.kernel.rate(fine)))
         action = np.concatenate([[0.0], np.cumsum(0.5 * (rate[1:] + rate[:-1])
@@ -311,6 +311,24 @@ def initial_log_density(v: NDArray[np.float64], model: ScaledModel) -> NDArray[n
     weights[[0, -1]] *= 0.5
     norm = 2.0 * float(np.sum(weights * np.exp(log_p)))
     return np.interp(v, fine, log_p) - math.log(norm)
+
+
+def _action_root(kernel: CollisionKernel, friction: float, value: float, lo: float,
+                 hi: float) -> float:
+    """The root of :math:`S(v) = ` ``value`` in ``[lo, hi]`` (:func:`tail_action`): Newton
+    from ``hi`` with the exact :math:`S'`; :math:`S` is increasing and convex (the loss
+    frequency grows), so the iterates decrease to the root.  A few actions in place of
+    brentq's dozens (each a quadrature for other than power laws under white noise: 6-9 ms
+    per cut-off for the saturating kernel)."""
+    v = hi
+    for _ in range(60):
+        slope = 0.5 * (friction * v + math.sqrt((friction * v) ** 2
+                                                 + 4.0 * float(kernel.rate(v))))
+        step = (tail_action(v, kernel, friction) - value) / max(slope, 1e-300)
+        v = max(v - step, lo)
+        if abs(step) <= 1e-10 * max(v, 1.0):
+            break
+    return v
 
 
 def gain_margin(model: ScaledModel) -> float:
@@ -361,16 +379,16 @@ def gain_margin(model: ScaledModel) -> float:
         v_cut = math.sqrt(2.0 * target * temp)
     else:
         s_t = tail_action(v_t, kernel, 0.0)
-        v_cut = brentq(lambda v: tail_action(v, kernel, 0.0) - s_t + gauss_t - target,
-                       v_t, 2.0 * v_t + 4.0 * (target / root) ** (1.0 / (1.0 + 0.5 * gamma))
-                       + 1.0)
+        v_cut = _action_root(kernel, 0.0, s_t - gauss_t + target, v_t,
+                             2.0 * v_t + 4.0 * (target / root) ** (1.0 / (1.0 + 0.5 * gamma))
+                             + 1.0)
     if isinstance(kernel, PowerLawKernel):  # S = reach at v_bare, in closed form
         v_bare = reach
     else:
         top = reach + 1.0
         while tail_action(top, kernel, 0.0) < target:
             top *= 2.0
-        v_bare = brentq(lambda v: tail_action(v, kernel, 0.0) - target, 0.0, top)
+        v_bare = _action_root(kernel, 0.0, target, 0.0, top)
     return max(v_cut - v_bare, 0.0) / math.sqrt(temp) + 1.0
 
 
@@ -397,8 +415,11 @@ def model_cutoff(model: ScaledModel) -> float:
     top = 1.0
     while tail_action(top, model.kernel, model.friction) < target:
         top *= 2.0
-    v_cut = brentq(lambda v: tail_action(v, model.kernel, model.friction) - target,
-                   0.0, top, xtol=1e-10)
+    if model.friction == 0.0 and isinstance(model.kernel, PowerLawKernel):
+        v_cut = brentq(lambda v: tail_action(v, model.kernel, 0.0) - target, 0.0, top,
+                       xtol=1e-10)
+    else:
+        v_cut = _action_root(model.kernel, model.friction, target, 0.5 * top, top)
     c_max = v_cut / math.sqrt(model.temperature) + 1.0 + gain_margin(model)
     if model.friction == 0.0 and model.law.constant is not None and \
             model.kernel.tail_growth[1] < 1.0:  # the lighter quasi-elastic tail of gamma > 0
@@ -442,58 +463,3 @@ def model_spacing(model: ScaledModel, order: int = 2) -> float:
     if model.friction > 0.0:  # the bath's Gaussian limit needs no quasi-elastic refinement
         return factor * default_spacing(min(1.0 - model.effective_epsilon, 0.9))
     return factor * default_spacing(1.0 - model.effective_epsilon)
-
-
-def graded_vertices(c_max: float, spacing: float, *, grading: float,
-                    bulk: float = 3.0) -> NDArray[np.float64]:
-    """Symmetric vertices in thermal velocities, element size
-    :math:`h(c) = h_0 \\max(1, |c|/c_b)^\\kappa` out to ``c_max``.
-
-    Parameters
-    ----------
-    c_max : float
-        Half-width of the interval.
-    spacing : float
-        :math:`h_0`, the bulk element size.
-    grading : float
-        :math:`\\kappa \\ge 0` (0: uniform).
-    bulk : float
-        :math:`c_b`, the end of the uniform bulk.
-
-    Examples
-    --------
-    >>> v = graded_vertices(10.0, 0.5, grading=0.0)
-    >>> v.size, float(v[0]), float(v[-1])
-    (41, -10.0, 10.0)
-    """
-    if grading == 0.0:
-        half = max(2, int(math.ceil(c_max / spacing)))
-        return symmetric_grid(uniform_grid(c_max, half + 1))
-    # stretched coordinate s(c) = int_0^c dc / h(c), uniform in s
-    total = _stretched(c_max, spacing, grading, bulk)
-    n_el = max(2, int(math.ceil(total)))
-    targets = np.linspace(0.0, total, n_el + 1)
-    nodes = np.concatenate([[0.0], _unstretched(targets[1:-1], spacing, grading, bulk),
-                            [c_max]])
-    return np.concatenate([-nodes[:0:-1], nodes])
-
-
-def _unstretched(s: NDArray, h0: float, kappa: float, cb: float) -> NDArray:
-    """The inverse of :func:`_stretched` in closed form (the former root-finding to 2e-12,
-    4 % of a heated state)."""
-    t = np.asarray(s, dtype=float) * h0 / cb  # the stretched coordinate in units of c_b
-    tail = t > 1.0
-    out = cb * t
-    if kappa == 1.0:
-        out[tail] = cb * np.exp(t[tail] - 1.0)
-    else:
-        out[tail] = cb * (1.0 + (1.0 - kappa) * (t[tail] - 1.0)) ** (1.0 / (1.0 - kappa))
-    return out
-
-
-def _stretched(c: float, h0: float, kappa: float, cb: float) -> float:
-    if c <= cb:
-        return c / h0
-    if kappa == 1.0:
-        return (cb + cb * math.log(c / cb)) / h0
-    return (cb + cb / (1.0 - kappa) * ((c / cb) ** (1.0 - kappa) - 1.0)) / h0
