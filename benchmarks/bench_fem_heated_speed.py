@@ -310,7 +310,8 @@ def compare(points: int, before: str, out: list[str]) -> None:
     workers = (Worker(tree), Worker(ROOT))
     alphas = [round(float(a), 6) for a in np.linspace(0.0, 0.99, points)]
     out.append(f"## Third round (soft kernels): before = {before}, after = this tree\n")
-    out.append(f"{points} alphas over [0, 0.99]; two worker processes (one per tree) "
+    out.append(f"One core, load average at the start {os.getloadavg()[0]:.1f}.  "
+               f"{points} alphas over [0, 0.99]; two worker processes (one per tree) "
                "asked alternately, best of two CPU times per state and tree; CPU units: "
                "CPU seconds of a state over the CPU seconds of the yardstick in the same "
                "worker (mean of before and after the row).  Errors: largest over the "
@@ -385,7 +386,7 @@ def main() -> None:
         serve()
         return
     if args.compare:
-        out = [f"One core, load average at the start {os.getloadavg()[0]:.1f}.\n"]
+        out: list[str] = []
         compare(4 if args.quick else args.points, args.before, out)
         out.append(f"load average at the end {os.getloadavg()[0]:.1f}\n")
         name = "fem_heated_speed_compare_quick.md" if args.quick else \
