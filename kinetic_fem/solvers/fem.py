@@ -411,8 +411,8 @@ def solve_fem_heated(problem: HeatedProblem, *, order: int | None = None,
     order : int, optional
         Lagrange degree, 1, 2 or 3; default
         :func:`kinetic_fem.solvers.fem_defaults.default_order` on the default mesh (3 for
-        a constant alpha and kernels up to hard rods, except near elastic collisions under
-        white noise for the softer ones; else 2; P2 also if Newton fails with P3), and 2
+        a constant alpha and kernels up to hard rods, else 2; P2 also if Newton fails
+        with P3), and 2
         with an explicit ``spacing`` or ``vertices``.
     spacing : float, optional
         Element size in thermal velocities :math:`\\sqrt{T}`; default

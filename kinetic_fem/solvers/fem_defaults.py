@@ -48,7 +48,8 @@ from .fem_grading import graded_vertices
 __all__ = ["default_cutoff", "default_spacing", "ScaledModel", "scaled_model",
            "tail_action", "tail_exponent", "gain_margin", "initial_log_density",
            "model_cutoff", "model_spacing", "graded_vertices", "DECADES", "P3_SPACING",
-           "P3_SPACING_LOW", "default_order", "P3_MODEL_ALPHA", "P3_MODEL_SPACING"]
+           "P3_SPACING_LOW", "default_order", "P3_MODEL_ALPHA", "P3_MODEL_SPACING",
+           "action_root"]
 
 DECADES = 33.0
 """Decades of f(c) covered by the default cut-off."""
@@ -313,13 +314,31 @@ def initial_log_density(v: NDArray[np.float64], model: ScaledModel) -> NDArray[n
     return np.interp(v, fine, log_p) - math.log(norm)
 
 
-def _action_root(kernel: CollisionKernel, friction: float, value: float, lo: float,
-                 hi: float) -> float:
-    """The root of :math:`S(v) = ` ``value`` in ``[lo, hi]`` (:func:`tail_action`): Newton
-    from ``hi`` with the exact :math:`S'`; :math:`S` is increasing and convex (the loss
-    frequency grows), so the iterates decrease to the root.  A few actions in place of
-    brentq's dozens (each a quadrature for other than power laws under white noise: 6-9 ms
-    per cut-off for the saturating kernel)."""
+def action_root(kernel: CollisionKernel, friction: float, value: float, lo: float,
+                hi: float) -> float:
+    """The root of :math:`S(v) = ` ``value`` in ``[lo, hi]`` (:func:`tail_action`).
+
+    Newton from ``hi`` with the exact :math:`S'(v) = (\\xi v + \\sqrt{\\xi^2 v^2 +
+    4B(v)})/2`: :math:`S` is increasing and convex (the loss frequency grows), so the
+    iterates decrease monotonically to the root; a few actions in place of brentq's
+    dozens (each a quadrature for kernels other than power laws, or with a bath: the
+    saturating kernel's cut-off took 6-9 ms).
+
+    Parameters
+    ----------
+    kernel : CollisionKernel
+        The kernel at ``n = D = 1``.
+    friction : float
+        Bath friction (0: white noise).
+    value : float
+        The action to reach.
+    lo, hi : float
+        A bracket with :math:`S(lo) \\le` ``value`` :math:`\\le S(hi)`.
+
+    Returns
+    -------
+    float
+    """
     v = hi
     for _ in range(60):
         slope = 0.5 * (friction * v + math.sqrt((friction * v) ** 2
@@ -379,7 +398,7 @@ def gain_margin(model: ScaledModel) -> float:
         v_cut = math.sqrt(2.0 * target * temp)
     else:
         s_t = tail_action(v_t, kernel, 0.0)
-        v_cut = _action_root(kernel, 0.0, s_t - gauss_t + target, v_t,
+        v_cut = action_root(kernel, 0.0, s_t - gauss_t + target, v_t,
                              2.0 * v_t + 4.0 * (target / root) ** (1.0 / (1.0 + 0.5 * gamma))
                              + 1.0)
     if isinstance(kernel, PowerLawKernel):  # S = reach at v_bare, in closed form
@@ -388,7 +407,7 @@ def gain_margin(model: ScaledModel) -> float:
         top = reach + 1.0
         while tail_action(top, kernel, 0.0) < target:
             top *= 2.0
-        v_bare = _action_root(kernel, 0.0, target, 0.0, top)
+        v_bare = action_root(kernel, 0.0, target, 0.0, top)
     return max(v_cut - v_bare, 0.0) / math.sqrt(temp) + 1.0
 
 
@@ -419,7 +438,7 @@ def model_cutoff(model: ScaledModel) -> float:
         v_cut = brentq(lambda v: tail_action(v, model.kernel, 0.0) - target, 0.0, top,
                        xtol=1e-10)
     else:
-        v_cut = _action_root(model.kernel, model.friction, target, 0.5 * top, top)
+        v_cut = action_root(model.kernel, model.friction, target, 0.5 * top, top)
     c_max = v_cut / math.sqrt(model.temperature) + 1.0 + gain_margin(model)
     if model.friction == 0.0 and model.law.constant is not None and \
             model.kernel.tail_growth[1] < 1.0:  # the lighter quasi-elastic tail of gamma > 0

@@ -4,9 +4,10 @@ The unknown is :math:`u_h = \\ln P_h`; a Newton step :math:`\\delta` on :math:`u
 as :math:`\\ln(1 + \\delta)` (:func:`log_update`), the Newton step on :math:`P`.  The
 dense Jacobian is factorised after row and column equilibration
 (:class:`EquilibratedLU`); near convergence the factorisation is reused (chord steps,
-:func:`newton_steady`), and an update that stops decreasing at round-off counts as
-converged (:func:`stalled`, :func:`newton_info`).  Used by :mod:`kinetic_fem.solvers.fem`
-(heated), :mod:`~kinetic_fem.solvers.fem_cooling` and :mod:`~kinetic_fem.solvers.fem_transient`.
+:func:`newton_steady`, as a Jacobian in :math:`P`), and an update that stops decreasing at
+round-off counts as converged (:func:`stalled`, :func:`newton_info`).  Used by
+:mod:`kinetic_fem.solvers.fem` (heated), :mod:`~kinetic_fem.solvers.fem_cooling` and
+:mod:`~kinetic_fem.solvers.fem_transient`.
 """
 
 from __future__ import annotations
@@ -159,9 +160,10 @@ def power_of_two_scales(jac: NDArray) -> NDArray:
 
 
 CHORD_ROW_SCALES = True
-"""Default of ``row_scales`` in :func:`newton_steady`."""
+"""Default of ``row_scales`` in :func:`newton_steady` (issue 16)."""
 CHORD_IN_P = True
-"""Default of ``p_chord`` in :func:`newton_steady`."""
+"""Default of ``p_chord`` in :func:`newton_steady` (issue 16: with the 2x coarse mesh of
+P3, one fine Jacobian at most alphas; Maxwell 1.22x, saturating 1.13x, bath 1.12x)."""
 CHORD_LEVEL = 1e-3
 """Below this Newton update the Jacobian's factorisation is reused (chord steps)."""
 CHORD_RATE = 0.1
@@ -202,6 +204,18 @@ def newton_steady(disc: FEMDiscretisation, u0: NDArray[np.float64], *, tol: floa
     chord_level : float
         The update below which chord steps start (default :data:`CHORD_LEVEL`; larger
         from a start already near the state, e.g. a coarse mesh's solution).
+    row_scales : bool, optional
+        Measure the residual of the chord test row by row relative to the row's largest
+        Jacobian entry (a power of two, so the Newton steps are unchanged bit for bit):
+        the max-norm of the plain residual reaches round-off while the far tail's update
+        is still 1e-9, and its chord steps then failed the decrease test and refreshed
+        the Jacobian.  Default :data:`CHORD_ROW_SCALES`.
+    p_chord : bool, optional
+        Chord steps with the factorised Jacobian as one in :math:`P`: the step of the
+        factorisation point's :math:`\\delta P / P_J` times :math:`P_J / P =
+        e^{u_J - u}` (exact for the equations linear in :math:`P`, the far tail; the
+        contraction of a chord step from a coarse mesh's state goes from about 1e-2 to
+        1e-4).  Default :data:`CHORD_IN_P`.
     """
     start = time.perf_counter()
     if row_scales is None:

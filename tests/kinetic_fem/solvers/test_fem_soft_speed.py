@@ -13,7 +13,7 @@ from kinetic_fem.model import SaturatingKernel
 from kinetic_fem.operators.fem_discretisation import FEMDiscretisation
 from kinetic_fem.operators.fem_pair_breaks import kernel_rate
 from kinetic_fem.solvers import fem, fem_newton, maxwell
-from kinetic_fem.solvers.fem_defaults import _action_root, model_cutoff, scaled_model, tail_action
+from kinetic_fem.solvers.fem_defaults import action_root, model_cutoff, scaled_model, tail_action
 from kinetic_fem.solvers.fem_newton import EvenFold, power_of_two_scales
 from kinetic_fem.solvers.fem_state import state_temperature
 
@@ -78,9 +78,11 @@ def test_action_root_matches_brentq_for_the_saturating_kernel():
 
     kernel = SaturatingKernel(1.0)
     for friction in (0.0, 0.8):
-        value = 76.0
-        ref = brentq(lambda v: tail_action(v, kernel, friction) - value, 0.0, 400.0, xtol=1e-12)
-        assert _action_root(kernel, friction, value, 0.0, 400.0) == pytest.approx(ref, rel=1e-9)
+        def gap(v: float, xi: float = friction) -> float:
+            return tail_action(v, kernel, xi) - 76.0
+
+        ref = brentq(gap, 0.0, 400.0, xtol=1e-12)
+        assert action_root(kernel, friction, 76.0, 0.0, 400.0) == pytest.approx(ref, rel=1e-9)
 
 
 def test_quasi_elastic_log_density_of_the_maxwell_model():
