@@ -443,14 +443,19 @@ def model_cutoff(model: ScaledModel) -> float:
     if model.is_paper_model and model.law.constant is not None:
         return default_cutoff(model.law.constant)
     target = DECADES * math.log(10.0)
-    top = 1.0
-    while tail_action(top, model.kernel, model.friction) < target:
-        top *= 2.0
     if model.friction == 0.0 and isinstance(model.kernel, PowerLawKernel):
+        top = 1.0
+        while tail_action(top, model.kernel, model.friction) < target:
+            top *= 2.0
         v_cut = brentq(lambda v: tail_action(v, model.kernel, 0.0) - target, 0.0, top,
                        xtol=1e-10)
-    else:
-        v_cut = action_root(model.kernel, model.friction, target, 0.5 * top, top)
+    else:  # from the asymptotic reach of B ~ c g^p (fewer numeric actions)
+        coefficient, growth = model.kernel.tail_growth
+        top = (target * (1.0 + 0.5 * growth) / math.sqrt(coefficient)) ** (
+            1.0 / (1.0 + 0.5 * growth))
+        while tail_action(top, model.kernel, model.friction) < target:
+            top *= 2.0
+        v_cut = action_root(model.kernel, model.friction, target, 0.0, top)
     c_max = v_cut / math.sqrt(model.temperature) + 1.0 + gain_margin(model)
     if model.friction == 0.0 and model.law.constant is not None and \
             model.kernel.tail_growth[1] < 1.0:  # the lighter quasi-elastic tail of gamma > 0
