@@ -48,6 +48,7 @@ if "--serve" not in sys.argv:  # a worker imports the package of its own tree (P
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from bench_fem_speed import CURVE, CURVE100, yardstick  # noqa: E402
+from bench_fem_speed import Worker as SpeedWorker  # noqa: E402
 
 import kinetic_fem as kf  # noqa: E402
 from kinetic_fem.model import SaturatingKernel  # noqa: E402
@@ -256,8 +257,9 @@ def serve() -> None:
         print(json.dumps(out), flush=True)
 
 
-class Worker:
-    """A persistent worker process on one source tree (this script, ``--serve``)."""
+class Worker(SpeedWorker):
+    """A persistent worker process on one source tree: this script with ``--serve``
+    (``ask`` and ``close`` as in ``bench_fem_speed``)."""
 
     def __init__(self, tree: Path) -> None:
         import subprocess
@@ -266,22 +268,6 @@ class Worker:
         self.proc = subprocess.Popen([sys.executable, str(Path(__file__).resolve()),
                                       "--serve"], env=env, cwd=tree, text=True,
                                      stdin=subprocess.PIPE, stdout=subprocess.PIPE)
-
-    def ask(self, task: str, **req):
-        import json
-
-        assert self.proc.stdin is not None and self.proc.stdout is not None
-        self.proc.stdin.write(json.dumps({"task": task, **req}) + "\n")
-        self.proc.stdin.flush()
-        line = self.proc.stdout.readline()
-        if not line:
-            raise RuntimeError(f"worker died on {task} {req}")
-        return json.loads(line)
-
-    def close(self) -> None:
-        assert self.proc.stdin is not None
-        self.proc.stdin.close()
-        self.proc.wait()
 
 
 def _errors(out: dict, ref: dict) -> tuple[float, float, float]:
