@@ -116,6 +116,7 @@ from .fem_cooling_mesh import (
     log_chain,
     step_intorder,
 )
+from .fem_cooling_maxwell import MaxwellTailState, maxwell_cooling_state
 from .fem_cooling_newton import CLOSE_DAMPING, CoolingState, newton_cooling
 from .fem_cooling_order import (
     COARSE_FACTOR,
@@ -308,6 +309,10 @@ def cooling_state(problem: CoolingProblem, *, order: int | None = None,
             f"{problem.gas.restitution!r}: a velocity-dependent law has its own speed scale, "
             "so no scaling state exists (the gas approaches elastic collisions as it cools); "
             "use particles.dsmc.simulate_cooling for the transient")
+    if problem.gas.gamma == 0.0 and vertices is None and cutoff is None and resolution is None:
+        # the Maxwell model: short mesh, analytic c^-4 tail (.fem_cooling_maxwell)
+        return maxwell_cooling_state(problem.gas.alpha, order=order, spacing=spacing,
+                                     intorder=intorder, tol=tol, max_iter=max_iter)
     hump = uses_hump_mesh(problem) and vertices is None and spacing is None and cutoff is None
     default = order is None and resolution is None
     band = hump and default and in_band(problem.gas.epsilon, HUMP_EPS)
@@ -459,6 +464,8 @@ def solve_fem_cooling(problem: CoolingProblem, *, order: int | None = None,
                                       "zeta_identity": float(state.energy_identity()),
                                       "n_dofs": int(state.u.size), "order": state.disc.order,
                                       "cutoff": float(state.disc.vertices[-1])})
+    if isinstance(state, MaxwellTailState):
+        return state.distribution(method="fem", params=problem.as_dict(), info=info)
     if problem.gas.gamma == 0.0:
         # --- the Maxwell model's c^-4 tail: kinetic_fem.solvers.fem_cooling_tail ---
         return recovered_distribution(state.disc, state.u, method="fem",
