@@ -105,6 +105,7 @@ from .fem_cooling_hump import (
     HUMP_STEP_RESOLUTION,
     continued_state,
 )
+from .fem_cooling_maxwell import MaxwellTailState, maxwell_cooling_state
 from .fem_cooling_mesh import (
     HUMP_INTORDER,
     MAXWELL_CUTOFF,
@@ -116,7 +117,6 @@ from .fem_cooling_mesh import (
     log_chain,
     step_intorder,
 )
-from .fem_cooling_maxwell import MaxwellTailState, maxwell_cooling_state
 from .fem_cooling_newton import CLOSE_DAMPING, CoolingState, newton_cooling
 from .fem_cooling_order import (
     COARSE_FACTOR,
