@@ -242,6 +242,15 @@ class MaxwellTailState(CoolingState):
         """:math:`A` of the tail :math:`A c^{-4}(1 - 2c^{-2} + 3c^{-4})` beyond the mesh."""
         return self.system.amplitude(self.u)
 
+    def log_f(self, c: NDArray) -> NDArray:
+        """:math:`\\ln f_h` at ``c`` on the mesh, the tail closure beyond it."""
+        c = np.asarray(c, dtype=float)
+        out = np.empty_like(c)
+        inside = np.abs(c) < self.system.cutoff
+        out[inside] = super().log_f(c[inside])
+        out[~inside] = math.log(self.amplitude) + np.log(tail_shape(np.abs(c[~inside])))
+        return out
+
     def energy_identity(self) -> float:
         """:math:`\\tfrac18(1-\\alpha^2)\\langle g^2\\rangle` of mesh plus tail: for the
         Maxwell kernel :math:`\\langle g^2\\rangle = 2(M_0 M_2 - M_1^2)` (:math:`M_1 = 0`,

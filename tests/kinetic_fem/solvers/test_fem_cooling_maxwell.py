@@ -43,6 +43,8 @@ def test_one_jacobian_from_the_closed_form():
     assert state.info.converged and state.info.iterations <= 2
     # the tail amplitude is the closed form's 2/pi (measured 1.2e-7 relative at V = 200)
     assert state.amplitude == pytest.approx(2.0 / np.pi, rel=2.4e-7)
+    c = np.array([0.5, 150.0, 250.0, 1e6])
+    assert np.allclose(state.log_f(c), np.log(maxwell_hcs(c)), rtol=0, atol=3e-7)
 
 
 def test_jacobian_matches_finite_differences():
