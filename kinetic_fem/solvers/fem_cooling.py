@@ -68,10 +68,12 @@ cut-off), the normalisation replaces the equation at the peak.  The continuation
 
 The inelastic Maxwell model (:math:`\\gamma = 0`) has the closed-form state
 :math:`f(c) = 2/(\\pi(1+c^2)^2)` for every alpha (Baldassarri, Marini Bettolo Marconi,
-Puglisi, Europhys. Lett. 58, 14 (2002)), :math:`\\zeta = (1-\\alpha^2)/4`; its
-:math:`c^{-4}` tail (infinite fourth moment) is resolved on a geometric mesh out to
-:math:`V = 10^8`, and the result carries :math:`f` recovered from the superconvergent
-points of :math:`\\ln f_h` (:mod:`kinetic_fem.solvers.fem_cooling_tail`).
+Puglisi, Europhys. Lett. 58, 14 (2002)), :math:`\\zeta = (1-\\alpha^2)/4`; by default the
+mesh ends at :math:`c = 200` and its :math:`c^{-4}` tail (infinite fourth moment) is
+continued analytically beyond (:mod:`kinetic_fem.solvers.fem_cooling_maxwell`); with
+``cutoff`` (or ``vertices``) it is resolved on a geometric mesh out to, e.g.,
+:math:`V = 10^8`; the result carries :math:`f` recovered from the superconvergent points
+of :math:`\\ln f_h` (:mod:`kinetic_fem.solvers.fem_cooling_tail`).
 
 A velocity-dependent restitution law has no homogeneous cooling state (the law has its
 own speed scale, so the state changes as the gas cools); such problems are refused.

@@ -30,6 +30,11 @@ needs the tail resolved out to :math:`V = 10^8`.  Two things set its accuracy:
   quadrature points (the oscillation has zero mean on each element, so mass and
   temperature are unchanged to the Newton tolerance).
 
+Since issue 16 (eighth round) the default state ends its mesh at :math:`c = 200` and
+continues the tail analytically (:mod:`kinetic_fem.solvers.fem_cooling_maxwell`, P3,
+recovered from the three Gauss points of every element); the truncated mesh below is used
+with ``cutoff``.
+
 A discrete state with another power-law tail (infinite energy: the scaled equation
 admits :math:`c^{-p}` tails with :math:`p < 3` in the continuum, and a truncated mesh
 can mimic them) is excluded by the unit-temperature constraint on the whole mesh,
