@@ -70,10 +70,12 @@ cut-off), the normalisation replaces the equation at the peak.  The continuation
 
 The inelastic Maxwell model (:math:`\\gamma = 0`) has the closed-form state
 :math:`f(c) = 2/(\\pi(1+c^2)^2)` for every alpha (Baldassarri, Marini Bettolo Marconi,
-Puglisi, Europhys. Lett. 58, 14 (2002)), :math:`\\zeta = (1-\\alpha^2)/4`; its
-:math:`c^{-4}` tail (infinite fourth moment) is resolved on a geometric mesh out to
-:math:`V = 10^8`, and the result carries :math:`f` recovered from the superconvergent
-points of :math:`\\ln f_h` (:mod:`kinetic_fem.solvers.fem_cooling_tail`).
+Puglisi, Europhys. Lett. 58, 14 (2002)), :math:`\\zeta = (1-\\alpha^2)/4`; by default the
+mesh ends at :math:`c = 200` and its :math:`c^{-4}` tail (infinite fourth moment) is
+continued analytically beyond (:mod:`kinetic_fem.solvers.fem_cooling_maxwell`); with
+``cutoff`` (or ``vertices``) it is resolved on a geometric mesh out to, e.g.,
+:math:`V = 10^8`; the result carries :math:`f` recovered from the superconvergent points
+of :math:`\\ln f_h` (:mod:`kinetic_fem.solvers.fem_cooling_tail`).
 
 A velocity-dependent restitution law has no homogeneous cooling state (the law has its
 own speed scale, so the state changes as the gas cools); such problems are refused.
@@ -116,6 +118,7 @@ from .fem_cooling_links import (
     hump_chain,
     start_state,
 )
+from .fem_cooling_maxwell import MaxwellTailState, maxwell_cooling_state
 from .fem_cooling_mesh import (
     HUMP_INTORDER,
     MAXWELL_CUTOFF,
@@ -272,6 +275,10 @@ def cooling_state(problem: CoolingProblem, *, order: int | None = None,
             f"{problem.gas.restitution!r}: a velocity-dependent law has its own speed scale, "
             "so no scaling state exists (the gas approaches elastic collisions as it cools); "
             "use particles.dsmc.simulate_cooling for the transient")
+    if problem.gas.gamma == 0.0 and vertices is None and cutoff is None and resolution is None:
+        # the Maxwell model: short mesh, analytic c^-4 tail (.fem_cooling_maxwell)
+        return maxwell_cooling_state(problem.gas.alpha, order=order, spacing=spacing,
+                                     intorder=intorder, tol=tol, max_iter=max_iter)
     hump = uses_hump_mesh(problem) and vertices is None and spacing is None and cutoff is None
     default = order is None and resolution is None
     band = hump and default and in_band(problem.gas.epsilon, HUMP_EPS)
@@ -451,6 +458,8 @@ def cooling_distribution(problem: CoolingProblem, state: CoolingState) -> Veloci
                                       "zeta_identity": float(state.energy_identity()),
                                       "n_dofs": int(state.u.size), "order": state.disc.order,
                                       "cutoff": float(state.disc.vertices[-1])})
+    if isinstance(state, MaxwellTailState):
+        return state.distribution(method="fem", params=problem.as_dict(), info=info)
     if problem.gas.gamma == 0.0:
         # --- the Maxwell model's c^-4 tail: kinetic_fem.solvers.fem_cooling_tail ---
         return recovered_distribution(state.disc, state.u, method="fem",
