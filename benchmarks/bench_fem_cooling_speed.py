@@ -49,21 +49,10 @@ def serve() -> None:
     """Worker: answer ``alpha`` lines with JSON (CPU s of the solve and the yardstick)."""
     import warnings
 
-    import numpy as np
-    import scipy.linalg
+    from bench_fem_speed import cpu_yardstick as yardstick
 
     import kinetic_fem as kf
     from kinetic_fem.solvers import fem_cooling
-
-    def yardstick() -> float:
-        a = np.random.default_rng(0).standard_normal((1000, 1000))
-        best = np.inf
-        for _ in range(3):
-            t0 = time.process_time()
-            for _ in range(10):
-                scipy.linalg.lu_factor(a)
-            best = min(best, time.process_time() - t0)
-        return best
 
     warnings.simplefilter("ignore")
     for alpha in (0.5, 0.95, 0.99):  # compile every kernel variant

@@ -47,7 +47,7 @@ if "--serve" not in sys.argv:  # a worker imports the package of its own tree (P
     sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from bench_fem_speed import CURVE, CURVE100, yardstick  # noqa: E402
+from bench_fem_speed import CURVE, CURVE100, cpu_yardstick, yardstick  # noqa: E402
 from bench_fem_speed import Worker as SpeedWorker  # noqa: E402
 
 import kinetic_fem as kf  # noqa: E402
@@ -172,21 +172,6 @@ def per_state(points: int, out: list[str]) -> None:
                    f"{met}{'; failed ' + ', '.join(failed) if failed else ''} |")
         print(out[-1], flush=True)
     out.append("")
-
-
-def cpu_yardstick() -> float:
-    """CPU seconds (``time.process_time``) of the yardstick, best of 3: with CPU times per
-    state, units that a loaded machine does not inflate."""
-    import scipy.linalg
-
-    a = np.random.default_rng(0).standard_normal((1000, 1000))
-    best = np.inf
-    for _ in range(3):
-        t0 = time.process_time()
-        for _ in range(10):
-            scipy.linalg.lu_factor(a)
-        best = min(best, time.process_time() - t0)
-    return best
 
 
 # ------------------------------------------------- before / after: one worker per tree
