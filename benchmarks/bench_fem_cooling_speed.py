@@ -9,7 +9,12 @@ jobs sharing the two cores) and divided by the yardstick (10 LU factorisations o
 worker; each row is the best of ``--repeat`` such ratios.
 
     python benchmarks/bench_fem_cooling_speed.py [--before COMMIT] [--repeat 3]
-        [--alphas A ...] [--kernels GAMMA ...]
+        [--alphas A ...] [--kernels GAMMA ...] [--curves N ...]
+
+``--curves N``: a second table, curves of N hard-rod states log-spaced over
+eps in [EPS_LO, EPS_HI]: before and after as pointwise cold solves, and after with
+warm starts (``kinetic_fem.solvers.fem_cooling_curve.cooling_curve``), in units of the
+yardstick measured before each curve.
 
 A solve that raises ConvergenceError is reported as failed (its CPU time to the failure).
 
@@ -32,8 +37,10 @@ import time  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
-BEFORE = "d8971af"
-"""main at the start of the seventh round (``--before 85cc10e``: at the start of i16c2)."""
+BEFORE = "39f99a9"
+"""main at the start of the eighth round (d8971af: of the seventh; 85cc10e: i16c2's start)."""
+EPS_LO, EPS_HI = 1e-3, 0.099
+"""Inelasticity range of the curves (``--curves``)."""
 ALPHAS = [0.0, 0.25, 0.5, 0.7, 0.8, 0.9, 0.93, 0.95, 0.96, 0.97, 0.98, 0.99, 0.995, 0.997,
           0.999]
 
@@ -42,26 +49,18 @@ def serve() -> None:
     """Worker: answer ``alpha`` lines with JSON (CPU s of the solve and the yardstick)."""
     import warnings
 
-    import numpy as np
-    import scipy.linalg
+    from bench_fem_speed import cpu_yardstick as yardstick
 
     import kinetic_fem as kf
     from kinetic_fem.solvers import fem_cooling
-
-    def yardstick() -> float:
-        a = np.random.default_rng(0).standard_normal((1000, 1000))
-        best = np.inf
-        for _ in range(3):
-            t0 = time.process_time()
-            for _ in range(10):
-                scipy.linalg.lu_factor(a)
-            best = min(best, time.process_time() - t0)
-        return best
 
     warnings.simplefilter("ignore")
     for alpha in (0.5, 0.95, 0.99):  # compile every kernel variant
         kf.solve_cooling(alpha)
     for line in sys.stdin:
+        if line.startswith("curve"):
+            print(json.dumps(curve(line.split()[1:], yardstick)), flush=True)
+            continue
         alpha, kernel = (float(x) for x in line.split())
         unit = yardstick()
         fem_cooling.hump_start.cache_clear()
@@ -79,6 +78,55 @@ def serve() -> None:
               flush=True)
 
 
+def curve(args: list[str], yardstick) -> dict:
+    """A cooling curve at ``n`` inelasticities log-spaced over [EPS_LO, EPS_HI]: warm
+    (``cooling_curve``, each state from its neighbour) or pointwise cold solves."""
+    import numpy as np
+
+    import kinetic_fem as kf
+    from kinetic_fem.solvers import fem_cooling
+
+    n, mode = int(args[0]), args[1]
+    alphas = 1.0 - np.geomspace(EPS_HI, EPS_LO, n)
+    unit = yardstick()
+    t0 = time.process_time()
+    if mode == "warm":
+        from kinetic_fem.solvers.fem_cooling_curve import cooling_curve
+
+        zeta = cooling_curve(alphas).zeta
+    else:
+        zeta = []
+        for alpha in alphas:
+            fem_cooling.hump_start.cache_clear()  # cold calls
+            zeta.append(kf.solve_cooling(float(alpha)).info.extra["zeta"])
+    cpu = time.process_time() - t0
+    return {"cpu": cpu, "unit": unit, "zeta": [float(z) for z in zeta]}
+
+
+def run_curves(workers: list, sizes: list[int], repeat: int) -> None:
+    """Second figure: curves, before (pointwise) and after (pointwise, warm)."""
+    print("\n| points | eps range | before pointwise units | after pointwise units | "
+          "after warm units | after warm CPU s | warm speed-up | max rel dzeta warm |")
+    print("|---|---|---|---|---|---|---|---|")
+    for n in sizes:
+        best: dict[str, dict] = {}
+        for _ in range(repeat):
+            for key, w, mode in (("before", workers[0], "point"), ("after", workers[1], "point"),
+                                 ("warm", workers[1], "warm")):
+                w.stdin.write(f"curve {n} {mode}\n")
+                w.stdin.flush()
+                r = json.loads(w.stdout.readline())
+                r["units"] = r["cpu"] / r["unit"]
+                if key not in best or r["units"] < best[key]["units"]:
+                    best[key] = r
+        dz = max(abs(a / b - 1) for a, b in zip(best["warm"]["zeta"], best["after"]["zeta"],
+                                                strict=True))
+        print(f"| {n} | [{EPS_LO:g}, {EPS_HI:g}] | {best['before']['units']:.1f} | "
+              f"{best['after']['units']:.1f} | {best['warm']['units']:.1f} | "
+              f"{best['warm']['cpu']:.2f} | "
+              f"{best['after']['units'] / best['warm']['units']:.2f} | {dz:.1e} |", flush=True)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--before", default=BEFORE)
@@ -86,6 +134,9 @@ def main() -> None:
     parser.add_argument("--alphas", type=float, nargs="*", default=ALPHAS)
     parser.add_argument("--kernels", type=float, nargs="*", default=[1.0],
                         help="kernel exponents gamma (rows per gamma and alpha)")
+    parser.add_argument("--curves", type=int, nargs="*", default=[],
+                        help="also time cooling curves of these many points over eps in "
+                             f"[{EPS_LO:g}, {EPS_HI:g}] (pointwise and warm)")
     parser.add_argument("--serve", action="store_true", help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.serve:
@@ -133,6 +184,8 @@ def main() -> None:
                   f"{a['units']:.2f} | {b['units'] / a['units']:.1f} | "
                   f"{abs(a['zeta'] / b['zeta'] - 1):.1e} | {abs(a['a2'] - b['a2']):.1e} |",
                   flush=True)
+        if args.curves:
+            run_curves(workers, args.curves, args.repeat)
         for w in workers:
             assert w.stdin is not None
             w.stdin.close()

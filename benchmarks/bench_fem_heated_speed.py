@@ -8,14 +8,21 @@ per state for every kernel, in one process on one core.
    loss moments, weighted by size^2.1 in residuals at 700 nodes), and the largest
    difference of T and a2 between the two.
 2. The mean time per heated state over alpha in [0, 0.99] (``--points`` values) for
-   gamma = 0, 0.5, 1, 2 with white noise and for hard rods in a Fokker-Planck bath
-   (friction 1), defaults, best of two per state; against the issue's target of 0.1 s,
-   about 0.4 units at the issue's 0.25 s yardstick.
+   gamma = 0, 0.5, 1, 2 with white noise, hard rods in a Fokker-Planck bath (friction 1)
+   and the saturating kernel (g0 = 1), defaults, best of two per state; against the
+   issue's target of 0.1 s, about 0.4 units at the issue's 0.25 s yardstick.
+3. ``--compare``: before (commit ``--before``, exported with ``git archive``) and after
+   (this tree) in two worker processes asked alternately, state by state: CPU seconds and
+   units, nodes, and the errors of both against P2 at half the default spacing (the
+   Maxwell model also against its exact T and a2).  Appends (or replaces) its section
+   of ``benchmarks/results/fem_heated_speed_compare.md``; the second round's section
+   there came from this script at 39f99a9 (toggles in one process).
 
 Units: the yardstick (10 LU factorisations of 1000 x 1000, single-threaded BLAS) measured
-in this process before each section.
+in this process (in each worker) before and after each row.
 
     python benchmarks/bench_fem_heated_speed.py [--quick] [--repeat 2] [--points 12]
+    python benchmarks/bench_fem_heated_speed.py --compare [--quick] [--before 39f99a9]
 
 Writes ``benchmarks/results/fem_heated_speed.md`` (``_quick`` with ``--quick``).
 """
@@ -36,20 +43,22 @@ from pathlib import Path  # noqa: E402
 import numpy as np  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
+if "--serve" not in sys.argv:  # a worker imports the package of its own tree (PYTHONPATH)
+    sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from bench_fem_speed import CURVE, CURVE100, yardstick  # noqa: E402
+from bench_fem_speed import CURVE, CURVE100, cpu_yardstick, yardstick  # noqa: E402
+from bench_fem_speed import Worker as SpeedWorker  # noqa: E402
 
 import kinetic_fem as kf  # noqa: E402
+from kinetic_fem.model import SaturatingKernel  # noqa: E402
 from kinetic_fem.operators.fem_discretisation import FEMDiscretisation  # noqa: E402
-from kinetic_fem.solvers.fem import SEQUENCE_TOL  # noqa: E402
 from kinetic_fem.solvers.fem_curve import heated_curve  # noqa: E402
-from kinetic_fem.solvers.fem_defaults import _unstretched as UNSTRETCHED  # noqa: E402
 
 MODELS = [("gamma 0 (Maxwell)", 0.0, 0.0), ("gamma 0.5", 0.5, 0.0),
           ("gamma 1 (hard rods, the paper)", 1.0, 0.0), ("gamma 2", 2.0, 0.0),
-          ("gamma 1, bath (friction 1)", 1.0, 1.0)]
+          ("gamma 1, bath (friction 1)", 1.0, 1.0),
+          ("saturating, g0 = 1", SaturatingKernel(1.0), 0.0)]
 """(label, gamma, friction) of section 2."""
 TARGET_SECONDS = 0.1
 ISSUE_YARDSTICK = 0.25
@@ -165,161 +174,173 @@ def per_state(points: int, out: list[str]) -> None:
     out.append("")
 
 
-class _AssembledTransport:
-    """The former thermostat terms of the heated Newton iteration: scikit-fem ``asm``
-    at every call (the interface of :class:`TransportArrays`)."""
-
-    def __init__(self, basis, friction: float = 0.0) -> None:
-        self.basis, self.friction = basis, friction
-
-    def transport(self, u, *, jacobian: bool = False):
-        from skfem import asm
-
-        from kinetic_fem.operators import fem_discretisation as fd
-
-        field = self.basis.interpolate(u)
-        res = -asm(fd.fokker_planck, self.basis, u=field)
-        if self.friction > 0.0:
-            res -= self.friction * asm(fd.bath_drift, self.basis, u=field)
-        grad_mass = asm(fd.mass, self.basis, u=self.basis.interpolate(u))
-        if not jacobian:
-            return res, None, grad_mass
-        jac = asm(fd.fokker_planck_jacobian, self.basis, u=field)
-        if self.friction > 0.0:
-            jac = jac + self.friction * asm(fd.bath_drift_jacobian, self.basis, u=field)
-        return res, -jac.toarray(), grad_mass
+# ------------------------------------------------- before / after: one worker per tree
+BEFORE = "39f99a9"
+"""main before the third round of issue 16 (heated states of soft kernels)."""
+F_GRID = 6000
+"""Points of the c grid on which f(c) is compared."""
 
 
-def _unstretched_by_roots(s, h0, kappa, cb):
-    """The former inverse of the graded mesh's stretching: a root per vertex."""
-    from scipy.optimize import brentq
-
-    from kinetic_fem.solvers.fem_defaults import _stretched
-
-    top = cb + 10.0
-    while _stretched(top, h0, kappa, cb) < s[-1]:
-        top *= 2.0
-    return np.array([brentq(lambda c, t=t: _stretched(c, h0, kappa, cb) - t, 0.0, top)
-                     for t in s])
+def _problem(model: int, alpha: float):
+    _, gamma, friction = MODELS[model]
+    return kf.HeatedProblem.from_parameters(alpha, kernel=gamma, friction=friction)
 
 
-def _before(on: bool) -> None:
-    """Switch the changes of issue 16's second round off (``on``) or back: P2 for every
-    kernel but the paper's model (the former :func:`default_order`), the coarse-mesh
-    tolerance 1e-6, the thermostat terms assembled by scikit-fem at every call, the graded
-    mesh's vertices by root finding."""
-    from kinetic_fem.operators.fem_transport import TransportArrays
-    from kinetic_fem.solvers import fem, fem_defaults, fem_newton
-
-    fem.default_order = ((lambda m: 3 if m.is_paper_model else 2) if on  # type: ignore
-                         else fem_defaults.default_order)
-    fem.SEQUENCE_TOL = 1e-6 if on else SEQUENCE_TOL
-    fem_newton.TransportArrays = _AssembledTransport if on else TransportArrays  # type: ignore
-    fem_defaults._unstretched = (_unstretched_by_roots if on  # type: ignore
-                                 else UNSTRETCHED)
+def _fields(state, c_top: float | None = None) -> dict:
+    """T, a2, the mesh's c range and f(c) on the comparison grid of the state."""
+    dist = state.disc.distribution(state.u)
+    scale = float(np.sqrt(dist.temperature))
+    top = state.disc.vertices[-1] / scale
+    c = np.linspace(0.0, 0.999 * (top if c_top is None else min(top, c_top)), F_GRID)
+    return {"T": float(dist.temperature), "a2": float(dist.a2), "c_top": float(top),
+            "nodes": int(state.u.size), "order": int(state.disc.order),
+            "f": (scale * state.disc.evaluate(state.u, c * scale)).tolist()}
 
 
-def cpu_yardstick() -> float:
-    """CPU seconds (``time.process_time``) of the yardstick, best of 3: with CPU times per
-    state, units that a loaded machine does not inflate."""
-    import scipy.linalg
+def task_state(model: int, alpha: float, c_top: float | None) -> dict:
+    """One default state (``kf.solve_heated``'s path), CPU and wall seconds, its fields."""
+    from kinetic_fem.solvers import fem
 
-    a = np.random.default_rng(0).standard_normal((1000, 1000))
-    best = np.inf
-    for _ in range(3):
-        t0 = time.process_time()
-        for _ in range(10):
-            scipy.linalg.lu_factor(a)
-        best = min(best, time.process_time() - t0)
-    return best
-
-
-def _f_error(state, ref) -> float:
-    """Largest relative difference of f(c) where the reference's f > 1e-30."""
-    c_top = []
-    for st in (state, ref):
-        c_top.append(st.disc.vertices[-1] / np.sqrt(st.disc.distribution(st.u).temperature))
-    c = np.linspace(0.0, 0.999 * min(c_top), 4000)
-    f = []
-    for st in (state, ref):
-        scale = np.sqrt(st.disc.distribution(st.u).temperature)
-        f.append(scale * st.disc.evaluate(st.u, c * scale))
-    keep = f[1] > 1e-30
-    return float(np.abs(f[0][keep] / f[1][keep] - 1).max())
+    problem = _problem(model, alpha)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        c0, t0 = time.process_time(), time.perf_counter()
+        state = fem.steady_state(problem)
+        fem.state_distribution(problem, state, state.disc.order)
+        cpu, wall = time.process_time() - c0, time.perf_counter() - t0
+    return {"cpu": cpu, "wall": wall, **_fields(state, c_top)}
 
 
-def compare(points: int, out: list[str]) -> None:
-    """Section 3: before (P2 for the other kernels, the C1 figures evaluated with the
-    state) and after (P3 by :func:`default_order`, C1 on first read), per state
-    alternately in this process; T and a2 against P2 at half the default spacing."""
+def task_reference(model: int, alpha: float) -> dict:
+    """P2 at half the default spacing (the comparison of the table)."""
     from kinetic_fem.solvers import fem
     from kinetic_fem.solvers.fem_defaults import model_spacing, scaled_model
 
+    problem = _problem(model, alpha)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        state = fem.steady_state(problem, order=2,
+                                 spacing=0.5 * model_spacing(scaled_model(problem)))
+    return _fields(state)
+
+
+def serve() -> None:
+    """Answer JSON requests on stdin, one a line, with one JSON line each."""
+    import json
+
+    kf.solve_heated(0.5)  # compile
+    for line in sys.stdin:
+        req = json.loads(line)
+        kind = req.pop("task")
+        out: object
+        if kind == "yardstick":
+            out = cpu_yardstick()
+        elif kind == "reference":
+            out = task_reference(**req)
+        else:
+            out = task_state(**req)
+        print(json.dumps(out), flush=True)
+
+
+class Worker(SpeedWorker):
+    """A persistent worker process on one source tree: this script with ``--serve``
+    (``ask`` and ``close`` as in ``bench_fem_speed``)."""
+
+    def __init__(self, tree: Path) -> None:
+        import subprocess
+
+        env = dict(os.environ, PYTHONPATH=str(tree))
+        self.proc = subprocess.Popen([sys.executable, str(Path(__file__).resolve()),
+                                      "--serve"], env=env, cwd=tree, text=True,
+                                     stdin=subprocess.PIPE, stdout=subprocess.PIPE)
+
+
+def _errors(out: dict, ref: dict) -> tuple[float, float, float]:
+    """dT/T, da2 and the largest df/f where the reference's f > 1e-30."""
+    f, fr = np.array(out["f"]), np.array(ref["f"])
+    c = np.linspace(0.0, 0.999 * ref["c_top"], F_GRID)
+    cs = np.linspace(0.0, 0.999 * min(out["c_top"], ref["c_top"]), F_GRID)
+    fr_s = np.exp(np.interp(cs, c, np.log(np.maximum(fr, 1e-300))))
+    keep = fr_s > 1e-30
+    return (abs(out["T"] / ref["T"] - 1), abs(out["a2"] - ref["a2"]),
+            float(np.abs(f[keep] / fr_s[keep] - 1).max()))
+
+
+def compare(points: int, before: str, out: list[str]) -> None:
+    """Before (commit ``before``) and after (this tree), per state alternately in two
+    worker processes; errors against P2 at half the default spacing (of ``before``), the
+    Maxwell model also against its exact T and a2."""
+    import subprocess
+    import tempfile
+
+    from kinetic_fem.solvers import maxwell
+
+    tree = Path(tempfile.mkdtemp(prefix="heated_before_"))
+    subprocess.run(f"git -C {ROOT} archive {before} | tar -x -C {tree}", shell=True,
+                   check=True)
+    workers = (Worker(tree), Worker(ROOT))
     alphas = [round(float(a), 6) for a in np.linspace(0.0, 0.99, points)]
-    out.append("## Before / after the second round (P3 for constant-alpha kernels, C1 "
-               "figures on first read, coarse tolerance 1e-2, thermostat forms from cached "
-               "element arrays, graded vertices in closed form), per state alternately\n")
-    out.append(f"{points} alphas over [0, 0.99], best of two per state and variant; units: "
-               "the mean yardstick before and after the row (CPU units: CPU seconds of the "
-               "state over CPU seconds of the yardstick, robust to the load).  Errors: "
-               "largest over the alphas against P2 at half the default spacing (f(c) where "
-               "f > 1e-30).  The "
-               "before time includes the C1 loss, evaluated with the state as it was.\n")
-    out.append("| model | before s (units) | after s (units) | ratio | before CPU s (CPU units) "
-               "| after CPU s (CPU units) | CPU ratio | worst after (alpha), CPU units | "
-               "nodes before | nodes after | max dT/T before / after | max da2 before / after "
-               "| max df/f before / after | largest df/f after/before | yardstick s wall / "
-               "CPU |")
-    out.append("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
-    for label, gamma, friction in MODELS:
-        before = yardstick()
-        cpu_before = cpu_yardstick()
-        times = np.zeros((2, len(alphas)))
-        cpu = np.zeros((2, len(alphas)))
-        nodes: list[list[int]] = [[], []]
-        err_t = np.zeros((2, len(alphas)))
-        err_a2 = np.zeros((2, len(alphas)))
-        err_f = np.zeros((2, len(alphas)))
+    out.append(f"## Third round (soft kernels): before = {before}, after = this tree\n")
+    out.append(f"One core, load average at the start {os.getloadavg()[0]:.1f}.  "
+               f"{points} alphas over [0, 0.99]; two worker processes (one per tree) "
+               "asked alternately, best of two CPU times per state and tree; CPU units: "
+               "CPU seconds of a state over the CPU seconds of the yardstick in the same "
+               "worker (mean of before and after the row).  Errors: largest over the "
+               "alphas against P2 at half the default spacing (before's code; f(c) where "
+               "f > 1e-30); Maxwell also against the exact T and a2.\n")
+    out.append("| model | before CPU s (units) | after CPU s (units) | CPU ratio | worst after "
+               "(alpha), units | nodes before | nodes after | max dT/T before / after | "
+               "max da2 before / after | max df/f before / after | largest df/f "
+               "after/before (alpha) | exact dT/T, da2 before / after |")
+    out.append("|---|---|---|---|---|---|---|---|---|---|---|---|")
+    means = np.zeros(2)
+    for index, (label, gamma, _friction) in enumerate(MODELS):
+        units = [np.array([w.ask("yardstick") for w in workers])]
+        cpu = np.full((2, len(alphas)), np.inf)
+        res: list[list[dict]] = [[], []]
+        err = np.zeros((2, len(alphas), 3))
+        exact = np.zeros((2, len(alphas), 2))
         for k, alpha in enumerate(alphas):
-            problem = kf.HeatedProblem.from_parameters(alpha, kernel=gamma, friction=friction)
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
-                ref_state = fem.steady_state(problem, order=2, spacing=0.5 * model_spacing(
-                    scaled_model(problem)))
-                ref = ref_state.disc.distribution(ref_state.u)
-                for i in (0, 1, 0, 1):
-                    _before(i == 0)
-                    c0 = time.process_time()
-                    t0 = time.perf_counter()
-                    dist = kf.solve_heated(alpha, kernel=gamma, friction=friction)
-                    if i == 0:
-                        dist.info.extra["c1_loss"]  # noqa: B018 - evaluated, as before
-                    dt = time.perf_counter() - t0
-                    dc = time.process_time() - c0
-                    times[i, k] = dt if times[i, k] == 0 else min(times[i, k], dt)
-                    cpu[i, k] = dc if cpu[i, k] == 0 else min(cpu[i, k], dc)
-                    if len(nodes[i]) == k:
-                        nodes[i].append(dist.c.size)
-                        err_t[i, k] = abs(dist.temperature / ref.temperature - 1)
-                        err_a2[i, k] = abs(dist.a2 - ref.a2)
-                        err_f[i, k] = _f_error(fem.steady_state(problem), ref_state)
-            _before(False)
-        unit = 0.5 * (before + yardstick())
-        cpu_unit = 0.5 * (cpu_before + cpu_yardstick())
-        m = times.mean(axis=1)
-        mc = cpu.mean(axis=1)
-        out.append(f"| {label} | {m[0]:.3f} ({m[0] / unit:.2f}) | {m[1]:.3f} "
-                   f"({m[1] / unit:.2f}) | {m[0] / m[1]:.2f} | "
-                   f"{mc[0]:.3f} ({mc[0] / cpu_unit:.2f}) | "
-                   f"{mc[1]:.3f} ({mc[1] / cpu_unit:.2f}) | {mc[0] / mc[1]:.2f} | "
-                   f"{cpu[1].max() / cpu_unit:.2f} ({alphas[int(np.argmax(cpu[1]))]}) | "
-                   f"{min(nodes[0])}-{max(nodes[0])} "
-                   f"| {min(nodes[1])}-{max(nodes[1])} | {err_t[0].max():.1e} / "
-                   f"{err_t[1].max():.1e} | {err_a2[0].max():.1e} / {err_a2[1].max():.1e} | "
-                   f"{err_f[0].max():.1e} / {err_f[1].max():.1e} | "
-                   f"{np.max(err_f[1] / err_f[0]):.2f} | {unit:.3f} / {cpu_unit:.3f} |")
+            ref = workers[0].ask("reference", model=index, alpha=alpha)
+            for rep in range(2):
+                for i, w in enumerate(workers):
+                    r = w.ask("state", model=index, alpha=alpha, c_top=ref["c_top"])
+                    cpu[i, k] = min(cpu[i, k], r["cpu"])
+                    if rep == 0:
+                        res[i].append(r)
+                        err[i, k] = _errors(r, ref)
+                        if gamma == 0.0 and MODELS[index][2] == 0.0:
+                            m = maxwell.steady_state(alpha)
+                            exact[i, k] = (abs(r["T"] / m.temperature - 1), abs(r["a2"] - m.a2))
+        units.append(np.array([w.ask("yardstick") for w in workers]))
+        unit = 0.5 * (units[0] + units[1])
+        mean = cpu.mean(axis=1)
+        means += mean / unit
+        nodes = [[r["nodes"] for r in rs] for rs in res]
+        worst = int(np.argmax(cpu[1]))
+        ratio = err[1, :, 2] / err[0, :, 2]
+        text = (f"{exact[0, :, 0].max():.1e}, {exact[0, :, 1].max():.1e} / "
+                f"{exact[1, :, 0].max():.1e}, {exact[1, :, 1].max():.1e}"
+                if exact.any() else "")
+        out.append(f"| {label} | {mean[0]:.3f} ({mean[0] / unit[0]:.2f}) | {mean[1]:.3f} "
+                   f"({mean[1] / unit[1]:.2f}) | {mean[0] / mean[1]:.2f} | "
+                   f"{cpu[1, worst] / unit[1]:.2f} ({alphas[worst]}) | "
+                   f"{min(nodes[0])}-{max(nodes[0])} | {min(nodes[1])}-{max(nodes[1])} | "
+                   f"{err[0, :, 0].max():.1e} / {err[1, :, 0].max():.1e} | "
+                   f"{err[0, :, 1].max():.1e} / {err[1, :, 1].max():.1e} | "
+                   f"{err[0, :, 2].max():.1e} / {err[1, :, 2].max():.1e} | "
+                   f"{ratio.max():.2f} ({alphas[int(np.argmax(ratio))]}) | {text} |")
         print(out[-1], flush=True)
-    out.append("")
+        per_alpha = " ".join(f"{a}: {c0 / unit[0]:.2f}/{c1 / unit[1]:.2f} "
+                             f"({n0}/{n1})" for a, c0, c1, n0, n1 in
+                             zip(alphas, cpu[0], cpu[1], nodes[0], nodes[1], strict=True))
+        out.append(f"|  | per alpha, units before/after (nodes): {per_alpha} "
+                   "| | | | | | | | | | |")
+    means /= len(MODELS)
+    out.append(f"\nMean over the {len(MODELS)} kernels, CPU units: before {means[0]:.2f}, "
+               f"after {means[1]:.2f} (target 0.4).\n")
+    for w in workers:
+        w.close()
 
 
 def main() -> None:
@@ -328,16 +349,24 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=3, help="best of this many (curves)")
     parser.add_argument("--points", type=int, default=12, help="alphas per model")
     parser.add_argument("--compare", action="store_true",
-                        help="only section 3 (before/after), to fem_heated_speed_compare.md")
+                        help="only the before/after section, into fem_heated_speed_compare.md")
+    parser.add_argument("--before", default=BEFORE, help="commit of the before tree")
+    parser.add_argument("--serve", action="store_true", help=argparse.SUPPRESS)
     args = parser.parse_args()
+    if args.serve:
+        serve()
+        return
     if args.compare:
-        kf.solve_heated(0.5)
-        out = ["# Heated FEM states: before / after (issue 16, second round)\n",
-               f"One core, load average at the start {os.getloadavg()[0]:.1f}.\n"]
-        compare(4 if args.quick else args.points, out)
+        out: list[str] = []
+        compare(4 if args.quick else args.points, args.before, out)
         out.append(f"load average at the end {os.getloadavg()[0]:.1f}\n")
-        (ROOT / "benchmarks" / "results" / "fem_heated_speed_compare.md").write_text(
-            "\n".join(out) + "\n")
+        name = "fem_heated_speed_compare_quick.md" if args.quick else \
+            "fem_heated_speed_compare.md"
+        path = ROOT / "benchmarks" / "results" / name
+        old = path.read_text() if path.exists() else "# Heated FEM states: before / after\n"
+        marker = "## Third round (soft kernels)"
+        keep = old.split(marker)[0].rstrip() + "\n\n" if marker in old else old + "\n"
+        path.write_text(keep + "\n".join(out) + "\n")
         return
     _count_calls()
     kf.solve_heated(0.5)  # compile

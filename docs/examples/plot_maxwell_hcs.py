@@ -12,8 +12,10 @@ Puglisi, Europhys. Lett. 58, 14 (2002)):
 
 at unit temperature, with :math:`dT/dt = -2\zeta n T`.  Its :math:`c^{-4}` tail has
 an infinite fourth moment, and :math:`c^2 f` carries :math:`4/(\pi V)` of the energy
-beyond :math:`|c| = V`, so the FEM mesh (:mod:`kinetic_fem.solvers.fem_cooling`) is uniform in
-the bulk and geometric out to :math:`V = 10^8`.  This example solves the state with
+beyond :math:`|c| = V`: the FEM mesh (:mod:`kinetic_fem.solvers.fem_cooling_maxwell`) is
+uniform in the bulk and geometric out to :math:`V = 200`, and the state beyond is its
+asymptotic series :math:`A c^{-4}(1 - 2c^{-2} + 3c^{-4})` with :math:`A` matched to the
+mesh.  This example solves the state with
 ``kf.solve_cooling(alpha, kernel=0.0)`` and plots it with the closed form and the
 relative error.
 """

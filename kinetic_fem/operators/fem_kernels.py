@@ -46,6 +46,8 @@ from .fem_pair_breaks import (
 )
 from .fem_pair_fast import collision_constant, finish_collision
 
+# numba caches this module's kernels with kernel_rate compiled in: edit this file too when
+# kernel_rate changes (a stale cache keeps the old rule; gamma = 1/2 by sqrt since issue 16)
 __all__ = ["shape_values", "collision_operator", "evaluate_field", "kernel_rate",
            "preimage_distance", "GRADING_RATIO", "GRADING_LEVELS"]
 

@@ -18,6 +18,8 @@ import numpy as np
 from .._jit import jit
 from .fem_pair_breaks import GRADING_LEVELS, kernel_rate, merge_breaks, pieces
 
+# numba caches this module's kernels with kernel_rate compiled in: edit this file too when
+# kernel_rate changes (a stale cache keeps the old rule; gamma = 1/2 by sqrt since issue 16)
 __all__ = ["collision_constant", "finish_collision"]
 
 

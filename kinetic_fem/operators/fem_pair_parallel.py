@@ -34,6 +34,8 @@ from .fem_pair_breaks import GRADING_LEVELS, kernel_graded
 from .fem_pair_fast import finish_collision
 from .fem_pair_sums import outer_point_sums
 
+# numba caches this module's kernels with kernel_rate compiled in: edit this file too when
+# kernel_rate changes (a stale cache keeps the old rule; gamma = 1/2 by sqrt since issue 16)
 __all__ = ["collision", "collision_constant_parallel", "scatter_outer_point",
            "parallel_enabled", "PARALLEL_ENV", "CHUNK_VALUES"]
 

@@ -17,6 +17,8 @@ import numpy as np
 from .._jit import jit
 from .fem_pair_breaks import kernel_rate, merge_breaks, pieces
 
+# numba caches this module's kernels with kernel_rate compiled in: edit this file too when
+# kernel_rate changes (a stale cache keeps the old rule; gamma = 1/2 by sqrt since issue 16)
 __all__ = ["outer_point_sums", "N_VALUES"]
 
 

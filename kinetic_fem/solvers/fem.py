@@ -100,7 +100,14 @@ from .fem_newton import (
     newton_steady,
     stalled,
 )
-from .fem_state import SEQUENCE_BAND, LazyExtra, SteadyState, check_energy_input, nested_coarse
+from .fem_state import (
+    SEQUENCE_BAND,
+    LazyExtra,
+    SteadyState,
+    check_energy_input,
+    nested_coarse,
+    state_temperature,
+)
 
 __all__ = ["FEMDiscretisation", "SteadyState", "ResolutionWarning", "ConvergenceError",
            "default_cutoff", "default_spacing", "steady_state", "solve_fem_heated", "ELEMENTS",
@@ -122,6 +129,14 @@ CONTINUATION_ALPHA = 0.95
 SEQUENCE_FACTOR = 3
 """Mesh sequencing: the first solve is on a mesh this much coarser (or 2 where that
 would exceed :data:`SEQUENCE_MAX_SPACING`)."""
+SEQUENCE_FACTOR_P3 = 2
+"""The same for P3: its coarse error is ``factor**4`` times the fine one, ``2**4 = 16``
+(``3**3 = 27`` for P2 at :data:`SEQUENCE_FACTOR`), so the fine Newton starts within about
+1e-2 in ln P and ends after one Jacobian and one or two chord steps (measured over 12
+alphas in [0, 0.99]: the Maxwell model 1.22x, the saturating kernel 1.13x, hard rods in a
+bath 1.12x, gamma = 0.5 1.04x against 3; P2 for gamma = 2 at 2: 0.91x).  Not for the
+paper's model, whose P3 spacing admits 3 only above alpha = 0.95, where the coarse solve
+starts from the continuation guess (5-6 Jacobians; 2 costs 0.6 fine Jacobians more)."""
 SEQUENCE_MAX_SPACING = 0.3
 """No sequencing when the coarse spacing would exceed this (thermal velocities) times
 half the element degree."""
@@ -230,7 +245,17 @@ def steady_state(model: float | HeatedProblem, *, order: int | None = None,
     """
     problem = model if isinstance(model, HeatedProblem) else \
         HeatedProblem.from_parameters(model)
-    scaled = scaled_model(problem)
+    return _steady_state(problem, scaled_model(problem), order=order, spacing=spacing,
+                         cutoff=cutoff, vertices=vertices, intorder=intorder,
+                         symmetric=symmetric, tol=tol, max_iter=max_iter, initial=initial)
+
+
+def _steady_state(problem: HeatedProblem, scaled: ScaledModel, *, order: int | None,
+                  spacing: float | None, cutoff: float | None, vertices, intorder: int | None,
+                  symmetric: bool, tol: float, max_iter: int,
+                  initial: SteadyState | Callable[[NDArray], NDArray] | None) -> SteadyState:
+    """:func:`steady_state` of ``problem`` with its scaled model (computed once: for other
+    kernels than power laws the temperature estimate costs a few ms)."""
     paper = scaled.is_paper_model
     alpha = scaled.alpha
     # with a bath the elastic limit is a Gaussian (no quasi-elastic structure)
@@ -240,9 +265,10 @@ def steady_state(model: float | HeatedProblem, *, order: int | None = None,
         if order == 3 and not paper:
             # P3 for the other kernels (default_order); should Newton fail, the P2 default
             try:
-                return steady_state(problem, order=3, cutoff=cutoff, intorder=intorder,
-                                    symmetric=symmetric, tol=tol, max_iter=max_iter,
-                                    initial=initial)
+                return _steady_state(problem, scaled, order=3, spacing=None,
+                                     cutoff=cutoff, vertices=None, intorder=intorder,
+                                     symmetric=symmetric, tol=tol, max_iter=max_iter,
+                                     initial=initial)
             except ConvergenceError as err:
                 logger.info("P3 default failed at alpha=%g (%s); P2", alpha, err)
                 order = 2
@@ -282,7 +308,8 @@ def steady_state(model: float | HeatedProblem, *, order: int | None = None,
 
         def start(v: NDArray) -> NDArray:
             return guess.initial_guess(v, scaled.temperature, linear_tail=not paper)
-    coarsen = next((f for f in (SEQUENCE_FACTOR, 2) if f * spacing <= SEQUENCE_MAX_SPACING
+    first = SEQUENCE_FACTOR_P3 if order == 3 and not paper else SEQUENCE_FACTOR
+    coarsen = next((f for f in (first, 2) if f * spacing <= SEQUENCE_MAX_SPACING
                     * order / 2), 0)
     if vertices is None and coarsen:
         # mesh sequencing: the globalised iteration and the widening of the interval on
@@ -338,7 +365,7 @@ def _widened_solve(alpha: float, scaled: ScaledModel, paper: bool, order: int,
                 raise ConvergenceError(f"FEM Newton did not converge in {max_iter} iterations "
                                        f"at alpha={alpha} ({info.message}); increase max_iter "
                                        "or refine the mesh (smaller spacing)")
-            temperature = disc.distribution(u).temperature
+            temperature = state_temperature(disc, u)
             if not paper and order >= 2:
                 check_energy_input(disc, u, temperature, alpha)
         except ConvergenceError as err:
@@ -384,8 +411,8 @@ def solve_fem_heated(problem: HeatedProblem, *, order: int | None = None,
     order : int, optional
         Lagrange degree, 1, 2 or 3; default
         :func:`kinetic_fem.solvers.fem_defaults.default_order` on the default mesh (3 for
-        a constant alpha and kernels up to hard rods, except near elastic collisions under
-        white noise for the softer ones; else 2; P2 also if Newton fails with P3), and 2
+        a constant alpha and kernels up to hard rods, else 2; P2 also if Newton fails
+        with P3), and 2
         with an explicit ``spacing`` or ``vertices``.
     spacing : float, optional
         Element size in thermal velocities :math:`\\sqrt{T}`; default

@@ -48,11 +48,13 @@ Near elastic collisions (hard rods, :math:`\\varepsilon = 1 - \\alpha <` :data:`
 the state is two humps of width :math:`w = \\varepsilon^{1/3}` at :math:`c = \\pm 1`.
 While they are broad (:math:`\\varepsilon \\ge` 0.04, :mod:`.fem_cooling_band`) the default
 is P3 on the mesh above, from the state at 0.1; below, and with ``resolution``, it is
-reached by continuation in :math:`\\varepsilon` from 0.1 (:mod:`.fem_cooling_hump`: toward
-:math:`\\varepsilon \\ge 10^{-3}` in equal log steps of at most 8 on coarse link meshes,
-below in steps of at most 2, :func:`hump_chain`; the state asked for is solved once more on
-the finer mesh, P3 at 0.2 hump widths by default down to :math:`10^{-4}`), each on a mesh
-that follows the humps
+reached by continuation in :math:`\\varepsilon` from 0.1 (:mod:`.fem_cooling_links`,
+:mod:`.fem_cooling_hump`: toward :math:`\\varepsilon \\ge 10^{-3}` in equal log steps of
+at most 16 on coarse link meshes cut off at 20 decades, from a coarse state at 0.1; below in
+steps of at most 2, :func:`hump_chain`; the state asked for is solved once more on the
+finer mesh, P3 at 0.2 hump widths by default down to :math:`10^{-4}`; ``initial=`` a state
+at a neighbouring alpha starts the continuation there), each on a mesh that follows the
+humps
 (:func:`kinetic_fem.operators.adaptive.hump_vertices`: ``resolution`` hump widths over
 the humps and their outer edge, geometric grading along the exponential inner tail), from
 the previous state rescaled on :math:`y = (1 - c)/w` (:meth:`CoolingState.rescaled_log_f`),
@@ -68,10 +70,12 @@ cut-off), the normalisation replaces the equation at the peak.  The continuation
 
 The inelastic Maxwell model (:math:`\\gamma = 0`) has the closed-form state
 :math:`f(c) = 2/(\\pi(1+c^2)^2)` for every alpha (Baldassarri, Marini Bettolo Marconi,
-Puglisi, Europhys. Lett. 58, 14 (2002)), :math:`\\zeta = (1-\\alpha^2)/4`; its
-:math:`c^{-4}` tail (infinite fourth moment) is resolved on a geometric mesh out to
-:math:`V = 10^8`, and the result carries :math:`f` recovered from the superconvergent
-points of :math:`\\ln f_h` (:mod:`kinetic_fem.solvers.fem_cooling_tail`).
+Puglisi, Europhys. Lett. 58, 14 (2002)), :math:`\\zeta = (1-\\alpha^2)/4`; by default the
+mesh ends at :math:`c = 200` and its :math:`c^{-4}` tail (infinite fourth moment) is
+continued analytically beyond (:mod:`kinetic_fem.solvers.fem_cooling_maxwell`); with
+``cutoff`` (or ``vertices``) it is resolved on a geometric mesh out to, e.g.,
+:math:`V = 10^8`; the result carries :math:`f` recovered from the superconvergent points
+of :math:`\\ln f_h` (:mod:`kinetic_fem.solvers.fem_cooling_tail`).
 
 A velocity-dependent restitution law has no homogeneous cooling state (the law has its
 own speed scale, so the state changes as the gas cools); such problems are refused.
@@ -96,8 +100,6 @@ from .fem_cooling_alpha import ALPHA_CHAIN_COARSE, alpha_chain, uses_alpha_chain
 from .fem_cooling_band import band_state, in_band
 from .fem_cooling_hump import (
     HUMP_COARSE_EPS,
-    HUMP_COARSE_LINK,
-    HUMP_LINK_RATIO,
     HUMP_LINK_RESOLUTION,
     HUMP_P3_EPS,
     HUMP_P3_RESOLUTION,
@@ -105,6 +107,18 @@ from .fem_cooling_hump import (
     HUMP_STEP_RESOLUTION,
     continued_state,
 )
+from .fem_cooling_links import (
+    HUMP_EPS,
+    HUMP_FRONTIER,
+    HUMP_MIN_RATIO,
+    HUMP_RATIO,
+    HUMP_STEP_ITER,
+    HUMP_STEP_TOL,
+    chain_state,
+    hump_chain,
+    start_state,
+)
+from .fem_cooling_maxwell import MaxwellTailState, maxwell_cooling_state
 from .fem_cooling_mesh import (
     HUMP_INTORDER,
     MAXWELL_CUTOFF,
@@ -113,8 +127,6 @@ from .fem_cooling_mesh import (
     hcs_spacing,
     hcs_vertices,
     initial_log_f,
-    log_chain,
-    step_intorder,
 )
 from .fem_cooling_newton import CLOSE_DAMPING, CoolingState, newton_cooling
 from .fem_cooling_order import (
@@ -134,25 +146,11 @@ __all__ = ["solve_fem_cooling", "cooling_state", "CoolingState", "continued_stat
            "hump_chain", "hump_start", "uses_hump_mesh", "HUMP_EPS", "HUMP_RESOLUTION",
            "HUMP_FRONTIER", "hcs_cutoff", "hcs_spacing", "hcs_vertices", "maxwell_hcs",
            "initial_log_f", "newton_cooling", "MAXWELL_CUTOFF", "HUMP_STEP_RESOLUTION",
-           "HUMP_LINK_RESOLUTION", "HUMP_INTORDER", "HUMP_P3_EPS", "HUMP_P3_RESOLUTION"]
+           "HUMP_LINK_RESOLUTION", "HUMP_INTORDER", "HUMP_P3_EPS", "HUMP_P3_RESOLUTION",
+           "link_start", "cooling_distribution", "HUMP_RATIO", "HUMP_STEP_TOL",
+           "HUMP_STEP_ITER", "HUMP_MIN_RATIO"]
 
 logger = logging.getLogger(__name__)
-
-HUMP_EPS = 0.1
-"""Below this inelasticity (hard rods) the state is reached by continuation in eps on
-meshes that follow the humps (:func:`kinetic_fem.operators.adaptive.hump_vertices`)."""
-HUMP_FRONTIER = 1e-6
-"""Smallest inelasticity the continuation is measured to reach (with the Gauss degree
-HUMP_INTORDER); below it a failure is reported as this limit."""
-HUMP_RATIO = 2.0
-"""Largest ratio of successive inelasticities of the continuation."""
-HUMP_STEP_TOL = 1e-7
-"""Newton tolerance of the intermediate states (they only start the next step)."""
-HUMP_STEP_ITER = 40
-"""Newton steps allowed before a continuation step is halved (on a log scale)."""
-HUMP_MIN_RATIO = 1.1
-"""Continuation steps are not halved below this ratio of inelasticities."""
-
 
 def _discretisation(problem: CoolingProblem, vertices: NDArray, order: int,
                     intorder: int | None) -> FEMDiscretisation:
@@ -176,30 +174,6 @@ def uses_hump_mesh(problem: CoolingProblem) -> bool:
     return problem.gas.gamma == 1.0 and problem.gas.epsilon < HUMP_EPS * (1.0 - 1e-12)
 
 
-def hump_chain(eps: float) -> list[float]:
-    """Inelasticities of the continuation from :data:`HUMP_EPS` down to ``eps``: steps of
-    at most :data:`HUMP_RATIO`, equal on a log scale, ending exactly at ``eps``.
-
-    Parameters
-    ----------
-    eps : float
-        Target inelasticity :math:`1 - \\alpha`, below :data:`HUMP_EPS`.
-
-    Returns
-    -------
-    list of float
-        The inelasticities of the continuation steps, the last one ``eps``.
-
-    Examples
-    --------
-    >>> [round(e, 6) for e in hump_chain(1e-3)]
-    [0.05, 0.025, 0.0125, 0.00625, 0.003125, 0.001563, 0.001]
-    """
-    n = max(1, math.ceil(math.log(HUMP_EPS / eps) / math.log(HUMP_RATIO) - 1e-9))
-    chain = [HUMP_EPS / HUMP_RATIO**k for k in range(1, n)]
-    return [*chain, eps]
-
-
 @functools.lru_cache(maxsize=4)
 def hump_start(order: int, intorder: int | None) -> CoolingState:
     """The state at :data:`HUMP_EPS` from the Gaussian start (cached: it starts every chain).
@@ -220,62 +194,53 @@ def hump_start(order: int, intorder: int | None) -> CoolingState:
                          cutoff=12.0)
 
 
-def _hump_state(problem: CoolingProblem, *, order: int, intorder: int | None, tol: float,
-                max_iter: int, resolution: float, final_order: int) -> CoolingState:
-    """Continuation in eps on meshes that follow the humps (module notes); the state asked
-    for is of degree ``final_order`` (the continuation's: ``order``)."""
-    eps = problem.gas.epsilon
-    prev, eps_prev = hump_start(order, intorder), HUMP_EPS
-    pending = (log_chain(eps, HUMP_EPS, HUMP_LINK_RATIO) if eps >= HUMP_COARSE_EPS * (1 - 1e-9)
-               else hump_chain(eps))[::-1]  # a stack: the next target last
-    while pending:
-        step = pending[-1]
-        # the target is reached on the coarser step mesh first, then refined at the same
-        # eps (mesh sequencing: the many Newton steps of a continuation step are taken
-        # on the coarse mesh, the fine one needs three or four)
-        link = max(resolution, HUMP_COARSE_LINK if step >= HUMP_COARSE_EPS else
-                   HUMP_LINK_RESOLUTION)
-        final = step == eps and (eps_prev == eps or resolution >= link
-                                 and final_order == order)
-        res = resolution if final else link
-        state = continued_state(prev, eps_prev, step, resolution=res,
-                                order=final_order if final else order,
-                                intorder=intorder or step_intorder(step, order, final),
-                                tol=tol if final else HUMP_STEP_TOL,
-                                max_iter=min(max_iter, HUMP_STEP_ITER)
-                                if eps_prev / step > HUMP_MIN_RATIO else max_iter)
-        if state.info.converged:
-            if final or step != eps:
-                pending.pop()
-            prev, eps_prev = state, step
-        elif eps_prev / step > HUMP_MIN_RATIO:
-            # step control: retry through the geometric mean
-            pending.append(math.sqrt(eps_prev * step))
-            logger.info("HCS continuation: step %.3g -> %.3g failed; halving it (log scale)",
-                        eps_prev, step)
-        else:
-            where = (f"FEM cooling Newton did not converge at eps = {step:.3g} on the way "
-                     f"to alpha = {problem.gas.alpha} (hump mesh of "
-                     f"{state.disc.vertices.size - 1} elements, {res:g} hump widths "
-                     f"eps^(1/3) = {step ** (1 / 3):.3g}, step from eps = {eps_prev:.3g}; "
-                     f"{state.info.message})")
-            if step < HUMP_FRONTIER:
-                raise ConvergenceError(
-                    f"{where}: below eps = {HUMP_FRONTIER:g} the continuation is not "
-                    "measured (there zeta/eps - 1 ~ 0.18 eps^(4/3) nears the round-off of "
-                    "the collision balance), a known limit of this solver; for the "
-                    "leading-order state use kf.scaling.solve_psi().humps(c, eps)")
-            raise ConvergenceError(
-                f"{where}: the mesh does not resolve the humps; pass a smaller "
-                f"resolution (e.g. resolution={res / 2:g})")
-    return prev
+LINK_START_SPACING, LINK_START_CUTOFF = 0.3, 9.0
+"""Mesh of the state at :data:`HUMP_EPS` that starts the links toward eps >=
+:data:`~kinetic_fem.solvers.fem_cooling_hump.HUMP_COARSE_EPS` (one solve, tolerance
+:data:`HUMP_STEP_TOL`, no mesh sequencing; ln f = -77 at c = 9): the links' coarse meshes
+do not need :func:`hump_start`'s (spacing 0.1 after 0.2, cut-off 12).  0.05 to 0.09 CPU s
+less per state at eps = 1e-3 ... 0.03, the final states equal to 1.3e-14
+(benchmarks/results/fem_cooling_speed.md)."""
+
+
+def link_start(order: int, intorder: int | None) -> CoolingState:
+    """The state at :data:`HUMP_EPS` on the coarse mesh that starts the fast links (not cached).
+
+    Parameters
+    ----------
+    order : int
+        Lagrange degree.
+    intorder : int or None
+        Gauss degree (None: ``2 * order + 1``).
+
+    Returns
+    -------
+    CoolingState
+    """
+    problem = CoolingProblem.from_parameters(1.0 - HUMP_EPS)
+    return cooling_state(problem, order=order, intorder=intorder, tol=HUMP_STEP_TOL,
+                         spacing=LINK_START_SPACING, cutoff=LINK_START_CUTOFF, sequence=False)
+
+
+def _hump_state(problem: CoolingProblem, initial, **options) -> CoolingState:
+    """Continuation in eps from ``initial`` (a warm start), else from the state at
+    :data:`HUMP_EPS` (:func:`link_start` toward eps >= HUMP_COARSE_EPS, else
+    :func:`hump_start`): :func:`~kinetic_fem.solvers.fem_cooling_links.chain_state`."""
+    if initial is not None:
+        start, eps_start = start_state(initial)
+    elif problem.gas.epsilon >= HUMP_COARSE_EPS * (1 - 1e-9):
+        start, eps_start = link_start(options["order"], options["intorder"]), HUMP_EPS
+    else:
+        start, eps_start = hump_start(options["order"], options["intorder"]), HUMP_EPS
+    return chain_state(problem.gas.alpha, start, eps_start, **options)
 
 
 def cooling_state(problem: CoolingProblem, *, order: int | None = None,
                   spacing: float | None = None, cutoff: float | None = None, vertices=None,
                   intorder: int | None = None,
                   tol: float = 1e-11, max_iter: int = 100,
-                  resolution: float | None = None, sequence: bool = True) -> CoolingState:
+                  resolution: float | None = None, sequence: bool = True,
+                  initial: CoolingState | VelocityDistribution | None = None) -> CoolingState:
     """The HCS by Newton's method (see :func:`solve_fem_cooling` for the options).
 
     ``sequence``: on a mesh built from ``spacing`` (not explicit ``vertices``), start
@@ -290,6 +255,8 @@ def cooling_state(problem: CoolingProblem, *, order: int | None = None,
         As in :func:`solve_fem_cooling`.
     sequence : bool
         Mesh sequencing (see above).
+    initial : CoolingState or VelocityDistribution, optional
+        Warm start, as in :func:`solve_fem_cooling`.
 
     Returns
     -------
@@ -308,6 +275,10 @@ def cooling_state(problem: CoolingProblem, *, order: int | None = None,
             f"{problem.gas.restitution!r}: a velocity-dependent law has its own speed scale, "
             "so no scaling state exists (the gas approaches elastic collisions as it cools); "
             "use particles.dsmc.simulate_cooling for the transient")
+    if problem.gas.gamma == 0.0 and vertices is None and cutoff is None and resolution is None:
+        # the Maxwell model: short mesh, analytic c^-4 tail (.fem_cooling_maxwell)
+        return maxwell_cooling_state(problem.gas.alpha, order=order, spacing=spacing,
+                                     intorder=intorder, tol=tol, max_iter=max_iter)
     hump = uses_hump_mesh(problem) and vertices is None and spacing is None and cutoff is None
     default = order is None and resolution is None
     band = hump and default and in_band(problem.gas.epsilon, HUMP_EPS)
@@ -320,13 +291,15 @@ def cooling_state(problem: CoolingProblem, *, order: int | None = None,
     if resolution is not None:
         resolution = check_positive("resolution", resolution)
     if band:  # the broad humps of eps in [BAND_EPS, 0.1): P3 on the moderate mesh
-        state = band_state(problem, hump_start(2, None), HUMP_EPS, tol=tol,
+        start, eps_start = (start_state(initial) if initial is not None
+                            else (link_start(2, None), HUMP_EPS))
+        state = band_state(problem, start, eps_start, tol=tol,
                            max_iter=max_iter, intorder=intorder)
         if state is not None:
             return state
     if hump:
         p3 = default and problem.gas.epsilon >= HUMP_P3_EPS * (1.0 - 1e-9)
-        return _hump_state(problem, order=order, intorder=intorder, tol=tol,
+        return _hump_state(problem, initial, order=order, intorder=intorder, tol=tol,
                            max_iter=max_iter, final_order=3 if p3 else order,
                            resolution=HUMP_P3_RESOLUTION if p3 else resolution or
                            HUMP_RESOLUTION)
@@ -407,7 +380,8 @@ def cooling_state(problem: CoolingProblem, *, order: int | None = None,
 def solve_fem_cooling(problem: CoolingProblem, *, order: int | None = None,
                       spacing: float | None = None, cutoff: float | None = None,
                       vertices=None, intorder: int | None = None, tol: float = 1e-11,
-                      max_iter: int = 100, resolution: float | None = None
+                      max_iter: int = 100, resolution: float | None = None,
+                      initial: CoolingState | VelocityDistribution | None = None
                       ) -> VelocityDistribution:
     """Homogeneous cooling state by Galerkin FEM and Newton's method.
 
@@ -436,6 +410,13 @@ def solve_fem_cooling(problem: CoolingProblem, *, order: int | None = None,
         ``spacing``, ``cutoff`` or ``vertices``): element size in the humps, in hump
         widths :math:`\\varepsilon^{1/3}`; default :data:`HUMP_RESOLUTION`.  The state
         is then reached by continuation in :math:`\\varepsilon` from :data:`HUMP_EPS`.
+    initial : CoolingState or VelocityDistribution, optional
+        Warm start for sweeps: the hard-rod state (or the distribution this function
+        returned) at a neighbouring restitution coefficient.  Near elastic collisions
+        (hard rods, :math:`\\varepsilon <` :data:`HUMP_EPS`, default mesh) the
+        continuation starts from it instead of from :data:`HUMP_EPS` (one link for a
+        neighbour within a ratio of 16 in :math:`\\varepsilon`); the state is solved on
+        the same mesh as without it.  Ignored elsewhere.
 
     Returns
     -------
@@ -454,11 +435,31 @@ def solve_fem_cooling(problem: CoolingProblem, *, order: int | None = None,
     """
     state = cooling_state(problem, order=order, spacing=spacing, cutoff=cutoff,
                           vertices=vertices, intorder=intorder, tol=tol, max_iter=max_iter,
-                          resolution=resolution)
+                          resolution=resolution, initial=initial)
+    return cooling_distribution(problem, state)
+
+
+def cooling_distribution(problem: CoolingProblem, state: CoolingState) -> VelocityDistribution:
+    """The result of :func:`solve_fem_cooling` for a converged state.
+
+    Parameters
+    ----------
+    problem : CoolingProblem
+        The problem solved.
+    state : CoolingState
+        Its state.
+
+    Returns
+    -------
+    VelocityDistribution
+        As returned by :func:`solve_fem_cooling`.
+    """
     info = replace(state.info, extra={"zeta": float(state.zeta),
                                       "zeta_identity": float(state.energy_identity()),
                                       "n_dofs": int(state.u.size), "order": state.disc.order,
                                       "cutoff": float(state.disc.vertices[-1])})
+    if isinstance(state, MaxwellTailState):
+        return state.distribution(method="fem", params=problem.as_dict(), info=info)
     if problem.gas.gamma == 0.0:
         # --- the Maxwell model's c^-4 tail: kinetic_fem.solvers.fem_cooling_tail ---
         return recovered_distribution(state.disc, state.u, method="fem",

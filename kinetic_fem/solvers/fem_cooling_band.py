@@ -32,6 +32,7 @@ import numpy as np
 
 from ..model import CoolingProblem
 from .fem import FEMDiscretisation
+from .fem_cooling_hump import FULL_STEP_ITER
 from .fem_cooling_mesh import hcs_bulk, hcs_cutoff, hcs_spacing, hcs_vertices
 from .fem_cooling_newton import CLOSE_DAMPING, CoolingState, newton_cooling
 
@@ -123,8 +124,15 @@ def band_state(problem: CoolingProblem, start: CoolingState, eps_start: float, *
                     coarse.info.message)
         return None
     disc = _disc(problem, BAND_SPACING * p2, 3, intorder)
-    state = newton_cooling(disc, coarse.log_f(disc.dof_locations), coarse.zeta, tol=tol,
-                           max_iter=max_iter, pseudo_time=np.inf, min_damping=CLOSE_DAMPING)
+    u0 = coarse.log_f(disc.dof_locations)
+    # full Newton steps first (as the same-eps refinement of the hump path), then
+    # backtracking if they do not converge
+    for line_search, iters in ((False, min(max_iter, FULL_STEP_ITER)), (True, max_iter)):
+        state = newton_cooling(disc, u0, coarse.zeta, tol=tol, max_iter=iters,
+                               pseudo_time=np.inf, min_damping=CLOSE_DAMPING,
+                               line_search=line_search)
+        if state.info.converged:
+            break
     logger.info("HCS band eps = %.3g: %d + %d Newton steps on %d + %d dofs, converged %s",
                 eps, coarse.info.iterations, state.info.iterations, coarse.u.size,
                 state.u.size, state.info.converged)

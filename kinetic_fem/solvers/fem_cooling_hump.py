@@ -22,7 +22,8 @@ from .fem_cooling_newton import CLOSE_DAMPING, CoolingState, newton_cooling
 
 __all__ = ["continued_state", "HUMP_RESOLUTION", "HUMP_STEP_RESOLUTION",
            "HUMP_LINK_RESOLUTION", "HUMP_COARSE_LINK", "HUMP_COARSE_EPS", "HUMP_LINK_RATIO",
-           "HUMP_P3_EPS", "HUMP_P3_RESOLUTION"]
+           "HUMP_P3_EPS", "HUMP_P3_RESOLUTION", "HUMP_FAST_LINK",
+           "HUMP_LINK_DECADES", "FULL_STEP_ITER", "FAR_DECADES", "P3_FAR_EFOLDS"]
 
 logger = logging.getLogger(__name__)
 
@@ -34,11 +35,33 @@ HUMP_STEP_RESOLUTION, HUMP_LINK_RESOLUTION = 0.07, 0.14
 """Element sizes (hump widths): the step mesh and the intermediate states' below
 HUMP_COARSE_EPS (2-4 times faster; at eps = 1e-6 ln f moves by 7e-6, zeta by 1e-12:
 benchmarks/results/fem_cooling.md)."""
-HUMP_COARSE_LINK, HUMP_COARSE_EPS, HUMP_LINK_RATIO = 0.2, 1e-3, 8.0
+HUMP_COARSE_LINK, HUMP_COARSE_EPS, HUMP_LINK_RATIO = 0.2, 1e-3, 16.0
 """Element size (hump widths) of the intermediate states at eps >= HUMP_COARSE_EPS (1.3 to
 1.5 times faster than 0.14; the state asked for is reached on this mesh first and then
 solved on the finer one at the same eps), and their largest eps ratio toward a state asked
-for there (1.2-1.3 times faster than 2: benchmarks/results/fem_cooling_speed.md)."""
+for there (8: 1.2-1.3 times faster than 2; 16 on the HUMP_FAST_LINK meshes:
+benchmarks/results/fem_cooling_speed.md)."""
+FULL_STEP_ITER = 8
+"""Newton from the same eps on a coarser mesh takes full steps (no backtracking: every
+step was accepted at damping 1, and the trial residual came without the Jacobian, one
+residual call more per step: 10-15 % of a call at eps = 1e-3 ... 0.03, same states to the
+last digit); if it has not converged in this many steps, it is redone with backtracking."""
+FAR_DECADES, P3_FAR_EFOLDS = 30.0, 2.0
+"""The default P3 state's elements beyond f = 1e-30 (of its start) fall 2 e-folds, not 1:
+the accuracy is asked where f > 1e-30, and the 45-decade cut-off (HUMP_DECADES) put a
+quarter of the mesh beyond it (36 of 154 vertices per side at eps = 1e-3).  925 -> 823
+dofs at eps = 1e-3, 811 -> 709 at 1e-2; against P3 at 0.1 hump widths unchanged errors
+(zeta 1.7e-14 / 4.1e-14, a2 4.7e-13 / 6.6e-13, ln f 3.0e-7 / 4.6e-7) and no growing
+mode of the linearised operator (largest rate 0 zeta, the scale mode:
+benchmarks/results/fem_cooling_speed.md)."""
+HUMP_FAST_LINK, HUMP_LINK_DECADES = 0.3, 20.0
+"""Links toward a state asked for at eps >= HUMP_COARSE_EPS (issue 16, eighth round): element
+size in hump widths, and the decades the start falls to the cut-off (not HUMP_DECADES).
+The links only start the next solve, and the y-rescaled start overestimates the outer edge
+by up to 30 e-folds, so the 45-decade cut-off put half of a link mesh where the state is
+below 1e-60; the state asked for is solved on the full mesh.  eps = 1e-3: 1.7 -> 0.7 CPU s,
+the final state moves by <= 2e-14 in zeta and a2, 1e-8 in ln f
+(benchmarks/results/fem_cooling_speed.md)."""
 HUMP_P3_EPS, HUMP_P3_RESOLUTION = 1e-4, 0.2
 """Default state at eps >= HUMP_P3_EPS: P3 at this many hump widths (Gauss degree 9), on
 fewer dofs than P2 at HUMP_RESOLUTION and 4 to 50 times more accurate (eps = 1e-4 ... 3e-2
@@ -49,7 +72,8 @@ benchmarks/results/fem_cooling_speed.md); below, and with ``resolution``, P2."""
 def continued_state(prev: CoolingState, eps_prev: float, eps: float, *,
                     resolution: float = HUMP_RESOLUTION, order: int = 2,
                     intorder: int | None = None, tol: float = 1e-11,
-                    max_iter: int = 100) -> CoolingState:
+                    max_iter: int = 100, decades: float = HUMP_DECADES,
+                    far_efolds: float = 1.0) -> CoolingState:
     """One continuation step: the hard-rod HCS at ``eps`` from ``prev`` at ``eps_prev``.
 
     Parameters
@@ -69,6 +93,12 @@ def continued_state(prev: CoolingState, eps_prev: float, eps: float, *,
         Newton tolerance (step of :math:`\\ln f` and relative step of :math:`\\zeta`).
     max_iter : int
         Newton iteration limit.
+    decades : float
+        The mesh ends where the rescaled start has fallen this many decades.
+    far_efolds : float
+        Beyond :data:`FAR_DECADES` decades of the start, the outer edge's elements fall
+        ``far_efolds`` times :data:`~kinetic_fem.operators.adaptive.EDGE_EFOLDS`
+        e-folds (:data:`P3_FAR_EFOLDS` for the default P3 states).
 
     Returns
     -------
@@ -83,20 +113,33 @@ def continued_state(prev: CoolingState, eps_prev: float, eps: float, *,
     w = eps ** (1.0 / 3.0)
     probe = 1.0 + w * np.linspace(0.0, 60.0, 6001)
     start = prev.rescaled_log_f(eps_prev, eps, probe)
-    low = start < -HUMP_DECADES * math.log(10.0)
+    low = start < -decades * math.log(10.0)
     cutoff = float(probe[np.argmax(low)]) if low.any() else float(probe[-1])
     # the outer edge's elements follow the start's slope (EDGE_EFOLDS e-folds each)
     slope = np.maximum(-np.gradient(start, probe), 0.0)
+    if far_efolds != 1.0:  # elements of far_efolds e-folds where the start is < 1e-30
+        slope = np.where(start < -FAR_DECADES * math.log(10.0), slope / far_efolds, slope)
     # (and refine with the resolution below that of the continuation steps)
     verts = hump_vertices(eps, zeta0, resolution=resolution, cutoff=cutoff,
                           edge_slope=lambda c: float(np.interp(c, probe, slope)),
                           efolds=EDGE_EFOLDS * min(1.0, resolution / HUMP_STEP_RESOLUTION))
     disc = FEMDiscretisation(alpha, verts, order, intorder or max(HUMP_INTORDER, 2 * order + 1),
                              gamma=1.0)  # the humps are those of hard rods
-    u0 = prev.rescaled_log_f(eps_prev, eps, disc.dof_locations)
-    state = newton_cooling(disc, u0, zeta0, tol=tol, max_iter=max_iter, pseudo_time=np.inf,
-                           settle_steps=eps >= 1e-4,  # LOG_STEP_ZETA: measured there
-                           min_damping=CLOSE_DAMPING if eps == eps_prev else 1e-3)
+    same = eps == eps_prev
+    # at the same eps the state itself (the rescaled form continues the inner tail beyond
+    # y = 1/(2w) by psi's, 1.2 in ln f off at c = 0 for eps = 1e-3: a Newton step more)
+    u0 = (prev.log_f(disc.dof_locations) if same
+          else prev.rescaled_log_f(eps_prev, eps, disc.dof_locations))
+    # a finer mesh at the same eps: full steps first (FULL_STEP_ITER, no line search)
+    tries = [(False, min(max_iter, FULL_STEP_ITER))] if same else []
+    for line_search, iters in [*tries, (True, max_iter)]:
+        state = newton_cooling(disc, u0, zeta0, tol=tol, max_iter=iters,
+                               pseudo_time=np.inf,
+                               settle_steps=eps >= 1e-4,  # LOG_STEP_ZETA: measured there
+                               min_damping=CLOSE_DAMPING if same else 1e-3,
+                               line_search=line_search)
+        if state.info.converged:
+            break
     logger.info("HCS continuation eps = %.3g: %d dofs, %d Newton steps, zeta/eps = %.12g",
                 eps, state.u.size, state.info.iterations, state.zeta / eps)
     return state

@@ -4,7 +4,9 @@ The scaled cooling state :math:`f(c)` (unit temperature) of
 :mod:`kinetic_fem.solvers.fem_cooling` is resolved on a symmetric mesh: uniform P2
 elements in the bulk, graded in the tail :math:`\\ln f \\simeq -c^\\gamma/(\\gamma\\zeta)`
 out to the cut-off where it has fallen 33 decades (:func:`hcs_vertices`); the inelastic
-Maxwell model's :math:`c^{-4}` tail on a geometric mesh out to :data:`MAXWELL_CUTOFF`.
+Maxwell model's :math:`c^{-4}` tail on a geometric mesh out to :data:`MAXWELL_CUTOFF` when
+a ``cutoff`` is given (the default ends at :math:`c = 200` with an analytic tail:
+:mod:`kinetic_fem.solvers.fem_cooling_maxwell`).
 Near elastic collisions the meshes of :mod:`kinetic_fem.operators.adaptive` follow the
 two humps instead.
 """

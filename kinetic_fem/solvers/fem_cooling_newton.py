@@ -26,18 +26,18 @@ from numpy.typing import NDArray
 from skfem import LinearForm, asm
 
 from ..operators.adaptive import PSI_Y2, element_indicator
+from ..operators.fem_transport import TransportArrays
 from ..run_info import RunInfo
 from .fem import (
     EquilibratedLU,
     FEMDiscretisation,
-    bath_drift,
     bath_drift_jacobian,
     log_update,
-    mass,
     newton_info,
     stalled,
     weighted_mass,
 )
+from .fem_cooling_forms import cooling_forms
 from .fem_newton import CHORD_LEVEL
 from .newton import newton
 
@@ -244,19 +244,18 @@ class _CoolingSystem:
             # round-off there (smallest singular value 2e-12 at eps = 3.9e-4)
             self.row0 = int(np.argmax(self.reduce(u0)))
         self.edges = np.array([np.argmin(disc.dof_locations), np.argmax(disc.dof_locations)])
+        self.arrays = TransportArrays(disc.basis)
 
     def __call__(self, x: NDArray, jacobian: bool = True) -> tuple[NDArray, NDArray | None]:
-        disc, sym, basis, n_red, row0 = self.disc, self.sym, self.disc.basis, self.n_red, self.row0
+        disc, sym, n_red, row0 = self.disc, self.sym, self.n_red, self.row0
         u_red, zeta = x[:n_red], float(x[n_red])
         u = sym @ u_red
-        field = disc.field(u)
         coll, cjac, _ = disc.collision(u, jacobian=jacobian, even=True)  # u is even
         outflow = np.zeros(u.size)
         edges = self.edges
         outflow[edges] = np.abs(disc.dof_locations[edges]) * np.exp(u[edges])
-        drift = asm(bath_drift, basis, u=field) - outflow
-        grad_mass = asm(mass, basis, u=field)
-        grad_temp = asm(second_moment, basis, u=field)
+        drift, grad_mass, grad_temp, djac = cooling_forms(self.arrays, u, jacobian)
+        drift = drift - outflow
         full = coll + zeta * drift
         r = np.empty(n_red + 1)
         r[:n_red] = sym.T @ full
@@ -264,7 +263,7 @@ class _CoolingSystem:
         r[n_red] = grad_temp.sum() - 1.0
         if not jacobian:
             return r, None
-        djac = asm(bath_drift_jacobian, basis, u=field).toarray()
+        assert djac is not None
         djac[edges, edges] -= outflow[edges]
         jac = cjac + zeta * djac
         j = np.zeros((n_red + 1, n_red + 1))
@@ -279,7 +278,7 @@ class _CoolingSystem:
         """Natural size of each equation: :math:`\\int\\varphi_i f_h` (1 for the constraints)."""
         u = self.sym @ x[:self.n_red]
         scale = np.empty(self.n_red + 1)
-        scale[:self.n_red] = self.sym.T @ asm(mass, self.disc.basis, u=self.disc.field(u))
+        scale[:self.n_red] = self.sym.T @ cooling_forms(self.arrays, u, False)[1]
         scale[self.row0] = scale[self.n_red] = 1.0
         return np.maximum(np.abs(scale), 1e-300)
 
@@ -348,7 +347,7 @@ def newton_cooling(disc: FEMDiscretisation, u0: NDArray, zeta0: float, *, tol: f
                    max_iter: int = 40, step_limit: float = 10.0,
                    pseudo_time: float = PSEUDO_TIME_STEP,
                    log_steps: bool | None = None, settle_steps: bool = True,
-                   min_damping: float = 1e-3) -> CoolingState:
+                   min_damping: float = 1e-3, line_search: bool = True) -> CoolingState:
     """Newton's method for :math:`(u_h, \\zeta)` with unit mass and temperature.
 
     Parameters
@@ -381,6 +380,9 @@ def newton_cooling(disc: FEMDiscretisation, u0: NDArray, zeta0: float, *, tol: f
     min_damping : float
         Smallest damping of the line search (``pseudo_time = inf``;
         :data:`CLOSE_DAMPING` for a start on a coarser mesh at the same eps).
+    line_search : bool
+        Backtrack (``pseudo_time = inf``); without, every full step is taken and its
+        residual comes with the Jacobian (one residual less per step).
 
     Returns
     -------
@@ -422,6 +424,7 @@ def newton_cooling(disc: FEMDiscretisation, u0: NDArray, zeta0: float, *, tol: f
                      row_scale=system.row_scale,
                      factorize=lambda j: EquilibratedLU(j).solve, chord=CHORD_LEVEL,
                      stall_level=RESIDUAL_STALL * scale, min_damping=min_damping,
+                     line_search=line_search,
                      name="FEM cooling Newton")
         message = res.message
         if res.converged and res.residual >= tol * scale:  # stopped by the floor

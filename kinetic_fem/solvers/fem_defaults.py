@@ -41,14 +41,15 @@ from scipy.optimize import brentq
 
 from .. import sonine
 from ..model import CollisionKernel, HeatedProblem, PowerLawKernel, RestitutionLaw, as_kernel
-from ..model.scales import heated_cutoff
+from ..model.scales import heated_cutoff, quasi_elastic_cutoff, quasi_elastic_log_density
 from ..model.scales import tail_action as model_tail_action
-from ..operators.grid import symmetric_grid, uniform_grid
+from .fem_grading import graded_vertices
 
 __all__ = ["default_cutoff", "default_spacing", "ScaledModel", "scaled_model",
            "tail_action", "tail_exponent", "gain_margin", "initial_log_density",
            "model_cutoff", "model_spacing", "graded_vertices", "DECADES", "P3_SPACING",
-           "P3_SPACING_LOW", "default_order", "P3_MODEL_ALPHA", "P3_MODEL_SPACING"]
+           "P3_SPACING_LOW", "default_order", "P3_MODEL_ALPHA", "P3_MODEL_SPACING",
+           "action_root", "QUASI_ELASTIC_START"]
 
 DECADES = 33.0
 """Decades of f(c) covered by the default cut-off."""
@@ -125,8 +126,9 @@ def default_order(model: ScaledModel) -> int:
     At 2 and 2.5 times the P2 size the far tail of f(c) is up to 2 and 12 times less
     accurate than P2's.  Mean CPU time per state over 12 alphas in [0, 0.99] (P2 / P3):
     Maxwell 90 / 75 ms, gamma 0.5 122 / 101 ms, bath 61 / 51 ms, but gamma = 2 61 / 68 ms
-    (its fine solve needs more Jacobians), so faster kernels keep P2 under white noise;
-    near elastic collisions P3 is slower (the near-elastic start), so P2 is kept there.
+    (its fine solve needs more Jacobians), so faster kernels keep P2 under white noise.
+    Near elastic collisions (alpha 0.96-0.999, gamma 0, 1/2, saturating) P3 is 1.05-3x
+    faster than P2, df/f 0.56-0.7x, T and a2 10-100x more accurate (issue 16).
 
     Parameters
     ----------
@@ -148,9 +150,11 @@ def default_order(model: ScaledModel) -> int:
     return 2
 
 
-P3_MODEL_ALPHA = 0.95
-"""Largest (effective) alpha with P3 by default for kernels other than hard rods under
-white noise (:func:`default_order`)."""
+QUASI_ELASTIC_START = 0.95
+"""From this alpha soft kernels start at most at the quasi-elastic profile
+(:func:`initial_log_density`; gamma = 1/2 at 0.99: 98 -> 77 ms, no change below)."""
+P3_MODEL_ALPHA = 1.0
+"""Largest effective alpha with P3 under white noise (:func:`default_order`; was 0.95)."""
 P3_MODEL_SPACING = 1.7
 """P3 element size over the P2 :func:`model_spacing` (:func:`default_order`: the largest
 factor at which f(c) stays at least as accurate as with P2)."""
@@ -282,7 +286,10 @@ def tail_action(v: float, gamma: float | CollisionKernel, friction: float) -> fl
 def initial_log_density(v: NDArray[np.float64], model: ScaledModel) -> NDArray[np.float64]:
     """A starting :math:`\\ln P`: the Gaussian at the model's temperature in the bulk,
     the tail :math:`-S(|v|)` where that decays more slowly (exponential tails of soft
-    kernels lie far above the Gaussian), normalised on a fine trapezoid grid.
+    kernels lie far above the Gaussian), for soft kernels from alpha =
+    :data:`QUASI_ELASTIC_START` on at most the quasi-elastic profile
+    (:func:`kinetic_fem.model.scales.quasi_elastic_log_density`), normalised on a fine
+    trapezoid grid.
 
     Parameters
     ----------
@@ -299,18 +306,60 @@ def initial_log_density(v: NDArray[np.float64], model: ScaledModel) -> NDArray[n
     v = np.abs(np.asarray(v, dtype=float))
     top = max(float(v.max()), 1e-12)
     fine = np.linspace(0.0, top, 20001)
-    if model.friction == 0.0:
-        action = model.kernel.wkb_action(fine)
-    else:
+    if model.friction == 0.0 and isinstance(model.kernel, PowerLawKernel):
+        action = model.kernel.wkb_action(fine)  # closed form
+    else:  # the trapezoid rule on this grid (a kernel's numeric action costs ~8 ms here)
         xi = model.friction
         rate = 0.5 * (xi * fine + np.sqrt((xi * fine) ** 2 + 4.0 * model.kernel.rate(fine)))
         action = np.concatenate([[0.0], np.cumsum(0.5 * (rate[1:] + rate[:-1])
                                                   * np.diff(fine))])
     log_p = -np.minimum(0.5 * fine**2 / model.temperature, action)
+    if model.friction == 0.0 and model.law.constant is not None and \
+            model.kernel.tail_growth[1] < 1.0 and model.alpha >= QUASI_ELASTIC_START:
+        # near elastic collisions: at most the quasi-elastic profile (lighter than the
+        # Gaussian for gamma > 0; gamma = 1/2, alpha = 0.99: 5 coarse Jacobians -> 3)
+        log_p = np.minimum(log_p, quasi_elastic_log_density(
+            fine, model.kernel, model.alpha, model.temperature))
     weights = np.full(fine.size, fine[1] - fine[0])
     weights[[0, -1]] *= 0.5
     norm = 2.0 * float(np.sum(weights * np.exp(log_p)))
     return np.interp(v, fine, log_p) - math.log(norm)
+
+
+def action_root(kernel: CollisionKernel, friction: float, value: float, lo: float,
+                hi: float) -> float:
+    """The root of :math:`S(v) = ` ``value`` in ``[lo, hi]`` (:func:`tail_action`).
+
+    Newton from ``hi`` with the exact :math:`S'(v) = (\\xi v + \\sqrt{\\xi^2 v^2 +
+    4B(v)})/2`: :math:`S` is increasing and convex (the loss frequency grows), so the
+    iterates decrease monotonically to the root; a few actions in place of brentq's
+    dozens (each a quadrature for kernels other than power laws, or with a bath: the
+    saturating kernel's cut-off took 6-9 ms).
+
+    Parameters
+    ----------
+    kernel : CollisionKernel
+        The kernel at ``n = D = 1``.
+    friction : float
+        Bath friction (0: white noise).
+    value : float
+        The action to reach.
+    lo, hi : float
+        A bracket with :math:`S(lo) \\le` ``value`` :math:`\\le S(hi)`.
+
+    Returns
+    -------
+    float
+    """
+    v = hi
+    for _ in range(60):
+        slope = 0.5 * (friction * v + math.sqrt((friction * v) ** 2
+                                                 + 4.0 * float(kernel.rate(v))))
+        step = (tail_action(v, kernel, friction) - value) / max(slope, 1e-300)
+        v = max(v - step, lo)
+        if abs(step) <= 1e-10 * max(v, 1.0):
+            break
+    return v
 
 
 def gain_margin(model: ScaledModel) -> float:
@@ -361,23 +410,26 @@ def gain_margin(model: ScaledModel) -> float:
         v_cut = math.sqrt(2.0 * target * temp)
     else:
         s_t = tail_action(v_t, kernel, 0.0)
-        v_cut = brentq(lambda v: tail_action(v, kernel, 0.0) - s_t + gauss_t - target,
-                       v_t, 2.0 * v_t + 4.0 * (target / root) ** (1.0 / (1.0 + 0.5 * gamma))
-                       + 1.0)
+        v_cut = action_root(kernel, 0.0, s_t - gauss_t + target, v_t,
+                             2.0 * v_t + 4.0 * (target / root) ** (1.0 / (1.0 + 0.5 * gamma))
+                             + 1.0)
     if isinstance(kernel, PowerLawKernel):  # S = reach at v_bare, in closed form
         v_bare = reach
     else:
         top = reach + 1.0
         while tail_action(top, kernel, 0.0) < target:
             top *= 2.0
-        v_bare = brentq(lambda v: tail_action(v, kernel, 0.0) - target, 0.0, top)
+        v_bare = action_root(kernel, 0.0, target, 0.0, top)
     return max(v_cut - v_bare, 0.0) / math.sqrt(temp) + 1.0
 
 
 def model_cutoff(model: ScaledModel) -> float:
     """Cut-off :math:`V/\\sqrt{T}` where the tail :math:`e^{-S}` reaches 1e-33, delayed by
     the gain (:func:`gain_margin`), plus one thermal velocity (:func:`default_cutoff`
-    for the paper's model).
+    for the paper's model); for kernels growing slower than linearly under white noise at
+    most where the quasi-elastic profile reaches 1e-33, plus one
+    (:func:`kinetic_fem.model.scales.quasi_elastic_cutoff`: gamma = 1/2 at alpha = 0.99,
+    11.3 instead of 14.3, the state's own 33 decades at 10.2).
 
     Parameters
     ----------
@@ -391,12 +443,25 @@ def model_cutoff(model: ScaledModel) -> float:
     if model.is_paper_model and model.law.constant is not None:
         return default_cutoff(model.law.constant)
     target = DECADES * math.log(10.0)
-    top = 1.0
-    while tail_action(top, model.kernel, model.friction) < target:
-        top *= 2.0
-    v_cut = brentq(lambda v: tail_action(v, model.kernel, model.friction) - target,
-                   0.0, top, xtol=1e-10)
-    return v_cut / math.sqrt(model.temperature) + 1.0 + gain_margin(model)
+    if model.friction == 0.0 and isinstance(model.kernel, PowerLawKernel):
+        top = 1.0
+        while tail_action(top, model.kernel, model.friction) < target:
+            top *= 2.0
+        v_cut = brentq(lambda v: tail_action(v, model.kernel, 0.0) - target, 0.0, top,
+                       xtol=1e-10)
+    else:  # from the asymptotic reach of B ~ c g^p (fewer numeric actions)
+        coefficient, growth = model.kernel.tail_growth
+        top = (target * (1.0 + 0.5 * growth) / math.sqrt(coefficient)) ** (
+            1.0 / (1.0 + 0.5 * growth))
+        while tail_action(top, model.kernel, model.friction) < target:
+            top *= 2.0
+        v_cut = action_root(model.kernel, model.friction, target, 0.0, top)
+    c_max = v_cut / math.sqrt(model.temperature) + 1.0 + gain_margin(model)
+    if model.friction == 0.0 and model.law.constant is not None and \
+            model.kernel.tail_growth[1] < 1.0:  # the lighter quasi-elastic tail of gamma > 0
+        return min(c_max, 1.0 + quasi_elastic_cutoff(model.kernel, model.alpha,
+                                                     model.temperature, 10.0**-DECADES))
+    return c_max
 
 
 def tail_exponent(model: ScaledModel) -> float:
@@ -434,58 +499,3 @@ def model_spacing(model: ScaledModel, order: int = 2) -> float:
     if model.friction > 0.0:  # the bath's Gaussian limit needs no quasi-elastic refinement
         return factor * default_spacing(min(1.0 - model.effective_epsilon, 0.9))
     return factor * default_spacing(1.0 - model.effective_epsilon)
-
-
-def graded_vertices(c_max: float, spacing: float, *, grading: float,
-                    bulk: float = 3.0) -> NDArray[np.float64]:
-    """Symmetric vertices in thermal velocities, element size
-    :math:`h(c) = h_0 \\max(1, |c|/c_b)^\\kappa` out to ``c_max``.
-
-    Parameters
-    ----------
-    c_max : float
-        Half-width of the interval.
-    spacing : float
-        :math:`h_0`, the bulk element size.
-    grading : float
-        :math:`\\kappa \\ge 0` (0: uniform).
-    bulk : float
-        :math:`c_b`, the end of the uniform bulk.
-
-    Examples
-    --------
-    >>> v = graded_vertices(10.0, 0.5, grading=0.0)
-    >>> v.size, float(v[0]), float(v[-1])
-    (41, -10.0, 10.0)
-    """
-    if grading == 0.0:
-        half = max(2, int(math.ceil(c_max / spacing)))
-        return symmetric_grid(uniform_grid(c_max, half + 1))
-    # stretched coordinate s(c) = int_0^c dc / h(c), uniform in s
-    total = _stretched(c_max, spacing, grading, bulk)
-    n_el = max(2, int(math.ceil(total)))
-    targets = np.linspace(0.0, total, n_el + 1)
-    nodes = np.concatenate([[0.0], _unstretched(targets[1:-1], spacing, grading, bulk),
-                            [c_max]])
-    return np.concatenate([-nodes[:0:-1], nodes])
-
-
-def _unstretched(s: NDArray, h0: float, kappa: float, cb: float) -> NDArray:
-    """The inverse of :func:`_stretched` in closed form (the former root-finding to 2e-12,
-    4 % of a heated state)."""
-    t = np.asarray(s, dtype=float) * h0 / cb  # the stretched coordinate in units of c_b
-    tail = t > 1.0
-    out = cb * t
-    if kappa == 1.0:
-        out[tail] = cb * np.exp(t[tail] - 1.0)
-    else:
-        out[tail] = cb * (1.0 + (1.0 - kappa) * (t[tail] - 1.0)) ** (1.0 / (1.0 - kappa))
-    return out
-
-
-def _stretched(c: float, h0: float, kappa: float, cb: float) -> float:
-    if c <= cb:
-        return c / h0
-    if kappa == 1.0:
-        return (cb + cb * math.log(c / cb)) / h0
-    return (cb + cb / (1.0 - kappa) * ((c / cb) ** (1.0 - kappa) - 1.0)) / h0

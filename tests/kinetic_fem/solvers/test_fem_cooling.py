@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import kinetic_fem as kf
-from kinetic_fem.solvers import fem_cooling
+from kinetic_fem.solvers import fem_cooling, fem_cooling_links
 
 
 def test_registered_as_default_cooling_method():
@@ -156,8 +156,8 @@ def test_failure_below_the_frontier_names_the_limit(monkeypatch):
         return state(eps >= lowest["eps"])
 
     monkeypatch.setattr(fem_cooling, "hump_start", lambda order, intorder: state(True))
-    monkeypatch.setattr(fem_cooling, "continued_state", step)
-    monkeypatch.setattr(fem_cooling, "HUMP_MIN_RATIO", 1e9)  # no step halving
+    monkeypatch.setattr(fem_cooling_links, "continued_state", step)
+    monkeypatch.setattr(fem_cooling_links, "HUMP_MIN_RATIO", 1e9)  # no step halving
     with pytest.raises(fem_cooling.ConvergenceError, match="solve_psi"):
         kf.solve_cooling(1 - 5e-7)
     lowest["eps"] = 1e-3

@@ -28,7 +28,9 @@ FAST = {0.3: 2.5e-4, 0.5: 2.5e-4, 0.9: 2.5e-4}
 
 @pytest.mark.parametrize("alpha", sorted(FAST))
 def test_maxwell_hcs_coarse(alpha):
-    dist = kf.solve_cooling(alpha, kernel=0.0, spacing=0.16)
+    """The truncated mesh to c = 1e8 (``cutoff``; the default is the tail closure of
+    :mod:`kinetic_fem.solvers.fem_cooling_maxwell`)."""
+    dist = kf.solve_cooling(alpha, kernel=0.0, spacing=0.16, cutoff=1e8)
     assert dist.info.extra["zeta"] == pytest.approx((1 - alpha**2) / 4, rel=3e-8)
     assert dist.temperature == pytest.approx(1.0, rel=5e-6)
     assert _error(dist) < FAST[alpha]
@@ -38,7 +40,7 @@ def test_recovery_removes_the_element_oscillation():
     """At h0 = 0.16 the raw ln f_h at the nodes is off by 7.5e-4, the recovered f by
     1.8e-4; the oscillation vanishes at the two-point Gauss points."""
     problem = kf.CoolingProblem.from_parameters(0.5, kernel=0.0)
-    state = fem_cooling.cooling_state(problem, spacing=0.16)
+    state = fem_cooling.cooling_state(problem, spacing=0.16, cutoff=1e8)
     verts = state.disc.vertices
     nodes = np.union1d(verts, 0.5 * (verts[1:] + verts[:-1]))
     nodes = nodes[np.abs(nodes) <= 10.0]
@@ -60,6 +62,11 @@ def test_power_tail_vertices():
         fem_cooling_tail.power_tail_vertices(1e8, 0.0)
     pts = fem_cooling_tail.superconvergent_points(np.array([0.0, 1.0]))
     assert np.allclose(pts, [0.5 - 0.5 / np.sqrt(3), 0.5 + 0.5 / np.sqrt(3)])
+    pts3 = fem_cooling_tail.superconvergent_points(np.array([0.0, 2.0]), 3)
+    assert np.allclose(pts3, 1.0 + np.array([-1.0, 0.0, 1.0]) * np.sqrt(0.6))
+    v = fem_cooling_tail.power_tail_vertices(200.0, 0.04, near_factor=1.0, far_factor=0.625)
+    h = np.diff(v[v >= 0])
+    assert v[-1] == 200.0 and h[60] / v[v >= 0][60] <= 0.04 + 1e-12
 
 
 @pytest.mark.slow

@@ -12,7 +12,8 @@ from kinetic_fem.solvers.fem_defaults import default_order, scaled_model
 
 @pytest.mark.parametrize(("alpha", "kernel", "friction", "order"), [
     (0.5, 1.0, 0.0, 3), (0.5, 0.0, 0.0, 3), (0.5, 0.5, 0.0, 3), (0.5, 2.0, 0.0, 2),
-    (0.5, 1.0, 1.0, 3), (0.5, 2.0, 1.0, 2), (0.99, 0.0, 0.0, 2), (0.99, 0.0, 1.0, 3),
+    (0.5, 1.0, 1.0, 3), (0.5, 2.0, 1.0, 2), (0.99, 0.0, 0.0, 3), (0.99, 0.0, 1.0, 3),
+    (0.999, 0.5, 0.0, 3), (0.99, 2.0, 0.0, 2),
     (kf.ViscoelasticRestitution(0.2), 1.0, 0.0, 2)])
 def test_default_order_by_model(alpha, kernel, friction, order):
     problem = kf.HeatedProblem.from_parameters(alpha, kernel=kernel, friction=friction)

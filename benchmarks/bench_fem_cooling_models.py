@@ -1,0 +1,158 @@
+"""Issue 16: cooling states of the Maxwell model (gamma = 0) and gamma = 2, before and after.
+
+Two persistent workers, one on ``git archive BEFORE`` and one on the working tree
+(single-threaded BLAS and numba), are driven alternately: each cold
+``kf.solve_cooling(alpha, kernel=gamma)`` is timed in CPU seconds of the worker
+(``time.process_time``) and divided by the yardstick (10 LU factorisations of a
+1000 x 1000 matrix, CPU seconds, best of three) measured right before it in the same
+worker; each row is the best of ``--repeat`` such ratios.  For the Maxwell model the
+errors are against the closed form f = 2/(pi (1+c^2)^2), zeta = (1 - alpha^2)/4: relative
+zeta, the largest relative error of the returned ``dist.f`` over |c| <= 10 and over
+10 <= |c| <= 100, and ``dist.temperature - 1``; for other kernels zeta and a2 of both.
+
+    python benchmarks/bench_fem_cooling_models.py [--before COMMIT] [--repeat 2]
+        [--kernels 0 2] [--alphas A ...]
+
+Prints markdown tables (``benchmarks/results/fem_cooling_models_speed.md``).
+"""
+
+from __future__ import annotations
+
+import os
+
+for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS"):
+    os.environ[_var] = "1"
+
+import argparse  # noqa: E402
+import json  # noqa: E402
+import subprocess  # noqa: E402
+import sys  # noqa: E402
+import tempfile  # noqa: E402
+import time  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+BEFORE = "39f99a9"
+"""main at the start of the eighth round."""
+ALPHAS = [0.0, 0.3, 0.5, 0.7, 0.8, 0.9, 0.95, 0.99, 0.995, 0.999]
+
+
+def serve() -> None:
+    """Worker: answer ``alpha gamma`` lines with JSON (CPU s, yardstick, errors)."""
+    import warnings
+
+    import numpy as np
+    import scipy.linalg
+
+    import kinetic_fem as kf
+
+    def yardstick() -> float:
+        a = np.random.default_rng(0).standard_normal((1000, 1000))
+        best = np.inf
+        for _ in range(3):
+            t0 = time.process_time()
+            for _ in range(10):
+                scipy.linalg.lu_factor(a)
+            best = min(best, time.process_time() - t0)
+        return best
+
+    def closed(c):
+        return 2.0 / (np.pi * (1.0 + c * c) ** 2)
+
+    warnings.simplefilter("ignore")
+    for gamma in (0.0, 2.0):  # compile every kernel variant
+        kf.solve_cooling(0.5, kernel=gamma)
+    c_in = np.linspace(0.0, 10.0, 4001)
+    c_out = np.linspace(10.0, 100.0, 4001)
+    for line in sys.stdin:
+        alpha, gamma = (float(x) for x in line.split())
+        unit = yardstick()
+        t0 = time.process_time()
+        try:
+            dist = kf.solve_cooling(alpha, kernel=gamma)
+        except Exception:  # noqa: BLE001 (ConvergenceError: reported as failed)
+            print(json.dumps({"cpu": time.process_time() - t0, "unit": unit,
+                              "failed": True}), flush=True)
+            continue
+        cpu = time.process_time() - t0
+        extra = dist.info.extra
+        out = {"cpu": cpu, "unit": unit, "zeta": extra["zeta"], "nodes": extra["n_dofs"],
+               "order": extra.get("order", 2), "a2": dist.a2}
+        if gamma == 0.0:
+            out.update(
+                dzeta=abs(extra["zeta"] / ((1.0 - alpha**2) / 4.0) - 1.0),
+                f_in=float(np.abs(dist.f(c_in) / closed(c_in) - 1.0).max()),
+                f_out=float(np.abs(dist.f(c_out) / closed(c_out) - 1.0).max()),
+                dT=dist.temperature - 1.0)
+        print(json.dumps(out), flush=True)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--before", default=BEFORE)
+    parser.add_argument("--repeat", type=int, default=2)
+    parser.add_argument("--alphas", type=float, nargs="*", default=ALPHAS)
+    parser.add_argument("--kernels", type=float, nargs="*", default=[0.0, 2.0])
+    parser.add_argument("--serve", action="store_true", help=argparse.SUPPRESS)
+    args = parser.parse_args()
+    if args.serve:
+        serve()
+        return
+    with tempfile.TemporaryDirectory() as tmp:
+        archive = subprocess.run(["git", "archive", args.before, "kinetic_fem"], cwd=ROOT,
+                                 capture_output=True, check=True).stdout
+        subprocess.run(["tar", "-x", "-C", tmp], input=archive, check=True)
+        workers = [subprocess.Popen([sys.executable, __file__, "--serve"], text=True,
+                                    env=dict(os.environ, PYTHONPATH=str(tree)), cwd=tree,
+                                    stdin=subprocess.PIPE, stdout=subprocess.PIPE)
+                   for tree in (Path(tmp), ROOT)]
+        print(f"Before = {args.before}, after = working tree; CPU seconds, best of "
+              f"{args.repeat} (solve / yardstick) per worker; load average "
+              f"{os.getloadavg()[0]:.1f} at the start.\n")
+        for gamma in args.kernels:
+            print(f"\n### gamma = {gamma:g}\n")
+            if gamma == 0.0:
+                print("| alpha | dofs before | dofs after | CPU s before | CPU s after | "
+                      "units before | units after | speed-up | dzeta before | dzeta after | "
+                      "f(c<=10) before | f(c<=10) after | f(10..100) before | "
+                      "f(10..100) after | T-1 before | T-1 after |")
+                print("|---" * 16 + "|")
+            else:
+                print("| alpha | dofs before | dofs after | CPU s before | CPU s after | "
+                      "units before | units after | speed-up | rel dzeta | abs da2 |")
+                print("|---" * 10 + "|")
+            for alpha in args.alphas:
+                best: list[dict] = [{}, {}]
+                for _ in range(args.repeat):
+                    for i, w in enumerate(workers):
+                        assert w.stdin is not None and w.stdout is not None
+                        w.stdin.write(f"{alpha} {gamma}\n")
+                        w.stdin.flush()
+                        r = json.loads(w.stdout.readline())
+                        r["units"] = r["cpu"] / r["unit"]
+                        if not best[i] or r.get("failed") or r["units"] < best[i]["units"]:
+                            best[i] = r
+                b, a = best
+                if b.get("failed") or a.get("failed"):
+                    print(f"| {alpha} | failed: before {b.get('failed', False)}, after "
+                          f"{a.get('failed', False)} |", flush=True)
+                    continue
+                row = (f"| {alpha} | {b['nodes']} (P{b['order']}) | {a['nodes']} "
+                       f"(P{a['order']}) | {b['cpu']:.2f} | {a['cpu']:.2f} | "
+                       f"{b['units']:.2f} | {a['units']:.2f} | {b['units'] / a['units']:.1f} |")
+                if gamma == 0.0:
+                    row += "".join(f" {r[k]:.1e} |" for k in ("dzeta", "f_in", "f_out", "dT")
+                                   for r in (b, a))
+                else:
+                    row += (f" {abs(a['zeta'] / b['zeta'] - 1):.1e} | "
+                            f"{abs(a['a2'] - b['a2']):.1e} |")
+                print(row, flush=True)
+        for w in workers:
+            assert w.stdin is not None
+            w.stdin.close()
+            w.wait()
+        print(f"\nload average at the end {os.getloadavg()[0]:.1f}")
+
+
+if __name__ == "__main__":
+    main()
