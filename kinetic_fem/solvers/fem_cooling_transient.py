@@ -69,9 +69,12 @@ from ..model import InelasticGas, RestitutionLaw
 from ..model.protocol import Protocol
 from ..operators.fem_discretisation import FEMDiscretisation
 from .fem_cooling_segments import (
+    CONTINUE_WIDTH,
     EDGE_DROP,
     MIN_EXTENT,
+    TAIL_LEVEL,
     CoolingIntegrator,
+    graded_vertices,
     normalise,
     padded_outputs,
     remap_log_density,
@@ -267,16 +270,31 @@ def evolve_cooling_fem(gas: InelasticGas, *, times: NDArray, initial: VelocityDi
         return Level(t, u, integ.masses(u), 0.0, zero, integ.observables(u, zero))
 
     def remap(u: NDArray, ratio: float, t: float) -> NDArray:
-        """The state in the unit ``ratio V`` on a new mesh inside the usable extent."""
+        """The state in the unit ``ratio V`` on a new mesh.
+
+        Inside the resolved part of the old mesh (:func:`usable_extent`) the Galerkin
+        field itself; beyond, out to the old mesh's end or the tail level, its linear
+        continuation in ln P: the mesh keeps its physical extent, which the cut of the
+        unresolved edge would otherwise erode remap after remap (nearly elastic states,
+        whose segments end by the edge before T has fallen much).
+        """
         old = integ.disc
-        extent = min(c_cut, usable_extent(old, u) / ratio)
+        resolved = usable_extent(old, u)
+        end = float(old.mesh_arrays[0][-1])
+        if resolved < end:
+            probe = np.array([resolved - CONTINUE_WIDTH, resolved])
+            lo, hi = remap_log_density(old, u, probe, 1.0)
+            fall = (lo - hi) / CONTINUE_WIDTH
+            if fall > 0.0:
+                end = min(end, resolved + (hi - float(u.max()) - math.log(TAIL_LEVEL)) / fall)
+        extent = min(c_cut, max(end, resolved) / ratio)
         if extent < MIN_EXTENT:
             raise ConvergenceError(
                 f"the cooling state at t={t:.6g} is resolved only to {extent:.3g} thermal "
                 f"velocities: refine the mesh (spacing={spacing:g})")
         unit[0] *= ratio
-        integ.set_disc(discretise(build_mesh(extent, h_el), t))
-        return normalise(integ, remap_log_density(old, u, integ.x, ratio))
+        integ.set_disc(discretise(graded_vertices(old, u, ratio, extent, h_el, resolved), t))
+        return normalise(integ, remap_log_density(old, u, integ.x, ratio, resolved))
 
     def first_h() -> float:
         return first_step if first_step is not None else 0.1 * math.sqrt(rtol) / rate_in_units(1.0)
