@@ -58,8 +58,8 @@ def test_initial_cooling_rate_is_the_gaussian_loss(law, kernel, t0):
     (InelasticGas.loss_rate, quadrature to 1e-12), in the units V = sqrt(T0) of the
     first segment (the law and the kernel rescaled by V).  Measured at spacing 0.5: <= 1.9e-8
     relative (spacing 0.25: <= 4.2e-10)."""
-    ev = kf.evolve_cooling(law, kernel=kernel, initial_temperature=t0, times=[0.0, 1e-3 / math.sqrt(t0)],
-                           spacing=0.5, rtol=1e-4)
+    ev = kf.evolve_cooling(law, kernel=kernel, initial_temperature=t0,
+                           times=[0.0, 1e-3 / math.sqrt(t0)], spacing=0.5, rtol=1e-4)
     loss = InelasticGas(law, 1.0, kernel).loss_rate(t0)
     assert ev.series["cooling_rate"][0] * t0 == pytest.approx(loss, rel=1e-7, abs=0.0)
 
