@@ -19,6 +19,7 @@ from kinetic_fem.model import (
     InelasticGas,
     SaturatingKernel,
     ThresholdRestitution,
+    UnsupportedModelError,
     ViscoelasticRestitution,
 )
 from kinetic_fem.model.protocol import Protocol, steps
@@ -86,7 +87,7 @@ def test_saturating_kernel_tends_to_hard_rods():
     sat = kf.evolve_cooling(0.5, kernel=SaturatingKernel(1e6), times=times, spacing=0.5,
                             rtol=1e-5)
     np.testing.assert_allclose(sat.temperature, rods.temperature, rtol=2e-5)
-    with pytest.raises(kf.UnsupportedModelError):
+    with pytest.raises(UnsupportedModelError):
         kf.solve_cooling(0.5, kernel=SaturatingKernel(1.0))
 
 
