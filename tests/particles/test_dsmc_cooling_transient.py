@@ -90,10 +90,13 @@ def test_dsmc_alpha_step_follows_evolve_cooling():
     pytest.param([0.5, 2.0, 5.0, 10.0, 20.0], marks=pytest.mark.slow),
 ], ids=["to-5", "to-20"])
 def test_dsmc_viscoelastic_cooling_follows_evolve_cooling(times):
-    """Viscoelastic hard rods, delta 0.2, from T0 = 1 (T falls to 0.25 by t = 5, 0.05
-    by t = 20)."""
+    """Viscoelastic hard rods, delta 0.2, from T0 = 1 (T falls to 0.23 by t = 5, 0.04
+    by t = 20).  The FEM needs rtol 1e-5 here: the nearly elastic shape relaxes slowly,
+    so the time error accumulates (measured at t = 20, rtol 1e-4 against 1e-5: a2 4.3e-3,
+    T 1.4e-3; 512 DSMC replicas put rtol 1e-4 11 standard errors off in a2, rtol 1e-5
+    within 2.7)."""
     z_t, z_a = protocol_z_scores(ViscoelasticRestitution(0.2), times, spacing=0.5,
-                                 rtol=1e-4)
+                                 rtol=1e-5)
     assert np.abs(z_t).max() < Z_MAX, z_t
     assert np.abs(z_a).max() < Z_MAX, z_a
 
