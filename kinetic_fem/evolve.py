@@ -23,7 +23,7 @@ from numpy.typing import ArrayLike
 
 from .distribution import VelocityDistribution
 from .evolution import Evolution
-from .model import CollisionKernel, CoolingProblem, HeatedProblem, RestitutionLaw, check_positive
+from .model import CollisionKernel, HeatedProblem, InelasticGas, RestitutionLaw, check_positive
 from .model.protocol import Protocol
 from .solvers.fem_cooling_transient import evolve_cooling_fem
 from .solvers.fem_evolution import evolve_heated_fem
@@ -161,35 +161,45 @@ def evolve_cooling(alpha: float | RestitutionLaw, *, density: float = 1.0,
                    kernel: float | CollisionKernel = 1.0,
                    initial_temperature: float | None = None,
                    initial: VelocityDistribution | None = None, times: ArrayLike,
-                   method: str = "fem", **options: Any) -> Evolution:
+                   protocol: Protocol | None = None, method: str = "fem",
+                   **options: Any) -> Evolution:
     """Free cooling from an initial state, :math:`T(t)` in physical units.
 
-    :math:`\\partial_t P = n\\,Q_\\alpha[P]` is integrated in physical velocities by
+    :math:`\\partial_t P = n\\,Q_{\\alpha(t)}[P]` is integrated in physical velocities by
     adaptive BDF2 with local error control (``rtol``: relative on :math:`T`, absolute on
     :math:`a_2`), on segments of fixed velocity scale that are remapped to the current
     thermal speed each time :math:`T` has fallen by ``rescale`` (default 4), so that
     :math:`T(t)` is followed over many decades
     (:mod:`kinetic_fem.solvers.fem_cooling_transient`).  Mass is conserved to round-off
-    and :math:`P = e^{u_h} > 0`.  ``ev.series["zeta"]`` is the instantaneous cooling
-    rate in the convention :math:`dT/dt = -2\\zeta n T^{1+d/2}` (:math:`d` the kernel's
-    degree of homogeneity: :math:`\\gamma`); at late times it tends to the
-    homogeneous cooling state's :math:`\\zeta` (:func:`kinetic_fem.solve_cooling`) and
-    :math:`T(t)` to Haff's law.
+    and :math:`P = e^{u_h} > 0`.  Any restitution law (constant, viscoelastic,
+    threshold) and any kernel (also one that is not homogeneous, e.g. the saturating
+    kernel) is allowed, and ``protocol`` may change the restitution at given times (the
+    integrator stops there and restarts).  ``ev.series["zeta"]`` is the instantaneous
+    cooling rate in the convention :math:`dT/dt = -2\\zeta n T^{1+d/2}` (:math:`d` the
+    kernel's ``scale_degree``: :math:`\\gamma` for a power law) and
+    ``ev.series["cooling_rate"]`` is :math:`-d\\ln T/dt`, both with the law in force at the
+    output time (the new one at a change time); for a constant coefficient and a power law
+    :math:`\\zeta` tends at late times to the homogeneous cooling state's
+    (:func:`kinetic_fem.solve_cooling`) and :math:`T(t)` to Haff's law.
 
     Parameters
     ----------
     alpha : float or RestitutionLaw
-        Constant coefficient of restitution, ``0 <= alpha < 1``.
+        Restitution at ``t = 0``: a coefficient ``0 <= alpha <= 1`` or a law.
     density : float
         Number density ``n``.
     kernel : float or CollisionKernel
-        Collision kernel :math:`|g|^\\gamma` (homogeneous kernels only).
+        ``gamma`` of :math:`|g|^\\gamma` or a kernel object.
     initial_temperature : float, optional
         Start from the Gaussian at this temperature (default 1).
     initial : VelocityDistribution, optional
         Start from this normalised distribution instead.
     times : array_like, shape (n_t,)
         Output times (physical units), strictly increasing, >= 0.
+    protocol : Protocol, optional
+        Restitution changes, ``Protocol(restitution=[(t1, alpha1), ...])``; a protocol
+        with a thermostat (:math:`D` or :math:`\\xi`) is refused (free cooling has none:
+        use :func:`evolve_heated`).
     method : str
         Registry key (``"fem"``).
     **options
@@ -204,17 +214,32 @@ def evolve_cooling(alpha: float | RestitutionLaw, *, density: float = 1.0,
     Raises
     ------
     ValueError, TypeError
-        For invalid parameters, times or initial states, unknown methods or options.
-    UnsupportedModelError
-        For a speed-dependent restitution law or a kernel that is not homogeneous.
+        For invalid parameters, times or initial states, unknown methods or options; a
+        protocol with a thermostat; laws that are all elastic; a hot start whose relative
+        speeds on the mesh exceed a law's range (viscoelastic ``max_speed``).
+    ConvergenceError
+        If the state can no longer be resolved on a mesh (refine ``spacing``).
 
     Examples
     --------
     >>> ev = evolve_cooling(0.8, times=[0.5, 1.0], spacing=0.5, rtol=1e-4)
     >>> bool(ev.temperature[1] < ev.temperature[0] < 1.0)
     True
+
+    A quench of the restitution at :math:`t = 0.5`:
+
+    >>> ev = evolve_cooling(0.9, times=[0.25, 0.5], spacing=0.5, rtol=1e-4,
+    ...                     protocol=Protocol(restitution=[(0.5, 0.5)]))
+    >>> z = ev.series["zeta"]             # at a change time: the new law's rate
+    >>> bool(3.5 < z[1] / z[0] < 4.5)     # Gaussian estimate (1 - 0.25)/(1 - 0.81) = 3.9
+    True
     """
-    problem = CoolingProblem.from_parameters(alpha, density=density, kernel=kernel)
+    gas = InelasticGas(alpha, density, kernel)
+    if protocol is None:
+        protocol = Protocol()
+    if not isinstance(protocol, Protocol):
+        raise TypeError(f"protocol must be a Protocol, got {type(protocol).__name__}")
     initial, initial_temperature = _initial(initial, initial_temperature)
-    return _method("cooling", method)(problem, times=check_times(times), initial=initial,
-                                      initial_temperature=initial_temperature, **options)
+    return _method("cooling", method)(gas, times=check_times(times), initial=initial,
+                                      initial_temperature=initial_temperature,
+                                      protocol=protocol, **options)

@@ -37,6 +37,11 @@ a restitution change therefore acts exactly at its time.  Measurements are taken
 after the last half kick of a piece, in the centre-of-mass frame:
 :math:`T = \\overline{(v-\\bar v)^2}`, :math:`a_2 = \\overline{(v-\\bar v)^4}/(3T^2) - 1`.
 
+Free cooling (``diffusion=0``, no friction, a protocol of restitution changes only)
+runs the same scheme without kicks: any restitution law, any kernel, from the initial
+state (default a Gaussian at :math:`T_0 = 1`), the counterpart of
+:func:`kinetic_fem.evolve_cooling`.
+
 Finite-``N`` effects (of order :math:`1/N`: the kicks' centre-of-mass part, the
 ratio estimator of :math:`a_2`, the expected rather than Poisson candidate count) are
 not removed; they are small against the replica error bars as long as
@@ -58,7 +63,13 @@ from numpy.typing import ArrayLike, NDArray
 
 from kinetic_fem.distribution import RunInfo, VelocityDistribution
 from kinetic_fem.evolve import check_times
-from kinetic_fem.model import CollisionKernel, HeatedProblem, RestitutionLaw, check_positive
+from kinetic_fem.model import (
+    CollisionKernel,
+    HeatedProblem,
+    InelasticGas,
+    RestitutionLaw,
+    check_positive,
+)
 from kinetic_fem.model.protocol import Protocol
 
 from ._dsmc_kernels import collide_model
@@ -141,8 +152,9 @@ class ProtocolRun:
 @jit
 def _kick(v, decay, amp, s, ki, wi, fi):  # pragma: no cover - compiled
     """``v = decay v + amp eta`` (standard normals ``eta``); returns ``(min, max)``."""
-    lo = np.inf
-    hi = -np.inf
+    lo, hi = np.inf, -np.inf
+    if amp == 0.0 and decay == 1.0:   # free cooling: no kick, no random numbers
+        return v.min(), v.max()
     s0, s1, s2, s3 = s[0], s[1], s[2], s[3]
     for k in range(v.shape[0]):
         r, s0, s1, s2, s3 = xoshiro(s0, s1, s2, s3)
@@ -277,9 +289,10 @@ def _observe(v: NDArray[np.float64]) -> tuple[float, float]:
 
 
 # ---------------------------------------------------------------------------- driver
-def _replica(problem: HeatedProblem, protocol: Protocol, pieces: list, steps: list[int],
-             n: int, temperature: float, a2: float, initial: VelocityDistribution | None,
-             seed: np.random.SeedSequence, measure_zero: bool
+def _replica(problem: HeatedProblem | _FreeCooling, protocol: Protocol, pieces: list,
+             steps: list[int], n: int, temperature: float, a2: float,
+             initial: VelocityDistribution | None, seed: np.random.SeedSequence,
+             measure_zero: bool
              ) -> tuple[NDArray[np.float64], NDArray[np.float64], int]:
     """One replica: ``(T at the outputs, a2 at the outputs, collisions)``."""
     init_seq, run_seq = seed.spawn(2)
@@ -300,8 +313,11 @@ def _replica(problem: HeatedProblem, protocol: Protocol, pieces: list, steps: li
     for (start, stop, measure), m in zip(pieces, steps, strict=True):
         law = protocol.restitution_at(start, gas.restitution)
         p0, p1 = law.parameters
-        decay, amp = protocol_kicks(protocol, start, stop, m, problem.diffusion,
-                                    problem.friction)
+        if problem.diffusion == 0.0:   # free cooling
+            decay, amp = np.ones(m + 1), np.zeros(m + 1)
+        else:
+            decay, amp = protocol_kicks(protocol, start, stop, m, problem.diffusion,
+                                        problem.friction)
         acc, debt, done, g_max = _segment(v, decay, amp, (stop - start) / m, rate, kcode,
                                           gamma, law.code, float(p0), float(p1),
                                           float(law.max_speed), debt, state, ki, wi, fi)
@@ -322,12 +338,20 @@ def _check_int(name: str, value: object, lo: int) -> int:
     return int(value)
 
 
-def _default_dt(problem: HeatedProblem, protocol: Protocol, times: NDArray[np.float64],
-                temperature: float) -> float:
+@dataclass(frozen=True)
+class _FreeCooling:
+    """The gas without a thermostat (``diffusion=0``): what :func:`_replica` reads."""
+    gas: InelasticGas
+    diffusion: float = 0.0
+    friction: float = 0.0
+
+
+def _default_dt(problem: HeatedProblem | _FreeCooling, protocol: Protocol,
+                times: NDArray[np.float64], temperature: float) -> float:
     """:data:`DT_FRACTION` of the shortest mean free time and bath time along the protocol."""
     probe = np.union1d(times, protocol.breakpoints(float(times[-1])))
     t_hi, xi_hi = temperature, problem.friction
-    for t in probe:
+    for t in probe if problem.diffusion > 0.0 else ():   # free cooling: T only falls
         law = protocol.restitution_at(float(t), problem.gas.restitution)
         d = protocol.diffusion_at(float(t), problem.diffusion)
         xi = protocol.friction_at(float(t), problem.friction)
@@ -363,11 +387,13 @@ def simulate_protocol(alpha: float | RestitutionLaw, n_particles: int, *, times:
         :func:`kinetic_fem.evolve_heated`).
     density, diffusion, friction : float
         :math:`n`, and :math:`D`, :math:`\\xi` where the protocol leaves them alone.
+        ``diffusion=0`` (with ``friction=0`` and a protocol of restitution changes only)
+        is free cooling, as :func:`kinetic_fem.evolve_cooling`.
     kernel : float or CollisionKernel
         ``gamma`` of :math:`|g|^\\gamma` (0 Maxwell, 1 hard rods) or a kernel object.
     initial_temperature : float, optional
         Temperature of the initial state (default: the Gaussian-closure steady
-        temperature of the parameters at ``t = 0``).
+        temperature of the parameters at ``t = 0``; free cooling: 1).
     initial_a2 : float
         Initial state :math:`\\Phi(c)(1 + a_2 S_2(c^2))_+` on ``|c| < 6`` (0: Gaussian;
         the cut and the clipping move the sampled :math:`a_2` slightly for
@@ -392,8 +418,8 @@ def simulate_protocol(alpha: float | RestitutionLaw, n_particles: int, *, times:
     Raises
     ------
     ValueError, TypeError
-        For invalid parameters, protocols or times, or relative speeds beyond the
-        range of a restitution law.
+        For invalid parameters, protocols or times, relative speeds beyond the range of
+        a restitution law, or free cooling (``diffusion=0``) with a thermostat protocol.
 
     Examples
     --------
@@ -402,12 +428,21 @@ def simulate_protocol(alpha: float | RestitutionLaw, n_particles: int, *, times:
     >>> bool(run.temperature[1] > 1.5), run.temperature_replicas.shape
     (True, (4, 2))
     """
-    problem = HeatedProblem.from_parameters(alpha, density=density, diffusion=diffusion,
-                                            friction=friction, kernel=kernel)
     if protocol is None:
         protocol = Protocol()
     if not isinstance(protocol, Protocol):
         raise TypeError(f"protocol must be a Protocol, got {type(protocol).__name__}")
+    problem: HeatedProblem | _FreeCooling
+    if diffusion == 0.0 and not isinstance(diffusion, bool):
+        if friction != 0.0 or protocol.diffusion is not None or protocol.friction is not None:
+            raise ValueError("diffusion=0 is free cooling: friction and the protocol's D(t), "
+                             "xi(t) must be left alone (a driven gas needs diffusion > 0)")
+        problem = _FreeCooling(InelasticGas(alpha, density, kernel))
+        if initial is None and initial_temperature is None:
+            initial_temperature = 1.0
+    else:
+        problem = HeatedProblem.from_parameters(alpha, density=density, diffusion=diffusion,
+                                                friction=friction, kernel=kernel)
     n = _check_int("n_particles", n_particles, 2)
     n_rep = _check_int("replicas", replicas, 2)
     t_out = check_times(times)
@@ -419,6 +454,7 @@ def simulate_protocol(alpha: float | RestitutionLaw, n_particles: int, *, times:
     if initial is not None:
         temperature = float(initial.temperature)
     elif initial_temperature is None:
+        assert isinstance(problem, HeatedProblem)  # free cooling defaults to 1 above
         temperature = problem.temperature_estimate()
     else:
         temperature = check_positive("initial_temperature", initial_temperature)

@@ -99,6 +99,25 @@ class RestitutionLaw:
         """The smallest value of :math:`\\alpha(g)` over the law's range."""
         raise NotImplementedError
 
+    def rescaled(self, u: float) -> RestitutionLaw:
+        """The law in velocity units of ``u``: :math:`g \\mapsto \\alpha(u g)`.
+
+        A solver that measures velocities in a unit :math:`V` (the free-cooling transient
+        on segments of fixed unit, :mod:`kinetic_fem.solvers.fem_cooling_transient`)
+        evaluates ``law.rescaled(V)`` at the relative speeds in that unit; the kernel's
+        counterpart is :meth:`kinetic_fem.model.CollisionKernel.rescaled`.
+
+        Parameters
+        ----------
+        u : float
+            Velocity unit, > 0.
+
+        Returns
+        -------
+        RestitutionLaw
+        """
+        raise NotImplementedError
+
     def __call__(self, g: ArrayLike) -> NDArray[np.float64]:
         """:math:`\\alpha(|g|)`, elementwise."""
         speed = np.abs(np.asarray(g, dtype=float))
@@ -158,6 +177,20 @@ class ConstantRestitution(RestitutionLaw):
     def min_alpha(self) -> float:
         return self.alpha
 
+    def rescaled(self, u: float) -> ConstantRestitution:
+        """The law itself (it does not depend on the speed).
+
+        Parameters
+        ----------
+        u : float
+            Velocity unit, > 0.
+
+        Returns
+        -------
+        ConstantRestitution
+        """
+        return self
+
 
 @dataclass(frozen=True)
 class ThresholdRestitution(RestitutionLaw):
@@ -197,6 +230,25 @@ class ThresholdRestitution(RestitutionLaw):
     @property
     def min_alpha(self) -> float:
         return self.alpha
+
+    def rescaled(self, u: float) -> ThresholdRestitution:
+        """The threshold in units of ``u``: ``threshold / u``.
+
+        Parameters
+        ----------
+        u : float
+            Velocity unit, > 0.
+
+        Returns
+        -------
+        ThresholdRestitution
+
+        Examples
+        --------
+        >>> ThresholdRestitution(0.5, threshold=1.0).rescaled(0.25).threshold
+        4.0
+        """
+        return self if u == 1.0 else ThresholdRestitution(self.alpha, self.threshold / u)
 
 
 @dataclass(frozen=True)
@@ -244,6 +296,26 @@ class ViscoelasticRestitution(RestitutionLaw):
     @property
     def min_alpha(self) -> float:
         return 1.0 - C1 * C1 / (4.0 * C2)
+
+    def rescaled(self, u: float) -> ViscoelasticRestitution:
+        """:math:`\\delta u^{1/5}`: :math:`\\delta (ug)^{1/5} = (\\delta u^{1/5}) g^{1/5}`.
+
+        Parameters
+        ----------
+        u : float
+            Velocity unit, > 0.
+
+        Returns
+        -------
+        ViscoelasticRestitution
+
+        Examples
+        --------
+        >>> law = ViscoelasticRestitution(0.1)
+        >>> bool(abs(law.rescaled(32.0)(1.0)[()] - law(32.0)[()]) < 1e-15)
+        True
+        """
+        return self if u == 1.0 else ViscoelasticRestitution(self.delta * u**0.2)
 
 
 def as_restitution(alpha: object) -> RestitutionLaw:

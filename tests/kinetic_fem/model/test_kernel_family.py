@@ -188,7 +188,6 @@ def test_methods_that_assume_a_power_law_refuse_it():
         lambda: kf.solve_heated(0.6, kernel=k, method="fd"),
         lambda: CoolingProblem.from_parameters(0.6, kernel=k),
         lambda: kf.solve_cooling(0.6, kernel=k),
-        lambda: kf.evolve_cooling(0.6, kernel=k, times=[0.0, 1.0]),
         lambda: dsmc.simulate_cooling(0.6, 100, kernel=k, seed=1),
         lambda: sonine_dynamics.evolve_sonine(0.6, kernel=k, times=[0.0, 1.0]),
         lambda: md.simulate_heated(0.6, 100, kernel=k, seed=1),
