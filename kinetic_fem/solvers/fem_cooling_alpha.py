@@ -12,7 +12,12 @@ backtracking from the state at a nearby alpha converges in 8 to 10 steps per ste
 of 0.1 in alpha.  :func:`alpha_chain` walks from :data:`~.fem_cooling_order.STRONG_ALPHA` (where
 the Gaussian start converges) to the target in equal steps of the inelasticity on a log
 scale, each of ratio at most :data:`ALPHA_CHAIN_RATIO`, on the target's mesh; a failed
-step is retried through the geometric mean.
+step is retried through the geometric mean.  Below :data:`~.fem_cooling_quasi.QUASI_EPS`
+the chain stops there and :func:`~.fem_cooling_quasi.quasi_elastic_chain` continues on
+meshes that follow the humps; that state is on its own mesh, and it is remembered
+(:data:`QUASI_CACHE_SIZE` states) for the globalised retry of
+:func:`~.fem_cooling.cooling_state`, whose Newton step on the default fine mesh turns
+singular there (its far tail underflows).
 """
 
 from __future__ import annotations
@@ -25,6 +30,7 @@ from .fem import FEMDiscretisation
 from .fem_cooling_mesh import log_chain
 from .fem_cooling_newton import CoolingState, newton_cooling
 from .fem_cooling_order import STRONG_ALPHA
+from .fem_cooling_quasi import QUASI_EPS, quasi_elastic_chain
 
 __all__ = ["HARD_GAMMA", "ALPHA_CHAIN_RATIO", "ALPHA_CHAIN_COARSE", "ALPHA_CHAIN_TOL",
            "uses_alpha_chain", "alpha_chain"]
@@ -45,6 +51,9 @@ ALPHA_CHAIN_COARSE = 2.0
 (residual 8e-6) on 4 times the bulk spacing (0.147) and converged on 2 times (0.07, 1.5 s)."""
 MIN_RATIO = 1.02
 """Steps are not halved below this ratio of inelasticities."""
+QUASI_CACHE_SIZE = 4
+"""Near-elastic states remembered by :func:`alpha_chain` (key: alpha, kernel, degree)."""
+_QUASI_CACHE: dict[tuple, CoolingState] = {}
 
 
 def uses_alpha_chain(problem: CoolingProblem) -> bool:
@@ -87,6 +96,21 @@ def alpha_chain(disc: FEMDiscretisation, start: CoolingState, alpha_start: float
         smallest ratio :data:`MIN_RATIO` (that step's state).
     """
     eps, eps_prev = 1.0 - disc.alpha, 1.0 - alpha_start
+    if eps < QUASI_EPS and eps_prev > QUASI_EPS:
+        key = (disc.alpha, disc.gamma, disc.order, disc.intorder, tol)
+        if key in _QUASI_CACHE:
+            return _QUASI_CACHE[key]
+        mid = FEMDiscretisation(1.0 - QUASI_EPS, disc.vertices, disc.order, disc.intorder,
+                                gamma=disc.gamma)
+        state = alpha_chain(mid, start, alpha_start, tol=ALPHA_CHAIN_TOL, max_iter=max_iter)
+        if not state.info.converged:
+            return state
+        state = quasi_elastic_chain(state, QUASI_EPS, disc.alpha, tol=tol, max_iter=max_iter)
+        if state.info.converged:
+            while len(_QUASI_CACHE) >= QUASI_CACHE_SIZE:
+                _QUASI_CACHE.pop(next(iter(_QUASI_CACHE)))
+            _QUASI_CACHE[key] = state
+        return state
     pending = log_chain(eps, eps_prev, ALPHA_CHAIN_RATIO)[::-1]  # a stack
     prev = start
     while pending:
