@@ -20,7 +20,8 @@ previous :math:`\\ln f` wherever it is within :data:`QUASI_DEPTH` of its peak,
 :data:`QUASI_CORE` elements per :math:`\\sqrt\\varepsilon` over the humps,
 :data:`QUASI_MAX_SIZE` elsewhere (the valley, far below any constraint), and the cut-off
 where the previous :math:`\\ln f` has fallen :data:`QUASI_CUTOFF_DEPTH` below its peak
-(1.74 at eps = 0.001 instead of 3.7).  Newton starts from the previous state itself
+(1.6 at eps = 0.001 instead of 3.7); the last link, to the state asked for, is on a
+finer such mesh (:data:`QUASI_FINAL`).  Newton starts from the previous state itself
 (rescaled and extrapolated predictors, tried, diverged).
 """
 
@@ -32,31 +33,43 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
+from ..model import UnsupportedModelError
 from .fem import FEMDiscretisation
 from .fem_cooling_mesh import log_chain
 from .fem_cooling_newton import CoolingState, newton_cooling
 
-__all__ = ["QUASI_EPS", "QUASI_RATIO", "QUASI_EFOLDS", "QUASI_DEPTH", "QUASI_CUTOFF_DEPTH",
-           "QUASI_CORE", "QUASI_MAX_SIZE", "QUASI_MIN_RATIO", "efold_vertices",
-           "quasi_elastic_chain"]
+__all__ = ["QUASI_EPS", "QUASI_FRONTIER", "QUASI_RATIO", "QUASI_EFOLDS", "QUASI_DEPTH",
+           "QUASI_CUTOFF_DEPTH", "QUASI_CORE", "QUASI_FINAL", "QUASI_LINK", "QUASI_MAX_SIZE",
+           "QUASI_MIN_RATIO", "check_frontier", "efold_vertices", "quasi_elastic_chain"]
 
 logger = logging.getLogger(__name__)
 
 QUASI_EPS = 0.01
 """Below this inelasticity (alpha > 0.99) hard kernels continue on :func:`efold_vertices`
 meshes (gamma = 2: the default mesh's continuation failed at eps = 2e-3)."""
+QUASI_FRONTIER = 5e-4
+"""Smallest inelasticity reached (alpha 0.9995, 3.5 CPU s of links from eps 0.01); at
+1e-4 the links failed (zeta/eps 6 after 32 s): below, a clear error."""
 QUASI_RATIO = 10.0 ** 0.2
 """Largest ratio of successive inelasticities (1.585: 12 Newton steps per link from eps
 0.01 to 0.001; ratio 2 failed at 0.0025 -> 0.001)."""
 QUASI_MIN_RATIO = 1.05
 """A failed link is retried through the geometric mean down to this ratio."""
-QUASI_EFOLDS = 1.0
-"""Largest fall of the previous state's ln f over one element (2 failed at eps 0.005)."""
-QUASI_DEPTH = 120.0
-"""The e-fold limit holds where ln f is within this of its peak (deeper: the valley)."""
-QUASI_CUTOFF_DEPTH = 150.0
+QUASI_EFOLDS = 1.5
+"""Largest fall of the previous state's ln f over one element (eps 0.01 -> 0.001, one
+process: 1.0 5.6 CPU s, 1.5 2.3 s, 2.0 8.1 s with halved links)."""
+QUASI_DEPTH = 100.0
+"""The e-fold limit holds where ln f is within this of its peak (deeper: the valley;
+with QUASI_EFOLDS 1.5: 120 / 150 2.3 CPU s, 100 / 110 1.7 s)."""
+QUASI_CUTOFF_DEPTH = 110.0
 """The mesh ends beyond the humps where ln f has fallen this far below its peak (f there
-is 1e-65 of the peak: the constraints and the monitored level 1e-40 do not see it)."""
+is 1e-48 of the peak: below the monitored level 1e-40 of Newton's method)."""
+QUASI_FINAL = (1.0, 120.0, 150.0)
+"""``efolds``, ``depth``, ``cutoff_depth`` of the mesh of the state asked for (eps =
+0.001: zeta within 6e-9 of the default mesh at half spacing, against 3e-6 on
+:data:`QUASI_LINK`)."""
+QUASI_LINK = (QUASI_EFOLDS, QUASI_DEPTH, QUASI_CUTOFF_DEPTH)
+"""The same for the intermediate links."""
 QUASI_CORE = 3.0
 """Elements per :math:`\\sqrt\\varepsilon` (the humps' standard deviation) within three of
 them from c = 1."""
@@ -110,13 +123,37 @@ def efold_vertices(prev: CoolingState, eps: float, *, efolds: float = QUASI_EFOL
             raise ValueError(f"the state has not fallen {cutoff_depth:g} below its peak by "
                              f"c = {grid[-1]:g}: not a near-elastic state")
         h = max_size
-        if peak - lf < depth:
+        if min(peak - lf, peak - float(np.interp(c + h, grid, log_f))) < depth:
             h = min(h, efolds / max(float(np.interp(c, grid, slope)), 1e-12))
         if abs(c - 1.0) < 3.0 * width:
             h = min(h, width / core)
         verts.append(c + h)
     half = np.asarray(verts)
     return np.concatenate([-half[:0:-1], half])
+
+
+def check_frontier(alpha: float, gamma: float) -> None:
+    """Raise the clear error below :data:`QUASI_FRONTIER`.
+
+    Parameters
+    ----------
+    alpha : float
+        Restitution coefficient asked for.
+    gamma : float
+        Kernel exponent.
+
+    Raises
+    ------
+    UnsupportedModelError
+        If :math:`1 - \\alpha <` :data:`QUASI_FRONTIER`.
+    """
+    if 1.0 - alpha < QUASI_FRONTIER * (1.0 - 1e-9):
+        raise UnsupportedModelError(
+            f"the FEM cooling state of the kernel |g|^{gamma:g} is available for "
+            f"alpha <= {1.0 - QUASI_FRONTIER:g} (eps >= {QUASI_FRONTIER:g}), got alpha = "
+            f"{alpha}: below, the continuation on meshes that follow the humps (variance "
+            "~eps) does not converge; the state is two Gaussian humps at c = +-sqrt(1 - eps) "
+            "with zeta = 2 eps + eps^2 to O(eps^3)")
 
 
 def quasi_elastic_chain(start: CoolingState, eps_start: float, alpha: float, *,
@@ -139,19 +176,28 @@ def quasi_elastic_chain(start: CoolingState, eps_start: float, alpha: float, *,
     max_iter : int
         Newton steps allowed per link.
 
+    Raises
+    ------
+    UnsupportedModelError
+        Below :data:`QUASI_FRONTIER`.
+
     Returns
     -------
     CoolingState
-        The state at ``alpha`` on its own mesh; ``info.converged`` False if a link failed
-        at the smallest ratio :data:`QUASI_MIN_RATIO` (that link's state).
+        The state at ``alpha`` on its own mesh (:data:`QUASI_FINAL`); ``info.converged``
+        False if a link failed at the smallest ratio :data:`QUASI_MIN_RATIO` (that link's
+        state).
     """
     eps = 1.0 - alpha
+    check_frontier(alpha, start.disc.gamma)
     pending = log_chain(eps, eps_start, QUASI_RATIO)[::-1]  # a stack
     prev, eps_prev = start, eps_start
     disc0 = start.disc
     while pending:
         step = pending[-1]
-        verts = efold_vertices(prev, step)
+        efolds, depth, cutoff_depth = QUASI_FINAL if step == eps else QUASI_LINK
+        verts = efold_vertices(prev, step, efolds=efolds, depth=depth,
+                               cutoff_depth=cutoff_depth)
         disc = FEMDiscretisation(1.0 - step, verts, disc0.order, disc0.intorder,
                                  gamma=disc0.gamma)
         state = newton_cooling(disc, prev.log_f(disc.dof_locations),
