@@ -104,7 +104,7 @@ def alpha_chain(disc: FEMDiscretisation, start: CoolingState, alpha_start: float
     """
     eps, eps_prev = 1.0 - disc.alpha, 1.0 - alpha_start
     if eps < QUASI_EPS and eps_prev > QUASI_EPS:
-        check_frontier(disc.alpha, disc.gamma)
+        check_frontier(disc.alpha, disc.kernel.gamma)
         key = (disc.alpha, disc.gamma, disc.order, disc.intorder, tol)
         if key in _QUASI_CACHE:
             return _QUASI_CACHE[key]
@@ -112,7 +112,7 @@ def alpha_chain(disc: FEMDiscretisation, start: CoolingState, alpha_start: float
         # 3.6 CPU s on the target's coarse mesh, 1.5 s on this one)
         problem = CoolingProblem.from_parameters(1.0 - QUASI_EPS, kernel=disc.gamma)
         mid_verts = hcs_vertices(hcs_cutoff(problem), ALPHA_CHAIN_COARSE * order_spacing(
-            hcs_spacing(problem), disc.order), gamma=disc.gamma, bulk=hcs_bulk(QUASI_EPS))
+            hcs_spacing(problem), disc.order), gamma=disc.kernel.gamma, bulk=hcs_bulk(QUASI_EPS))
         mid = FEMDiscretisation(1.0 - QUASI_EPS, mid_verts, disc.order, disc.intorder,
                                 gamma=disc.gamma)
         start = CoolingState(FEMDiscretisation(alpha_start, mid_verts, disc.order,

@@ -189,7 +189,7 @@ def quasi_elastic_chain(start: CoolingState, eps_start: float, alpha: float, *,
         state).
     """
     eps = 1.0 - alpha
-    check_frontier(alpha, start.disc.gamma)
+    check_frontier(alpha, start.disc.kernel.gamma)
     pending = log_chain(eps, eps_start, QUASI_RATIO)[::-1]  # a stack
     prev, eps_prev = start, eps_start
     disc0 = start.disc

@@ -8,11 +8,15 @@ import numpy as np
 import pytest
 
 import kinetic_fem as kf
-from kinetic_fem.model import CoolingProblem
+from kinetic_fem.model import CoolingProblem, UnsupportedModelError
 from kinetic_fem.solvers.fem import FEMDiscretisation
 from kinetic_fem.solvers.fem_cooling import cooling_state
 from kinetic_fem.solvers.fem_cooling_newton import CoolingState
-from kinetic_fem.solvers.fem_cooling_quasi import efold_vertices, quasi_elastic_chain
+from kinetic_fem.solvers.fem_cooling_quasi import (
+    check_frontier,
+    efold_vertices,
+    quasi_elastic_chain,
+)
 
 ZETA_REF = {0.995: 2.005042729432, 0.999: 2.001001674898}
 """zeta / eps of the default path at half the default spacing (0.0085, 0.005; 2097 and
@@ -73,3 +77,15 @@ def test_gamma2_alpha0999():
     assert extra["zeta"] / 1e-3 == pytest.approx(ZETA_REF[0.999], rel=1e-8)
     assert extra["zeta_identity"] == pytest.approx(extra["zeta"], rel=1e-8)
     assert dist.temperature == pytest.approx(1.0, abs=1e-10)
+
+
+def test_frontier_error_says_what_is_allowed():
+    check_frontier(0.9995, 2.0)
+    with pytest.raises(UnsupportedModelError, match=r"alpha <= 0.9995"):
+        check_frontier(0.9999, 2.0)
+
+
+@pytest.mark.slow
+def test_gamma2_beyond_frontier():
+    with pytest.raises(UnsupportedModelError, match=r"alpha <= 0.9995"):
+        kf.solve_cooling(0.9999, kernel=2.0)
