@@ -33,7 +33,7 @@ from .fem_cooling_order import STRONG_ALPHA, order_spacing
 from .fem_cooling_quasi import QUASI_EPS, check_frontier, quasi_elastic_chain
 
 __all__ = ["HARD_GAMMA", "ALPHA_CHAIN_RATIO", "ALPHA_CHAIN_COARSE", "ALPHA_CHAIN_TOL",
-           "uses_alpha_chain", "alpha_chain"]
+           "QUASI_TOL", "QUASI_CACHE_SIZE", "uses_alpha_chain", "alpha_chain"]
 
 logger = logging.getLogger(__name__)
 
@@ -53,6 +53,8 @@ MIN_RATIO = 1.02
 """Steps are not halved below this ratio of inelasticities."""
 QUASI_CACHE_SIZE = 4
 """Near-elastic states remembered by :func:`alpha_chain` (key: alpha, kernel, degree)."""
+QUASI_TOL = 1e-11
+"""Newton tolerance (at most) of the near-elastic chain, whichever call asks first."""
 _QUASI_CACHE: dict[tuple, CoolingState] = {}
 
 
@@ -105,7 +107,9 @@ def alpha_chain(disc: FEMDiscretisation, start: CoolingState, alpha_start: float
     eps, eps_prev = 1.0 - disc.alpha, 1.0 - alpha_start
     if eps < QUASI_EPS and eps_prev > QUASI_EPS:
         check_frontier(disc.alpha, disc.kernel.gamma)
-        key = (disc.alpha, disc.gamma, disc.order, disc.intorder, tol)
+        # one key for the coarse call and the globalised retry (tol 1e-11 for both: the
+        # links' Newton ends quadratically, a looser tol saved nothing)
+        key = (disc.alpha, disc.gamma, disc.order, disc.intorder)
         if key in _QUASI_CACHE:
             return _QUASI_CACHE[key]
         # the state at QUASI_EPS only seeds the links: on its own coarse mesh (alpha 0.999:
@@ -121,7 +125,8 @@ def alpha_chain(disc: FEMDiscretisation, start: CoolingState, alpha_start: float
         state = alpha_chain(mid, start, alpha_start, tol=ALPHA_CHAIN_TOL, max_iter=max_iter)
         if not state.info.converged:
             return state
-        state = quasi_elastic_chain(state, QUASI_EPS, disc.alpha, tol=tol, max_iter=max_iter)
+        state = quasi_elastic_chain(state, QUASI_EPS, disc.alpha, tol=min(tol, QUASI_TOL),
+                                    max_iter=max_iter)
         if state.info.converged:
             while len(_QUASI_CACHE) >= QUASI_CACHE_SIZE:
                 _QUASI_CACHE.pop(next(iter(_QUASI_CACHE)))
