@@ -8,10 +8,12 @@ Two persistent workers, one on ``git archive BEFORE`` and one on the working tre
 worker; each row is the best of ``--repeat`` such ratios.  For the Maxwell model the
 errors are against the closed form f = 2/(pi (1+c^2)^2), zeta = (1 - alpha^2)/4: relative
 zeta, the largest relative error of the returned ``dist.f`` over |c| <= 10 and over
-10 <= |c| <= 100, and ``dist.temperature - 1``; for other kernels zeta and a2 of both.
+10 <= |c| <= 100, and ``dist.temperature - 1``; for other kernels zeta and a2 of both
+against the state at half the default spacing (``--reference``, solved untimed by the
+after worker; a failed before row still prints the after figures).
 
     python benchmarks/bench_fem_cooling_models.py [--before COMMIT] [--repeat 2]
-        [--kernels 0 2] [--alphas A ...]
+        [--kernels 0 2] [--alphas A ...] [--reference]
 
 Prints markdown tables (``benchmarks/results/fem_cooling_models_speed.md``).
 """
@@ -65,7 +67,7 @@ def serve() -> None:
     c_in = np.linspace(0.0, 10.0, 4001)
     c_out = np.linspace(10.0, 100.0, 4001)
     for line in sys.stdin:
-        alpha, gamma = (float(x) for x in line.split())
+        alpha, gamma, want_ref = (float(x) for x in line.split())
         unit = yardstick()
         t0 = time.process_time()
         try:
@@ -78,6 +80,15 @@ def serve() -> None:
         extra = dist.info.extra
         out = {"cpu": cpu, "unit": unit, "zeta": extra["zeta"], "nodes": extra["n_dofs"],
                "order": extra.get("order", 2), "a2": dist.a2}
+        if want_ref and gamma != 0.0:
+            from kinetic_fem.model import CoolingProblem
+            from kinetic_fem.solvers.fem_cooling_mesh import hcs_spacing
+            from kinetic_fem.solvers.fem_cooling_order import order_spacing
+            problem = CoolingProblem.from_parameters(alpha, kernel=gamma)
+            ref = kf.solve_cooling(alpha, kernel=gamma, spacing=0.5 * order_spacing(
+                hcs_spacing(problem), out["order"]))
+            out.update(ref_zeta=ref.info.extra["zeta"], ref_a2=ref.a2,
+                       ref_nodes=ref.info.extra["n_dofs"])
         if gamma == 0.0:
             out.update(
                 dzeta=abs(extra["zeta"] / ((1.0 - alpha**2) / 4.0) - 1.0),
@@ -93,6 +104,8 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=2)
     parser.add_argument("--alphas", type=float, nargs="*", default=ALPHAS)
     parser.add_argument("--kernels", type=float, nargs="*", default=[0.0, 2.0])
+    parser.add_argument("--reference", action="store_true",
+                        help="errors against the state at half the default spacing")
     parser.add_argument("--serve", action="store_true", help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.serve:
@@ -119,24 +132,30 @@ def main() -> None:
                 print("|---" * 16 + "|")
             else:
                 print("| alpha | dofs before | dofs after | CPU s before | CPU s after | "
-                      "units before | units after | speed-up | rel dzeta | abs da2 |")
-                print("|---" * 10 + "|")
+                      "units before | units after | speed-up | rel dzeta | abs da2 | "
+                      "ref dofs | dzeta before vs ref | dzeta after vs ref | "
+                      "da2 after vs ref |")
+                print("|---" * 14 + "|")
             for alpha in args.alphas:
                 best: list[dict] = [{}, {}]
                 for _ in range(args.repeat):
                     for i, w in enumerate(workers):
                         assert w.stdin is not None and w.stdout is not None
-                        w.stdin.write(f"{alpha} {gamma}\n")
+                        want = int(args.reference and i == 1)
+                        w.stdin.write(f"{alpha} {gamma} {want}\n")
                         w.stdin.flush()
                         r = json.loads(w.stdout.readline())
                         r["units"] = r["cpu"] / r["unit"]
                         if not best[i] or r.get("failed") or r["units"] < best[i]["units"]:
                             best[i] = r
                 b, a = best
-                if b.get("failed") or a.get("failed"):
+                if a.get("failed"):
                     print(f"| {alpha} | failed: before {b.get('failed', False)}, after "
-                          f"{a.get('failed', False)} |", flush=True)
+                          f"True ({a['cpu']:.2f} CPU s) |", flush=True)
                     continue
+                if b.get("failed"):
+                    b = {"nodes": "failed", "order": "-", "cpu": b["cpu"], "units": b["units"],
+                         "zeta": float("nan"), "a2": float("nan")}
                 row = (f"| {alpha} | {b['nodes']} (P{b['order']}) | {a['nodes']} "
                        f"(P{a['order']}) | {b['cpu']:.2f} | {a['cpu']:.2f} | "
                        f"{b['units']:.2f} | {a['units']:.2f} | {b['units'] / a['units']:.1f} |")
@@ -146,6 +165,10 @@ def main() -> None:
                 else:
                     row += (f" {abs(a['zeta'] / b['zeta'] - 1):.1e} | "
                             f"{abs(a['a2'] - b['a2']):.1e} |")
+                    if "ref_zeta" in a:
+                        row += (f" {a['ref_nodes']} | {abs(b['zeta'] / a['ref_zeta'] - 1):.1e} | "
+                                f"{abs(a['zeta'] / a['ref_zeta'] - 1):.1e} | "
+                                f"{abs(a['a2'] - a['ref_a2']):.1e} |")
                 print(row, flush=True)
         for w in workers:
             assert w.stdin is not None

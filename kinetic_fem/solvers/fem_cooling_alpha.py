@@ -12,7 +12,12 @@ backtracking from the state at a nearby alpha converges in 8 to 10 steps per ste
 of 0.1 in alpha.  :func:`alpha_chain` walks from :data:`~.fem_cooling_order.STRONG_ALPHA` (where
 the Gaussian start converges) to the target in equal steps of the inelasticity on a log
 scale, each of ratio at most :data:`ALPHA_CHAIN_RATIO`, on the target's mesh; a failed
-step is retried through the geometric mean.
+step is retried through the geometric mean.  Below :data:`~.fem_cooling_quasi.QUASI_EPS`
+the chain stops there and :func:`~.fem_cooling_quasi.quasi_elastic_chain` continues on
+meshes that follow the humps; that state is on its own mesh, and it is remembered
+(:data:`QUASI_CACHE_SIZE` states) for the globalised retry of
+:func:`~.fem_cooling.cooling_state`, whose Newton step on the default fine mesh turns
+singular there (its far tail underflows).
 """
 
 from __future__ import annotations
@@ -22,12 +27,13 @@ import math
 
 from ..model import CoolingProblem
 from .fem import FEMDiscretisation
-from .fem_cooling_mesh import log_chain
+from .fem_cooling_mesh import hcs_bulk, hcs_cutoff, hcs_spacing, hcs_vertices, log_chain
 from .fem_cooling_newton import CoolingState, newton_cooling
-from .fem_cooling_order import STRONG_ALPHA
+from .fem_cooling_order import STRONG_ALPHA, order_spacing
+from .fem_cooling_quasi import QUASI_EPS, check_frontier, quasi_elastic_chain
 
 __all__ = ["HARD_GAMMA", "ALPHA_CHAIN_RATIO", "ALPHA_CHAIN_COARSE", "ALPHA_CHAIN_TOL",
-           "uses_alpha_chain", "alpha_chain"]
+           "QUASI_TOL", "QUASI_CACHE_SIZE", "uses_alpha_chain", "alpha_chain"]
 
 logger = logging.getLogger(__name__)
 
@@ -45,6 +51,11 @@ ALPHA_CHAIN_COARSE = 2.0
 (residual 8e-6) on 4 times the bulk spacing (0.147) and converged on 2 times (0.07, 1.5 s)."""
 MIN_RATIO = 1.02
 """Steps are not halved below this ratio of inelasticities."""
+QUASI_CACHE_SIZE = 4
+"""Near-elastic states remembered by :func:`alpha_chain` (key: alpha, kernel, degree)."""
+QUASI_TOL = 1e-11
+"""Newton tolerance (at most) of the near-elastic chain, whichever call asks first."""
+_QUASI_CACHE: dict[tuple, CoolingState] = {}
 
 
 def uses_alpha_chain(problem: CoolingProblem) -> bool:
@@ -83,10 +94,44 @@ def alpha_chain(disc: FEMDiscretisation, start: CoolingState, alpha_start: float
     Returns
     -------
     CoolingState
-        The state at the target; ``info.converged`` False if a step failed at the
-        smallest ratio :data:`MIN_RATIO` (that step's state).
+        The state at the target (below :data:`~.fem_cooling_quasi.QUASI_EPS` on the mesh
+        of :func:`~.fem_cooling_quasi.quasi_elastic_chain`, not ``disc``'s);
+        ``info.converged`` False if a step failed at the smallest ratio :data:`MIN_RATIO`
+        (that step's state).
+
+    Raises
+    ------
+    UnsupportedModelError
+        Below :data:`~.fem_cooling_quasi.QUASI_FRONTIER`.
     """
     eps, eps_prev = 1.0 - disc.alpha, 1.0 - alpha_start
+    if eps < QUASI_EPS and eps_prev > QUASI_EPS:
+        check_frontier(disc.alpha, disc.kernel.gamma)
+        # one key for the coarse call and the globalised retry (tol 1e-11 for both: the
+        # links' Newton ends quadratically, a looser tol saved nothing)
+        key = (disc.alpha, disc.gamma, disc.order, disc.intorder)
+        if key in _QUASI_CACHE:
+            return _QUASI_CACHE[key]
+        # the state at QUASI_EPS only seeds the links: on its own coarse mesh (alpha 0.999:
+        # 3.6 CPU s on the target's coarse mesh, 1.5 s on this one)
+        problem = CoolingProblem.from_parameters(1.0 - QUASI_EPS, kernel=disc.gamma)
+        mid_verts = hcs_vertices(hcs_cutoff(problem), ALPHA_CHAIN_COARSE * order_spacing(
+            hcs_spacing(problem), disc.order), gamma=disc.kernel.gamma, bulk=hcs_bulk(QUASI_EPS))
+        mid = FEMDiscretisation(1.0 - QUASI_EPS, mid_verts, disc.order, disc.intorder,
+                                gamma=disc.gamma)
+        start = CoolingState(FEMDiscretisation(alpha_start, mid_verts, disc.order,
+                                               disc.intorder, gamma=disc.gamma),
+                             start.log_f(mid.dof_locations), start.zeta, start.info)
+        state = alpha_chain(mid, start, alpha_start, tol=ALPHA_CHAIN_TOL, max_iter=max_iter)
+        if not state.info.converged:
+            return state
+        state = quasi_elastic_chain(state, QUASI_EPS, disc.alpha, tol=min(tol, QUASI_TOL),
+                                    max_iter=max_iter)
+        if state.info.converged:
+            while len(_QUASI_CACHE) >= QUASI_CACHE_SIZE:
+                _QUASI_CACHE.pop(next(iter(_QUASI_CACHE)))
+            _QUASI_CACHE[key] = state
+        return state
     pending = log_chain(eps, eps_prev, ALPHA_CHAIN_RATIO)[::-1]  # a stack
     prev = start
     while pending:
