@@ -96,7 +96,13 @@ from ..model import CoolingProblem, UnsupportedModelError, check_positive
 from ..operators.fem_discretisation import LAGRANGE_ELEMENTS
 from ..solve import register_solver
 from .fem import ConvergenceError, FEMDiscretisation
-from .fem_cooling_alpha import ALPHA_CHAIN_COARSE, alpha_chain, uses_alpha_chain
+from .fem_cooling_alpha import (
+    ALPHA_CHAIN_COARSE,
+    DIRECT_EPS,
+    alpha_chain,
+    quasi_seed_vertices,
+    uses_alpha_chain,
+)
 from .fem_cooling_band import band_state, in_band
 from .fem_cooling_hump import (
     HUMP_COARSE_EPS,
@@ -279,7 +285,13 @@ def cooling_state(problem: CoolingProblem, *, order: int | None = None,
         # the Maxwell model: short mesh, analytic c^-4 tail (.fem_cooling_maxwell)
         return maxwell_cooling_state(problem.gas.alpha, order=order, spacing=spacing,
                                      intorder=intorder, tol=tol, max_iter=max_iter)
-    hump = uses_hump_mesh(problem) and vertices is None and spacing is None and cutoff is None
+    default_mesh = vertices is None and spacing is None and cutoff is None
+    if uses_alpha_chain(problem) and default_mesh and problem.gas.epsilon < DIRECT_EPS:
+        # hard kernels near elastic: straight to the chain on the meshes that follow the
+        # humps (.fem_cooling_alpha; the target's default mesh cannot hold the state)
+        vertices = quasi_seed_vertices(problem.gas.gamma,
+                                       cooling_order(problem, order, default_mesh=False))
+    hump = uses_hump_mesh(problem) and default_mesh
     default = order is None and resolution is None
     band = hump and default and in_band(problem.gas.epsilon, HUMP_EPS)
     order = cooling_order(problem, order, default_mesh=not hump and spacing is None

@@ -25,6 +25,9 @@ from __future__ import annotations
 import logging
 import math
 
+import numpy as np
+from numpy.typing import NDArray
+
 from ..model import CoolingProblem
 from .fem import FEMDiscretisation
 from .fem_cooling_mesh import hcs_bulk, hcs_cutoff, hcs_spacing, hcs_vertices, log_chain
@@ -33,7 +36,8 @@ from .fem_cooling_order import STRONG_ALPHA, order_spacing
 from .fem_cooling_quasi import QUASI_EPS, check_frontier, quasi_elastic_chain
 
 __all__ = ["HARD_GAMMA", "ALPHA_CHAIN_RATIO", "ALPHA_CHAIN_COARSE", "ALPHA_CHAIN_TOL",
-           "QUASI_TOL", "QUASI_CACHE_SIZE", "uses_alpha_chain", "alpha_chain"]
+           "QUASI_TOL", "QUASI_CACHE_SIZE", "DIRECT_EPS", "uses_alpha_chain", "alpha_chain",
+           "quasi_seed_vertices"]
 
 logger = logging.getLogger(__name__)
 
@@ -53,6 +57,13 @@ MIN_RATIO = 1.02
 """Steps are not halved below this ratio of inelasticities."""
 QUASI_CACHE_SIZE = 4
 """Near-elastic states remembered by :func:`alpha_chain` (key: alpha, kernel, degree)."""
+DIRECT_EPS = 3e-3
+"""Below this inelasticity :func:`~.fem_cooling.cooling_state` (default mesh) goes
+straight to the near-elastic chain on its own meshes: the Newton step on the default
+fine mesh turned singular at alpha 0.998, 0.999 and 0.9995 (converged at 0.995, to 4.6e-11
+in zeta against 1e-8 for the chain's state), and the detour through the target's meshes
+cost 1.2-1.3x (alpha 0.998 4.59 -> 3.48 CPU s, 0.999 5.58 -> 4.32 s, 0.9995 10.95 ->
+9.03 s; the same states to 1e-15)."""
 QUASI_TOL = 1e-11
 """Newton tolerance (at most) of the near-elastic chain, whichever call asks first."""
 _QUASI_CACHE: dict[tuple, CoolingState] = {}
@@ -72,6 +83,28 @@ def uses_alpha_chain(problem: CoolingProblem) -> bool:
     bool
     """
     return problem.gas.gamma > HARD_GAMMA and problem.gas.alpha > STRONG_ALPHA
+
+
+def quasi_seed_vertices(gamma: float, order: int) -> NDArray[np.float64]:
+    """The mesh of the state at :data:`~.fem_cooling_quasi.QUASI_EPS` that seeds
+    :func:`~.fem_cooling_quasi.quasi_elastic_chain`: that alpha's default mesh at
+    :data:`ALPHA_CHAIN_COARSE` times its spacing.
+
+    Parameters
+    ----------
+    gamma : float
+        Kernel exponent.
+    order : int
+        Lagrange degree.
+
+    Returns
+    -------
+    ndarray
+        Symmetric vertices (thermal velocities).
+    """
+    problem = CoolingProblem.from_parameters(1.0 - QUASI_EPS, kernel=gamma)
+    return hcs_vertices(hcs_cutoff(problem), ALPHA_CHAIN_COARSE * order_spacing(
+        hcs_spacing(problem), order), gamma=gamma, bulk=hcs_bulk(QUASI_EPS))
 
 
 def alpha_chain(disc: FEMDiscretisation, start: CoolingState, alpha_start: float, *,
@@ -114,9 +147,7 @@ def alpha_chain(disc: FEMDiscretisation, start: CoolingState, alpha_start: float
             return _QUASI_CACHE[key]
         # the state at QUASI_EPS only seeds the links: on its own coarse mesh (alpha 0.999:
         # 3.6 CPU s on the target's coarse mesh, 1.5 s on this one)
-        problem = CoolingProblem.from_parameters(1.0 - QUASI_EPS, kernel=disc.gamma)
-        mid_verts = hcs_vertices(hcs_cutoff(problem), ALPHA_CHAIN_COARSE * order_spacing(
-            hcs_spacing(problem), disc.order), gamma=disc.kernel.gamma, bulk=hcs_bulk(QUASI_EPS))
+        mid_verts = quasi_seed_vertices(disc.kernel.gamma, disc.order)
         mid = FEMDiscretisation(1.0 - QUASI_EPS, mid_verts, disc.order, disc.intorder,
                                 gamma=disc.gamma)
         start = CoolingState(FEMDiscretisation(alpha_start, mid_verts, disc.order,
