@@ -44,19 +44,9 @@ def serve() -> None:
     import warnings
 
     import numpy as np
-    import scipy.linalg
+    from bench_fem_speed import cpu_yardstick as yardstick
 
     import kinetic_fem as kf
-
-    def yardstick() -> float:
-        a = np.random.default_rng(0).standard_normal((1000, 1000))
-        best = np.inf
-        for _ in range(3):
-            t0 = time.process_time()
-            for _ in range(10):
-                scipy.linalg.lu_factor(a)
-            best = min(best, time.process_time() - t0)
-        return best
 
     def closed(c):
         return 2.0 / (np.pi * (1.0 + c * c) ** 2)
