@@ -61,9 +61,8 @@ def default_cutoff(alpha: float) -> float:
     The far tail :math:`\\exp(-A_c c^{3/2})` of claim C4
     (:func:`sonine.tail_exponent_amplitude`) or, if it reaches 1e-33 sooner, the
     smaller of the Gaussian and the quasi-elastic tail :math:`\\exp(-x^3/6)`,
-    :math:`x = (\\varepsilon T)^{1/3} c` (claim C5); plus one thermal velocity.  The rule
-    is the model's (:func:`kinetic_fem.model.scales.heated_cutoff`, equal to the former
-    copy here to 4e-16).
+    :math:`x = (\\varepsilon T)^{1/3} c` (claim C5); plus one thermal velocity: the
+    model's rule (:func:`kinetic_fem.model.scales.heated_cutoff`).
 
     Parameters
     ----------
