@@ -205,11 +205,7 @@ def usable_extent(disc: FEMDiscretisation, u: NDArray) -> float:
     -------
     float
     """
-    x = disc.dof_locations
-    keep = x >= 0
-    xs, us = x[keep], u[keep]
-    order = np.argsort(xs, kind="stable")
-    xs, us = xs[order], us[order]
+    xs, us = _half_line(disc, u)
     verts = disc.mesh_arrays[0]
     limit = float(verts[-1 - EDGE_ELEMENTS])
     low = np.flatnonzero(us < us.max() + math.log(TAIL_LEVEL))
@@ -240,10 +236,15 @@ def steepest_drop(disc: FEMDiscretisation, u: NDArray) -> float:
     -------
     float
     """
+    return float(-np.diff(_half_line(disc, u)[1]).min()) * disc.order
+
+
+def _half_line(disc: FEMDiscretisation, u: NDArray) -> tuple[NDArray, NDArray]:
+    """The dofs at :math:`v \\ge 0` and ``u`` there, in increasing :math:`v`."""
     x = disc.dof_locations
     keep = np.flatnonzero(x >= 0)
     order = keep[np.argsort(x[keep], kind="stable")]
-    return float(-np.diff(u[order]).min()) * disc.order
+    return x[order], u[order]
 
 
 def graded_vertices(old: FEMDiscretisation, u: NDArray, ratio: float, extent: float,
