@@ -44,6 +44,8 @@ def central_from_raw(raw: NDArray[np.float64]) -> NDArray[np.float64]:
     array([1., 0., 2.])
     """
     u = raw[1]
+    if u == 0.0:  # central = raw (also for infinite moments, where 0 * inf would be NaN)
+        return np.array(raw, dtype=float)
     out = np.empty_like(raw)
     for k in range(raw.size):
         j = np.arange(k + 1)
@@ -76,6 +78,8 @@ def sonine_from_central(central: NDArray[np.float64], p: int) -> float:
     temperature = central[2]
     poly = genlaguerre(p, -0.5)  # in x = c^2 / 2, highest power first
     coeffs = poly.coeffs[::-1]
-    mean_s = sum(coeffs[k] * central[2 * k] / temperature**k / 2.0**k for k in range(p + 1))
+    with np.errstate(invalid="ignore"):  # inf - inf: undefined for heavy tails (NaN)
+        mean_s = sum(coeffs[k] * central[2 * k] / temperature**k / 2.0**k
+                     for k in range(p + 1))
     norm = math.exp(gammaln(p + 0.5) - gammaln(p + 1.0)) / math.sqrt(math.pi)
     return float(mean_s / norm)

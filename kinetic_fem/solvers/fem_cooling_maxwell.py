@@ -26,6 +26,7 @@ from __future__ import annotations
 import logging
 import math
 import time
+from dataclasses import replace
 
 import numpy as np
 import scipy.sparse
@@ -279,7 +280,39 @@ class MaxwellTailState(CoolingState):
         v = np.concatenate([-ct[::-1], xq, ct])
         values = np.concatenate([ft[::-1], np.exp(recovered_log_f(disc, self.u, xq)), ft])
         weights = np.concatenate([wt[::-1], wq, wt])
-        return VelocityDistribution.from_values(v, values, weights=weights, **kwargs)
+        dist = VelocityDistribution.from_values(v, values, weights=weights, **kwargs)
+        return replace(dist, raw_moments=heavy_tail_moments(dist.raw_moments))
+
+
+def heavy_tail_moments(raw: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Raw moments of an even state with a :math:`c^{-4}` tail.
+
+    The moments of the quadrature are finite only because it stops at the far end of
+    :func:`~kinetic_fem.operators.maxwell_tail.tail_quadrature`; the state's own
+    :math:`\\langle c^k\\rangle` diverges for even :math:`k \\ge 4`
+    (:math:`c^{k-4}` is not integrable) and its odd moments vanish by symmetry (as a
+    principal value for :math:`k \\ge 3`).  So :math:`a_2 = \\infty` and the higher
+    Sonine coefficients are undefined (NaN).
+
+    Parameters
+    ----------
+    raw : ndarray, shape (MAX_MOMENT + 1,)
+        Raw moments of the quadrature (mass, energy and the truncated higher ones).
+
+    Returns
+    -------
+    ndarray
+        ``raw`` with the odd moments 0 and the even ones from order 4 on infinite.
+
+    Examples
+    --------
+    >>> heavy_tail_moments(np.array([1.0, 1e-17, 1.0, 1e-16, 2e9, 0.0, 1e18]))
+    array([ 1.,  0.,  1.,  0., inf,  0., inf])
+    """
+    out = np.array(raw, dtype=float)
+    out[1::2] = 0.0
+    out[4::2] = np.inf
+    return out
 
 
 def maxwell_tail_state(disc: FEMDiscretisation, *, tol: float = 1e-11,

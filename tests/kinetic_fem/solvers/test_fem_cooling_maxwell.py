@@ -36,6 +36,15 @@ def test_default_state_against_the_closed_form(alpha):
     assert dist.v[-1] > 1e8
 
 
+def test_heavy_tail_moments_are_reported_infinite():
+    """f ~ c^-4: <c^4> diverges, so a2 is infinite, not the quadrature's truncated value."""
+    dist = kf.solve_cooling(0.5, kernel=0.0)
+    assert dist.a2 == np.inf and dist.moment(4) == np.inf and dist.moment(6) == np.inf
+    assert dist.mean == 0.0 and dist.moment(3) == 0.0
+    assert np.isnan(dist.sonine_coefficient(3))
+    assert dist.temperature == pytest.approx(1.0, abs=1e-9)
+
+
 def test_one_jacobian_from_the_closed_form():
     """Newton from the closed form: one Newton step (and at most one chord step)."""
     state = fem_cooling.cooling_state(kf.CoolingProblem.from_parameters(0.7, kernel=0.0))
