@@ -1,58 +1,68 @@
 """The hard-rod cooling state between the moderate and the near-elastic regime (issue 16).
 
 For :math:`\\varepsilon = 1 - \\alpha` in [:data:`BAND_EPS`, 0.1) the two humps of the
-state (width :math:`\\varepsilon^{1/3} \\ge 0.34`) are still broad, and the default
-mesh of moderate inelasticity (:func:`~kinetic_fem.solvers.fem_cooling_mesh.hcs_vertices`:
-uniform bulk out to the humps' outer edge, graded tail) resolves them with P3 elements
-at :data:`BAND_SPACING` times the P2 bulk spacing.  The near-elastic path (continuation
-from :math:`\\varepsilon = 0.1` on meshes that follow the humps, Gauss degree 9) solved
-this band 5 to 20 times slower: its first continuation step, from 0.1 to 0.05, took 8
-Jacobians on 1600 dofs.
+state (width :math:`w = \\varepsilon^{1/3} \\ge 0.34`) are still broad.  The state is
+reached in two Newton solves from the state at :math:`\\varepsilon = 0.1` (or a warm
+start), both on meshes that follow the humps
+(:func:`~kinetic_fem.solvers.fem_cooling_hump.continued_state`,
+:func:`kinetic_fem.operators.adaptive.hump_vertices`):
 
-The state is reached in two Newton solves (backtracking, from close starts):
+1. one link of the near-elastic continuation: P2 at
+   :data:`~kinetic_fem.solvers.fem_cooling_hump.HUMP_FAST_LINK` hump widths, cut off
+   where the rescaled start has fallen
+   :data:`~kinetic_fem.solvers.fem_cooling_hump.HUMP_LINK_DECADES` decades, Newton
+   tolerance :data:`~kinetic_fem.solvers.fem_cooling_links.HUMP_STEP_TOL`;
+2. P3 at :data:`BAND_RESOLUTION` hump widths with the Gauss degree
+   :data:`BAND_INTORDER`, cut off at :data:`BAND_DECADES` decades, from the link state
+   (mesh sequencing: two Jacobians).
 
-1. on a P2 mesh of the same cut-off and :data:`BAND_COARSE` times the P2 spacing, from
-   the state at :math:`\\varepsilon = 0.1` rescaled on the hump variable
-   (:meth:`~kinetic_fem.solvers.fem_cooling_newton.CoolingState.rescaled_log_f`);
-   the globalised iteration from the Gaussian start of moderate inelasticity does not
-   converge below :math:`\\varepsilon \\approx 0.04`;
-2. on the P3 mesh, from that state (mesh sequencing).
+Issue 16, ninth round (``benchmarks/results/fem_cooling_band_speed.md``): the former band
+path (P2 on the moderate mesh at three times the P2 spacing, then P3 on the moderate mesh
+:func:`~kinetic_fem.solvers.fem_cooling_mesh.hcs_vertices` at 1.5 times it, Gauss degree
+7) needed 1123 ... 1285 dofs, because the moderate mesh is uniform out to the humps'
+outer edge :math:`1 + 12 w` and graded beyond it to :math:`c = 13.5`, where
+:math:`\\ln f` is far below 1e-45; the hump mesh refines only the humps, grows its
+elements along the exponential inner tail and ends where the state has fallen
+:data:`BAND_DECADES` decades (c = 7.3 at eps = 0.05): 805 dofs there, at equal errors
+in :math:`\\zeta` and :math:`a_2` and smaller ones in :math:`\\ln f` (against P3 at 0.05
+hump widths), 2.0 to 2.4 times faster.
 
-Errors against the hump mesh at 0.035 hump widths and Gauss degree 9
-(``benchmarks/results/fem_cooling_speed.md``) are below those of the near-elastic
-default it replaces in the band; if either solve fails the caller falls back to the
-continuation.
+If either solve fails the caller falls back to the near-elastic continuation.
 """
 
 from __future__ import annotations
 
 import logging
 
-import numpy as np
-
 from ..model import CoolingProblem
-from .fem import FEMDiscretisation
-from .fem_cooling_hump import FULL_STEP_ITER
-from .fem_cooling_mesh import hcs_bulk, hcs_cutoff, hcs_spacing, hcs_vertices
-from .fem_cooling_newton import CLOSE_DAMPING, CoolingState, newton_cooling
+from .fem_cooling_hump import (
+    HUMP_FAST_LINK,
+    HUMP_LINK_DECADES,
+    P3_FAR_EFOLDS,
+    continued_state,
+)
+from .fem_cooling_links import HUMP_STEP_ITER, HUMP_STEP_TOL
+from .fem_cooling_newton import CoolingState
 
-__all__ = ["BAND_EPS", "BAND_SPACING", "BAND_COARSE", "BAND_COARSE_TOL", "in_band",
+__all__ = ["BAND_EPS", "BAND_RESOLUTION", "BAND_INTORDER", "BAND_DECADES", "in_band",
            "band_state"]
 
 logger = logging.getLogger(__name__)
 
 BAND_EPS = 0.04
-"""Smallest inelasticity solved on the moderate-inelasticity mesh by default (below it
-the P3 mesh's outer edge of the humps is too coarse: at 0.02 its ln f error, 5.8e-5 where
-f > 1e-30, is three times the hump mesh's)."""
-BAND_SPACING = 1.5
-"""Bulk spacing of the P3 mesh, in units of the P2 default spacing
-:func:`~kinetic_fem.solvers.fem_cooling_mesh.hcs_spacing` (at 2, ln f where
-f > 1e-30 is no better than the hump mesh's, and the Newton iteration is less robust)."""
-BAND_COARSE = 3.0
-"""Bulk spacing of the P2 mesh of the first solve, in units of the P2 default spacing."""
-BAND_COARSE_TOL = 1e-7
-"""Newton tolerance of the first solve (it only starts the second)."""
+"""Smallest inelasticity solved here by default (below it the near-elastic default, P3
+at 0.2 hump widths with the Gauss degree 9 of the humps' steep outer edge)."""
+BAND_RESOLUTION = 0.15
+"""Element size of the P3 state in the humps, in hump widths (at 0.2 the errors in
+:math:`\\zeta` and :math:`a_2` are 10 to 30 times those of the former band default,
+3.6e-13 and 2.1e-12 at eps = 0.05; at 0.15 equal to them, 1.9e-14 and 6.4e-14)."""
+BAND_INTORDER = 7
+"""Gauss degree of the P3 state (4 points per element; degree 9 costs 1.4 times more
+and is no more accurate in :math:`\\zeta` at eps >= 0.04: the outer edge's quadrature
+error is amplified by :math:`\\varepsilon^{-2/3} \\le 8.5` here, 460 at 1e-4)."""
+BAND_DECADES = 40.0
+"""The P3 mesh ends where the link state has fallen this many decades (not 45: 6 % fewer
+dofs, the errors where f > 1e-30 unchanged)."""
 
 
 def in_band(eps: float, hump_eps: float) -> bool:
@@ -77,19 +87,10 @@ def in_band(eps: float, hump_eps: float) -> bool:
     return BAND_EPS <= eps < hump_eps
 
 
-def _disc(problem: CoolingProblem, spacing: float, order: int,
-          intorder: int | None) -> FEMDiscretisation:
-    eps = problem.gas.epsilon
-    verts = hcs_vertices(hcs_cutoff(problem), spacing, gamma=problem.gas.gamma,
-                         bulk=hcs_bulk(eps))
-    return FEMDiscretisation(problem.gas.alpha, verts, order, intorder or 2 * order + 1,
-                             gamma=problem.gas.gamma)
-
-
 def band_state(problem: CoolingProblem, start: CoolingState, eps_start: float, *,
                tol: float = 1e-11, max_iter: int = 100,
                intorder: int | None = None) -> CoolingState | None:
-    """The hard-rod HCS in the band, from a state at a larger inelasticity.
+    """The hard-rod HCS in the band, from a state at a neighbouring inelasticity.
 
     Parameters
     ----------
@@ -102,9 +103,10 @@ def band_state(problem: CoolingProblem, start: CoolingState, eps_start: float, *
     tol : float
         Newton tolerance of the final state.
     max_iter : int
-        Newton iteration limit of each solve.
+        Newton iteration limit of the final state (the link's is at most
+        :data:`~kinetic_fem.solvers.fem_cooling_links.HUMP_STEP_ITER`).
     intorder : int, optional
-        Gauss degree of the P3 mesh; default 7.
+        Gauss degree of the P3 state; default :data:`BAND_INTORDER`.
 
     Returns
     -------
@@ -113,27 +115,17 @@ def band_state(problem: CoolingProblem, start: CoolingState, eps_start: float, *
         takes the near-elastic continuation).
     """
     eps = problem.gas.epsilon
-    p2 = hcs_spacing(problem)
-    coarse_disc = _disc(problem, BAND_COARSE * p2, 2, None)
-    u0 = start.rescaled_log_f(eps_start, eps, coarse_disc.dof_locations)
-    zeta0 = start.zeta * (1.0 - problem.gas.alpha**2) / (1.0 - (1.0 - eps_start) ** 2)
-    coarse = newton_cooling(coarse_disc, u0, zeta0, tol=BAND_COARSE_TOL, max_iter=max_iter,
-                            pseudo_time=np.inf)
-    if not coarse.info.converged:
-        logger.info("HCS band eps = %.3g: the coarse solve failed (%s)", eps,
-                    coarse.info.message)
+    link = continued_state(start, eps_start, eps, resolution=HUMP_FAST_LINK, order=2,
+                           intorder=5, tol=HUMP_STEP_TOL, decades=HUMP_LINK_DECADES,
+                           max_iter=min(max_iter, HUMP_STEP_ITER))
+    if not link.info.converged:
+        logger.info("HCS band eps = %.3g: the link from %.3g failed (%s)", eps, eps_start,
+                    link.info.message)
         return None
-    disc = _disc(problem, BAND_SPACING * p2, 3, intorder)
-    u0 = coarse.log_f(disc.dof_locations)
-    # full Newton steps first (as the same-eps refinement of the hump path), then
-    # backtracking if they do not converge
-    for line_search, iters in ((False, min(max_iter, FULL_STEP_ITER)), (True, max_iter)):
-        state = newton_cooling(disc, u0, coarse.zeta, tol=tol, max_iter=iters,
-                               pseudo_time=np.inf, min_damping=CLOSE_DAMPING,
-                               line_search=line_search)
-        if state.info.converged:
-            break
+    state = continued_state(link, eps, eps, resolution=BAND_RESOLUTION, order=3,
+                            intorder=intorder or BAND_INTORDER, tol=tol, max_iter=max_iter,
+                            decades=BAND_DECADES, far_efolds=P3_FAR_EFOLDS)
     logger.info("HCS band eps = %.3g: %d + %d Newton steps on %d + %d dofs, converged %s",
-                eps, coarse.info.iterations, state.info.iterations, coarse.u.size,
+                eps, link.info.iterations, state.info.iterations, link.u.size,
                 state.u.size, state.info.converged)
     return state if state.info.converged else None

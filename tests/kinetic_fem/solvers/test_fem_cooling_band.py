@@ -1,7 +1,8 @@
 """The faster near-elastic defaults of the FEM cooling state (issue 16, seventh round).
 
-Reference values: ``benchmarks/accuracy_fem_cooling_speed.py`` and the convergence study
-of ``benchmarks/results/fem_cooling.md`` (P2 at 0.035 hump widths, Gauss degree 9)."""
+Reference values: ``benchmarks/accuracy_fem_cooling_speed.py``, ``fem_cooling_band_speed.md``
+and the convergence study of ``benchmarks/results/fem_cooling.md`` (P2 at 0.035 hump widths,
+Gauss degree 9)."""
 
 import numpy as np
 import pytest
@@ -14,21 +15,21 @@ from kinetic_fem.solvers.fem_cooling_mesh import log_chain
 from kinetic_fem.solvers.fem_cooling_newton import CLOSE_DAMPING
 
 
-def test_band_default_is_p3_and_matches_the_hump_mesh():
-    """alpha = 0.95: P3 on the moderate mesh from the rescaled eps = 0.1 state.
+def test_band_default_is_p3_on_the_hump_mesh():
+    """alpha = 0.95: P3 at 0.15 hump widths, cut off at 40 decades, from the eps = 0.1 state.
 
-    Measured against P3 at 0.1 hump widths: zeta 1.6e-14, a2 6.2e-14, ln f 3.6e-6 where
-    f > 1e-30 (the former default, P2 at 0.07 hump widths: 1.2e-10, 5.8e-10, 2.5e-5);
-    the hump mesh at 0.14 hump widths is ~5e-9 from both in zeta."""
+    Reference: P3 at 0.05 hump widths (2593 dofs, Gauss degree 9), zeta/eps =
+    1.0023372652626432, a2 = -0.4572880278635882; the default measured 1.9e-14 and
+    6.4e-14 from it (805 dofs; the former band default on the moderate mesh, 1219 dofs:
+    1.9e-14 and 6.3e-14), ln f 1.9e-6 where f > 1e-30 (former 3.6e-6)
+    (benchmarks/results/fem_cooling_band_speed.md)."""
     dist = kf.solve_cooling(0.95)
-    assert dist.info.extra["order"] == 3
-    assert dist.info.extra["cutoff"] == pytest.approx(13.5)
-    hump = kf.solve_cooling(0.95, resolution=0.14)
-    assert hump.info.extra["order"] == 2
-    assert dist.info.extra["zeta"] == pytest.approx(hump.info.extra["zeta"], rel=2e-8)
-    assert dist.a2 == pytest.approx(hump.a2, abs=1e-7)
-    assert dist.info.extra["zeta_identity"] == pytest.approx(dist.info.extra["zeta"],
-                                                             rel=1e-11)
+    extra = dist.info.extra
+    assert dist.info.converged and extra["order"] == 3
+    assert extra["n_dofs"] < 900 and extra["cutoff"] < 8.0
+    assert extra["zeta"] / 0.05 == pytest.approx(1.0023372652626432, rel=2e-13)
+    assert dist.a2 == pytest.approx(-0.4572880278635882, abs=1e-12)
+    assert extra["zeta_identity"] == pytest.approx(extra["zeta"], rel=1e-11)
 
 
 def test_band_limits():
@@ -45,7 +46,7 @@ def test_band_state_falls_back_when_it_fails(monkeypatch):
 
     failed = SimpleNamespace(info=SimpleNamespace(converged=False, message="no"),
                              u=np.zeros(3))
-    monkeypatch.setattr(fem_cooling_band, "newton_cooling", lambda *a, **k: failed)
+    monkeypatch.setattr(fem_cooling_band, "continued_state", lambda *a, **k: failed)
     problem = CoolingProblem.from_parameters(0.95)
     assert band_state(problem, fc.hump_start(2, None), fc.HUMP_EPS) is None
 
