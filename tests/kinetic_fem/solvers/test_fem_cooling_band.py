@@ -10,26 +10,61 @@ import pytest
 import kinetic_fem as kf
 from kinetic_fem.model import CoolingProblem
 from kinetic_fem.solvers import fem_cooling as fc
-from kinetic_fem.solvers.fem_cooling_band import BAND_EPS, band_state, in_band
+from kinetic_fem.solvers.fem_cooling_band import (
+    BAND_DECADES,
+    BAND_EFOLDS,
+    BAND_EPS,
+    BAND_GROWTH,
+    BAND_RESOLUTION,
+    band_state,
+    band_vertices,
+    in_band,
+)
 from kinetic_fem.solvers.fem_cooling_mesh import log_chain
 from kinetic_fem.solvers.fem_cooling_newton import CLOSE_DAMPING
 
 
-def test_band_default_is_p3_on_the_hump_mesh():
-    """alpha = 0.95: P3 at 0.15 hump widths, cut off at 40 decades, from the eps = 0.1 state.
+def test_band_default_is_p3_on_the_graded_band_mesh():
+    """alpha = 0.95: P3 on band_vertices (0.12 hump widths, graded tail, 40 decades).
 
     Reference: P3 at 0.05 hump widths (2593 dofs, Gauss degree 9), zeta/eps =
-    1.0023372652626432, a2 = -0.4572880278635882; the default measured 1.9e-14 and
-    6.4e-14 from it (805 dofs; the former band default on the moderate mesh, 1219 dofs:
-    1.9e-14 and 6.3e-14), ln f 1.9e-6 where f > 1e-30 (former 3.6e-6)
-    (benchmarks/results/fem_cooling_band_speed.md)."""
+    1.0023372652626432, a2 = -0.4572880278635882; the default measured 6.4e-15 and
+    2.4e-14 from it, ln f 5.9e-7 where f > 1e-30 (613 dofs; the former band default on
+    the moderate mesh, 1219 dofs: 1.9e-14, 6.3e-14, 3.6e-6)
+    (benchmarks/results/fem_cooling_band_speed.md).  Tolerances: ten times the former
+    default's errors."""
     dist = kf.solve_cooling(0.95)
     extra = dist.info.extra
     assert dist.info.converged and extra["order"] == 3
-    assert extra["n_dofs"] < 900 and extra["cutoff"] < 8.0
+    assert extra["n_dofs"] < 700 and extra["cutoff"] < 8.0
     assert extra["zeta"] / 0.05 == pytest.approx(1.0023372652626432, rel=2e-13)
-    assert dist.a2 == pytest.approx(-0.4572880278635882, abs=1e-12)
+    assert dist.a2 == pytest.approx(-0.4572880278635882, abs=6e-13)
     assert extra["zeta_identity"] == pytest.approx(extra["zeta"], rel=1e-11)
+
+
+def test_band_vertices_grade_along_the_tail():
+    eps, w = 0.05, 0.05 ** (1.0 / 3.0)
+    v = band_vertices(eps, lambda c: -0.5 * c**2)
+    h = np.diff(v[v >= 0.0])
+    c = v[v >= 0.0][:-1]
+    assert np.allclose(h[c < 1.0 + 2.0 * w], BAND_RESOLUTION * w)
+    linear = BAND_RESOLUTION * w * (1.0 + BAND_GROWTH * np.maximum(c - 1.0 - 2.0 * w, 0) / w)
+    assert np.all(h <= linear * (1 + 1e-9)) and h.max() > 2.0 * h.min()
+    # at most BAND_EFOLDS e-folds of the start per grown element (slope c)
+    grown = h > BAND_RESOLUTION * w * (1 + 1e-9)
+    assert grown.any() and np.all((h * c)[grown] <= BAND_EFOLDS * 1.05)
+    # cut off where the start has fallen BAND_DECADES decades
+    assert 0.5 * v[-2] ** 2 < BAND_DECADES * np.log(10.0) <= 0.5 * v[-1] ** 2
+    with pytest.raises(ValueError, match="eps"):
+        band_vertices(1.0, lambda c: -c)
+
+
+def test_band_reaches_its_lower_end():
+    """eps = BAND_EPS (0.035): measured 3.1e-15 in zeta, 2.0e-14 in a2 from P3 at 0.1 hump
+    widths (the near-elastic default there: 3.2e-13, 2.2e-12)."""
+    dist = kf.solve_cooling(1.0 - BAND_EPS)
+    assert dist.info.converged and dist.info.extra["order"] == 3
+    assert dist.info.extra["n_dofs"] < 700
 
 
 def test_band_limits():
