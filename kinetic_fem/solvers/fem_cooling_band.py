@@ -46,9 +46,10 @@ from .fem_cooling_hump import (
     FULL_STEP_ITER,
     HUMP_FAST_LINK,
     HUMP_LINK_DECADES,
+    HUMP_LINK_RATIO,
     continued_state,
 )
-from .fem_cooling_links import HUMP_STEP_ITER, HUMP_STEP_TOL
+from .fem_cooling_links import HUMP_STEP_ITER, HUMP_STEP_TOL, link_chain
 from .fem_cooling_newton import CLOSE_DAMPING, CoolingState, newton_cooling
 
 __all__ = ["BAND_EPS", "BAND_RESOLUTION", "BAND_EDGE", "BAND_GROWTH", "BAND_EFOLDS",
@@ -179,7 +180,10 @@ def band_state(problem: CoolingProblem, start: CoolingState, eps_start: float, *
     problem : CoolingProblem
         Hard rods with :func:`in_band` inelasticity.
     start : CoolingState
-        A converged state at ``eps_start`` (rescaled on the hump variable as the start).
+        A converged state at ``eps_start`` (rescaled on the hump variable as the start of
+        one link; from farther than a ratio
+        :data:`~kinetic_fem.solvers.fem_cooling_hump.HUMP_LINK_RATIO` in eps, through
+        equal steps on a log scale, :func:`~kinetic_fem.solvers.fem_cooling_links.link_chain`).
     eps_start : float
         Its inelasticity.
     tol : float
@@ -197,12 +201,19 @@ def band_state(problem: CoolingProblem, start: CoolingState, eps_start: float, *
         takes the near-elastic continuation).
     """
     eps = problem.gas.epsilon
-    link = continued_state(start, eps_start, eps, resolution=HUMP_FAST_LINK, order=2,
-                           intorder=5, tol=HUMP_STEP_TOL, decades=HUMP_LINK_DECADES,
-                           max_iter=min(max_iter, HUMP_STEP_ITER))
+    # one link from the eps = 0.1 state; from a far warm start (e.g. eps = 1e-3) a link
+    # chain of ratio <= HUMP_LINK_RATIO on the same meshes
+    link, eps_prev = start, eps_start
+    for step in link_chain(eps, eps_start, HUMP_LINK_RATIO):
+        link = continued_state(link, eps_prev, step, resolution=HUMP_FAST_LINK, order=2,
+                               intorder=5, tol=HUMP_STEP_TOL, decades=HUMP_LINK_DECADES,
+                               max_iter=min(max_iter, HUMP_STEP_ITER))
+        eps_prev = step
+        if not link.info.converged:
+            break
     if not link.info.converged:
-        logger.info("HCS band eps = %.3g: the link from %.3g failed (%s)", eps, eps_start,
-                    link.info.message)
+        logger.info("HCS band eps = %.3g: the link from %.3g to %.3g failed (%s)", eps,
+                    eps_start, eps_prev, link.info.message)
         return None
     disc = FEMDiscretisation(problem.gas.alpha, band_vertices(eps, link.log_f), 3,
                              intorder or BAND_INTORDER, gamma=problem.gas.gamma)

@@ -106,3 +106,15 @@ def test_log_chain():
     ratios = np.array([0.1, *chain[:-1]]) / np.array(chain)
     assert np.allclose(ratios, ratios[0]) and ratios.max() <= 8.0
     assert log_chain(0.05, 0.1, 8.0) == [0.05]
+
+
+def test_band_from_a_far_warm_start():
+    """initial = the state at eps = 1e-3 (a ratio 50): a link chain of ratio <= 16 on the
+    fast link meshes, then the band mesh; the cold state to round-off (measured 5.6e-16 in
+    zeta, 2.6e-15 in a2; the former default fell back to the near-elastic path, 3.4e-13
+    off)."""
+    cold = kf.solve_cooling(0.95)
+    warm = kf.solve_cooling(0.95, initial=kf.solve_cooling(0.999))
+    assert warm.info.extra["n_dofs"] == cold.info.extra["n_dofs"]
+    assert warm.info.extra["zeta"] == pytest.approx(cold.info.extra["zeta"], rel=1e-13)
+    assert warm.a2 == pytest.approx(cold.a2, abs=1e-13)
