@@ -46,8 +46,8 @@ start) by continuation in :math:`\\alpha` from 0.5.
 
 Near elastic collisions (hard rods, :math:`\\varepsilon = 1 - \\alpha <` :data:`HUMP_EPS`)
 the state is two humps of width :math:`w = \\varepsilon^{1/3}` at :math:`c = \\pm 1`.
-While they are broad (:math:`\\varepsilon \\ge` 0.04, :mod:`.fem_cooling_band`) the default
-is P3 on the mesh above, from the state at 0.1; below, and with ``resolution``, it is
+While they are broad (:math:`\\varepsilon \\ge` 0.035, :mod:`.fem_cooling_band`) the default
+is P3 on a mesh graded along the tail, from one link from 0.1; below, and with ``resolution``, it is
 reached by continuation in :math:`\\varepsilon` from 0.1 (:mod:`.fem_cooling_links`,
 :mod:`.fem_cooling_hump`: toward :math:`\\varepsilon \\ge 10^{-3}` in equal log steps of
 at most 16 on coarse link meshes cut off at 20 decades, from a coarse state at 0.1; below in
@@ -302,7 +302,7 @@ def cooling_state(problem: CoolingProblem, *, order: int | None = None,
                          f"{HUMP_P3_EPS:g}: omit order), got {order!r}")
     if resolution is not None:
         resolution = check_positive("resolution", resolution)
-    if band:  # the broad humps of eps in [BAND_EPS, 0.1): P3 on the moderate mesh
+    if band:  # the broad humps of eps in [BAND_EPS, 0.1): P3 on band_vertices
         start, eps_start = (start_state(initial) if initial is not None
                             else (link_start(2, None), HUMP_EPS))
         state = band_state(problem, start, eps_start, tol=tol,

@@ -26,8 +26,8 @@ on its coarse mesh (the coarse state only starts Newton's method on the fine one
 Other kernels keep P2 (their tails and the Maxwell model's recovered :math:`f` were
 measured with it), and so do the continuation links on the near-elastic hump meshes;
 the state asked for there is P3 at 0.2 hump widths (:mod:`.fem_cooling_hump`), and in
-the band :math:`0.04 \\le \\varepsilon < 0.1` P3 on the mesh above at 1.5 times the P2
-spacing (:mod:`.fem_cooling_band`).
+the band :math:`0.035 \\le \\varepsilon < 0.1` P3 on a mesh graded along the tail
+(:mod:`.fem_cooling_band`).
 """
 
 from __future__ import annotations

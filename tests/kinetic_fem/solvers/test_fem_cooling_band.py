@@ -1,7 +1,8 @@
 """The faster near-elastic defaults of the FEM cooling state (issue 16, seventh round).
 
-Reference values: ``benchmarks/accuracy_fem_cooling_speed.py`` and the convergence study
-of ``benchmarks/results/fem_cooling.md`` (P2 at 0.035 hump widths, Gauss degree 9)."""
+Reference values: ``benchmarks/accuracy_fem_cooling_speed.py``, ``fem_cooling_band_speed.md``
+and the convergence study of ``benchmarks/results/fem_cooling.md`` (P2 at 0.035 hump widths,
+Gauss degree 9)."""
 
 import numpy as np
 import pytest
@@ -9,26 +10,61 @@ import pytest
 import kinetic_fem as kf
 from kinetic_fem.model import CoolingProblem
 from kinetic_fem.solvers import fem_cooling as fc
-from kinetic_fem.solvers.fem_cooling_band import BAND_EPS, band_state, in_band
+from kinetic_fem.solvers.fem_cooling_band import (
+    BAND_DECADES,
+    BAND_EFOLDS,
+    BAND_EPS,
+    BAND_GROWTH,
+    BAND_RESOLUTION,
+    band_state,
+    band_vertices,
+    in_band,
+)
 from kinetic_fem.solvers.fem_cooling_mesh import log_chain
 from kinetic_fem.solvers.fem_cooling_newton import CLOSE_DAMPING
 
 
-def test_band_default_is_p3_and_matches_the_hump_mesh():
-    """alpha = 0.95: P3 on the moderate mesh from the rescaled eps = 0.1 state.
+def test_band_default_is_p3_on_the_graded_band_mesh():
+    """alpha = 0.95: P3 on band_vertices (0.12 hump widths, graded tail, 40 decades).
 
-    Measured against P3 at 0.1 hump widths: zeta 1.6e-14, a2 6.2e-14, ln f 3.6e-6 where
-    f > 1e-30 (the former default, P2 at 0.07 hump widths: 1.2e-10, 5.8e-10, 2.5e-5);
-    the hump mesh at 0.14 hump widths is ~5e-9 from both in zeta."""
+    Reference: P3 at 0.05 hump widths (2593 dofs, Gauss degree 9), zeta/eps =
+    1.0023372652626432, a2 = -0.4572880278635882; the default measured 6.4e-15 and
+    2.4e-14 from it, ln f 5.9e-7 where f > 1e-30 (613 dofs; the former band default on
+    the moderate mesh, 1219 dofs: 1.9e-14, 6.3e-14, 3.6e-6)
+    (benchmarks/results/fem_cooling_band_speed.md).  Tolerances: ten times the former
+    default's errors."""
     dist = kf.solve_cooling(0.95)
-    assert dist.info.extra["order"] == 3
-    assert dist.info.extra["cutoff"] == pytest.approx(13.5)
-    hump = kf.solve_cooling(0.95, resolution=0.14)
-    assert hump.info.extra["order"] == 2
-    assert dist.info.extra["zeta"] == pytest.approx(hump.info.extra["zeta"], rel=2e-8)
-    assert dist.a2 == pytest.approx(hump.a2, abs=1e-7)
-    assert dist.info.extra["zeta_identity"] == pytest.approx(dist.info.extra["zeta"],
-                                                             rel=1e-11)
+    extra = dist.info.extra
+    assert dist.info.converged and extra["order"] == 3
+    assert extra["n_dofs"] < 700 and extra["cutoff"] < 8.0
+    assert extra["zeta"] / 0.05 == pytest.approx(1.0023372652626432, rel=2e-13)
+    assert dist.a2 == pytest.approx(-0.4572880278635882, abs=6e-13)
+    assert extra["zeta_identity"] == pytest.approx(extra["zeta"], rel=1e-11)
+
+
+def test_band_vertices_grade_along_the_tail():
+    eps, w = 0.05, 0.05 ** (1.0 / 3.0)
+    v = band_vertices(eps, lambda c: -0.5 * c**2)
+    h = np.diff(v[v >= 0.0])
+    c = v[v >= 0.0][:-1]
+    assert np.allclose(h[c < 1.0 + 2.0 * w], BAND_RESOLUTION * w)
+    linear = BAND_RESOLUTION * w * (1.0 + BAND_GROWTH * np.maximum(c - 1.0 - 2.0 * w, 0) / w)
+    assert np.all(h <= linear * (1 + 1e-9)) and h.max() > 2.0 * h.min()
+    # at most BAND_EFOLDS e-folds of the start per grown element (slope c)
+    grown = h > BAND_RESOLUTION * w * (1 + 1e-9)
+    assert grown.any() and np.all((h * c)[grown] <= BAND_EFOLDS * 1.05)
+    # cut off where the start has fallen BAND_DECADES decades
+    assert 0.5 * v[-2] ** 2 < BAND_DECADES * np.log(10.0) <= 0.5 * v[-1] ** 2
+    with pytest.raises(ValueError, match="eps"):
+        band_vertices(1.0, lambda c: -c)
+
+
+def test_band_reaches_its_lower_end():
+    """eps = BAND_EPS (0.035): measured 3.1e-15 in zeta, 2.0e-14 in a2 from P3 at 0.1 hump
+    widths (the near-elastic default there: 3.2e-13, 2.2e-12)."""
+    dist = kf.solve_cooling(1.0 - BAND_EPS)
+    assert dist.info.converged and dist.info.extra["order"] == 3
+    assert dist.info.extra["n_dofs"] < 700
 
 
 def test_band_limits():
@@ -45,7 +81,7 @@ def test_band_state_falls_back_when_it_fails(monkeypatch):
 
     failed = SimpleNamespace(info=SimpleNamespace(converged=False, message="no"),
                              u=np.zeros(3))
-    monkeypatch.setattr(fem_cooling_band, "newton_cooling", lambda *a, **k: failed)
+    monkeypatch.setattr(fem_cooling_band, "continued_state", lambda *a, **k: failed)
     problem = CoolingProblem.from_parameters(0.95)
     assert band_state(problem, fc.hump_start(2, None), fc.HUMP_EPS) is None
 
@@ -70,3 +106,15 @@ def test_log_chain():
     ratios = np.array([0.1, *chain[:-1]]) / np.array(chain)
     assert np.allclose(ratios, ratios[0]) and ratios.max() <= 8.0
     assert log_chain(0.05, 0.1, 8.0) == [0.05]
+
+
+def test_band_from_a_far_warm_start():
+    """initial = the state at eps = 1e-3 (a ratio 50): a link chain of ratio <= 16 on the
+    fast link meshes, then the band mesh; the cold state to round-off (measured 5.6e-16 in
+    zeta, 2.6e-15 in a2; the former default fell back to the near-elastic path, 3.4e-13
+    off)."""
+    cold = kf.solve_cooling(0.95)
+    warm = kf.solve_cooling(0.95, initial=kf.solve_cooling(0.999))
+    assert warm.info.extra["n_dofs"] == cold.info.extra["n_dofs"]
+    assert warm.info.extra["zeta"] == pytest.approx(cold.info.extra["zeta"], rel=1e-13)
+    assert warm.a2 == pytest.approx(cold.a2, abs=1e-13)
