@@ -82,7 +82,8 @@ def continued_state(prev: CoolingState, eps_prev: float, eps: float, *,
                     resolution: float = HUMP_RESOLUTION, order: int = 2,
                     intorder: int | None = None, tol: float = 1e-11,
                     max_iter: int = 100, decades: float = HUMP_DECADES,
-                    far_efolds: float = 1.0, monitor: float = MONITOR_LOG_F) -> CoolingState:
+                    far_efolds: float = 1.0, monitor: float = MONITOR_LOG_F,
+                    predict_iter: int = 0) -> CoolingState:
     """One continuation step: the hard-rod HCS at ``eps`` from ``prev`` at ``eps_prev``.
 
     Parameters
@@ -111,6 +112,11 @@ def continued_state(prev: CoolingState, eps_prev: float, eps: float, *,
     monitor : float
         Newton's steps and residuals are measured where :math:`\\ln f_h` is above this
         (:data:`P3_MONITOR_LOG_F` for the default P3 states).
+    predict_iter : int
+        Newton steps that stop on the step first
+        (:func:`~kinetic_fem.solvers.fem_cooling_newton.newton_cooling`;
+        :data:`~kinetic_fem.solvers.fem_cooling_newton.PREDICT_ITER` for the default P3
+        states).
 
     Returns
     -------
@@ -150,6 +156,7 @@ def continued_state(prev: CoolingState, eps_prev: float, eps: float, *,
                                settle_steps=eps >= 1e-4,  # LOG_STEP_ZETA: measured there
                                min_damping=CLOSE_DAMPING if same else 1e-3,
                                line_search=line_search, monitor=monitor,
+                               predict_iter=predict_iter,
                                speculative=True)  # the trials' Jacobians: same iterates
         if state.info.converged:
             break

@@ -36,7 +36,7 @@ from .fem_cooling_hump import (
     continued_state,
 )
 from .fem_cooling_mesh import step_intorder
-from .fem_cooling_newton import MONITOR_LOG_F, CoolingState
+from .fem_cooling_newton import MONITOR_LOG_F, PREDICT_ITER, CoolingState
 
 __all__ = ["HUMP_EPS", "HUMP_FRONTIER", "HUMP_RATIO", "HUMP_STEP_TOL", "HUMP_STEP_ITER",
            "HUMP_MIN_RATIO", "hump_chain", "link_chain", "chain_state", "start_state",
@@ -240,6 +240,7 @@ def chain_state(alpha: float, start: CoolingState, eps_start: float, *, order: i
                                 else HUMP_DECADES,
                                 far_efolds=P3_FAR_EFOLDS if p3 else 1.0,
                                 monitor=P3_MONITOR_LOG_F if p3 else MONITOR_LOG_F,
+                                predict_iter=PREDICT_ITER if p3 else 0,
                                 max_iter=min(max_iter, HUMP_STEP_ITER)
                                 if ratio > HUMP_MIN_RATIO else max_iter)
         if state.info.converged:
