@@ -146,6 +146,7 @@ from .fem_cooling_order import (
     cooling_order,
     order_spacing,
 )
+from .fem_cooling_seeds import seed_start
 from .fem_cooling_tail import maxwell_hcs, recovered_distribution
 
 __all__ = ["solve_fem_cooling", "cooling_state", "CoolingState", "continued_state",
@@ -229,13 +230,13 @@ def link_start(order: int, intorder: int | None) -> CoolingState:
 
 
 def _hump_state(problem: CoolingProblem, initial, **options) -> CoolingState:
-    """Continuation in eps from ``initial`` (a warm start), else from the state at
-    :data:`HUMP_EPS` (:func:`link_start` toward eps >= HUMP_COARSE_EPS, else
-    :func:`hump_start`): :func:`~kinetic_fem.solvers.fem_cooling_links.chain_state`."""
+    """Continuation in eps from ``initial`` (a warm start), else toward eps >=
+    HUMP_COARSE_EPS from a stored start (:mod:`.fem_cooling_seeds`), else from
+    :func:`hump_start`: :func:`~kinetic_fem.solvers.fem_cooling_links.chain_state`."""
     if initial is not None:
         start, eps_start = start_state(initial)
-    elif problem.gas.epsilon >= HUMP_COARSE_EPS * (1 - 1e-9):
-        start, eps_start = link_start(options["order"], options["intorder"]), HUMP_EPS
+    elif problem.gas.epsilon >= HUMP_COARSE_EPS * (1 - 1e-9):  # a stored start (issue 16)
+        start, eps_start = seed_start(problem.gas.epsilon)
     else:
         start, eps_start = hump_start(options["order"], options["intorder"]), HUMP_EPS
     return chain_state(problem.gas.alpha, start, eps_start, **options)

@@ -55,14 +55,16 @@ dofs at eps = 1e-3, 811 -> 709 at 1e-2; against P3 at 0.1 hump widths unchanged 
 (zeta 1.7e-14 / 4.1e-14, a2 4.7e-13 / 6.6e-13, ln f 3.0e-7 / 4.6e-7) and no growing
 mode of the linearised operator (largest rate 0 zeta, the scale mode:
 benchmarks/results/fem_cooling_speed.md)."""
-HUMP_FAST_LINK, HUMP_LINK_DECADES = 0.3, 20.0
-"""Links toward a state asked for at eps >= HUMP_COARSE_EPS (issue 16, eighth round): element
-size in hump widths, and the decades the start falls to the cut-off (not HUMP_DECADES).
-The links only start the next solve, and the y-rescaled start overestimates the outer edge
-by up to 30 e-folds, so the 45-decade cut-off put half of a link mesh where the state is
-below 1e-60; the state asked for is solved on the full mesh.  eps = 1e-3: 1.7 -> 0.7 CPU s,
-the final state moves by <= 2e-14 in zeta and a2, 1e-8 in ln f
-(benchmarks/results/fem_cooling_speed.md)."""
+HUMP_FAST_LINK, HUMP_LINK_DECADES = 0.3, 30.0
+"""Links toward a state asked for at eps >= HUMP_COARSE_EPS (issue 16): element size in
+hump widths, and the decades the start falls to the cut-off (not HUMP_DECADES).  Eighth
+round: 20 decades (the y-rescaled start from eps = 0.1 or 0.01 overestimated the outer
+edge by up to 36 e-folds, so the 45-decade cut-off put half of a link mesh where the state
+is below 1e-60).  Ninth round: 30, for the links from the stored starts
+(:mod:`~kinetic_fem.solvers.fem_cooling_seeds`) and warm starts, whose edge is close: at
+20 decades the link state ended at f ~ 1e-20 and the state asked for, started beyond by
+the link's ln f continued linearly, took a Jacobian more on the finest mesh (eps = 1e-3 ...
+0.01: 3 -> 2 Jacobians; at 35 and 40 decades no faster)."""
 P3_MONITOR_LOG_F = math.log(1e-30)
 """The default P3 state's Newton steps and residuals are measured where f > 1e-30 (not
 1e-40, :data:`~kinetic_fem.solvers.fem_cooling_newton.MONITOR_LOG_F`), where its
