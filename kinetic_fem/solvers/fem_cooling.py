@@ -48,9 +48,10 @@ Near elastic collisions (hard rods, :math:`\\varepsilon = 1 - \\alpha <` :data:`
 the state is two humps of width :math:`w = \\varepsilon^{1/3}` at :math:`c = \\pm 1`.
 While they are broad (:math:`\\varepsilon \\ge` 0.04, :mod:`.fem_cooling_band`) the default
 is P3 on the mesh above, from the state at 0.1; below, and with ``resolution``, it is
-reached by continuation in :math:`\\varepsilon` from 0.1 (:mod:`.fem_cooling_links`,
-:mod:`.fem_cooling_hump`: toward :math:`\\varepsilon \\ge 10^{-3}` in equal log steps of
-at most 16 on coarse link meshes cut off at 20 decades, from a coarse state at 0.1; below in
+reached by continuation in :math:`\\varepsilon` (:mod:`.fem_cooling_links`,
+:mod:`.fem_cooling_hump`: toward :math:`\\varepsilon \\ge 10^{-3}` by one link on a coarse
+mesh cut off at 30 decades from the nearest stored start at or above it, eps = 0.04,
+0.01 or 0.0025, :mod:`.fem_cooling_seeds`; below from 0.1 in
 steps of at most 2, :func:`hump_chain`; the state asked for is solved once more on the
 finer mesh, P3 at 0.2 hump widths by default down to :math:`10^{-4}`; ``initial=`` a state
 at a neighbouring alpha starts the continuation there), each on a mesh that follows the
