@@ -11,19 +11,15 @@ from kinetic_fem.model import CoolingProblem
 from kinetic_fem.solvers import fem_cooling as fc
 from kinetic_fem.solvers.fem_cooling_hump import HUMP_FAST_LINK, P3_MONITOR_LOG_F
 from kinetic_fem.solvers.fem_cooling_newton import newton_cooling
-from kinetic_fem.solvers.fem_cooling_seeds import (
-    _SEEDS,
-    SEED_EPS,
-    SeedStart,
-    compute_seed,
-    seed_start,
-)
+from kinetic_fem.solvers.fem_cooling_seeds import SEED_EPS, SeedStart, compute_seed, seed_start
 
 
 @pytest.mark.parametrize("eps", SEED_EPS)
 def test_stored_seeds_are_the_recomputed_link_states(eps):
     """The table is ln f rounded to 8 digits: a stale table (a changed link path) shows."""
-    zeta, c, log_f = _SEEDS[eps]
+    stored, eps_seed = seed_start(eps)
+    assert eps_seed == eps
+    zeta, c, log_f = stored.zeta, stored.c, stored.values
     fresh = compute_seed(eps)
     assert zeta == pytest.approx(fresh.zeta, rel=1e-12)
     verts = fresh.disc.vertices
