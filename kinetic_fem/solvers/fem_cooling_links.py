@@ -40,7 +40,8 @@ from .fem_cooling_hump import (
     continued_state,
 )
 from .fem_cooling_mesh import step_intorder
-from .fem_cooling_newton import MONITOR_LOG_F, PREDICT_ITER, CoolingState
+from .fem_cooling_newton import MONITOR_LOG_F, CoolingState
+from .fem_cooling_steps import PREDICT_ITER
 
 __all__ = ["HUMP_EPS", "HUMP_FRONTIER", "HUMP_RATIO", "HUMP_STEP_TOL", "HUMP_STEP_ITER",
            "HUMP_MIN_RATIO", "hump_chain", "link_chain", "chain_state", "start_state",

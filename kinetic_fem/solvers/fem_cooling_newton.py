@@ -21,7 +21,6 @@ import functools
 import logging
 import math
 import time
-from dataclasses import replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -40,12 +39,12 @@ from .fem import (
     weighted_mass,
 )
 from .fem_cooling_forms import cooling_forms
+from .fem_cooling_steps import SpeculativeSystem, newton_on_step
 from .fem_newton import CHORD_LEVEL
-from .newton import newton
 
 __all__ = ["CoolingState", "newton_cooling", "second_moment", "PSEUDO_TIME_STEP",
            "INCREASE_LIMIT", "MONITOR_LOG_F", "RESIDUAL_STALL", "LOG_STEP_ZETA",
-           "CLOSE_DAMPING", "RESIDUAL_FLOOR", "RESIDUAL_FLOOR_REL", "PREDICT_ITER"]
+           "CLOSE_DAMPING", "RESIDUAL_FLOOR", "RESIDUAL_FLOOR_REL"]
 
 logger = logging.getLogger(__name__)
 
@@ -289,35 +288,6 @@ class _CoolingSystem:
         return (self.sym.T @ u) / np.asarray(self.sym.sum(axis=0)).ravel()
 
 
-class _Speculative:
-    """A system whose residual calls bring their Jacobian along, kept for the next call at
-    the same ``x``: the line search's first trial is nearly always accepted, and the
-    Jacobian there costs 1.6 residuals instead of one residual more (issue 16)."""
-
-    def __init__(self, system: _CoolingSystem) -> None:
-        self.system = system
-        self.cache: tuple[NDArray, NDArray, NDArray | None] | None = None
-
-    def __call__(self, x: NDArray, jacobian: bool = True) -> tuple[NDArray, NDArray | None]:
-        if self.cache is not None and np.array_equal(self.cache[0], x):
-            _, r, j = self.cache
-            if not jacobian or j is not None:
-                self.cache = (x, r, None if jacobian else j)  # a Jacobian is handed out once
-                return r, j if jacobian else None
-        r, j = self.system(x, True)
-        self.cache = (x.copy(), r, None if jacobian else j)
-        return r, j if jacobian else None
-
-
-PREDICT_ITER = 8
-"""Steps of the default P3 state's Newton that stop on the step (``predict_iter``): from
-the link state it converges in three or four (two Jacobians, then residuals and chord
-steps; the last chord step's successor is predicted at 1e-18 ... 6e-12), so the residual
-that confirmed the last chord step (a third of a Jacobian on the finest mesh) is saved,
-with the same iterates; if the step stalls above tol at round-off, the residual rule
-(:data:`RESIDUAL_FLOOR`) takes over from where it stopped."""
-
-
 MONITOR_LOG_F = math.log(1e-40)
 """Newton's step is measured where :math:`f_h > 10^{-40}` (and on :math:`\\zeta`): near
 elastic collisions the far outer edge carries a near-null mode of the Jacobian (the
@@ -425,7 +395,8 @@ def newton_cooling(disc: FEMDiscretisation, u0: NDArray, zeta0: float, *, tol: f
     predict_iter : int
         If positive: up to this many steps stop on the Newton step instead (below
         ``tol``, or a chord step whose predicted successor is: no residual to confirm
-        it; :data:`PREDICT_ITER`), then on the residual as above.
+        it; :data:`~kinetic_fem.solvers.fem_cooling_steps.PREDICT_ITER`), then on the
+        residual as above.
 
     Returns
     -------
@@ -461,27 +432,15 @@ def newton_cooling(disc: FEMDiscretisation, u0: NDArray, zeta0: float, *, tol: f
         # so tolerances scale with zeta (round-off of Q's gain-loss cancellation ~1e-15)
         scale = abs(zeta0)
         floor = max(RESIDUAL_FLOOR, RESIDUAL_FLOOR_REL * scale)
-        fun = _Speculative(system) if speculative and line_search else system
-        options = dict(norm=functools.partial(_residual_size, monitor=monitor),
-                       step_norm=functools.partial(_step_size, monitor=monitor),
-                       update=update, row_scale=system.row_scale,
-                       factorize=lambda j: EquilibratedLU(j).solve, chord=CHORD_LEVEL,
-                       min_damping=min_damping, line_search=line_search,
-                       name="FEM cooling Newton")
-        done, res = 0, None
-        if predict_iter > 0:
-            # on the step: a chord step whose predicted successor is below tol ends it
-            # without the residual that would confirm it (PREDICT_ITER)
-            res = newton(fun, x, tol=tol, max_iter=min(predict_iter, max_iter),
-                         criterion="step", predict=1.0, **options)  # type: ignore[arg-type]
-            done, x = res.iterations, res.x
-        on_step = res is not None and res.converged
-        if not on_step:
-            res = newton(fun, x, tol=max(tol * scale, floor), max_iter=max_iter - done,
-                         criterion="residual", stall_level=RESIDUAL_STALL * scale,
-                         **options)  # type: ignore[arg-type]
-            res = replace(res, iterations=res.iterations + done)
-        assert res is not None
+        fun = SpeculativeSystem(system) if speculative and line_search else system
+        res, on_step = newton_on_step(
+            fun, x, tol=tol, residual_tol=max(tol * scale, floor), max_iter=max_iter,
+            predict_iter=predict_iter, stall_level=RESIDUAL_STALL * scale,
+            norm=functools.partial(_residual_size, monitor=monitor),
+            step_norm=functools.partial(_step_size, monitor=monitor), update=update,
+            row_scale=system.row_scale, factorize=lambda j: EquilibratedLU(j).solve,
+            chord=CHORD_LEVEL, min_damping=min_damping, line_search=line_search,
+            name="FEM cooling Newton")
         message = res.message
         if not on_step and res.converged and res.residual >= tol * scale:  # the floor
             message = (f"FEM cooling Newton stalled at round-off: residual {res.residual:.2e} "
