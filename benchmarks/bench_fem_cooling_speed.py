@@ -37,8 +37,9 @@ import time  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
-BEFORE = "39f99a9"
-"""main at the start of the eighth round (d8971af: of the seventh; 85cc10e: i16c2's start)."""
+BEFORE = "b639886"
+"""main at the start of the ninth round (39f99a9: of the eighth; d8971af: of the seventh;
+85cc10e: i16c2's start)."""
 EPS_LO, EPS_HI = 1e-3, 0.099
 """Inelasticity range of the curves (``--curves``)."""
 ALPHAS = [0.0, 0.25, 0.5, 0.7, 0.8, 0.9, 0.93, 0.95, 0.96, 0.97, 0.98, 0.99, 0.995, 0.997,

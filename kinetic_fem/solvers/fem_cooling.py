@@ -48,9 +48,10 @@ Near elastic collisions (hard rods, :math:`\\varepsilon = 1 - \\alpha <` :data:`
 the state is two humps of width :math:`w = \\varepsilon^{1/3}` at :math:`c = \\pm 1`.
 While they are broad (:math:`\\varepsilon \\ge` 0.035, :mod:`.fem_cooling_band`) the default
 is P3 on a mesh graded along the tail, from one link from 0.1; below, and with ``resolution``, it is
-reached by continuation in :math:`\\varepsilon` from 0.1 (:mod:`.fem_cooling_links`,
-:mod:`.fem_cooling_hump`: toward :math:`\\varepsilon \\ge 10^{-3}` in equal log steps of
-at most 16 on coarse link meshes cut off at 20 decades, from a coarse state at 0.1; below in
+reached by continuation in :math:`\\varepsilon` (:mod:`.fem_cooling_links`,
+:mod:`.fem_cooling_hump`: toward :math:`\\varepsilon \\ge 10^{-3}` by one link on a coarse
+mesh cut off at 30 decades from the nearest stored start at or above it, eps = 0.04,
+0.01 or 0.0025, :mod:`.fem_cooling_seeds`; below from 0.1 in
 steps of at most 2, :func:`hump_chain`; the state asked for is solved once more on the
 finer mesh, P3 at 0.2 hump widths by default down to :math:`10^{-4}`; ``initial=`` a state
 at a neighbouring alpha starts the continuation there), each on a mesh that follows the
@@ -146,6 +147,7 @@ from .fem_cooling_order import (
     cooling_order,
     order_spacing,
 )
+from .fem_cooling_seeds import seed_start
 from .fem_cooling_tail import maxwell_hcs, recovered_distribution
 
 __all__ = ["solve_fem_cooling", "cooling_state", "CoolingState", "continued_state",
@@ -229,13 +231,13 @@ def link_start(order: int, intorder: int | None) -> CoolingState:
 
 
 def _hump_state(problem: CoolingProblem, initial, **options) -> CoolingState:
-    """Continuation in eps from ``initial`` (a warm start), else from the state at
-    :data:`HUMP_EPS` (:func:`link_start` toward eps >= HUMP_COARSE_EPS, else
-    :func:`hump_start`): :func:`~kinetic_fem.solvers.fem_cooling_links.chain_state`."""
+    """Continuation in eps from ``initial`` (a warm start), else toward eps >=
+    HUMP_COARSE_EPS from a stored start (:mod:`.fem_cooling_seeds`), else from
+    :func:`hump_start`: :func:`~kinetic_fem.solvers.fem_cooling_links.chain_state`."""
     if initial is not None:
         start, eps_start = start_state(initial)
-    elif problem.gas.epsilon >= HUMP_COARSE_EPS * (1 - 1e-9):
-        start, eps_start = link_start(options["order"], options["intorder"]), HUMP_EPS
+    elif problem.gas.epsilon >= HUMP_COARSE_EPS * (1 - 1e-9):  # a stored start (issue 16)
+        start, eps_start = seed_start(problem.gas.epsilon)
     else:
         start, eps_start = hump_start(options["order"], options["intorder"]), HUMP_EPS
     return chain_state(problem.gas.alpha, start, eps_start, **options)

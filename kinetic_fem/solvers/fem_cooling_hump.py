@@ -18,12 +18,13 @@ import numpy as np
 from ..operators.adaptive import EDGE_EFOLDS, HUMP_DECADES, hump_vertices
 from .fem import FEMDiscretisation
 from .fem_cooling_mesh import HUMP_INTORDER
-from .fem_cooling_newton import CLOSE_DAMPING, CoolingState, newton_cooling
+from .fem_cooling_newton import CLOSE_DAMPING, MONITOR_LOG_F, CoolingState, newton_cooling
 
 __all__ = ["continued_state", "HUMP_RESOLUTION", "HUMP_STEP_RESOLUTION",
            "HUMP_LINK_RESOLUTION", "HUMP_COARSE_LINK", "HUMP_COARSE_EPS", "HUMP_LINK_RATIO",
            "HUMP_P3_EPS", "HUMP_P3_RESOLUTION", "HUMP_FAST_LINK",
-           "HUMP_LINK_DECADES", "FULL_STEP_ITER", "FAR_DECADES", "P3_FAR_EFOLDS"]
+           "HUMP_LINK_DECADES", "FULL_STEP_ITER", "FAR_DECADES", "P3_FAR_EFOLDS",
+           "P3_MONITOR_LOG_F"]
 
 logger = logging.getLogger(__name__)
 
@@ -54,14 +55,24 @@ dofs at eps = 1e-3, 811 -> 709 at 1e-2; against P3 at 0.1 hump widths unchanged 
 (zeta 1.7e-14 / 4.1e-14, a2 4.7e-13 / 6.6e-13, ln f 3.0e-7 / 4.6e-7) and no growing
 mode of the linearised operator (largest rate 0 zeta, the scale mode:
 benchmarks/results/fem_cooling_speed.md)."""
-HUMP_FAST_LINK, HUMP_LINK_DECADES = 0.3, 20.0
-"""Links toward a state asked for at eps >= HUMP_COARSE_EPS (issue 16, eighth round): element
-size in hump widths, and the decades the start falls to the cut-off (not HUMP_DECADES).
-The links only start the next solve, and the y-rescaled start overestimates the outer edge
-by up to 30 e-folds, so the 45-decade cut-off put half of a link mesh where the state is
-below 1e-60; the state asked for is solved on the full mesh.  eps = 1e-3: 1.7 -> 0.7 CPU s,
-the final state moves by <= 2e-14 in zeta and a2, 1e-8 in ln f
-(benchmarks/results/fem_cooling_speed.md)."""
+HUMP_FAST_LINK, HUMP_LINK_DECADES = 0.3, 30.0
+"""Links toward a state asked for at eps >= HUMP_COARSE_EPS (issue 16): element size in
+hump widths, and the decades the start falls to the cut-off (not HUMP_DECADES).  Eighth
+round: 20 decades (the y-rescaled start from eps = 0.1 or 0.01 overestimated the outer
+edge by up to 36 e-folds, so the 45-decade cut-off put half of a link mesh where the state
+is below 1e-60).  Ninth round: 30, for the links from the stored starts
+(:mod:`~kinetic_fem.solvers.fem_cooling_seeds`) and warm starts, whose edge is close: at
+20 decades the link state ended at f ~ 1e-20 and the state asked for, started beyond by
+the link's ln f continued linearly, took a Jacobian more on the finest mesh (eps = 1e-3 ...
+0.01: 3 -> 2 Jacobians; at 35 and 40 decades no faster)."""
+P3_MONITOR_LOG_F = math.log(1e-30)
+"""The default P3 state's Newton steps and residuals are measured where f > 1e-30 (not
+1e-40, :data:`~kinetic_fem.solvers.fem_cooling_newton.MONITOR_LOG_F`), where its
+accuracy is asked: beyond, the start is the link's ln f continued linearly past the
+link's cut-off, 1.5 e-folds off at f ~ 1e-38 (eps = 1e-3), and the step there took a
+Jacobian more on the finest mesh after the rest had converged (issue 16, ninth round:
+3 -> 2 Jacobians at eps = 1e-3 ... 5e-3; the states move by <= 3e-15 in zeta, 1.2e-14 in
+a2, 1.2e-10 in ln f where f > 1e-30)."""
 HUMP_P3_EPS, HUMP_P3_RESOLUTION = 1e-4, 0.2
 """Default state at eps >= HUMP_P3_EPS: P3 at this many hump widths (Gauss degree 9), on
 fewer dofs than P2 at HUMP_RESOLUTION and 4 to 50 times more accurate (eps = 1e-4 ... 3e-2
@@ -73,7 +84,8 @@ def continued_state(prev: CoolingState, eps_prev: float, eps: float, *,
                     resolution: float = HUMP_RESOLUTION, order: int = 2,
                     intorder: int | None = None, tol: float = 1e-11,
                     max_iter: int = 100, decades: float = HUMP_DECADES,
-                    far_efolds: float = 1.0) -> CoolingState:
+                    far_efolds: float = 1.0, monitor: float = MONITOR_LOG_F,
+                    predict_iter: int = 0) -> CoolingState:
     """One continuation step: the hard-rod HCS at ``eps`` from ``prev`` at ``eps_prev``.
 
     Parameters
@@ -99,6 +111,14 @@ def continued_state(prev: CoolingState, eps_prev: float, eps: float, *,
         Beyond :data:`FAR_DECADES` decades of the start, the outer edge's elements fall
         ``far_efolds`` times :data:`~kinetic_fem.operators.adaptive.EDGE_EFOLDS`
         e-folds (:data:`P3_FAR_EFOLDS` for the default P3 states).
+    monitor : float
+        Newton's steps and residuals are measured where :math:`\\ln f_h` is above this
+        (:data:`P3_MONITOR_LOG_F` for the default P3 states).
+    predict_iter : int
+        Newton steps that stop on the step first
+        (:func:`~kinetic_fem.solvers.fem_cooling_newton.newton_cooling`;
+        :data:`~kinetic_fem.solvers.fem_cooling_newton.PREDICT_ITER` for the default P3
+        states).
 
     Returns
     -------
@@ -137,7 +157,9 @@ def continued_state(prev: CoolingState, eps_prev: float, eps: float, *,
                                pseudo_time=np.inf,
                                settle_steps=eps >= 1e-4,  # LOG_STEP_ZETA: measured there
                                min_damping=CLOSE_DAMPING if same else 1e-3,
-                               line_search=line_search)
+                               line_search=line_search, monitor=monitor,
+                               predict_iter=predict_iter,
+                               speculative=True)  # the trials' Jacobians: same iterates
         if state.info.converged:
             break
     logger.info("HCS continuation eps = %.3g: %d dofs, %d Newton steps, zeta/eps = %.12g",

@@ -10,7 +10,11 @@ restitution coefficient) into the first link's start.
 
 Warm starts (issue 16, eighth round): a sweep over the inelasticity, each state from
 its neighbour, takes one link and the final solve per state instead of the links from
-:math:`\\varepsilon = 0.1` (``benchmarks/results/fem_cooling_speed.md``).
+:math:`\\varepsilon = 0.1` (``benchmarks/results/fem_cooling_speed.md``).  Ninth round:
+the cold path toward :math:`\\varepsilon \\ge 10^{-3}` starts from a stored state
+(:mod:`~kinetic_fem.solvers.fem_cooling_seeds`), the links' trial residuals bring their
+Jacobians, and the final P3 solve is measured where :math:`f > 10^{-30}` and stops on
+the Newton step (2 Jacobians and 1 residual on the finest mesh instead of 3 and 2).
 """
 
 from __future__ import annotations
@@ -32,10 +36,12 @@ from .fem_cooling_hump import (
     HUMP_LINK_RATIO,
     HUMP_LINK_RESOLUTION,
     P3_FAR_EFOLDS,
+    P3_MONITOR_LOG_F,
     continued_state,
 )
 from .fem_cooling_mesh import step_intorder
-from .fem_cooling_newton import CoolingState
+from .fem_cooling_newton import MONITOR_LOG_F, CoolingState
+from .fem_cooling_steps import PREDICT_ITER
 
 __all__ = ["HUMP_EPS", "HUMP_FRONTIER", "HUMP_RATIO", "HUMP_STEP_TOL", "HUMP_STEP_ITER",
            "HUMP_MIN_RATIO", "hump_chain", "link_chain", "chain_state", "start_state",
@@ -230,14 +236,16 @@ def chain_state(alpha: float, start: CoolingState, eps_start: float, *, order: i
                                  and final_order == order)
         res = resolution if final else link
         ratio = max(eps_prev / step, step / eps_prev)
+        p3 = final and final_order == 3
         state = continued_state(prev, eps_prev, step, resolution=res,
                                 order=final_order if final else order,
                                 intorder=intorder or step_intorder(step, order, final),
                                 tol=tol if final else HUMP_STEP_TOL,
                                 decades=HUMP_LINK_DECADES if fast and not final
                                 else HUMP_DECADES,
-                                far_efolds=P3_FAR_EFOLDS if final and final_order == 3
-                                else 1.0,
+                                far_efolds=P3_FAR_EFOLDS if p3 else 1.0,
+                                monitor=P3_MONITOR_LOG_F if p3 else MONITOR_LOG_F,
+                                predict_iter=PREDICT_ITER if p3 else 0,
                                 max_iter=min(max_iter, HUMP_STEP_ITER)
                                 if ratio > HUMP_MIN_RATIO else max_iter)
         if state.info.converged:

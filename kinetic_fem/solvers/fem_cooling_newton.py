@@ -17,6 +17,7 @@ shared :func:`kinetic_fem.solvers.newton.newton`) from a close start (continuati
 
 from __future__ import annotations
 
+import functools
 import logging
 import math
 import time
@@ -38,8 +39,8 @@ from .fem import (
     weighted_mass,
 )
 from .fem_cooling_forms import cooling_forms
+from .fem_cooling_steps import SpeculativeSystem, newton_on_step
 from .fem_newton import CHORD_LEVEL
-from .newton import newton
 
 __all__ = ["CoolingState", "newton_cooling", "second_moment", "PSEUDO_TIME_STEP",
            "INCREASE_LIMIT", "MONITOR_LOG_F", "RESIDUAL_STALL", "LOG_STEP_ZETA",
@@ -328,17 +329,17 @@ Measured against the floor 0 (eps = 1e-3 ... 1): the states move by <= 1.5e-14 i
 2e-14 in a2, 8e-11 in ln f (benchmarks/results/fem_cooling_speed.md)."""
 
 
-def _residual_size(r: NDArray, x: NDArray) -> float:
-    """Max of the row-scaled residual over the monitored dofs (f > 1e-40) and the
+def _residual_size(r: NDArray, x: NDArray, monitor: float = MONITOR_LOG_F) -> float:
+    """Max of the row-scaled residual over the monitored dofs (ln f > ``monitor``) and the
     constraints: the deep tail below takes tens of Newton steps to settle from a
     rescaled start (its rows dominate the full norm meanwhile) and feeds nothing back."""
-    watched = np.append(x[:-1] > MONITOR_LOG_F, True)
+    watched = np.append(x[:-1] > monitor, True)
     watched[np.argmax(x[:-1])] = True  # keeps the normalisation row watched too
     return float(np.abs(r[watched]).max())
 
 
-def _step_size(delta: NDArray, x: NDArray) -> float:
-    watched = x[:-1] > MONITOR_LOG_F
+def _step_size(delta: NDArray, x: NDArray, monitor: float = MONITOR_LOG_F) -> float:
+    watched = x[:-1] > monitor
     du = float(np.abs(delta[:-1][watched]).max()) if watched.any() else 0.0
     return max(du, abs(delta[-1]) / max(abs(x[-1]), 1e-3))
 
@@ -347,7 +348,9 @@ def newton_cooling(disc: FEMDiscretisation, u0: NDArray, zeta0: float, *, tol: f
                    max_iter: int = 40, step_limit: float = 10.0,
                    pseudo_time: float = PSEUDO_TIME_STEP,
                    log_steps: bool | None = None, settle_steps: bool = True,
-                   min_damping: float = 1e-3, line_search: bool = True) -> CoolingState:
+                   min_damping: float = 1e-3, line_search: bool = True,
+                   monitor: float = MONITOR_LOG_F, speculative: bool = False,
+                   predict_iter: int = 0) -> CoolingState:
     """Newton's method for :math:`(u_h, \\zeta)` with unit mass and temperature.
 
     Parameters
@@ -383,6 +386,17 @@ def newton_cooling(disc: FEMDiscretisation, u0: NDArray, zeta0: float, *, tol: f
     line_search : bool
         Backtrack (``pseudo_time = inf``); without, every full step is taken and its
         residual comes with the Jacobian (one residual less per step).
+    monitor : float
+        Steps and residuals are measured where :math:`\\ln f_h` > ``monitor`` (and on
+        :math:`\\zeta`; :data:`MONITOR_LOG_F`).
+    speculative : bool
+        With the line search: each trial residual comes with its Jacobian, used if the
+        trial is accepted (one collision call per accepted step instead of two).
+    predict_iter : int
+        If positive: up to this many steps stop on the Newton step instead (below
+        ``tol``, or a chord step whose predicted successor is: no residual to confirm
+        it; :data:`~kinetic_fem.solvers.fem_cooling_steps.PREDICT_ITER`), then on the
+        residual as above.
 
     Returns
     -------
@@ -418,16 +432,17 @@ def newton_cooling(disc: FEMDiscretisation, u0: NDArray, zeta0: float, *, tol: f
         # so tolerances scale with zeta (round-off of Q's gain-loss cancellation ~1e-15)
         scale = abs(zeta0)
         floor = max(RESIDUAL_FLOOR, RESIDUAL_FLOOR_REL * scale)
-        res = newton(system, x, tol=max(tol * scale, floor), max_iter=max_iter,
-                     criterion="residual",
-                     norm=_residual_size, step_norm=_step_size, update=update,
-                     row_scale=system.row_scale,
-                     factorize=lambda j: EquilibratedLU(j).solve, chord=CHORD_LEVEL,
-                     stall_level=RESIDUAL_STALL * scale, min_damping=min_damping,
-                     line_search=line_search,
-                     name="FEM cooling Newton")
+        fun = SpeculativeSystem(system) if speculative and line_search else system
+        res, on_step = newton_on_step(
+            fun, x, tol=tol, residual_tol=max(tol * scale, floor), max_iter=max_iter,
+            predict_iter=predict_iter, stall_level=RESIDUAL_STALL * scale,
+            norm=functools.partial(_residual_size, monitor=monitor),
+            step_norm=functools.partial(_step_size, monitor=monitor), update=update,
+            row_scale=system.row_scale, factorize=lambda j: EquilibratedLU(j).solve,
+            chord=CHORD_LEVEL, min_damping=min_damping, line_search=line_search,
+            name="FEM cooling Newton")
         message = res.message
-        if res.converged and res.residual >= tol * scale:  # stopped by the floor
+        if not on_step and res.converged and res.residual >= tol * scale:  # the floor
             message = (f"FEM cooling Newton stalled at round-off: residual {res.residual:.2e} "
                        f"below the floor {floor:.1e} (tol {tol * scale:.1e})")
         info = RunInfo(converged=res.converged, iterations=res.iterations,
@@ -449,7 +464,7 @@ def newton_cooling(disc: FEMDiscretisation, u0: NDArray, zeta0: float, *, tol: f
             damp[row0] = 0.0
             j[:n_red, :n_red] -= damp
         delta = EquilibratedLU(j).solve(-r)
-        step = _step_size(delta, x)
+        step = _step_size(delta, x, monitor)
         history.append(step)
         logger.debug("HCS newton %d: max|du| = %.3e, zeta = %.15g, dtau = %.3g", it, step,
                      x[n_red], dtau)
