@@ -104,6 +104,7 @@ from .fem_cooling_alpha import (
     uses_alpha_chain,
 )
 from .fem_cooling_band import band_state, in_band
+from .fem_cooling_gamma2 import anchored_state, uses_anchors
 from .fem_cooling_hump import (
     HUMP_COARSE_EPS,
     HUMP_LINK_RESOLUTION,
@@ -286,6 +287,13 @@ def cooling_state(problem: CoolingProblem, *, order: int | None = None,
         return maxwell_cooling_state(problem.gas.alpha, order=order, spacing=spacing,
                                      intorder=intorder, tol=tol, max_iter=max_iter)
     default_mesh = vertices is None and spacing is None and cutoff is None
+    if default_mesh and resolution is None and uses_alpha_chain(problem) \
+            and uses_anchors(problem):
+        # gamma 2: one Newton solve from the stored scaled states (.fem_cooling_gamma2)
+        state = anchored_state(problem, order=cooling_order(problem, order, default_mesh=True),
+                               intorder=intorder, tol=tol, max_iter=max_iter)
+        if state is not None:
+            return state
     if uses_alpha_chain(problem) and default_mesh and problem.gas.epsilon < DIRECT_EPS:
         # hard kernels near elastic: straight to the chain on the meshes that follow the
         # humps (.fem_cooling_alpha; the target's default mesh cannot hold the state)
