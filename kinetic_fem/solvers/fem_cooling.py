@@ -42,7 +42,8 @@ exponential tails, :math:`O(V^{-3})` for the Maxwell power law): the equation at
 (:class:`kinetic_fem.solvers.fem.EquilibratedLU`, the log update of the heated solver) starts
 from a Gaussian at the Gaussian estimate of :math:`\\zeta` (pseudo-transient
 continuation); below :math:`\\alpha = 0.5` (long exponential tails far from the Gaussian
-start) by continuation in :math:`\\alpha` from 0.5.
+start) by continuation in :math:`\\alpha` from 0.5; :math:`\\gamma = 2` above 0.5 from
+stored scaled states (:mod:`kinetic_fem.solvers.fem_cooling_gamma2`).
 
 Near elastic collisions (hard rods, :math:`\\varepsilon = 1 - \\alpha <` :data:`HUMP_EPS`)
 the state is two humps of width :math:`w = \\varepsilon^{1/3}` at :math:`c = \\pm 1`.

@@ -83,6 +83,31 @@ ANCHORED_ITER = 12
 """Newton steps allowed from the anchored start before the continuation takes over."""
 
 
+@functools.lru_cache(maxsize=2)
+def _wkb_table(fokker_planck: bool) -> tuple[NDArray, NDArray]:
+    """:math:`\\Phi` on 1201 points of [0, 6] (trapezoidal rule on the root :math:`\\Phi'`)."""
+    from scipy.integrate import cumulative_trapezoid
+    from scipy.optimize import brentq
+
+    grid = np.linspace(0.0, 6.0, 1201)
+    slope = -4.0 * grid * (1.0 - grid**2) / (grid**4 + 6.0 * grid**2 + 1.0)
+    if not fokker_planck:
+        def ham(x: float, p: float) -> float:
+            return 0.5 * sum((x - s) ** 2 * math.expm1(-p * (x - s) / 2.0)
+                             for s in (1.0, -1.0)) + 2.0 * x * p
+
+        for i, (x, p_fp) in enumerate(zip(grid, slope, strict=True)):
+            if abs(p_fp) < 1e-14:
+                continue
+            # H is convex in p with H(x, 0) = 0: the other root lies on the side of p_fp
+            far = p_fp
+            while ham(x, far) < 0.0:
+                far *= 2.0
+            slope[i] = brentq(lambda p, x=x: ham(x, p), 1e-12 * far, far, xtol=1e-14)
+    phi = cumulative_trapezoid(slope, grid, initial=0.0)
+    return grid, phi - np.interp(1.0, grid, phi)
+
+
 def wkb_exponent(c: NDArray, *, fokker_planck: bool = False) -> NDArray:
     """The leading-order exponent :math:`\\Phi(c)` of :math:`\\ln f \\simeq
     -\\Phi/\\varepsilon` near elastic collisions, :math:`\\Phi(\\pm 1) = 0` (module notes).
@@ -100,26 +125,8 @@ def wkb_exponent(c: NDArray, *, fokker_planck: bool = False) -> NDArray:
     ndarray
         :math:`\\Phi(|c|)`.
     """
-    from scipy.integrate import cumulative_trapezoid
-    from scipy.optimize import brentq
-
-    grid = np.linspace(0.0, 6.0, 6001)
-    slope = -4.0 * grid * (1.0 - grid**2) / (grid**4 + 6.0 * grid**2 + 1.0)
-    if not fokker_planck:
-        def ham(x: float, p: float) -> float:
-            return 0.5 * sum((x - s) ** 2 * math.expm1(-p * (x - s) / 2.0)
-                             for s in (1.0, -1.0)) + 2.0 * x * p
-
-        for i, (x, p_fp) in enumerate(zip(grid, slope, strict=True)):
-            if abs(p_fp) < 1e-14:
-                continue
-            # H is convex in p with H(x, 0) = 0: the other root lies on the side of p_fp
-            far = p_fp
-            while ham(x, far) < 0.0:
-                far *= 2.0
-            slope[i] = brentq(lambda p, x=x: ham(x, p), 1e-12 * far, far, xtol=1e-14)
-    phi = cumulative_trapezoid(slope, grid, initial=0.0)
-    return np.interp(np.abs(np.asarray(c, dtype=float)), grid, phi - np.interp(1.0, grid, phi))
+    grid, phi = _wkb_table(fokker_planck)
+    return np.interp(np.abs(np.asarray(c, dtype=float)), grid, phi)
 
 
 def anchor_samples(state: CoolingState, eps: float, points: int
