@@ -29,13 +29,16 @@ stored as :math:`\\varepsilon \\ln f` at :data:`~.fem_cooling_gamma2_table.ANCHO
 points) interpolate to the state at any :math:`\\varepsilon` between them
 (:func:`anchored_log_f`: cubic Lagrange interpolation in :math:`\\ln\\varepsilon` of
 :math:`\\varepsilon \\ln f` at fixed :math:`c`, and of :math:`\\zeta/\\varepsilon`;
-beyond an anchor's sampled range, :math:`\\ln f` continues linearly: with the tail
-curvature :math:`-1/\\zeta` the default mesh's far tail at alpha 0.995 underflowed and
-Newton's first system was singular).  From that start Newton's method converges in 3 to 5 steps on
-the mesh of the state asked for (:func:`anchored_state`): the default HCS mesh at
-:math:`\\varepsilon \\ge` :data:`~.fem_cooling_alpha.DIRECT_EPS` (the same discrete state as
-the continuation's), below it the mesh :func:`~.fem_cooling_quasi.efold_vertices` builds
-from the start itself (:data:`~.fem_cooling_quasi.QUASI_FINAL`), instead of 2 to 20 links
+beyond an anchor's sampled range, :math:`\\ln f` continues linearly; bent with the
+tail curvature :math:`-1/\\zeta` the default mesh's far tail at alpha 0.995
+underflowed, or over 0.2 beyond, alpha 0.998 failed).  From that start Newton's method
+converges in 2 to 4 steps (2 Jacobians at most, then chord steps) on the mesh of the
+state asked for (:func:`anchored_state`): the default HCS mesh at :math:`\\varepsilon
+\\ge` :data:`~.fem_cooling_alpha.DIRECT_EPS` (the same discrete state as the
+continuation's; near elastic cut where the start is :data:`ANCHORED_CUTOFF_DEPTH` below
+its peak, which leaves zeta, a2 and ln f where f > 1e-40 unchanged to round-off), below
+it the mesh :func:`~.fem_cooling_quasi.efold_vertices` builds from the start itself
+(:data:`~.fem_cooling_quasi.QUASI_FINAL`), instead of 2 to 20 links
 of 5 to 13 Newton steps each (``benchmarks/results/fem_cooling_models_speed.md``).
 """
 
@@ -64,7 +67,8 @@ from .fem_cooling_quasi import (
     efold_vertices,
 )
 
-__all__ = ["ANCHOR_CLIP", "ANCHOR_DEGREE", "ANCHORED_GAMMA", "ANCHORED_ITER",
+__all__ = ["ANCHOR_CLIP", "ANCHOR_DEGREE", "ANCHORED_CUTOFF_DEPTH", "ANCHORED_GAMMA",
+           "ANCHORED_ITER",
            "ANCHORED_LINE_SEARCH", "AnchoredStart",
            "anchor_samples", "anchored_log_f", "anchored_state", "anchored_zeta",
            "uses_anchors", "wkb_exponent"]
@@ -82,6 +86,15 @@ from the anchors (the continuation took over, 10.5 units against 1.7), elsewhere
 ANCHOR_DEGREE = 3
 """Degree of the Lagrange interpolation in :math:`\\ln\\varepsilon` (anchors in ratio 1.25:
 degree 1 took 4 to 11 Newton steps at the target, degree 3 took 3 to 5)."""
+ANCHORED_CUTOFF_DEPTH = 150.0
+"""The default mesh (eps >= :data:`~.fem_cooling_alpha.DIRECT_EPS`) ends at its first vertex
+beyond c = 1 where the anchored start has fallen this far below its peak (as
+:data:`~.fem_cooling_quasi.QUASI_FINAL`): near elastic collisions the default cut-off
+(the outer edge 1 + 12 eps^(1/3) of the hard-rod humps) reaches ln f ~ -500.  Against
+the full default mesh (one process): alpha 0.95 745 -> 629 dofs, 0.99 929 -> 549, 0.995
+1041 -> 549, 0.997 1153 -> 565; zeta and a2 equal to 5.6e-16, ln f to 7e-13 where
+f > 1e-40 of the peak (0.7 at the new cut-off); 0.995 2.4 -> 0.47 units, 0.99 1.23 ->
+0.43; alpha <= 0.9 unchanged (the mesh ends above that depth)."""
 ANCHORED_ITER = 12
 """Newton steps allowed from the anchored start before the continuation takes over."""
 ANCHORED_LINE_SEARCH = False
@@ -317,6 +330,12 @@ def anchored_state(problem: CoolingProblem, *, order: int, intorder: int | None,
         verts = hcs_vertices(hcs_cutoff(problem),
                              order_spacing(hcs_spacing(problem), order) / refine,
                              gamma=problem.gas.gamma, bulk=hcs_bulk(eps))
+        half = verts[verts >= 0.0]
+        log_f = anchored_log_f(eps, half)
+        deep = np.nonzero((half > 1.0) & (log_f < log_f.max() - ANCHORED_CUTOFF_DEPTH))[0]
+        if deep.size:  # near elastic: the default cut-off 1 + 12 eps^(1/3) is far deeper
+            half = half[:deep[0] + 1]
+            verts = np.concatenate([-half[:0:-1], half])
     else:
         efolds, depth, cutoff_depth = QUASI_FINAL
         verts = efold_vertices(AnchoredStart(eps), eps, efolds=efolds / refine, depth=depth,
