@@ -33,11 +33,12 @@ beyond an anchor's sampled range, :math:`\\ln f` continues linearly; bent with t
 tail curvature :math:`-1/\\zeta` the default mesh's far tail at alpha 0.995
 underflowed, or over 0.2 beyond, alpha 0.998 failed).  From that start Newton's method
 converges in 2 to 4 steps (2 Jacobians at most, then chord steps) on the mesh of the
-state asked for (:func:`anchored_state`): the default HCS mesh at :math:`\\varepsilon
-\\ge` :data:`~.fem_cooling_alpha.DIRECT_EPS` (the same discrete state as the
-continuation's; near elastic cut where the start is :data:`ANCHORED_CUTOFF_DEPTH` below
-its peak, which leaves zeta, a2 and ln f where f > 1e-40 unchanged to round-off), below
-it the mesh :func:`~.fem_cooling_quasi.efold_vertices` builds from the start itself
+state asked for (:func:`anchored_state`): the default HCS mesh at
+:math:`\\varepsilon \\ge` :data:`ANCHORED_DEFAULT_EPS` (at :math:`\\varepsilon \\ge
+3\\cdot 10^{-3}` the same discrete state as the continuation's; near elastic cut where
+the start is :data:`ANCHORED_CUTOFF_DEPTH` below its peak, which leaves zeta, a2 and
+ln f where f > 1e-40 unchanged to round-off), below it the mesh
+:func:`~.fem_cooling_quasi.efold_vertices` builds from the start itself
 (:data:`~.fem_cooling_quasi.QUASI_FINAL`), instead of 2 to 20 links
 of 5 to 13 Newton steps each (``benchmarks/results/fem_cooling_models_speed.md``).
 """
@@ -55,7 +56,6 @@ from scipy.interpolate import CubicSpline
 
 from ..model import CoolingProblem
 from .fem import FEMDiscretisation
-from .fem_cooling_alpha import DIRECT_EPS
 from .fem_cooling_mesh import hcs_bulk, hcs_cutoff, hcs_spacing, hcs_vertices
 from .fem_cooling_newton import CLOSE_DAMPING, CoolingState, newton_cooling
 from .fem_cooling_order import order_spacing
@@ -67,8 +67,8 @@ from .fem_cooling_quasi import (
     efold_vertices,
 )
 
-__all__ = ["ANCHOR_CLIP", "ANCHOR_DEGREE", "ANCHORED_CUTOFF_DEPTH", "ANCHORED_GAMMA",
-           "ANCHORED_ITER",
+__all__ = ["ANCHOR_CLIP", "ANCHOR_DEGREE", "ANCHORED_CUTOFF_DEPTH", "ANCHORED_DEFAULT_EPS",
+           "ANCHORED_GAMMA", "ANCHORED_ITER",
            "ANCHORED_LINE_SEARCH", "AnchoredStart",
            "anchor_samples", "anchored_log_f", "anchored_state", "anchored_zeta",
            "uses_anchors", "wkb_exponent"]
@@ -87,7 +87,7 @@ ANCHOR_DEGREE = 3
 """Degree of the Lagrange interpolation in :math:`\\ln\\varepsilon` (anchors in ratio 1.25:
 degree 1 took 4 to 11 Newton steps at the target, degree 3 took 3 to 5)."""
 ANCHORED_CUTOFF_DEPTH = 150.0
-"""The default mesh (eps >= :data:`~.fem_cooling_alpha.DIRECT_EPS`) ends at its first vertex
+"""The default mesh (eps >= :data:`ANCHORED_DEFAULT_EPS`) ends at its first vertex
 beyond c = 1 where the anchored start has fallen this far below its peak (as
 :data:`~.fem_cooling_quasi.QUASI_FINAL`): near elastic collisions the default cut-off
 (the outer edge 1 + 12 eps^(1/3) of the hard-rod humps) reaches ln f ~ -500.  Against
@@ -95,6 +95,14 @@ the full default mesh (one process): alpha 0.95 745 -> 629 dofs, 0.99 929 -> 549
 1041 -> 549, 0.997 1153 -> 565; zeta and a2 equal to 5.6e-16, ln f to 7e-13 where
 f > 1e-40 of the peak (0.7 at the new cut-off); 0.995 2.4 -> 0.47 units, 0.99 1.23 ->
 0.43; alpha <= 0.9 unchanged (the mesh ends above that depth)."""
+ANCHORED_DEFAULT_EPS = 2e-3
+"""From this inelasticity up the anchored state is solved on the default mesh (cut at
+:data:`ANCHORED_CUTOFF_DEPTH`), below on the :func:`~.fem_cooling_quasi.efold_vertices`
+mesh of the start (the continuation switched at :data:`~.fem_cooling_alpha.DIRECT_EPS`
+= 3e-3: the uncut default mesh's far tail underflowed).  Cut default mesh, one process,
+zeta against the efold mesh twice finer: alpha 0.998 581 dofs, 4 Newton steps, 2.3e-11
+(efold mesh 1041 dofs, 1.1e-9); 0.999 633 dofs, 10 steps, 3.1e-11; 0.9995 no convergence
+in 12 steps."""
 ANCHORED_ITER = 12
 """Newton steps allowed from the anchored start before the continuation takes over."""
 ANCHORED_LINE_SEARCH = False
@@ -326,7 +334,7 @@ def anchored_state(problem: CoolingProblem, *, order: int, intorder: int | None,
     """
     eps = problem.gas.epsilon
     check_frontier(problem.gas.alpha, problem.gas.gamma)
-    if eps >= DIRECT_EPS:
+    if eps >= ANCHORED_DEFAULT_EPS:
         verts = hcs_vertices(hcs_cutoff(problem),
                              order_spacing(hcs_spacing(problem), order) / refine,
                              gamma=problem.gas.gamma, bulk=hcs_bulk(eps))

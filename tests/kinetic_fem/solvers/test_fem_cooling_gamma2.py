@@ -134,3 +134,14 @@ def test_table_entry_reproduces():
     assert ratio == pytest.approx(zeta_ratio, rel=1e-12)
     assert end == pytest.approx(c_end, rel=1e-12)
     np.testing.assert_allclose(samples, values, rtol=1e-8, atol=1e-9)
+
+
+def test_gamma2_alpha0998_on_the_cut_default_mesh():
+    """alpha 0.998 (eps >= ANCHORED_DEFAULT_EPS): the default mesh cut 150 below the peak,
+    zeta against the e-fold mesh four times finer (0.0040040134660751,
+    benchmarks/convergence_gamma2_cooling.py) measured 2.3e-11; the energy identity."""
+    dist = kf.solve_cooling(0.998, kernel=2.0)
+    extra = dist.info.extra
+    assert extra["n_dofs"] < 700
+    assert extra["zeta"] == pytest.approx(0.0040040134660751, rel=5e-11)
+    assert extra["zeta_identity"] == pytest.approx(extra["zeta"], rel=1e-10)
