@@ -170,9 +170,9 @@ def check_frontier(alpha: float, gamma: float) -> None:
         raise UnsupportedModelError(
             f"the FEM cooling state of the kernel |g|^{gamma:g} is available for "
             f"alpha <= {1.0 - QUASI_FRONTIER:g} (eps >= {QUASI_FRONTIER:g}), got alpha = "
-            f"{alpha}: below, the continuation on meshes that follow the humps (variance "
-            "~eps) does not converge; the state is two Gaussian humps at c = +-sqrt(1 - eps) "
-            "with zeta = 2 eps + eps^2 to O(eps^3)")
+            f"{alpha}: below, the valley between the humps (ln f ~ -0.373/eps) underflows "
+            "and Newton's method on ln f does not converge; the state is two Gaussian humps "
+            "of variance ~eps at c = +-sqrt(1 - eps) with zeta = 2 eps + eps^2 to O(eps^3)")
 
 
 def quasi_elastic_chain(start: CoolingState, eps_start: float, alpha: float, *,
