@@ -1,13 +1,15 @@
 """Generate ``kinetic_fem/solvers/fem_cooling_gamma2_table.py``: the gamma = 2 anchor states.
 
-Each anchor is the cooling state at one inelasticity by the continuation the anchored
-start replaces (:func:`kinetic_fem.solvers.fem_cooling_alpha.alpha_chain` from alpha 0.5
-on the default mesh, :func:`~kinetic_fem.solvers.fem_cooling_quasi.quasi_elastic_chain`
-below eps 0.01), reached through ``cooling_state(..., vertices=...)`` (an explicit mesh
-skips the anchored start); the table stores :math:`\\varepsilon \\ln f` at
-``--points`` velocities (:func:`kinetic_fem.solvers.fem_cooling_gamma2.anchor_samples`).
+Each anchor is the cooling state at one inelasticity by the path the anchored start
+replaces (at alpha <= 0.5 the pseudo-transient iteration from a Gaussian;
+:func:`kinetic_fem.solvers.fem_cooling_alpha.alpha_chain` from alpha 0.5 on the default
+mesh, :func:`~kinetic_fem.solvers.fem_cooling_quasi.quasi_elastic_chain` below eps 0.01),
+reached through ``cooling_state(..., vertices=...)`` (an explicit mesh skips the anchored
+start); the table stores :math:`\\varepsilon \\ln f` at ``--points`` velocities
+(:func:`kinetic_fem.solvers.fem_cooling_gamma2.anchor_samples`).
 
-    python benchmarks/gamma2_anchors.py [--count 32] [--points 65] [--eps-min 5e-4]
+    python benchmarks/gamma2_anchors.py [--count 36] [--points 65] [--eps-max 1]
+        [--eps-min 5e-4]
 """
 
 from __future__ import annotations
@@ -50,9 +52,9 @@ def chain_state(eps: float):
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--count", type=int, default=32)
+    parser.add_argument("--count", type=int, default=36)
     parser.add_argument("--points", type=int, default=65)
-    parser.add_argument("--eps-max", type=float, default=0.5)
+    parser.add_argument("--eps-max", type=float, default=1.0)
     parser.add_argument("--eps-min", type=float, default=5e-4)
     args = parser.parse_args()
     eps_values = [float(e) for e in np.geomspace(args.eps_max, args.eps_min, args.count)]

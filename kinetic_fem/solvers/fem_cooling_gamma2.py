@@ -298,7 +298,7 @@ def uses_anchors(problem: CoolingProblem) -> bool:
     """
     lo, hi = _range()
     eps = problem.gas.epsilon
-    return problem.gas.gamma == ANCHORED_GAMMA and lo * (1 - 1e-9) <= eps < hi
+    return problem.gas.gamma == ANCHORED_GAMMA and lo * (1 - 1e-9) <= eps <= hi * (1 + 1e-9)
 
 
 def anchored_state(problem: CoolingProblem, *, order: int, intorder: int | None, tol: float,
@@ -390,9 +390,9 @@ def anchor_table(eps_values: Sequence[float], states: Sequence[CoolingState], po
     for eps, state in zip(eps_values, states, strict=True):
         zeta_ratio, c_end, values = anchor_samples(state, eps, points)
         lines.append(f"    ({eps!r}, {zeta_ratio!r}, {c_end!r}, (")
-        text = [f"{v:.9e}," for v in values]
-        for i in range(0, len(text), 5):
-            lines.append("        " + " ".join(text[i:i + 5]))
+        text = [f"{v:.7e}," for v in values]
+        for i in range(0, len(text), 6):
+            lines.append("    " + " ".join(text[i:i + 6]))
         lines.append("    )),")
     lines.append(")")
     return "\n".join(lines) + "\n"
