@@ -23,10 +23,12 @@ with :math:`\\Phi(0) = 0.3734` (0.4135 in the Fokker-Planck limit; measured 0.36
 eps = 0.01 with the :math:`\\Psi` term) and the tail :math:`\\Phi \\to c^2/4`, i.e.
 :math:`\\ln f \\to -c^2/(2\\zeta)`.  So :math:`\\varepsilon \\ln f` is a smooth
 :math:`O(1)` function of :math:`c` whose expansion in :math:`\\varepsilon` is regular: the
-states at a few inelasticities (the anchors of :mod:`.fem_cooling_gamma2_table`, computed
-once by the continuation of :mod:`.fem_cooling_alpha` and :mod:`.fem_cooling_quasi` and
-stored as :math:`\\varepsilon \\ln f` at :data:`~.fem_cooling_gamma2_table.ANCHOR_POINTS`
-points) interpolate to the state at any :math:`\\varepsilon` between them
+states at 36 inelasticities from 1 to 5e-4 (the anchors of
+:mod:`.fem_cooling_gamma2_table`, computed once by the path they replace: the
+pseudo-transient iteration at alpha <= 0.5, above the continuation of
+:mod:`.fem_cooling_alpha` and :mod:`.fem_cooling_quasi`; stored as
+:math:`\\varepsilon \\ln f` at :data:`~.fem_cooling_gamma2_table.ANCHOR_POINTS` points)
+interpolate to the state at any :math:`\\varepsilon` between them
 (:func:`anchored_log_f`: cubic Lagrange interpolation in :math:`\\ln\\varepsilon` of
 :math:`\\varepsilon \\ln f` at fixed :math:`c`, and of :math:`\\zeta/\\varepsilon`;
 beyond an anchor's sampled range, :math:`\\ln f` continues linearly; bent with the
