@@ -68,9 +68,10 @@ def test_anchored_start_is_close():
 def test_gamma2_is_the_chains_state(monkeypatch, alpha):
     """The anchored start converges to the state of the path it replaces (the default path
     without the anchors: at 0.3 the pseudo-transient iteration, above 0.5 the chain on the
-    coarse mesh, then Newton on the default mesh): equal to round-off where f > 1e-40 (Newton's monitored range; at 0.9 the far
-    tail below moved 3e-3 in ln f at ln f = -154; at 0.99 the mesh ends where the start is
-    150 below its peak, 929 -> 549 dofs: measured 1.7e-13 in ln f, zeta 5.6e-16), in at
+    coarse mesh, then Newton on the default mesh): equal to round-off where f > 1e-40
+    (Newton's monitored range; at 0.9 the far tail below moved 3e-3 in ln f at
+    ln f = -154; at 0.99 the mesh ends where the start is 150 below its peak, 929 -> 549
+    dofs: measured 1.7e-13 in ln f, zeta 5.6e-16), in at
     most 4 Newton steps (3 measured); the energy identity holds."""
     problem = CoolingProblem.from_parameters(alpha, kernel=2.0)
     state = cooling_state(problem)
