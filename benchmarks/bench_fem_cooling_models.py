@@ -10,7 +10,10 @@ errors are against the closed form f = 2/(pi (1+c^2)^2), zeta = (1 - alpha^2)/4:
 zeta, the largest relative error of the returned ``dist.f`` over |c| <= 10 and over
 10 <= |c| <= 100, and ``dist.temperature - 1``; for other kernels zeta and a2 of both
 against the state at half the default spacing (``--reference``, solved untimed by the
-after worker; a failed before row still prints the after figures).
+after worker; a failed before row still prints the after figures).  Near elastic
+collisions (gamma = 2, alpha >= 0.995) use ``--repeat 1``: before the ninth round the
+continuation remembered its near-elastic states (``fem_cooling_alpha``), so a repeated
+call in the same worker is a cache hit.
 
     python benchmarks/bench_fem_cooling_models.py [--before COMMIT] [--repeat 2]
         [--kernels 0 2] [--alphas A ...] [--reference]

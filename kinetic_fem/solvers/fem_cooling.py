@@ -42,7 +42,8 @@ exponential tails, :math:`O(V^{-3})` for the Maxwell power law): the equation at
 (:class:`kinetic_fem.solvers.fem.EquilibratedLU`, the log update of the heated solver) starts
 from a Gaussian at the Gaussian estimate of :math:`\\zeta` (pseudo-transient
 continuation); below :math:`\\alpha = 0.5` (long exponential tails far from the Gaussian
-start) by continuation in :math:`\\alpha` from 0.5.
+start) by continuation in :math:`\\alpha` from 0.5; :math:`\\gamma = 2` from stored
+scaled states (:mod:`kinetic_fem.solvers.fem_cooling_gamma2`).
 
 Near elastic collisions (hard rods, :math:`\\varepsilon = 1 - \\alpha <` :data:`HUMP_EPS`)
 the state is two humps of width :math:`w = \\varepsilon^{1/3}` at :math:`c = \\pm 1`.
@@ -105,6 +106,7 @@ from .fem_cooling_alpha import (
     uses_alpha_chain,
 )
 from .fem_cooling_band import band_state, in_band
+from .fem_cooling_gamma2 import anchored_state, uses_anchors
 from .fem_cooling_hump import (
     HUMP_COARSE_EPS,
     HUMP_LINK_RESOLUTION,
@@ -289,6 +291,12 @@ def cooling_state(problem: CoolingProblem, *, order: int | None = None,
         return maxwell_cooling_state(problem.gas.alpha, order=order, spacing=spacing,
                                      intorder=intorder, tol=tol, max_iter=max_iter)
     default_mesh = vertices is None and spacing is None and cutoff is None
+    if default_mesh and resolution is None and uses_anchors(problem):
+        # gamma 2: one Newton solve from the stored scaled states (.fem_cooling_gamma2)
+        state = anchored_state(problem, order=cooling_order(problem, order, default_mesh=True),
+                               intorder=intorder, tol=tol, max_iter=max_iter)
+        if state is not None:
+            return state
     if uses_alpha_chain(problem) and default_mesh and problem.gas.epsilon < DIRECT_EPS:
         # hard kernels near elastic: straight to the chain on the meshes that follow the
         # humps (.fem_cooling_alpha; the target's default mesh cannot hold the state)

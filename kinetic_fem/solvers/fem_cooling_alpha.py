@@ -17,7 +17,9 @@ the chain stops there and :func:`~.fem_cooling_quasi.quasi_elastic_chain` contin
 meshes that follow the humps; that state is on its own mesh, and it is remembered
 (:data:`QUASI_CACHE_SIZE` states) for the globalised retry of
 :func:`~.fem_cooling.cooling_state`, whose Newton step on the default fine mesh turns
-singular there (its far tail underflows).
+singular there (its far tail underflows).  For gamma = 2 on the default mesh the chain
+only runs if the one Newton solve from the stored anchors of :mod:`.fem_cooling_gamma2`
+fails (and to generate those anchors: ``benchmarks/gamma2_anchors.py``).
 """
 
 from __future__ import annotations

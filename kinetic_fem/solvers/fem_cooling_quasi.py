@@ -23,12 +23,16 @@ where the previous :math:`\\ln f` has fallen :data:`QUASI_CUTOFF_DEPTH` below it
 (1.79 and 1.74 for the last two links to eps = 0.001, against 3.7); the last link, to
 the state asked for, is on a finer such mesh (:data:`QUASI_FINAL`).  Newton starts
 from the previous state itself (rescaled and extrapolated predictors, tried, diverged).
+The default gamma = 2 state skips these links: :mod:`.fem_cooling_gamma2` interpolates
+stored states in :math:`\\varepsilon \\ln f` (the WKB scaling) and solves once on the
+:data:`QUASI_FINAL` mesh built from that start.
 """
 
 from __future__ import annotations
 
 import logging
 import math
+from typing import Protocol
 
 import numpy as np
 from numpy.typing import NDArray
@@ -40,7 +44,8 @@ from .fem_cooling_newton import CoolingState, newton_cooling
 
 __all__ = ["QUASI_EPS", "QUASI_FRONTIER", "QUASI_RATIO", "QUASI_EFOLDS", "QUASI_DEPTH",
            "QUASI_CUTOFF_DEPTH", "QUASI_CORE", "QUASI_FINAL", "QUASI_LINK", "QUASI_MAX_SIZE",
-           "QUASI_MIN_RATIO", "check_frontier", "efold_vertices", "quasi_elastic_chain"]
+           "QUASI_MIN_RATIO", "LogDensity", "check_frontier", "efold_vertices",
+           "quasi_elastic_chain"]
 
 logger = logging.getLogger(__name__)
 
@@ -77,7 +82,21 @@ QUASI_MAX_SIZE = 0.05
 """Largest element (thermal velocities)."""
 
 
-def efold_vertices(prev: CoolingState, eps: float, *, efolds: float = QUASI_EFOLDS,
+class LogDensity(Protocol):
+    """Anything with :meth:`log_f` (a :class:`~.fem_cooling_newton.CoolingState`, or a
+    predictor of the state such as :class:`~.fem_cooling_gamma2.AnchoredStart`).
+
+    Attributes
+    ----------
+    log_f : callable
+        ``log_f(c)``: :math:`\\ln f` at the velocities ``c`` (thermal units).
+    """
+
+    def log_f(self, c: NDArray) -> NDArray:
+        """:math:`\\ln f` at ``c``."""
+
+
+def efold_vertices(prev: LogDensity, eps: float, *, efolds: float = QUASI_EFOLDS,
                    depth: float = QUASI_DEPTH, cutoff_depth: float = QUASI_CUTOFF_DEPTH,
                    core: float = QUASI_CORE, max_size: float = QUASI_MAX_SIZE
                    ) -> NDArray[np.float64]:
@@ -86,9 +105,9 @@ def efold_vertices(prev: CoolingState, eps: float, *, efolds: float = QUASI_EFOL
 
     Parameters
     ----------
-    prev : CoolingState
+    prev : LogDensity
         The state that predicts the new one (its ``log_f`` continues linearly beyond its
-        mesh).
+        mesh), or a predictor of it.
     eps : float
         Inelasticity of the new state (sets the core resolution).
     efolds : float
@@ -151,9 +170,9 @@ def check_frontier(alpha: float, gamma: float) -> None:
         raise UnsupportedModelError(
             f"the FEM cooling state of the kernel |g|^{gamma:g} is available for "
             f"alpha <= {1.0 - QUASI_FRONTIER:g} (eps >= {QUASI_FRONTIER:g}), got alpha = "
-            f"{alpha}: below, the continuation on meshes that follow the humps (variance "
-            "~eps) does not converge; the state is two Gaussian humps at c = +-sqrt(1 - eps) "
-            "with zeta = 2 eps + eps^2 to O(eps^3)")
+            f"{alpha}: below, the valley between the humps (ln f ~ -0.373/eps) underflows "
+            "and Newton's method on ln f does not converge; the state is two Gaussian humps "
+            "of variance ~eps at c = +-sqrt(1 - eps) with zeta = 2 eps + eps^2 to O(eps^3)")
 
 
 def quasi_elastic_chain(start: CoolingState, eps_start: float, alpha: float, *,
