@@ -8,11 +8,11 @@ this working tree), asked alternately state by state: ``kf.solve_heated``'s path
 the yardstick (10 LU of 1000 x 1000, single-threaded BLAS) in the same worker, mean of
 the yardsticks before and after the sweep.  With ``--errors`` also T, a2 and f(c)
 against P2 at half the default spacing (the before tree's code), as in
-``bench_fem_heated_speed.py --compare``.  A control model (``--control``, an index of
+``bench_fem_heated_speed.py --compare``.  Control models (``--control``, indices of
 ``bench_fem_heated_speed.MODELS``) can run alongside.
 
     python benchmarks/bench_saturating_speed.py --before 0761ab0 [--after tree]
-        [--points 12] [--repeat 2] [--errors] [--control 2]
+        [--points 12] [--repeat 2] [--errors] [--control 0 1 3]
 
 Prints a markdown table (no file written).
 """
@@ -94,7 +94,8 @@ def main() -> None:
     parser.add_argument("--points", type=int, default=12, help="alphas over [0, 0.99]")
     parser.add_argument("--repeat", type=int, default=2, help="best of this many per state")
     parser.add_argument("--errors", action="store_true", help="errors against P2 at h/2")
-    parser.add_argument("--control", type=int, default=None, help="also this MODELS index")
+    parser.add_argument("--control", type=int, nargs="*", default=[],
+                        help="also these MODELS indices")
     args = parser.parse_args()
     workers = (Worker(_tree(args.before)), Worker(_tree(args.after)))
     alphas = [round(float(a), 6) for a in np.linspace(0.0, 0.99, args.points)]
@@ -105,7 +106,7 @@ def main() -> None:
            "before / after | yardstick CPU s before / after |",
            "|---|---|---|---|---|---|---|---|---|---|---|"]
     print("\n".join(out), flush=True)
-    models = [SATURATING] + ([args.control] if args.control is not None else [])
+    models = [SATURATING, *args.control]
     for model in models:
         rows = run(model, alphas, workers, args.repeat, args.errors)
         print("\n".join(rows), flush=True)
