@@ -73,8 +73,9 @@ def run(model: int, alphas: list[float], workers: tuple[Worker, Worker], repeat:
     units.append(np.array([w.ask("yardstick") for w in workers]))
     unit = 0.5 * (units[0] + units[1])
     mean = cpu.mean(axis=1) / unit
+    raw = cpu.mean(axis=1)
     rows = [f"| {MODELS[model][0]} | {mean[0]:.3f} | {mean[1]:.3f} | "
-            f"{mean[0] / mean[1]:.2f} | {cpu[1].max() / unit[1]:.2f} | "
+            f"{mean[0] / mean[1]:.2f} | {raw[0] / raw[1]:.2f} | {cpu[1].max() / unit[1]:.2f} | "
             f"{nodes[0].min()}-{nodes[0].max()} | {nodes[1].min()}-{nodes[1].max()} | "
             + (f"{err[0, :, 0].max():.1e} / {err[1, :, 0].max():.1e} | "
                f"{err[0, :, 1].max():.1e} / {err[1, :, 1].max():.1e} | "
@@ -83,7 +84,7 @@ def run(model: int, alphas: list[float], workers: tuple[Worker, Worker], repeat:
     per = " ".join(f"{a}: {c0 / unit[0]:.2f}/{c1 / unit[1]:.2f} ({n0}/{n1})"
                    for a, c0, c1, n0, n1 in zip(alphas, cpu[0], cpu[1], nodes[0], nodes[1],
                                                 strict=True))
-    rows.append(f"|  | per alpha, units before/after (nodes): {per} | | | | | | | | | |")
+    rows.append(f"|  | per alpha, units before/after (nodes): {per} | | | | | | | | | | |")
     return rows
 
 
@@ -101,10 +102,11 @@ def main() -> None:
     alphas = [round(float(a), 6) for a in np.linspace(0.0, 0.99, args.points)]
     out = [f"before {args.before}, after {args.after}; load average at the start "
            f"{os.getloadavg()[0]:.1f}\n",
-           "| model | before units | after units | ratio | worst after, units | nodes before "
+           "| model | before units | after units | ratio (units) | ratio (CPU s) | worst after, "
+           "units | nodes before "
            "| nodes after | max dT/T before / after | max da2 before / after | max df/f "
            "before / after | yardstick CPU s before / after |",
-           "|---|---|---|---|---|---|---|---|---|---|---|"]
+           "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     print("\n".join(out), flush=True)
     models = [SATURATING, *args.control]
     for model in models:
