@@ -21,15 +21,91 @@ else (temperature estimates, cut-offs, mesh grading, time steps, the reduction t
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+from scipy.special import dawsn, expi
 
 from .kernel_base import FAMILY_SATURATING, CollisionKernel
 from .validation import check_real
 
-__all__ = ["SaturatingKernel"]
+__all__ = ["SaturatingKernel", "pole_moment"]
+
+POLE_SPLIT = 1.0
+""":func:`pole_moment` by its closed form for ``c <= POLE_SPLIT``, by the fixed Gauss
+rule beyond (the pole at ``-c`` is then at least this far from the interval)."""
+POLE_TOP = 7.0
+"""Upper end of the Gauss rule of :func:`pole_moment` (:math:`e^{-49}\\,7^5` is 8e-18 of
+the integral)."""
+MAX_CLOSED_POWER = 4
+"""Integer powers ``p`` in ``[0, MAX_CLOSED_POWER]`` of :meth:`SaturatingKernel.gaussian_mean`
+in closed form; other powers by the base class' adaptive quadrature."""
+SERIES_TOP = 0.5
+"""``s = sqrt(|v|/g0)`` below which :meth:`SaturatingKernel.wkb_action` sums the series
+(above, the closed form loses at most a factor 7 to cancellation)."""
+
+
+@lru_cache(maxsize=1)
+def _pole_rule() -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Composite Gauss-Legendre rule on ``[0, POLE_TOP]``: 4 panels of 24 points."""
+    nodes, weights = np.polynomial.legendre.leggauss(24)
+    edges = np.linspace(0.0, POLE_TOP, 5)
+    half = 0.5 * np.diff(edges)
+    mid = 0.5 * (edges[1:] + edges[:-1])
+    x = (mid[:, None] + half[:, None] * nodes[None, :]).ravel()
+    w = (half[:, None] * weights[None, :]).ravel()
+    return x, w * np.exp(-x * x)
+
+
+@lru_cache(maxsize=1)
+def _series_coefficients() -> NDArray[np.float64]:
+    """:math:`2\\binom{-1/2}{k}/(2k+3)`, the series of :math:`s\\sqrt{1+s^2} -
+    \\operatorname{asinh} s = \\sum_k a_k s^{2k+3}` (to 1e-18 at ``s = SERIES_TOP``)."""
+    binom = np.cumprod(np.concatenate([[1.0], -(np.arange(1, 32) - 0.5) / np.arange(1, 32)]))
+    return 2.0 * binom / (2.0 * np.arange(32) + 3.0)
+
+
+def pole_moment(n: int, c: float) -> float:
+    """:math:`R_n(c) = \\int_0^\\infty x^n e^{-x^2}/(x + c)\\,dx` for ``n >= 1``, ``c > 0``.
+
+    For ``c <= POLE_SPLIT`` the division :math:`x^n/(x+c) = \\sum_{k<n}(-c)^{n-1-k}x^k +
+    (-c)^n/(x+c)` leaves the moments :math:`\\int_0^\\infty x^k e^{-x^2} =
+    \\Gamma(\\tfrac{k+1}2)/2` and :math:`J(c) = \\int_0^\\infty e^{-x^2}/(x+c)\\,dx =
+    \\sqrt\\pi F(c) - \\tfrac12 e^{-c^2}\\operatorname{Ei}(c^2)` (:math:`F` Dawson's
+    integral); the terms are at most 4.1 times the sum there (``n <= 5``).  Beyond, where
+    the pole at :math:`-c` is at least ``POLE_SPLIT`` from the interval, a fixed
+    composite Gauss-Legendre rule on ``[0, POLE_TOP]`` (96 points).  Relative accuracy
+    <= 2e-15 against 30-digit quadrature for ``n`` in 1..5 and ``c`` in [1e-8, 1e7]
+    (``tests/kinetic_fem/model/test_kernel_saturating.py``).
+
+    Parameters
+    ----------
+    n : int
+        Power of :math:`x`, >= 1.
+    c : float
+        Distance of the pole from 0, > 0.
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> round(pole_moment(1, 1e-15), 12)   # c -> 0: sqrt(pi)/2, less c ln(1/c)
+    0.886226925453
+    """
+    if c > POLE_SPLIT:
+        x, w = _pole_rule()
+        return float(np.dot(w, x**n / (x + c)))
+    c2 = c * c
+    total = (-c) ** n * (math.sqrt(math.pi) * float(dawsn(c))
+                         - 0.5 * math.exp(-c2) * float(expi(c2)))
+    for k in range(n):
+        total += (-c) ** (n - 1 - k) * 0.5 * math.gamma(0.5 * (k + 1))
+    return total
 
 
 @dataclass(frozen=True)
@@ -101,6 +177,94 @@ class SaturatingKernel(CollisionKernel):
     def scale_degree(self) -> float:
         """1: :math:`B(ug) = u\\,B_{g_0/u}(g)`, hard rods at small speeds."""
         return 1.0
+
+    def gaussian_mean(self, temperature: float, power: float = 0.0) -> float:
+        """:math:`\\langle B(g)|g|^p\\rangle` over two Gaussians of variance :math:`T`.
+
+        With :math:`x = |g|/(2\\sqrt T)` and :math:`c = g_0/(2\\sqrt T)`,
+        :math:`B(g)|g|^p = g_0 (2\\sqrt T)^p x^{p+1}/(x + c)`, so the mean is
+        :math:`\\tfrac{2}{\\sqrt\\pi} g_0 (2\\sqrt T)^p R_{p+1}(c)`
+        (:func:`pole_moment`) for integer ``p`` in ``[0, MAX_CLOSED_POWER]``: about 100
+        times faster than the adaptive quadrature of the base class (used for other
+        powers), and more accurate.
+
+        Parameters
+        ----------
+        temperature : float
+            Variance :math:`T` of each velocity, > 0.
+        power : float
+            :math:`p \\ge 0`.
+
+        Returns
+        -------
+        float
+
+        Examples
+        --------
+        >>> k = SaturatingKernel(1e9)            # hard rods: <|g|^3> = 8 / sqrt(pi)
+        >>> round(k.gaussian_mean(1.0, 2.0) * math.sqrt(math.pi), 6)
+        8.0
+        """
+        if not (float(power).is_integer() and 0 <= power <= MAX_CLOSED_POWER):
+            return super().gaussian_average(temperature, None, power)
+        scale = 2.0 * math.sqrt(temperature)
+        moment = pole_moment(int(power) + 1, self.g0 / scale)
+        return 2.0 / math.sqrt(math.pi) * self.g0 * scale**power * moment
+
+    def gaussian_average(self, temperature: float, weight: Callable[[float], float] | None,
+                         power: float = 0.0, breaks: Sequence[float] = ()) -> float:
+        """:math:`\\langle w(g) B(g) |g|^p\\rangle` (:meth:`CollisionKernel.gaussian_average`;
+        without a weight :meth:`gaussian_mean`).
+
+        Parameters
+        ----------
+        temperature : float
+            Variance :math:`T` of each velocity, > 0.
+        weight : callable or None
+            :math:`w(g)`; ``None``: 1.
+        power : float
+            :math:`p \\ge 0`.
+        breaks : sequence of float
+            Relative speeds where :math:`w` has a kink or jump.
+
+        Returns
+        -------
+        float
+        """
+        if weight is None:
+            return self.gaussian_mean(temperature, power)
+        return super().gaussian_average(temperature, weight, power, breaks)
+
+    def wkb_action(self, v: ArrayLike) -> NDArray[np.float64]:
+        """:math:`S(v) = \\int_0^{|v|}\\sqrt{B} = g_0^{3/2}\\,(s\\sqrt{1+s^2} -
+        \\operatorname{asinh} s)`, :math:`s = \\sqrt{|v|/g_0}`
+        (:meth:`CollisionKernel.wkb_action`, in closed form; by its series
+        :math:`\\tfrac23 s^3 - \\tfrac15 s^5 + \\dots` below ``s = SERIES_TOP``).
+
+        Parameters
+        ----------
+        v : array_like
+            Velocities.
+
+        Returns
+        -------
+        ndarray
+            :math:`S(|v|)`, the shape of ``v``.
+
+        Examples
+        --------
+        >>> k = SaturatingKernel(1.0)
+        >>> float(np.round(k.wkb_action(3.0), 12))   # sqrt(12) - asinh(sqrt(3))
+        2.147143718213
+        """
+        s = np.sqrt(np.abs(np.asarray(v, dtype=float)) / self.g0)
+        s2 = s * s
+        closed = s * np.sqrt(1.0 + s2) - np.arcsinh(s)
+        series = np.zeros_like(s)
+        for a in _series_coefficients()[::-1]:
+            series = series * s2 + a
+        series *= s2 * s
+        return self.g0 ** 1.5 * np.where(s < SERIES_TOP, series, closed)
 
     def rescaled(self, u: float) -> SaturatingKernel:
         """:math:`B(ug)/u`, the saturating kernel with :math:`g_0/u`.

@@ -44,6 +44,7 @@ from ..model import CollisionKernel, HeatedProblem, PowerLawKernel, RestitutionL
 from ..model.scales import heated_cutoff, quasi_elastic_cutoff, quasi_elastic_log_density
 from ..model.scales import tail_action as model_tail_action
 from .fem_grading import graded_vertices
+from .fem_start import start_exponent
 
 __all__ = ["default_cutoff", "default_spacing", "ScaledModel", "scaled_model",
            "tail_action", "tail_exponent", "gain_margin", "initial_log_density",
@@ -284,11 +285,10 @@ def tail_action(v: float, gamma: float | CollisionKernel, friction: float) -> fl
 
 def initial_log_density(v: NDArray[np.float64], model: ScaledModel) -> NDArray[np.float64]:
     """A starting :math:`\\ln P`: the Gaussian at the model's temperature in the bulk,
-    the tail :math:`-S(|v|)` where that decays more slowly (exponential tails of soft
-    kernels lie far above the Gaussian), for soft kernels from alpha =
-    :data:`QUASI_ELASTIC_START` on at most the quasi-elastic profile
-    (:func:`kinetic_fem.model.scales.quasi_elastic_log_density`), normalised on a fine
-    trapezoid grid.
+    the tail :math:`-S(|v|)` where that decays more slowly, for soft kernels under white
+    noise continued from the Gaussian (:func:`~kinetic_fem.solvers.fem_start.start_exponent`),
+    from alpha = :data:`QUASI_ELASTIC_START` at most the quasi-elastic profile
+    (:func:`kinetic_fem.model.scales.quasi_elastic_log_density`), normalised (trapezoid).
 
     Parameters
     ----------
@@ -312,7 +312,7 @@ def initial_log_density(v: NDArray[np.float64], model: ScaledModel) -> NDArray[n
         rate = 0.5 * (xi * fine + np.sqrt((xi * fine) ** 2 + 4.0 * model.kernel.rate(fine)))
         action = np.concatenate([[0.0], np.cumsum(0.5 * (rate[1:] + rate[:-1])
                                                   * np.diff(fine))])
-    log_p = -np.minimum(0.5 * fine**2 / model.temperature, action)
+    log_p = -start_exponent(0.5 * fine**2 / model.temperature, action, model)
     if model.friction == 0.0 and model.law.constant is not None and \
             model.kernel.tail_growth[1] < 1.0 and model.alpha >= QUASI_ELASTIC_START:
         # near elastic collisions: at most the quasi-elastic profile (lighter than the
