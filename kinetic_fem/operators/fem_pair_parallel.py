@@ -39,8 +39,8 @@ from .._jit import jit
 from ..model.restitution import CONSTANT, VISCOELASTIC
 from .fem_kernels import collision_operator
 from .fem_pair_breaks import GRADING_LEVELS, kernel_graded
-from .fem_pair_fast import collision_constant, finish_collision
-from .fem_pair_sums import pass_columns
+from .fem_pair_fast import collision_constant, finish_collision, pair_sweep
+from .fem_pair_sums import visited_points, work_arrays
 
 # numba caches this module's kernels with kernel_rate compiled in: edit this file too when
 # kernel_rate changes (a stale cache keeps the old rule; gamma = 1/2 by sqrt since issue 16)
@@ -215,25 +215,13 @@ def collision_constant_parallel(verts: np.ndarray, dofs: np.ndarray, coef: np.nd
     n_ref = ref_x.size
     moments = energy_power >= 0
     n_val = 2 * k + (3 if moments else 1) * n_ref
-    res = np.zeros(n_dof)
-    jac = np.zeros((n_dof, n_dof)) if with_jacobian else np.zeros((1, 1))
-    bq = np.zeros(n_dof) if with_jacobian else np.zeros(1)
-    cy = np.zeros(n_dof) if with_jacobian else np.zeros(1)
-    jac_x = np.zeros((n_dof, n_dof)) if with_jacobian else np.zeros((1, 1))
+    res, jac, bq, cy, jac_x = work_arrays(n_dof, with_jacobian)
     threads = max(1, min(threads, dofs.shape[0]))
     first, owner, runs = _owners(dofs, n_dof, threads)
     n_buf = 3 * verts.size + 3  # merge_breaks' buffer; without preimages of x: 2 nv + 1
     n_max = 2 * verts.size + 2 * (GRADING_LEVELS + 1)
-    visit = np.empty(xq.size, dtype=np.int64)
-    n_visit = 0
-    for q in range(xq.size):
-        x = xq[q]
-        if mirror is not None and x <= 0.0:
-            if x == 0.0:
-                raise ValueError("mirror needs outer points off v = 0 (a vertex at 0)")
-            continue
-        visit[n_visit] = q
-        n_visit += 1
+    visit = visited_points(xq, mirror)
+    n_visit = visit.size
     chunk = max(1, min(n_visit, chunk_values // (n_max * n_val)))
     ids = np.empty((chunk, n_max, 2), dtype=np.int64)
     vals = np.empty((chunk, n_max, n_val))
@@ -248,10 +236,10 @@ def collision_constant_parallel(verts: np.ndarray, dofs: np.ndarray, coef: np.nd
         m = min(chunk, n_visit - begin)
         todo = visit[begin:begin + m]
         for p in numba.prange(threads):
-            pass_columns(p, todo, m, verts, dofs, coef, xq, wq, eq, ref_x, ref_w, alpha,
-                         density, with_jacobian, energy_power, gamma, graded, first, owner,
-                         runs, bufs[p], starts[p], lengths[p], scratch[p], n_p, phq, ids,
-                         vals, jac, cy)
+            pair_sweep(todo, m, verts, dofs, coef, xq, wq, eq, ref_x, ref_w, alpha, density,
+                       with_jacobian, energy_power, gamma, graded, p, first, owner, runs,
+                       bufs[p], starts[p], lengths[p], scratch[p], n_p, phq, ids, vals, res,
+                       jac, bq, cy, jac_x, chains)
         for p in numba.prange(threads):
             _pass_rows(p, todo, m, dofs, eq, n_ref, with_jacobian, moments, first, owner,
                        runs, n_p, phq, ids, vals, res, bq, jac_x, chains)
