@@ -7,7 +7,8 @@ residual, the Jacobian and the moments receives the same terms in the same order
 
 How.  The elements are split into one block per thread; a thread *owns* the dofs of its
 block (a vertex shared by two blocks belongs to the lower one).  The outer points are
-taken in chunks, and each chunk in two parallel passes:
+taken in chunks, and each chunk in two parallel passes (pass 2 of a chunk runs with pass 1
+of the next, so that the threads meet once per chunk):
 
 1. Each thread visits, for every outer point of the chunk in order, the inner pieces whose
    :math:`y` lies in its block (and the first element past it, for the shared vertex),
@@ -44,8 +45,8 @@ from .fem_pair_sums import visited_points, work_arrays
 
 # numba caches this module's kernels with kernel_rate compiled in: edit this file too when
 # kernel_rate changes (a stale cache keeps the old rule; gamma = 1/2 by sqrt since issue 16)
-__all__ = ["collision", "collision_constant_parallel", "parallel_enabled", "PARALLEL_ENV",
-           "CHUNK_VALUES"]
+__all__ = ["collision", "collision_constant_parallel", "parallel_enabled", "block_owners",
+           "pass_rows", "PARALLEL_ENV", "CHUNK_VALUES"]
 
 PARALLEL_ENV = "KINETIC_FEM_PARALLEL"
 """Environment variable that switches the parallel pair kernel on (``1``)."""
@@ -54,9 +55,28 @@ CHUNK_VALUES = 1 << 17
 
 
 @jit
-def _owners(dofs: np.ndarray, n_dof: int, threads: int) -> tuple[np.ndarray, np.ndarray,
-                                                                   np.ndarray]:
-    """Element blocks, the owning thread of each dof and the runs of equal owner."""
+def block_owners(dofs: np.ndarray, n_dof: int, threads: int
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Element blocks, the owning thread of each dof and the runs of one owner.
+
+    Parameters
+    ----------
+    dofs : ndarray of int, shape (n_el, k)
+        Dofs of each element (elements in the order of the vertices).
+    n_dof : int
+        Number of dofs.
+    threads : int
+        Number of blocks.
+
+    Returns
+    -------
+    first : ndarray of int, shape (threads + 1,)
+        Block ``p`` holds the elements ``first[p] <= e < first[p + 1]``.
+    owner : ndarray of int, shape (n_dof,)
+        The block of each dof (a vertex shared by two blocks: the lower).
+    runs : ndarray of int, shape (n_runs, 3)
+        ``lo, hi, owner`` of each run of consecutive dofs of one owner.
+    """
     n_el = dofs.shape[0]
     first = np.empty(threads + 1, dtype=np.int64)
     for p in range(threads + 1):
@@ -131,12 +151,37 @@ def _rows(p: int, t: int, s_lo: int, s_hi: int, full_lo: int, full_hi: int,
 
 
 @jit
-def _pass_rows(p: int, visit: np.ndarray, m: int, dofs: np.ndarray, eq: np.ndarray,
+def pass_rows(p: int, visit: np.ndarray, m: int, dofs: np.ndarray, eq: np.ndarray,
                n_ref: int, with_jacobian: bool, moments: bool, first: np.ndarray,
                owner: np.ndarray, runs: np.ndarray, n_p: np.ndarray, phq: np.ndarray,
                ids: np.ndarray, vals: np.ndarray, res: np.ndarray, bq: np.ndarray,
                jac_x: np.ndarray, chains: np.ndarray) -> None:
-    """Pass 2 for thread ``p`` over the outer points ``visit[:m]`` (module text)."""
+    """Pass 2 for thread ``p`` over the outer points ``visit[:m]`` (module text).
+
+    Parameters
+    ----------
+    p : int
+        The thread (block).
+    visit : ndarray of int
+        The chunk's outer points.
+    m : int
+        Their number.
+    dofs, eq : ndarray of int
+        Dofs of each element, element of each outer point.
+    n_ref : int
+        Reference points per piece.
+    with_jacobian, moments : bool
+        Whether ``bq`` and ``jac_x``, and the moments (thread 0), are summed.
+    first, owner, runs : ndarray of int
+        As returned by :func:`block_owners`.
+    n_p, phq, ids, vals : ndarray
+        Pass 1's pieces, shape values and sums
+        (:func:`~kinetic_fem.operators.fem_pair_fast.pair_sweep`).
+    res, bq, jac_x : ndarray
+        Residual, per-point work vector and transposed x-columns (owned entries).
+    chains : ndarray, shape (2,)
+        Pair and loss moments (summed on by thread 0).
+    """
     k = dofs.shape[1]
     n_el = dofs.shape[0]
     e_lo = first[p]
@@ -217,32 +262,36 @@ def collision_constant_parallel(verts: np.ndarray, dofs: np.ndarray, coef: np.nd
     n_val = 2 * k + (3 if moments else 1) * n_ref
     res, jac, bq, cy, jac_x = work_arrays(n_dof, with_jacobian)
     threads = max(1, min(threads, dofs.shape[0]))
-    first, owner, runs = _owners(dofs, n_dof, threads)
+    first, owner, runs = block_owners(dofs, n_dof, threads)
     n_buf = 3 * verts.size + 3  # merge_breaks' buffer; without preimages of x: 2 nv + 1
     n_max = 2 * verts.size + 2 * (GRADING_LEVELS + 1)
     visit = visited_points(xq, mirror)
     n_visit = visit.size
     chunk = max(1, min(n_visit, chunk_values // (n_max * n_val)))
-    ids = np.empty((chunk, n_max, 2), dtype=np.int64)
-    vals = np.empty((chunk, n_max, n_val))
-    phq = np.empty((chunk, k))
-    n_p = np.empty(chunk, dtype=np.int64)
+    n_chunks = (n_visit + chunk - 1) // chunk
+    ids = np.empty((2, chunk, n_max, 2), dtype=np.int64)  # two chunks: pass 2 of one
+    vals = np.empty((2, chunk, n_max, n_val))  # runs with pass 1 of the next
+    phq = np.empty((2, chunk, k))
+    n_p = np.empty((2, chunk), dtype=np.int64)
     bufs = np.empty((threads, n_buf))
     starts = np.empty((threads, n_max))
     lengths = np.empty((threads, n_max))
     scratch = np.empty((threads, 3 * n_ref))
     chains = np.zeros(2)
-    for begin in range(0, n_visit, chunk):
-        m = min(chunk, n_visit - begin)
-        todo = visit[begin:begin + m]
+    for c in range(n_chunks + 1):  # one synchronisation per chunk
         for p in numba.prange(threads):
-            pair_sweep(todo, m, verts, dofs, coef, xq, wq, eq, ref_x, ref_w, alpha, density,
-                       with_jacobian, energy_power, gamma, graded, p, first, owner, runs,
-                       bufs[p], starts[p], lengths[p], scratch[p], n_p, phq, ids, vals, res,
-                       jac, bq, cy, jac_x, chains)
-        for p in numba.prange(threads):
-            _pass_rows(p, todo, m, dofs, eq, n_ref, with_jacobian, moments, first, owner,
-                       runs, n_p, phq, ids, vals, res, bq, jac_x, chains)
+            if c > 0:
+                b = (c - 1) % 2
+                done = visit[(c - 1) * chunk:min(c * chunk, n_visit)]
+                pass_rows(p, done, done.size, dofs, eq, n_ref, with_jacobian, moments, first,
+                          owner, runs, n_p[b], phq[b], ids[b], vals[b], res, bq, jac_x, chains)
+            if c < n_chunks:
+                b = c % 2
+                todo = visit[c * chunk:min((c + 1) * chunk, n_visit)]
+                pair_sweep(todo, todo.size, verts, dofs, coef, xq, wq, eq, ref_x, ref_w, alpha,
+                           density, with_jacobian, energy_power, gamma, graded, p, first,
+                           owner, runs, bufs[p], starts[p], lengths[p], scratch[p], n_p[b],
+                           phq[b], ids[b], vals[b], res, jac, bq, cy, jac_x, chains)
     return finish_collision(res, jac, jac_x, with_jacobian, chains[0], chains[1], mirror)
 
 
