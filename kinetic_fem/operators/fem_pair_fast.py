@@ -98,11 +98,15 @@ def pair_sweep(visit: np.ndarray, m: int, verts: np.ndarray, dofs: np.ndarray,
         q = visit[t]
         x = xq[q]
         ex = eq[q]
-        n, px = point_pieces(x, ex, verts, dofs, coef, a, b, scale, graded, buf, starts,
-                             lengths, phx)
+        if serial:
+            n, px = point_pieces(x, ex, verts, dofs, coef, a, b, scale, graded, buf, starts,
+                                 lengths, phx)
+        else:
+            n, px = point_pieces(x, ex, verts, dofs, coef, a, b, scale, graded, buf, starts,
+                                 lengths, phx, e_lo, e_hi)
         if p == 0:
-            n_p[t] = n
             phq[t, :k] = phx
+        kept = 0
         c_total = 0.0
         if with_jacobian:
             if serial:
@@ -112,7 +116,7 @@ def pair_sweep(visit: np.ndarray, m: int, verts: np.ndarray, dofs: np.ndarray,
                 for r in range(runs.shape[0]):
                     if runs[r, 2] == p:
                         cy[runs[r, 0]:runs[r, 1]] = 0.0
-        ey = 0
+        ey = e_lo
         e1 = 0
         for s in range(n):
             y0 = starts[s]
@@ -216,16 +220,17 @@ def pair_sweep(visit: np.ndarray, m: int, verts: np.ndarray, dofs: np.ndarray,
                         bq[j1] -= z1
                         bq[j2] -= z2
                 elif store:
-                    ids[t, s, 0] = e1
-                    ids[t, s, 1] = ey
-                    vals[t, s, 0] = s0
-                    vals[t, s, 1] = s1
-                    vals[t, s, 2] = s2
-                    vals[t, s, 3] = z0
-                    vals[t, s, 4] = z1
-                    vals[t, s, 5] = z2
+                    kept += 1
+                    ids[t, p, s, 0] = e1
+                    ids[t, p, s, 1] = ey
+                    vals[t, p, s, 0] = s0
+                    vals[t, p, s, 1] = s1
+                    vals[t, p, s, 2] = s2
+                    vals[t, p, s, 3] = z0
+                    vals[t, p, s, 4] = z1
+                    vals[t, p, s, 5] = z2
                     for r in range(n_terms):
-                        vals[t, s, 6 + r] = terms[r]
+                        vals[t, p, s, 6 + r] = terms[r]
                 if with_jacobian:  # by (owned) column: x' rows, then y rows
                     if serial or owner[j0] == p:
                         cy[j0] += z0
@@ -367,18 +372,19 @@ def pair_sweep(visit: np.ndarray, m: int, verts: np.ndarray, dofs: np.ndarray,
                         bq[j2] -= z2
                         bq[j3] -= z3
                 elif store:
-                    ids[t, s, 0] = e1
-                    ids[t, s, 1] = ey
-                    vals[t, s, 0] = s0
-                    vals[t, s, 1] = s1
-                    vals[t, s, 2] = s2
-                    vals[t, s, 3] = s3
-                    vals[t, s, 4] = z0
-                    vals[t, s, 5] = z1
-                    vals[t, s, 6] = z2
-                    vals[t, s, 7] = z3
+                    kept += 1
+                    ids[t, p, s, 0] = e1
+                    ids[t, p, s, 1] = ey
+                    vals[t, p, s, 0] = s0
+                    vals[t, p, s, 1] = s1
+                    vals[t, p, s, 2] = s2
+                    vals[t, p, s, 3] = s3
+                    vals[t, p, s, 4] = z0
+                    vals[t, p, s, 5] = z1
+                    vals[t, p, s, 6] = z2
+                    vals[t, p, s, 7] = z3
                     for r in range(n_terms):
-                        vals[t, s, 8 + r] = terms[r]
+                        vals[t, p, s, 8 + r] = terms[r]
                 if with_jacobian:  # by (owned) column: x' rows, then y rows
                     if serial or owner[j0] == p:
                         cy[j0] += z0
@@ -425,6 +431,7 @@ def pair_sweep(visit: np.ndarray, m: int, verts: np.ndarray, dofs: np.ndarray,
                         jac[j2, j3] -= l23
                         jac[j3, j3] -= l33
         if not serial:  # the -phi_i(x) rows depend on u through P(y): owned columns
+            n_p[t, p] = kept
             if with_jacobian:
                 for i in range(k):
                     dix = dofs[ex, i]
@@ -472,7 +479,7 @@ def collision_constant(verts: np.ndarray, dofs: np.ndarray, coef: np.ndarray, xq
     chains = np.zeros(2)
     pair_sweep(visit, visit.size, verts, dofs, coef, xq, wq, eq, ref_x, ref_w, alpha, density,
                with_jacobian, energy_power, gamma, graded, -1, none, none, runs, buf,
-               starts, lengths, np.empty(3 * ref_x.size), none, np.zeros((1, 1)),
-               np.zeros((1, 1, 2), dtype=np.int64), np.zeros((1, 1, 1)), res, jac, bq, cy,
-               jac_x, chains)
+               starts, lengths, np.empty(3 * ref_x.size), np.zeros((1, 1), dtype=np.int64),
+               np.zeros((1, 1)), np.zeros((1, 1, 1, 2), dtype=np.int64),
+               np.zeros((1, 1, 1, 1)), res, jac, bq, cy, jac_x, chains)
     return finish_collision(res, jac, jac_x, with_jacobian, chains[0], chains[1], mirror)

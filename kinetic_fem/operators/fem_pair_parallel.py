@@ -105,13 +105,13 @@ def block_owners(dofs: np.ndarray, n_dof: int, threads: int
 
 
 @jit
-def _span(ids: np.ndarray, t: int, n: int, col: int, e: int) -> int:
-    """The first piece of outer point ``t`` whose element ``ids[t, s, col] >= e``."""
+def _span(ids: np.ndarray, t: int, g: int, n: int, col: int, e: int) -> int:
+    """The first piece of block ``g`` of outer point ``t`` with ``ids[t, g, s, col] >= e``."""
     lo = 0
     hi = n
     while lo < hi:
         mid = (lo + hi) // 2
-        if ids[t, mid, col] < e:
+        if ids[t, g, mid, col] < e:
             lo = mid + 1
         else:
             hi = mid
@@ -119,35 +119,36 @@ def _span(ids: np.ndarray, t: int, n: int, col: int, e: int) -> int:
 
 
 @jit(inline="always")
-def _rows(p: int, t: int, s_lo: int, s_hi: int, full_lo: int, full_hi: int,
+def _rows(p: int, t: int, g: int, s_lo: int, s_hi: int, full_lo: int, full_hi: int,
           dofs: np.ndarray, owner: np.ndarray, ids: np.ndarray, vals: np.ndarray,
           with_jacobian: bool, res: np.ndarray, bq: np.ndarray) -> None:
-    """The pieces ``s_lo <= s < s_hi`` of outer point ``t`` into the owned residual (and
+    """The pieces ``s_lo <= s < s_hi`` of block ``g`` of outer point ``t`` into the owned
+    residual (and
     ``bq``) entries, in the serial order (no ownership test on the block's inner
     elements ``full_lo ... full_hi``)."""
     k = dofs.shape[1]
     for s in range(s_lo, s_hi):
-        e1 = ids[t, s, 0]
-        ey = ids[t, s, 1]
+        e1 = ids[t, g, s, 0]
+        ey = ids[t, g, s, 1]
         all1 = full_lo <= e1 <= full_hi
         ally = full_lo <= ey <= full_hi
         for i in range(k):
             d = dofs[e1, i]
             if all1 or owner[d] == p:
-                res[d] += 2.0 * vals[t, s, i]
+                res[d] += 2.0 * vals[t, g, s, i]
         for i in range(k):
             d = dofs[ey, i]
             if ally or owner[d] == p:
-                res[d] -= vals[t, s, k + i]
+                res[d] -= vals[t, g, s, k + i]
         if with_jacobian:
             for i in range(k):
                 d = dofs[e1, i]
                 if all1 or owner[d] == p:
-                    bq[d] += 2.0 * vals[t, s, i]
+                    bq[d] += 2.0 * vals[t, g, s, i]
             for i in range(k):
                 d = dofs[ey, i]
                 if ally or owner[d] == p:
-                    bq[d] -= vals[t, s, k + i]
+                    bq[d] -= vals[t, g, s, k + i]
 
 
 @jit
@@ -189,30 +190,33 @@ def pass_rows(p: int, visit: np.ndarray, m: int, dofs: np.ndarray, eq: np.ndarra
     full_lo = e_lo + 1 if p > 0 else e_lo  # the elements all of whose dofs are owned
     full_hi = first[p + 1] - 1
     for t in range(m):
-        n = n_p[t]
         ex = eq[visit[t]]
         if with_jacobian:
             for r in range(runs.shape[0]):
                 if runs[r, 2] == p:
                     bq[runs[r, 0]:runs[r, 1]] = 0.0
-        # the pieces that reach an owned dof through x' or y: two spans (ids ascend)
-        a0 = _span(ids, t, n, 0, e_lo)
-        a1 = _span(ids, t, n, 0, e_hi + 1)
-        b0 = _span(ids, t, n, 1, e_lo)
-        b1 = _span(ids, t, n, 1, e_hi + 1)
-        if a0 > b0:
-            a0, a1, b0, b1 = b0, b1, a0, a1
-        _rows(p, t, a0, a1, full_lo, full_hi, dofs, owner, ids, vals, with_jacobian, res, bq)
-        _rows(p, t, max(a1, b0), b1, full_lo, full_hi, dofs, owner, ids, vals, with_jacobian,
-              res, bq)
+        # the pieces that reach an owned dof through x' or y: two spans per block
+        for g in range(n_p.shape[1]):
+            n = n_p[t, g]
+            a0 = _span(ids, t, g, n, 0, e_lo)
+            a1 = _span(ids, t, g, n, 0, e_hi + 1)
+            b0 = _span(ids, t, g, n, 1, e_lo)
+            b1 = _span(ids, t, g, n, 1, e_hi + 1)
+            if a0 > b0:
+                a0, a1, b0, b1 = b0, b1, a0, a1
+            _rows(p, t, g, a0, a1, full_lo, full_hi, dofs, owner, ids, vals, with_jacobian,
+                  res, bq)
+            _rows(p, t, g, max(a1, b0), b1, full_lo, full_hi, dofs, owner, ids, vals,
+                  with_jacobian, res, bq)
         mine = False
         for i in range(k):
             mine = mine or owner[dofs[ex, i]] == p
         if mine:
             c_total = 0.0
-            for s in range(n):
-                for r in range(n_ref):
-                    c_total += vals[t, s, 2 * k + r]
+            for g in range(n_p.shape[1]):
+                for s in range(n_p[t, g]):
+                    for r in range(n_ref):
+                        c_total += vals[t, g, s, 2 * k + r]
             for i in range(k):
                 d = dofs[ex, i]
                 if owner[d] == p:
@@ -227,10 +231,11 @@ def pass_rows(p: int, visit: np.ndarray, m: int, dofs: np.ndarray, eq: np.ndarra
                         for row in range(runs[r, 0], runs[r, 1]):
                             jac_x[djx, row] += bq[row] * phq[t, j]
         if moments and p == 0:
-            for s in range(n):
-                for r in range(n_ref):
-                    chains[0] += vals[t, s, 2 * k + n_ref + r]
-                    chains[1] += vals[t, s, 2 * k + 2 * n_ref + r]
+            for g in range(n_p.shape[1]):
+                for s in range(n_p[t, g]):
+                    for r in range(n_ref):
+                        chains[0] += vals[t, g, s, 2 * k + n_ref + r]
+                        chains[1] += vals[t, g, s, 2 * k + 2 * n_ref + r]
 
 
 @jit(parallel=True)
@@ -267,12 +272,13 @@ def collision_constant_parallel(verts: np.ndarray, dofs: np.ndarray, coef: np.nd
     n_max = 2 * verts.size + 2 * (GRADING_LEVELS + 1)
     visit = visited_points(xq, mirror)
     n_visit = visit.size
-    chunk = max(1, min(n_visit, chunk_values // (n_max * n_val)))
+    chunk = max(1, min(n_visit, chunk_values // (threads * n_max * n_val)))
     n_chunks = (n_visit + chunk - 1) // chunk
-    ids = np.empty((2, chunk, n_max, 2), dtype=np.int64)  # two chunks: pass 2 of one
-    vals = np.empty((2, chunk, n_max, n_val))  # runs with pass 1 of the next
+    # per outer point and block; two chunks: pass 2 of one runs with pass 1 of the next
+    ids = np.empty((2, chunk, threads, n_max, 2), dtype=np.int64)
+    vals = np.empty((2, chunk, threads, n_max, n_val))
     phq = np.empty((2, chunk, k))
-    n_p = np.empty((2, chunk), dtype=np.int64)
+    n_p = np.empty((2, chunk, threads), dtype=np.int64)
     bufs = np.empty((threads, n_buf))
     starts = np.empty((threads, n_max))
     lengths = np.empty((threads, n_max))

@@ -14,8 +14,8 @@ import numpy as np
 from .._jit import jit
 from .fem_pair_breaks import merge_breaks, pieces
 
-__all__ = ["locate", "point_pieces", "close_point", "finish_collision", "visited_points",
-           "work_arrays"]
+__all__ = ["locate", "breaks_between", "point_pieces", "close_point", "finish_collision",
+           "visited_points", "work_arrays"]
 
 
 @jit
@@ -84,10 +84,64 @@ def work_arrays(n_dof: int, with_jacobian: bool
 
 
 @jit
+def breaks_between(verts: np.ndarray, x: float, a: float, b: float, v_lo: int, v_hi: int,
+                   buf: np.ndarray) -> int:
+    """The breaks of :func:`~kinetic_fem.operators.fem_pair_breaks.merge_breaks` (without
+    the second preimages) from ``verts[v_lo]`` to ``verts[v_hi]``: the same values in the
+    same order, found without merging the rest; returns their count.
+
+    Parameters
+    ----------
+    verts : ndarray
+        Sorted vertices.
+    x, a, b : float
+        The outer point and :math:`x' = a x + b y`.
+    v_lo, v_hi : int
+        The vertices that bound the range.
+    buf : ndarray
+        Out: the breaks.
+    """
+    y_lo = verts[v_lo]
+    y_hi = verts[v_hi]
+    lo = verts[0]
+    hi = verts[-1]
+    nv = verts.size
+    inf = np.inf
+    i1 = v_lo
+    i2 = 0  # the first preimage at or above y_lo (they ascend with the vertex)
+    top = nv
+    while i2 < top:
+        mid = (i2 + top) // 2
+        if (verts[mid] - a * x) / b < y_lo:
+            i2 = mid + 1
+        else:
+            top = mid
+    done4 = not x >= y_lo
+    n = 0
+    while True:
+        c1 = verts[i1] if i1 < nv else inf
+        c2 = (verts[i2] - a * x) / b if i2 < nv else inf
+        c4 = inf if done4 else x
+        m = min(min(c1, c2), min(inf, c4))
+        if m == inf or m > y_hi:
+            break
+        if m == c1:
+            i1 += 1
+        elif m == c2:
+            i2 += 1
+        else:
+            done4 = True
+        if m >= lo and m <= hi:
+            buf[n] = m
+            n += 1
+    return n
+
+
+@jit
 def point_pieces(x: float, ex: int, verts: np.ndarray, dofs: np.ndarray, coef: np.ndarray,
                  a: float, b: float, scale: float, graded: bool, buf: np.ndarray,
-                 starts: np.ndarray, lengths: np.ndarray, phx: np.ndarray
-                 ) -> tuple[int, float]:
+                 starts: np.ndarray, lengths: np.ndarray, phx: np.ndarray, e_lo: int = -1,
+                 e_hi: int = -1) -> tuple[int, float]:
     """Shape values at the outer point ``x`` (into ``phx``), :math:`P(x)` and the inner
     pieces (into ``starts``, ``lengths``); returns their number and :math:`P(x)`.
 
@@ -108,6 +162,8 @@ def point_pieces(x: float, ex: int, verts: np.ndarray, dofs: np.ndarray, coef: n
         As for :func:`~kinetic_fem.operators.fem_pair_breaks.pieces`.
     buf, starts, lengths, phx : ndarray
         Work and out arrays.
+    e_lo, e_hi : int
+        Only the pieces in the elements ``e_lo ... e_hi`` (default: all).
     """
     k = dofs.shape[1]
     tx = (x - verts[ex]) / (verts[ex + 1] - verts[ex])
@@ -124,7 +180,10 @@ def point_pieces(x: float, ex: int, verts: np.ndarray, dofs: np.ndarray, coef: n
     for j in range(k):
         ux += coef[dofs[ex, j]] * phx[j]
     px = np.exp(ux)
-    n_br = merge_breaks(verts, x, a, b, buf, False)
+    if e_lo < 0:
+        n_br = merge_breaks(verts, x, a, b, buf, False)
+    else:
+        n_br = breaks_between(verts, x, a, b, e_lo, e_hi + 1, buf)
     return pieces(buf, n_br, x, scale, graded, starts, lengths), px
 
 
