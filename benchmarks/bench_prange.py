@@ -18,6 +18,9 @@ BLAS stays single-threaded; numba gets ``--threads`` threads (default 2).
 
     python benchmarks/bench_prange.py [--quick] [--threads 2] [--repeat 5] [--rounds 3]
 
+``OMP_WAIT_POLICY`` is ``PASSIVE`` unless set (numba's OpenMP threads then sleep while they
+wait instead of spinning; see the docs).
+
 ``--quick`` (three sizes, two alphas; about a minute) writes
 ``benchmarks/results/prange_quick.md``, else ``prange.md``.
 """
@@ -29,6 +32,9 @@ import os
 for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ[_var] = "1"
 os.environ.setdefault("NUMBA_NUM_THREADS", "2")
+# OpenMP threads that spin while they wait hold a core that the other thread needs on a
+# loaded machine (measured: 2 threads 7-30x slower than serial at load 5); passive: sleep
+os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
 import argparse  # noqa: E402
 import sys  # noqa: E402
@@ -273,7 +279,8 @@ def main() -> None:
                      f"{numba.config.NUMBA_NUM_THREADS}; set NUMBA_NUM_THREADS")
     start = time.perf_counter()
     out = ["# Parallel FEM pair kernel (numba prange), issue 16\n",
-           f"numba {numba.__version__}, threading layer LAYER; {os.cpu_count()} cores; "
+           f"numba {numba.__version__}, threading layer LAYER, OMP_WAIT_POLICY="
+           f"{os.environ.get('OMP_WAIT_POLICY', '(unset)')}; {os.cpu_count()} cores; "
            f"BLAS single-threaded; load average (1/5/15 min) at the start {_load()}.  "
            f"A wall-clock speed-up on {args.threads} threads needs {args.threads} idle "
            "cores: read the rounds whose load is below about "

@@ -66,10 +66,11 @@ def pair_sweep(visit: np.ndarray, m: int, verts: np.ndarray, dofs: np.ndarray,
         ``first[p] ... first[p + 1]`` (the last for the vertex it shares); the Jacobian
         terms of the columns with ``owner == p`` (the runs ``(lo, hi, owner)``) added,
         and per piece of the elements ``first[p] <= e < first[p + 1]`` the elements of
-        :math:`x'` and :math:`y` (``ids``) and the sums :math:`\\sum c\\,\\varphi_i(x')`,
-        :math:`\\sum c\\,\\varphi_i(y)` and the chain terms (``c`` per reference point,
-        with moments the pair and the loss moment's) kept in ``vals``; thread 0 keeps
-        the pieces and shape values of each point (``n_p``, ``phq``).
+        :math:`x'` and :math:`y` (``ids[t, p, s]``) and the sums
+        :math:`\\sum c\\,\\varphi_i(x')`, :math:`\\sum c\\,\\varphi_i(y)` and the
+        chain terms (``c`` per reference point, with moments the pair and the loss
+        moment's) kept in ``vals[t, p, s]``, their number in ``n_p[t, p]``; thread 0
+        keeps the shape values of each point (``phq``).
     first, owner, runs : ndarray of int
         The element blocks, the owner of each dof, the runs of one owner.
     buf, starts, lengths, terms : ndarray

@@ -11,12 +11,13 @@ taken in chunks, and each chunk in two parallel passes (pass 2 of a chunk runs w
 of the next, so that the threads meet once per chunk):
 
 1. Each thread visits, for every outer point of the chunk in order, the inner pieces whose
-   :math:`y` lies in its block (and the first element past it, for the shared vertex),
-   forms their sums (:func:`~kinetic_fem.operators.fem_pair_sums.piece_p3`, the serial
-   kernel's arithmetic) and adds the Jacobian terms of the columns it owns (the pieces'
-   :math:`y` dofs and the rank-``k`` update of :math:`x`'s rows) at once, in the serial
-   order.  What belongs to rows of other blocks (the :math:`x'` sums, the terms of
-   :math:`\\sum c` and of the moments) is kept per piece in a buffer.
+   :math:`y` lies in its block (and the first element past it, for the shared vertex;
+   :func:`~kinetic_fem.operators.fem_pair_sums.breaks_between`), forms their sums (the
+   serial kernel's loops, :func:`~kinetic_fem.operators.fem_pair_fast.pair_sweep`) and
+   adds the Jacobian terms of the columns it owns (the pieces' :math:`y` dofs and the
+   rank-``k`` update of :math:`x`'s rows) at once, in the serial order.  What belongs
+   to rows of other blocks (the :math:`x'` sums, the terms of :math:`\\sum c` and of
+   the moments) is kept per piece in a buffer.
 2. Each thread adds the buffered sums to the residual entries it owns, outer point after
    outer point and piece after piece (the transposed :math:`P(x)` columns of the
    Jacobian with them); the first thread sums the moments.
@@ -24,7 +25,9 @@ of the next, so that the threads meet once per chunk):
 With one thread the serial kernel runs (the two passes would only add work; see
 ``benchmarks/results/prange_quick.md``).  Off by default: set the environment variable
 ``KINETIC_FEM_PARALLEL=1`` (read at each call, :func:`parallel_enabled`); numba's
-thread count (``NUMBA_NUM_THREADS`` or ``numba.set_num_threads``) sets the threads.
+thread count (``NUMBA_NUM_THREADS`` or ``numba.set_num_threads``) sets the threads, and
+``OMP_WAIT_POLICY=passive`` (or ``NUMBA_THREADING_LAYER=workqueue``) keeps OpenMP's
+waiting threads from spinning, which on a loaded machine made it many times slower.
 :func:`collision` is the entry point of
 :class:`~kinetic_fem.operators.fem_discretisation.FEMDiscretisation`.
 """
