@@ -109,7 +109,7 @@ def modelled_time(disc: FEMDiscretisation, u: np.ndarray, jac: bool, threads: in
     first, owner, runs = block_owners(dofs, u.size, threads)
     n_max = 2 * verts.size + 2 * (GRADING_LEVELS + 1)
     visit = visited_points(xq, disc.mirror)
-    chunk = max(1, min(visit.size, CHUNK_VALUES // (threads * n_max * n_val)))
+    chunk = max(1, min(visit.size, CHUNK_VALUES // (n_max * n_val)))
     n_chunks = (visit.size + chunk - 1) // chunk
     ids = np.empty((2, chunk, threads, n_max, 2), dtype=np.int64)
     vals = np.empty((2, chunk, threads, n_max, n_val))

@@ -275,7 +275,8 @@ def collision_constant_parallel(verts: np.ndarray, dofs: np.ndarray, coef: np.nd
     n_max = 2 * verts.size + 2 * (GRADING_LEVELS + 1)
     visit = visited_points(xq, mirror)
     n_visit = visit.size
-    chunk = max(1, min(n_visit, chunk_values // (threads * n_max * n_val)))
+    # a block's segment holds about its share of the n_max pieces of a point
+    chunk = max(1, min(n_visit, chunk_values // (n_max * n_val)))
     n_chunks = (n_visit + chunk - 1) // chunk
     # per outer point and block; two chunks: pass 2 of one runs with pass 1 of the next
     ids = np.empty((2, chunk, threads, n_max, 2), dtype=np.int64)
