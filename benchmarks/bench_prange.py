@@ -7,8 +7,10 @@ BLAS stays single-threaded; numba gets ``--threads`` threads (default 2).
 1. Work on one thread, in CPU seconds of the calling thread (reliable under load): the
    serial kernel, the parallel setting on one thread (it runs the serial kernel) and the
    parallel kernel's two passes forced onto one thread (its extra work: what a
-   ``--threads`` run can at best divide by ``--threads``).  P3, even sums (as in Newton),
-   residual and Jacobian, best of ``--repeat``, interleaved.
+   ``--threads`` run can at best divide by ``--threads``), and a model of the wall time on
+   ``--threads`` idle cores (each block's passes timed, the slowest block per
+   synchronisation summed).  P3, even sums (as in Newton), residual and Jacobian, best of
+   ``--repeat``, interleaved.
 2. Wall clock on ``--threads`` threads against the serial kernel, ``--rounds`` times,
    the load average printed with each round (a speed-up needs idle cores: on a loaded
    machine each of the kernel's synchronisations waits for a time slice).
@@ -16,12 +18,14 @@ BLAS stays single-threaded; numba gets ``--threads`` threads (default 2).
    thread and on ``--threads`` threads, wall clock (and CPU for the one-thread runs),
    ``--rounds`` times; same T and a2 checked.
 
-    python benchmarks/bench_prange.py [--quick] [--threads 2] [--repeat 5] [--rounds 3]
+    python benchmarks/bench_prange.py [--quick] [--threads 2] [--repeat 5] [--rounds 5]
 
 ``OMP_WAIT_POLICY`` is ``PASSIVE`` unless set (numba's OpenMP threads then sleep while they
-wait instead of spinning; see the docs).
+wait instead of spinning; see the docs); ``OMP_WAIT_POLICY=active python
+benchmarks/bench_prange.py --quick`` measures the spinning default and writes
+``prange_quick_active.md``.
 
-``--quick`` (three sizes, two alphas; about a minute) writes
+``--quick`` (three sizes, two alphas; under a minute) writes
 ``benchmarks/results/prange_quick.md``, else ``prange.md``.
 """
 
@@ -33,7 +37,7 @@ for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ[_var] = "1"
 os.environ.setdefault("NUMBA_NUM_THREADS", "2")
 # OpenMP threads that spin while they wait hold a core that the other thread needs on a
-# loaded machine (measured: 2 threads 7-30x slower than serial at load 5); passive: sleep
+# loaded machine (measured at load 5: 2 threads up to 30x slower than serial); passive: sleep
 os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
 import argparse  # noqa: E402
@@ -269,8 +273,8 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--threads", type=int, default=2, help="numba threads (default 2)")
     parser.add_argument("--repeat", type=int, default=5, help="best of this many")
-    parser.add_argument("--rounds", type=int, default=3,
-                        help="repetitions of the wall-clock comparisons (default 3)")
+    parser.add_argument("--rounds", type=int, default=5,
+                        help="repetitions of the wall-clock comparisons (default 5)")
     parser.add_argument("--quick", action="store_true",
                         help="sizes 253-1003 and alpha 0.5, 0.9 (about a minute)")
     args = parser.parse_args()
@@ -294,7 +298,9 @@ def main() -> None:
                  args.rounds, out)
     out.append(f"load average at the end {_load()}; {time.perf_counter() - start:.0f} s\n")
     print(out[-1], flush=True)
-    name = "prange_quick.md" if args.quick else "prange.md"
+    name = "prange_quick" if args.quick else "prange"
+    policy = os.environ["OMP_WAIT_POLICY"].lower()
+    name += ".md" if policy == "passive" else f"_{policy}.md"
     (ROOT / "benchmarks" / "results" / name).write_text("\n".join(out) + "\n")
 
 
