@@ -8,6 +8,7 @@ import numba
 import numpy as np
 import pytest
 
+import kinetic_fem as kf
 from kinetic_fem.model import SaturatingKernel
 from kinetic_fem.model.kernel_base import FAMILY_POWER_LAW
 from kinetic_fem.operators.fem_discretisation import FEMDiscretisation
@@ -118,3 +119,19 @@ def test_steady_state_is_bit_identical_with_the_parallel_kernel(monkeypatch):
     finally:
         numba.set_num_threads(before)
     np.testing.assert_array_equal(par.u, serial.u)
+
+
+def test_cooling_state_is_bit_identical_with_the_parallel_kernel(monkeypatch):
+    """A cooling state (its Newton asks for the pair moments too) is the same bit for
+    bit."""
+    monkeypatch.setenv(PARALLEL_ENV, "0")
+    serial = kf.solve_cooling(0.8)
+    monkeypatch.setenv(PARALLEL_ENV, "1")
+    before = numba.get_num_threads()
+    try:
+        numba.set_num_threads(THREADS[-1])
+        par = kf.solve_cooling(0.8)
+    finally:
+        numba.set_num_threads(before)
+    np.testing.assert_array_equal(par.values, serial.values)
+    assert par.a2 == serial.a2
