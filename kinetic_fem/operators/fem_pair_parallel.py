@@ -126,9 +126,8 @@ def _rows(p: int, t: int, g: int, s_lo: int, s_hi: int, full_lo: int, full_hi: i
           dofs: np.ndarray, owner: np.ndarray, ids: np.ndarray, vals: np.ndarray,
           with_jacobian: bool, res: np.ndarray, bq: np.ndarray) -> None:
     """The pieces ``s_lo <= s < s_hi`` of block ``g`` of outer point ``t`` into the owned
-    residual (and
-    ``bq``) entries, in the serial order (no ownership test on the block's inner
-    elements ``full_lo ... full_hi``)."""
+    residual (and ``bq``) entries, in the serial order (no ownership test on the block's
+    inner elements ``full_lo ... full_hi``)."""
     k = dofs.shape[1]
     for s in range(s_lo, s_hi):
         e1 = ids[t, g, s, 0]
@@ -138,20 +137,17 @@ def _rows(p: int, t: int, g: int, s_lo: int, s_hi: int, full_lo: int, full_hi: i
         for i in range(k):
             d = dofs[e1, i]
             if all1 or owner[d] == p:
-                res[d] += 2.0 * vals[t, g, s, i]
+                v = 2.0 * vals[t, g, s, i]
+                res[d] += v
+                if with_jacobian:
+                    bq[d] += v
         for i in range(k):
             d = dofs[ey, i]
             if ally or owner[d] == p:
-                res[d] -= vals[t, g, s, k + i]
-        if with_jacobian:
-            for i in range(k):
-                d = dofs[e1, i]
-                if all1 or owner[d] == p:
-                    bq[d] += 2.0 * vals[t, g, s, i]
-            for i in range(k):
-                d = dofs[ey, i]
-                if ally or owner[d] == p:
-                    bq[d] -= vals[t, g, s, k + i]
+                v = vals[t, g, s, k + i]
+                res[d] -= v
+                if with_jacobian:
+                    bq[d] -= v
 
 
 @jit
