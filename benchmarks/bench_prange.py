@@ -71,6 +71,27 @@ ALPHAS = [0.0, 0.5, 0.9, 0.99]
 QUICK_ALPHAS = [0.5, 0.9]
 
 
+def _busy() -> tuple[float, float, float]:
+    """Busy CPU seconds of the machine (``/proc/stat``, 0 where unreadable), CPU seconds of
+    this process (all threads) and the wall clock."""
+    try:
+        with open("/proc/stat") as stat:
+            ticks = [float(v) for v in stat.readline().split()[1:]]
+        machine = (sum(ticks[:8]) - ticks[3] - ticks[4]) / os.sysconf("SC_CLK_TCK")
+    except (OSError, ValueError, IndexError):
+        machine = 0.0
+    own = os.times()
+    return machine, own.user + own.system, time.perf_counter()
+
+
+def _others(since: tuple[float, float, float]) -> str:
+    """Cores the other jobs kept busy since ``since`` (:func:`_busy`)."""
+    now = _busy()
+    if now[0] == 0.0:
+        return "?"
+    return f"{max(0.0, (now[0] - since[0]) - (now[1] - since[1])) / (now[2] - since[2]):.2f}"
+
+
 def _load() -> str:
     return "/".join(f"{x:.2f}" for x in os.getloadavg())
 
@@ -203,17 +224,18 @@ def kernel_rounds(sizes: list[int], threads: int, repeat: int, rounds: int,
     """Section 2 (wall clock, ``threads`` threads)."""
     out.append(f"## 2. Kernel alone, wall ms, serial vs {threads} threads (best of "
                f"{repeat} per round)\n")
-    out.append("| round | load (1/5/15 min) | nodes | residual serial | "
+    out.append("| round | load (1/5/15 min) | other jobs (cores) | nodes | residual serial | "
                f"{threads} threads | speed-up | Jacobian serial | {threads} threads | "
                "speed-up | bit-identical |")
-    out.append("|---|---|---|---|---|---|---|---|---|---|")
+    out.append("|---|---|---|---|---|---|---|---|---|---|---|")
     discs = {n: _disc(n) for n in sizes}
     for rnd in range(1, rounds + 1):
         load = _load()
         for disc in discs.values():
             u = disc.gaussian(2.0)
-            row = [str(rnd), load, str(u.size)]
+            row = [str(rnd), load, "", str(u.size)]
             same = True
+            since = _busy()
             for jac in (False, True):
                 best = [np.inf, np.inf]
                 res = [None, None]
@@ -228,6 +250,7 @@ def kernel_rounds(sizes: list[int], threads: int, repeat: int, rounds: int,
                 same &= _same(res[0], res[1])
                 row += [f"{1e3 * best[0]:.1f}", f"{1e3 * best[1]:.1f}",
                         f"{best[0] / best[1]:.2f}"]
+            row[2] = _others(since)
             out.append("| " + " | ".join(row + ["yes" if same else "**NO**"]) + " |")
             print(out[-1], flush=True)
     out.append("")
@@ -238,10 +261,10 @@ def solve_rounds(alphas: list[float], threads: int, repeat: int, rounds: int,
     """Section 3 (whole ``kf.solve_heated`` calls)."""
     out.append(f"## 3. `kf.solve_heated(alpha)` defaults, whole call, ms (best of {repeat} "
                "per round)\n")
-    out.append("| round | load (1/5/15 min) | alpha | nodes | serial wall (CPU) | "
-               f"setting on, 1 thread: wall (CPU) | {threads} threads wall | speed-up | "
-               "same T, a2 |")
-    out.append("|---|---|---|---|---|---|---|---|---|")
+    out.append("| round | load (1/5/15 min) | other jobs (cores) | alpha | nodes | "
+               "serial wall (CPU) | setting on, 1 thread: wall (CPU) | "
+               f"{threads} threads wall | speed-up | same T, a2 |")
+    out.append("|---|---|---|---|---|---|---|---|---|---|")
     configs = ((False, 1), (True, 1), (True, threads))
     for rnd in range(1, rounds + 1):
         load = _load()
@@ -249,6 +272,7 @@ def solve_rounds(alphas: list[float], threads: int, repeat: int, rounds: int,
             wall = [np.inf] * 3
             cpu = [np.inf] * 3
             dists = [None] * 3
+            since = _busy()
             for rep in range(repeat + 1):
                 for i, (par, th) in enumerate(configs):
                     _setting(par, th)
@@ -261,7 +285,7 @@ def solve_rounds(alphas: list[float], threads: int, repeat: int, rounds: int,
                         cpu[i] = min(cpu[i], c1 - c0)
             same = all(d.temperature == dists[0].temperature and d.a2 == dists[0].a2
                        for d in dists)
-            out.append(f"| {rnd} | {load} | {alpha} | {dists[0].c.size} | "
+            out.append(f"| {rnd} | {load} | {_others(since)} | {alpha} | {dists[0].c.size} | "
                        f"{1e3 * wall[0]:.0f} ({1e3 * cpu[0]:.0f}) | "
                        f"{1e3 * wall[1]:.0f} ({1e3 * cpu[1]:.0f}) | {1e3 * wall[2]:.0f} | "
                        f"{wall[0] / wall[2]:.2f} | {'yes' if same else '**NO**'} |")
@@ -287,8 +311,8 @@ def main() -> None:
            f"{os.environ.get('OMP_WAIT_POLICY', '(unset)')}; {os.cpu_count()} cores; "
            f"BLAS single-threaded; load average (1/5/15 min) at the start {_load()}.  "
            f"A wall-clock speed-up on {args.threads} threads needs {args.threads} idle "
-           "cores: read the rounds whose load is below about "
-           f"{max(1, (os.cpu_count() or 1) - args.threads + 1)}.\n"]
+           "cores: read the rows whose *other jobs* (the cores that other processes kept "
+           "busy during the row, from /proc/stat) are near 0.\n"]
     print("\n".join(out), flush=True)
     sizes = QUICK_SIZES if args.quick else SIZES
     work_table(sizes, args.threads, args.repeat, out)
