@@ -34,6 +34,7 @@ from .fem_pair_sums import (
 
 # numba caches this module's kernels with kernel_rate compiled in: edit this file too when
 # kernel_rate changes (a stale cache keeps the old rule; gamma = 1/2 by sqrt since issue 16)
+# (and when fem_pair_sums' helpers change: numba checks only this file's time stamp)
 __all__ = ["collision_constant", "finish_collision", "pair_sweep"]
 
 

@@ -48,6 +48,7 @@ from .fem_pair_sums import visited_points, work_arrays
 
 # numba caches this module's kernels with kernel_rate compiled in: edit this file too when
 # kernel_rate changes (a stale cache keeps the old rule; gamma = 1/2 by sqrt since issue 16)
+# (and when fem_pair_fast.pair_sweep or fem_pair_sums change: numba checks only this file)
 __all__ = ["collision", "collision_constant_parallel", "parallel_enabled", "block_owners",
            "pass_rows", "PARALLEL_ENV", "CHUNK_VALUES"]
 
