@@ -43,7 +43,7 @@ from .._jit import jit
 from ..model.restitution import CONSTANT, VISCOELASTIC
 from .fem_kernels import collision_operator
 from .fem_pair_breaks import GRADING_LEVELS, kernel_graded
-from .fem_pair_fast import collision_constant, finish_collision, pair_sweep
+from .fem_pair_fast import finish_collision, pair_sweep
 from .fem_pair_sums import visited_points, work_arrays
 
 # numba caches this module's kernels with kernel_rate compiled in: edit this file too when
@@ -340,13 +340,10 @@ def collision(verts: np.ndarray, dofs: np.ndarray, order: int, coef: np.ndarray,
     if parallel and order >= 2 and code == CONSTANT and not symmetric:
         graded = bool(kernel_graded(kernel)) or code == VISCOELASTIC
         threads = numba.get_num_threads()
-        if threads > 1:
+        if threads > 1:  # one thread: the serial call below
             return collision_constant_parallel(verts, dofs, coef, xq, wq, eq, ref_x, ref_w,
                                                alpha, density, with_jacobian, energy_power,
                                                kernel, graded, threads, mirror)
-        return collision_constant(verts, dofs, coef, xq, wq, eq, ref_x, ref_w, alpha,
-                                  density, with_jacobian, energy_power, kernel, graded,
-                                  mirror)
     args = (verts, dofs, order, coef, xq, wq, eq, ref_x, ref_w, alpha, density,
             with_jacobian, energy_power, symmetric, kernel, code, p0, p1, speed_scale, b_lo)
     return collision_operator(*args, mirror) if mirror is not None else \
