@@ -9,6 +9,12 @@ follow from two affine maps, and the sums over the points (:math:`\\sum c\\,\\va
 :math:`\\varphi_j(y)`) are kept in scalars and scattered once per piece.  The per-degree
 inner loops are generated code (written out for P2 and P3, the symmetric
 :math:`\\varphi_i(y)\\varphi_j(y)` block summed once).
+
+:func:`pair_sweep` holds these loops once for the serial kernel
+(:func:`collision_constant`) and for pass 1 of the parallel kernel
+(:mod:`~kinetic_fem.operators.fem_pair_parallel`), which visits only the pieces of one
+block of elements, adds the Jacobian columns the block owns and keeps the rest per piece:
+the same arithmetic in the same order, so that the two kernels agree bit for bit.
 """
 
 from __future__ import annotations
@@ -16,131 +22,115 @@ from __future__ import annotations
 import numpy as np
 
 from .._jit import jit
-from .fem_pair_breaks import GRADING_LEVELS, kernel_rate, merge_breaks, pieces
+from .fem_pair_breaks import GRADING_LEVELS, kernel_rate
+from .fem_pair_sums import (
+    close_point,
+    finish_collision,
+    locate,
+    point_pieces,
+    visited_points,
+    work_arrays,
+)
 
 # numba caches this module's kernels with kernel_rate compiled in: edit this file too when
 # kernel_rate changes (a stale cache keeps the old rule; gamma = 1/2 by sqrt since issue 16)
-__all__ = ["collision_constant", "finish_collision"]
+# (and when fem_pair_sums' helpers change: numba checks only this file's time stamp)
+__all__ = ["collision_constant", "finish_collision", "pair_sweep"]
 
 
 @jit
-def _locate(verts: np.ndarray, e: int, x: float) -> int:
-    """Walk forward from element ``e`` to the element containing ``x``."""
-    n_el = verts.size - 1
-    while e < n_el - 1 and verts[e + 1] <= x:
-        e += 1
-    return e
-
-
-@jit
-def finish_collision(res: np.ndarray, jac: np.ndarray, jac_x: np.ndarray, with_jacobian: bool,
-                     moment: float, loss: float, mirror: np.ndarray | None
-                     ) -> tuple[np.ndarray, np.ndarray, float, float]:
-    """Add the transposed x-columns ``jac_x`` and, with ``mirror``, the mirrored half.
+def pair_sweep(visit: np.ndarray, m: int, verts: np.ndarray, dofs: np.ndarray,
+               coef: np.ndarray, xq: np.ndarray, wq: np.ndarray, eq: np.ndarray,
+               ref_x: np.ndarray, ref_w: np.ndarray, alpha: float, density: float,
+               with_jacobian: bool, energy_power: int, gamma: float, graded: bool, p: int,
+               first: np.ndarray, owner: np.ndarray, runs: np.ndarray, buf: np.ndarray,
+               starts: np.ndarray, lengths: np.ndarray, terms: np.ndarray,
+               n_p: np.ndarray, phq: np.ndarray, ids: np.ndarray, vals: np.ndarray,
+               res: np.ndarray, jac: np.ndarray, bq: np.ndarray, cy: np.ndarray,
+               jac_x: np.ndarray, chains: np.ndarray) -> None:
+    """The pair loops over the outer points ``visit[:m]``: serial (``p < 0``) or pass 1
+    of the parallel kernel for thread ``p``.
 
     Parameters
     ----------
-    res, jac, jac_x : ndarray
-        Residual, Jacobian and the transposed columns of the :math:`P(x)` dependence.
-    with_jacobian : bool
-        Whether ``jac`` and ``jac_x`` hold a Jacobian.
-    moment, loss : float
-        Pair and loss moments of the visited pairs.
-    mirror : ndarray of int, optional
-        The dof at :math:`-v` of each dof (only outer points at :math:`v > 0` visited).
-    """
-    if with_jacobian:
-        jac += jac_x.T
-    if mirror is None:
-        return res, jac, moment, loss
-    n_dof = res.size
-    full = res.copy()
-    for i in range(n_dof):
-        full[i] += res[mirror[i]]
-    if with_jacobian:
-        half = jac.copy()
-        for i in range(n_dof):
-            mi = mirror[i]
-            for j in range(n_dof):
-                jac[i, j] += half[mi, mirror[j]]
-    return full, jac, 2.0 * moment, 2.0 * loss
-
-
-@jit
-def collision_constant(verts: np.ndarray, dofs: np.ndarray, coef: np.ndarray, xq: np.ndarray,
-                       wq: np.ndarray, eq: np.ndarray, ref_x: np.ndarray, ref_w: np.ndarray,
-                       alpha: float, density: float, with_jacobian: bool, energy_power: int,
-                       gamma: float, graded: bool, mirror: np.ndarray | None
-                       ) -> tuple[np.ndarray, np.ndarray, float, float]:
-    """:func:`~kinetic_fem.operators.fem_kernels.collision_operator` for P2 or P3
-    (``dofs`` with 3 or 4 columns), a constant ``alpha``, the reduced bracket and
-    any :math:`\\gamma` (``graded``: pieces split geometrically towards :math:`y = x`, as
-    for :math:`\\gamma \\notin \\{0, 1, 2\\}`); the arguments and returns as there
-    (``energy_power < 0``: no moments).
-
-    Parameters
-    ----------
+    visit : ndarray of int
+        The outer points, in order.
+    m : int
+        Their number.
     verts, dofs, coef, xq, wq, eq, ref_x, ref_w, alpha, density, with_jacobian
         As for :func:`~kinetic_fem.operators.fem_kernels.collision_operator`.
-    energy_power, gamma, mirror
-        As there.
-    graded : bool
-        Split the pieces next to :math:`y = x` geometrically
-        (:func:`~kinetic_fem.operators.fem_pair_breaks.pieces`).
+    energy_power, gamma, graded
+        As for :func:`collision_constant`.
+    p : int
+        ``-1``: every piece, added to ``res``, ``jac``, ``jac_x``, the moments to
+        ``chains``.  Else the thread: the pieces whose :math:`y` lies in the elements
+        ``first[p] ... first[p + 1]`` (the last for the vertex it shares); the Jacobian
+        terms of the columns with ``owner == p`` (the runs ``(lo, hi, owner)``) added,
+        and per piece of the elements ``first[p] <= e < first[p + 1]`` the elements of
+        :math:`x'` and :math:`y` (``ids[t, p, s]``) and the sums
+        :math:`\\sum c\\,\\varphi_i(x')`, :math:`\\sum c\\,\\varphi_i(y)` and the
+        chain terms (``c`` per reference point, with moments the pair and the loss
+        moment's) kept in ``vals[t, p, s]``, their number in ``n_p[t, p]``; thread 0
+        keeps the shape values of each point (``phq``).
+    first, owner, runs : ndarray of int
+        The element blocks, the owner of each dof, the runs of one owner.
+    buf, starts, lengths, terms : ndarray
+        Work arrays (breaks, pieces, one piece's chain terms).
+    n_p, phq, ids, vals : ndarray
+        Out in the parallel pass (above).
+    res, jac, bq, cy, jac_x : ndarray
+        Residual, Jacobian, the per-point work vectors and the transposed x-columns.
+    chains : ndarray, shape (2,)
+        The pair and loss moments, carried on (serial).
     """
-    n_dof = coef.size
     k = dofs.shape[1]
+    serial = p < 0
     moments = energy_power >= 0
     a = 0.5 * (1.0 - alpha)
     b = 0.5 * (1.0 + alpha)
-    res = np.zeros(n_dof)
-    jac = np.zeros((n_dof, n_dof)) if with_jacobian else np.zeros((1, 1))
-    bq = np.zeros(n_dof) if with_jacobian else np.zeros(1)
-    cy = np.zeros(n_dof) if with_jacobian else np.zeros(1)
-    jac_x = np.zeros((n_dof, n_dof)) if with_jacobian else np.zeros((1, 1))
-    buf = np.empty(3 * verts.size + 3)
-    starts = np.empty(buf.size + 2 * (GRADING_LEVELS + 1))
-    lengths = np.empty(starts.size)
-    phx = np.empty(k)
     n_ref = ref_x.size
+    n_terms = (3 if moments else 1) * n_ref
     scale = verts[-1] - verts[0]
-    moment = 0.0
-    loss = 0.0
-    for q in range(xq.size):
+    e_lo = 0 if serial else first[p]
+    e_hi = dofs.shape[0] - 1 if serial else min(first[p + 1], dofs.shape[0] - 1)
+    phx = np.empty(k)
+    moment = chains[0]
+    loss = chains[1]
+    for t in range(m):
+        q = visit[t]
         x = xq[q]
-        if mirror is not None and x <= 0.0:
-            if x == 0.0:
-                raise ValueError("mirror needs outer points off v = 0 (a vertex at 0)")
-            continue
         ex = eq[q]
-        tx = (x - verts[ex]) / (verts[ex + 1] - verts[ex])
-        if k == 3:
-            phx[0] = 1.0 - 3.0 * tx + 2.0 * tx * tx
-            phx[1] = -tx + 2.0 * tx * tx
-            phx[2] = 4.0 * tx - 4.0 * tx * tx
+        if serial:
+            n, px = point_pieces(x, ex, verts, dofs, coef, a, b, scale, graded, buf, starts,
+                                 lengths, phx)
         else:
-            phx[0] = -4.5 * (tx - 1.0 / 3.0) * (tx - 2.0 / 3.0) * (tx - 1.0)
-            phx[1] = 4.5 * tx * (tx - 1.0 / 3.0) * (tx - 2.0 / 3.0)
-            phx[2] = 13.5 * tx * (tx - 2.0 / 3.0) * (tx - 1.0)
-            phx[3] = -13.5 * tx * (tx - 1.0 / 3.0) * (tx - 1.0)
-        ux = 0.0
-        for j in range(k):
-            ux += coef[dofs[ex, j]] * phx[j]
-        px = np.exp(ux)
-        n_br = merge_breaks(verts, x, a, b, buf, False)
-        n_p = pieces(buf, n_br, x, scale, graded, starts, lengths)
-        ey = 0
-        e1 = 0
+            n, px = point_pieces(x, ex, verts, dofs, coef, a, b, scale, graded, buf, starts,
+                                 lengths, phx, e_lo, e_hi)
+        if p == 0:
+            phq[t, :k] = phx
+        kept = 0
         c_total = 0.0
         if with_jacobian:
-            bq[:] = 0.0
-            cy[:] = 0.0
-        for s in range(n_p):
+            if serial:
+                bq[:] = 0.0
+                cy[:] = 0.0
+            else:
+                for r in range(runs.shape[0]):
+                    if runs[r, 2] == p:
+                        cy[runs[r, 0]:runs[r, 1]] = 0.0
+        ey = e_lo
+        e1 = 0
+        for s in range(n):
             y0 = starts[s]
             length = lengths[s]
             mid = y0 + 0.5 * length
-            ey = _locate(verts, ey, mid)
-            e1 = _locate(verts, e1, a * x + b * mid)
+            ey = locate(verts, ey, mid)
+            if ey < e_lo:
+                continue
+            if ey > e_hi:
+                break
+            e1 = locate(verts, e1, a * x + b * mid)
+            store = not serial and ey < first[p + 1]  # the block's own element
             hy = 1.0 / (verts[ey + 1] - verts[ey])
             h1 = 1.0 / (verts[e1 + 1] - verts[e1])
             ty0 = (y0 - verts[ey]) * hy
@@ -177,9 +167,14 @@ def collision_constant(verts: np.ndarray, dofs: np.ndarray, coef: np.ndarray, xq
                         gp = 1.0
                         for _ in range(energy_power):
                             gp *= g
-                        moment += w * gp
-                        loss += w * (1.0 - alpha * alpha) * rate * g * g
+                        tm = w * gp
+                        terms[n_ref + r] = tm
+                        moment += tm
+                        tl = w * (1.0 - alpha * alpha) * rate * g * g
+                        terms[2 * n_ref + r] = tl
+                        loss += tl
                     c = wmd * ew * rate
+                    terms[r] = c
                     c_total += c
                     s0 += c * q0
                     s1 += c * q1
@@ -212,40 +207,60 @@ def collision_constant(verts: np.ndarray, dofs: np.ndarray, coef: np.ndarray, xq
                 j0 = dofs[ey, 0]
                 j1 = dofs[ey, 1]
                 j2 = dofs[ey, 2]
-                res[i0] += 2.0 * s0
-                res[i1] += 2.0 * s1
-                res[i2] += 2.0 * s2
-                res[j0] -= z0
-                res[j1] -= z1
-                res[j2] -= z2
-                if with_jacobian:
-                    bq[i0] += 2.0 * s0
-                    bq[i1] += 2.0 * s1
-                    bq[i2] += 2.0 * s2
-                    bq[j0] -= z0
-                    bq[j1] -= z1
-                    bq[j2] -= z2
-                    cy[j0] += z0
-                    cy[j1] += z1
-                    cy[j2] += z2
-                    jac[i0, j0] += 2.0 * g00
-                    jac[i0, j1] += 2.0 * g01
-                    jac[i0, j2] += 2.0 * g02
-                    jac[i1, j0] += 2.0 * g10
-                    jac[i1, j1] += 2.0 * g11
-                    jac[i1, j2] += 2.0 * g12
-                    jac[i2, j0] += 2.0 * g20
-                    jac[i2, j1] += 2.0 * g21
-                    jac[i2, j2] += 2.0 * g22
-                    jac[j0, j0] -= l00
-                    jac[j0, j1] -= l01
-                    jac[j0, j2] -= l02
-                    jac[j1, j0] -= l01
-                    jac[j1, j1] -= l11
-                    jac[j1, j2] -= l12
-                    jac[j2, j0] -= l02
-                    jac[j2, j1] -= l12
-                    jac[j2, j2] -= l22
+                if serial:
+                    res[i0] += 2.0 * s0
+                    res[i1] += 2.0 * s1
+                    res[i2] += 2.0 * s2
+                    res[j0] -= z0
+                    res[j1] -= z1
+                    res[j2] -= z2
+                    if with_jacobian:
+                        bq[i0] += 2.0 * s0
+                        bq[i1] += 2.0 * s1
+                        bq[i2] += 2.0 * s2
+                        bq[j0] -= z0
+                        bq[j1] -= z1
+                        bq[j2] -= z2
+                elif store:
+                    kept += 1
+                    ids[t, p, s, 0] = e1
+                    ids[t, p, s, 1] = ey
+                    vals[t, p, s, 0] = s0
+                    vals[t, p, s, 1] = s1
+                    vals[t, p, s, 2] = s2
+                    vals[t, p, s, 3] = z0
+                    vals[t, p, s, 4] = z1
+                    vals[t, p, s, 5] = z2
+                    for r in range(n_terms):
+                        vals[t, p, s, 6 + r] = terms[r]
+                if with_jacobian:  # by (owned) column: x' rows, then y rows
+                    if serial or owner[j0] == p:
+                        cy[j0] += z0
+                        jac[i0, j0] += 2.0 * g00
+                        jac[i1, j0] += 2.0 * g10
+                        jac[i2, j0] += 2.0 * g20
+                    if serial or owner[j1] == p:
+                        cy[j1] += z1
+                        jac[i0, j1] += 2.0 * g01
+                        jac[i1, j1] += 2.0 * g11
+                        jac[i2, j1] += 2.0 * g21
+                    if serial or owner[j2] == p:
+                        cy[j2] += z2
+                        jac[i0, j2] += 2.0 * g02
+                        jac[i1, j2] += 2.0 * g12
+                        jac[i2, j2] += 2.0 * g22
+                    if serial or owner[j0] == p:
+                        jac[j0, j0] -= l00
+                        jac[j1, j0] -= l01
+                        jac[j2, j0] -= l02
+                    if serial or owner[j1] == p:
+                        jac[j0, j1] -= l01
+                        jac[j1, j1] -= l11
+                        jac[j2, j1] -= l12
+                    if serial or owner[j2] == p:
+                        jac[j0, j2] -= l02
+                        jac[j1, j2] -= l12
+                        jac[j2, j2] -= l22
             else:
                 s0 = s1 = s2 = s3 = z0 = z1 = z2 = z3 = 0.0
                 if with_jacobian:
@@ -284,9 +299,14 @@ def collision_constant(verts: np.ndarray, dofs: np.ndarray, coef: np.ndarray, xq
                         gp = 1.0
                         for _ in range(energy_power):
                             gp *= g
-                        moment += w * gp
-                        loss += w * (1.0 - alpha * alpha) * rate * g * g
+                        tm = w * gp
+                        terms[n_ref + r] = tm
+                        moment += tm
+                        tl = w * (1.0 - alpha * alpha) * rate * g * g
+                        terms[2 * n_ref + r] = tl
+                        loss += tl
                     c = wmd * ew * rate
+                    terms[r] = c
                     c_total += c
                     s0 += c * q0
                     s1 += c * q1
@@ -335,72 +355,133 @@ def collision_constant(verts: np.ndarray, dofs: np.ndarray, coef: np.ndarray, xq
                 j1 = dofs[ey, 1]
                 j2 = dofs[ey, 2]
                 j3 = dofs[ey, 3]
-                res[i0] += 2.0 * s0
-                res[i1] += 2.0 * s1
-                res[i2] += 2.0 * s2
-                res[i3] += 2.0 * s3
-                res[j0] -= z0
-                res[j1] -= z1
-                res[j2] -= z2
-                res[j3] -= z3
-                if with_jacobian:
-                    bq[i0] += 2.0 * s0
-                    bq[i1] += 2.0 * s1
-                    bq[i2] += 2.0 * s2
-                    bq[i3] += 2.0 * s3
-                    bq[j0] -= z0
-                    bq[j1] -= z1
-                    bq[j2] -= z2
-                    bq[j3] -= z3
-                    cy[j0] += z0
-                    cy[j1] += z1
-                    cy[j2] += z2
-                    cy[j3] += z3
-                    jac[i0, j0] += 2.0 * g00
-                    jac[i0, j1] += 2.0 * g01
-                    jac[i0, j2] += 2.0 * g02
-                    jac[i0, j3] += 2.0 * g03
-                    jac[i1, j0] += 2.0 * g10
-                    jac[i1, j1] += 2.0 * g11
-                    jac[i1, j2] += 2.0 * g12
-                    jac[i1, j3] += 2.0 * g13
-                    jac[i2, j0] += 2.0 * g20
-                    jac[i2, j1] += 2.0 * g21
-                    jac[i2, j2] += 2.0 * g22
-                    jac[i2, j3] += 2.0 * g23
-                    jac[i3, j0] += 2.0 * g30
-                    jac[i3, j1] += 2.0 * g31
-                    jac[i3, j2] += 2.0 * g32
-                    jac[i3, j3] += 2.0 * g33
-                    jac[j0, j0] -= l00
-                    jac[j0, j1] -= l01
-                    jac[j0, j2] -= l02
-                    jac[j0, j3] -= l03
-                    jac[j1, j0] -= l01
-                    jac[j1, j1] -= l11
-                    jac[j1, j2] -= l12
-                    jac[j1, j3] -= l13
-                    jac[j2, j0] -= l02
-                    jac[j2, j1] -= l12
-                    jac[j2, j2] -= l22
-                    jac[j2, j3] -= l23
-                    jac[j3, j0] -= l03
-                    jac[j3, j1] -= l13
-                    jac[j3, j2] -= l23
-                    jac[j3, j3] -= l33
-        for i in range(k):
-            res[dofs[ex, i]] -= c_total * phx[i]
-        if with_jacobian:
-            for i in range(k):
-                dix = dofs[ex, i]
-                bq[dix] -= c_total * phx[i]
-                # the -phi_i(x) rows depend on u through P(y)
-                for col in range(n_dof):
-                    jac[dix, col] -= phx[i] * cy[col]
-            # every row depends on u through P(x): the columns of x's element, kept
-            # transposed (contiguous) and added once at the end
-            for j in range(k):
-                djx = dofs[ex, j]
-                for row in range(n_dof):
-                    jac_x[djx, row] += bq[row] * phx[j]
-    return finish_collision(res, jac, jac_x, with_jacobian, moment, loss, mirror)
+                if serial:
+                    res[i0] += 2.0 * s0
+                    res[i1] += 2.0 * s1
+                    res[i2] += 2.0 * s2
+                    res[i3] += 2.0 * s3
+                    res[j0] -= z0
+                    res[j1] -= z1
+                    res[j2] -= z2
+                    res[j3] -= z3
+                    if with_jacobian:
+                        bq[i0] += 2.0 * s0
+                        bq[i1] += 2.0 * s1
+                        bq[i2] += 2.0 * s2
+                        bq[i3] += 2.0 * s3
+                        bq[j0] -= z0
+                        bq[j1] -= z1
+                        bq[j2] -= z2
+                        bq[j3] -= z3
+                elif store:
+                    kept += 1
+                    ids[t, p, s, 0] = e1
+                    ids[t, p, s, 1] = ey
+                    vals[t, p, s, 0] = s0
+                    vals[t, p, s, 1] = s1
+                    vals[t, p, s, 2] = s2
+                    vals[t, p, s, 3] = s3
+                    vals[t, p, s, 4] = z0
+                    vals[t, p, s, 5] = z1
+                    vals[t, p, s, 6] = z2
+                    vals[t, p, s, 7] = z3
+                    for r in range(n_terms):
+                        vals[t, p, s, 8 + r] = terms[r]
+                if with_jacobian:  # by (owned) column: x' rows, then y rows
+                    if serial or owner[j0] == p:
+                        cy[j0] += z0
+                        jac[i0, j0] += 2.0 * g00
+                        jac[i1, j0] += 2.0 * g10
+                        jac[i2, j0] += 2.0 * g20
+                        jac[i3, j0] += 2.0 * g30
+                    if serial or owner[j1] == p:
+                        cy[j1] += z1
+                        jac[i0, j1] += 2.0 * g01
+                        jac[i1, j1] += 2.0 * g11
+                        jac[i2, j1] += 2.0 * g21
+                        jac[i3, j1] += 2.0 * g31
+                    if serial or owner[j2] == p:
+                        cy[j2] += z2
+                        jac[i0, j2] += 2.0 * g02
+                        jac[i1, j2] += 2.0 * g12
+                        jac[i2, j2] += 2.0 * g22
+                        jac[i3, j2] += 2.0 * g32
+                    if serial or owner[j3] == p:
+                        cy[j3] += z3
+                        jac[i0, j3] += 2.0 * g03
+                        jac[i1, j3] += 2.0 * g13
+                        jac[i2, j3] += 2.0 * g23
+                        jac[i3, j3] += 2.0 * g33
+                    if serial or owner[j0] == p:
+                        jac[j0, j0] -= l00
+                        jac[j1, j0] -= l01
+                        jac[j2, j0] -= l02
+                        jac[j3, j0] -= l03
+                    if serial or owner[j1] == p:
+                        jac[j0, j1] -= l01
+                        jac[j1, j1] -= l11
+                        jac[j2, j1] -= l12
+                        jac[j3, j1] -= l13
+                    if serial or owner[j2] == p:
+                        jac[j0, j2] -= l02
+                        jac[j1, j2] -= l12
+                        jac[j2, j2] -= l22
+                        jac[j3, j2] -= l23
+                    if serial or owner[j3] == p:
+                        jac[j0, j3] -= l03
+                        jac[j1, j3] -= l13
+                        jac[j2, j3] -= l23
+                        jac[j3, j3] -= l33
+        if not serial:  # the -phi_i(x) rows depend on u through P(y): owned columns
+            n_p[t, p] = kept
+            if with_jacobian:
+                for i in range(k):
+                    dix = dofs[ex, i]
+                    for r in range(runs.shape[0]):
+                        if runs[r, 2] == p:
+                            for col in range(runs[r, 0], runs[r, 1]):
+                                jac[dix, col] -= phx[i] * cy[col]
+            continue
+        close_point(dofs[ex], phx, c_total, with_jacobian, res, jac, bq, cy, jac_x)
+    if serial:
+        chains[0] = moment
+        chains[1] = loss
+
+
+@jit
+def collision_constant(verts: np.ndarray, dofs: np.ndarray, coef: np.ndarray, xq: np.ndarray,
+                       wq: np.ndarray, eq: np.ndarray, ref_x: np.ndarray, ref_w: np.ndarray,
+                       alpha: float, density: float, with_jacobian: bool, energy_power: int,
+                       gamma: float, graded: bool, mirror: np.ndarray | None
+                       ) -> tuple[np.ndarray, np.ndarray, float, float]:
+    """:func:`~kinetic_fem.operators.fem_kernels.collision_operator` for P2 or P3
+    (``dofs`` with 3 or 4 columns), a constant ``alpha``, the reduced bracket and
+    any :math:`\\gamma` (``graded``: pieces split geometrically towards :math:`y = x`, as
+    for :math:`\\gamma \\notin \\{0, 1, 2\\}`); the arguments and returns as there
+    (``energy_power < 0``: no moments).
+
+    Parameters
+    ----------
+    verts, dofs, coef, xq, wq, eq, ref_x, ref_w, alpha, density, with_jacobian
+        As for :func:`~kinetic_fem.operators.fem_kernels.collision_operator`.
+    energy_power, gamma, mirror
+        As there.
+    graded : bool
+        Split the pieces next to :math:`y = x` geometrically
+        (:func:`~kinetic_fem.operators.fem_pair_breaks.pieces`).
+    """
+    n_dof = coef.size
+    res, jac, bq, cy, jac_x = work_arrays(n_dof, with_jacobian)
+    buf = np.empty(3 * verts.size + 3)
+    starts = np.empty(buf.size + 2 * (GRADING_LEVELS + 1))
+    lengths = np.empty(starts.size)
+    visit = visited_points(xq, mirror)
+    none = np.zeros(1, dtype=np.int64)
+    runs = np.zeros((1, 3), dtype=np.int64)
+    chains = np.zeros(2)
+    pair_sweep(visit, visit.size, verts, dofs, coef, xq, wq, eq, ref_x, ref_w, alpha, density,
+               with_jacobian, energy_power, gamma, graded, -1, none, none, runs, buf,
+               starts, lengths, np.empty(3 * ref_x.size), np.zeros((1, 1), dtype=np.int64),
+               np.zeros((1, 1)), np.zeros((1, 1, 1, 2), dtype=np.int64),
+               np.zeros((1, 1, 1, 1)), res, jac, bq, cy, jac_x, chains)
+    return finish_collision(res, jac, jac_x, with_jacobian, chains[0], chains[1], mirror)
