@@ -1,17 +1,23 @@
 """All numba compile options of the ``kinetic_fem`` package, in one place.
 
-Kernels are compiled with ``cache=True``, take arrays and scalars only and hold no
+Kernels are compiled with ``cache=True`` (kept consistent across modules by
+:func:`kinetic_fem.jit_cache.ensure_fresh_cache`), take arrays and scalars only and hold no
 global state.  Setting ``NUMBA_DISABLE_JIT=1`` runs them as plain Python (slow, for
 tests).
 """
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Any, Callable
 
 import numba
 
+from .jit_cache import ensure_fresh_cache
+
 __all__ = ["jit"]
+
+ensure_fresh_cache(Path(__file__).parent)  # before any cached kernel is loaded
 
 
 def jit(func: Callable[..., Any] | None = None, **options: Any) -> Any:

@@ -1,6 +1,7 @@
 """All numba compile options of the ``particles`` package, in one place.
 
-Kernels are compiled with ``cache=True`` and hold no global state; random numbers are
+Kernels are compiled with ``cache=True`` (kept consistent across modules by
+:func:`kinetic_fem.jit_cache.ensure_fresh_cache`) and hold no global state; random numbers are
 drawn inside the kernels from an explicit generator state passed in as an array
 (:mod:`particles.rng`, seeded from a ``numpy.random.SeedSequence`` and saved in
 checkpoints), so that runs are reproducible from explicit seeds and checkpoints resume
@@ -10,10 +11,14 @@ Setting ``NUMBA_DISABLE_JIT=1`` runs the kernels as plain Python (slow, for test
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numba
 from llvmlite import ir
 from numba.core import cgutils, types
 from numba.extending import intrinsic, overload
+
+from kinetic_fem.jit_cache import ensure_fresh_cache
 
 try:  # the name of llvm.prefetch's pointer overload follows the pointer kind
     from llvmlite import ir_layer_typed_pointers_enabled as _TYPED_POINTERS
@@ -21,6 +26,8 @@ except ImportError:  # pragma: no cover - older llvmlite: typed pointers
     _TYPED_POINTERS = True
 
 __all__ = ["jit", "prefetch"]
+
+ensure_fresh_cache(Path(__file__).parent)  # before any cached kernel is loaded
 
 
 def jit(func=None, **options):
