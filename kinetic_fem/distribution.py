@@ -43,6 +43,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.interpolate import CubicSpline
 
+from .exceptions import FileFormatError
+from .files import check_loaded_values, json_entry, npz_path, read_npz, reading
 from .gas import check_finite_array
 from .moments import central_from_raw, sonine_from_central
 from .operators.grid import moments as quadrature_moments
@@ -462,10 +464,11 @@ class VelocityDistribution:
 
     # ------------------------------------------------------------------ persistence
     def save(self, path: str | Path) -> Path:
-        """Write to ``path`` (``.npz``); :meth:`load` restores it exactly."""
-        path = Path(path)
-        if path.suffix != ".npz":
-            path = path.with_suffix(".npz")
+        """Write to ``path`` (``.npz`` appended unless it is the suffix); :meth:`load` restores it.
+
+        The path given is the path written (``"alpha0.6"`` writes ``alpha0.6.npz``).
+        """
+        path = npz_path(path)
         arrays: dict[str, NDArray[Any]] = {"v": self.v, "values": self.values,
                                            "raw_moments": self.raw_moments}
         if self.errors is not None:
@@ -481,14 +484,34 @@ class VelocityDistribution:
 
     @classmethod
     def load(cls, path: str | Path) -> VelocityDistribution:
-        """Read a distribution written by :meth:`save`."""
-        with np.load(Path(path), allow_pickle=False) as data:
-            meta = json.loads(str(data["meta"]))
-            series = {k[len("series__"):]: data[k] for k in data.files if k.startswith("series__")}
+        """Read a distribution written by :meth:`save`.
+
+        Raises
+        ------
+        FileNotFoundError
+            If the file does not exist.
+        kinetic_fem.exceptions.FileFormatError
+            If the file is damaged, foreign (not written by :meth:`save`) or holds
+            non-finite values, negative values or a negative mass.
+        """
+        what = "VelocityDistribution .npz (VelocityDistribution.save)"
+        data = read_npz(path, what=what, required=("meta", "v", "values", "raw_moments"))
+        meta = json_entry(data, "meta", path, what)
+        series = {k[len("series__"):]: data[k] for k in data if k.startswith("series__")}
+        check_loaded_values(path, v=data["v"], values=data["values"],
+                            raw_moments=data["raw_moments"], errors=data.get("errors"),
+                            batch_moments=data.get("batch_moments"))
+        values, raw = data["values"], data["raw_moments"]
+        if (values.ndim != 1 or values.shape != data["v"].shape or raw.ndim != 1
+                or not raw.size or raw[0] < 0 or np.any(np.diff(data["v"]) <= 0)
+                or values.min(initial=0.0) < -1e-6 * np.abs(values).max(initial=0.0)):
+            raise FileFormatError(f"{str(path)!r} holds no valid distribution (v increasing, "
+                                  "values >= 0 of its shape, mass >= 0); the file is "
+                                  "damaged or edited")
+        with reading(path, what):
             return cls(
-                v=data["v"], values=data["values"], raw_moments=data["raw_moments"],
-                errors=data["errors"] if "errors" in data.files else None,
-                batch_moments=data["batch_moments"] if "batch_moments" in data.files else None,
+                v=data["v"], values=values, raw_moments=raw,
+                errors=data.get("errors"), batch_moments=data.get("batch_moments"),
                 method=meta["method"], params=meta["params"], info=RunInfo(**meta["info"]),
                 series=series,
             )

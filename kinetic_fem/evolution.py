@@ -26,6 +26,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .distribution import MAX_SONINE, RunInfo, VelocityDistribution
+from .files import check_loaded_values, json_entry, npz_path, read_npz, reading
 
 __all__ = ["Evolution"]
 
@@ -146,9 +147,7 @@ class Evolution:
         >>> bool(np.allclose(back.temperature, ev.temperature)), back.method
         (True, 'test')
         """
-        path = Path(path)
-        if path.suffix != ".npz":
-            path = path.with_suffix(".npz")
+        path = npz_path(path)
         meta = {"method": self.method, "params": dict(self.params),
                 "info": {"converged": self.info.converged,
                          "iterations": self.info.iterations,
@@ -162,11 +161,22 @@ class Evolution:
 
     @classmethod
     def load(cls, path: str | Path) -> Evolution:
-        """Read what :meth:`save` wrote."""
-        with np.load(Path(path), allow_pickle=False) as data:
-            meta = json.loads(str(data["meta"]))
-            series = {k[len("series_"):]: data[k] for k in data.files
-                      if k.startswith("series_")}
+        """Read what :meth:`save` wrote.
+
+        Raises
+        ------
+        FileNotFoundError
+            If the file does not exist.
+        kinetic_fem.exceptions.FileFormatError
+            If the file is damaged, foreign or holds non-finite values.
+        """
+        what = "Evolution .npz (Evolution.save)"
+        data = read_npz(path, what=what, required=("meta", "times", "grid", "values", "weights"))
+        meta = json_entry(data, "meta", path, what)
+        check_loaded_values(path, times=data["times"], grid=data["grid"], values=data["values"],
+                            weights=data["weights"])
+        series = {k[len("series_"):]: data[k] for k in data if k.startswith("series_")}
+        with reading(path, what):
             return cls(data["times"], data["grid"], data["values"], data["weights"],
                        method=meta["method"], params=meta["params"],
                        info=RunInfo(**meta["info"]), series=series)

@@ -8,7 +8,7 @@ stays with the model it validates.
 
 from __future__ import annotations
 
-__all__ = ["ResolutionWarning", "ConvergenceWarning", "ConvergenceError"]
+__all__ = ["ResolutionWarning", "ConvergenceWarning", "ConvergenceError", "FileFormatError"]
 
 
 class ResolutionWarning(UserWarning):
@@ -33,4 +33,15 @@ class ConvergenceError(RuntimeError):
 
     Raised by the FEM solvers when no usable result exists; the message says what to
     change (a finer mesh, a longer cut-off, more iterations).
+    """
+
+
+class FileFormatError(ValueError):
+    """A file cannot be read as what the loader expects: damaged, foreign or edited.
+
+    Raised by every loader of the package (:func:`kinetic_fem.io.read_distribution`,
+    :meth:`~kinetic_fem.VelocityDistribution.load`, :meth:`~kinetic_fem.Evolution.load`,
+    the particle checkpoints) whatever the library underneath (numpy, zipfile, meshio);
+    the message names the file and what was expected.  A missing file stays a
+    ``FileNotFoundError``.
     """

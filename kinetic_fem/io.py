@@ -34,10 +34,12 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .distribution import RunInfo, VelocityDistribution
+from .exceptions import FileFormatError
+from .files import check_loaded_values, output_path, reading
 from .gas import check_finite_array
 
-__all__ = ["FORMATS", "write_distribution", "read_distribution", "write_time_series",
-           "read_time_series", "sidecar_path"]
+__all__ = ["FileFormatError", "FORMATS", "write_distribution", "read_distribution",
+           "write_time_series", "read_time_series", "sidecar_path"]
 
 FORMATS = {".vtu": "vtu", ".xdmf": "xdmf"}
 """File suffixes understood by :func:`write_distribution` and the meshio format used."""
@@ -141,6 +143,9 @@ def write_distribution(dist: VelocityDistribution, path: str | Path) -> Path:
         For an unknown suffix.
     TypeError
         If ``dist`` is not a :class:`VelocityDistribution`.
+    OSError
+        If the directory does not exist or is not writable
+        (:func:`kinetic_fem.files.output_path`).
 
     Examples
     --------
@@ -155,7 +160,7 @@ def write_distribution(dist: VelocityDistribution, path: str | Path) -> Path:
     """
     if not isinstance(dist, VelocityDistribution):
         raise TypeError(f"dist must be a VelocityDistribution, got {type(dist).__name__}")
-    path = Path(path)
+    path = output_path(path)
     fmt = _format_of(path)
     if fmt == "xdmf":
         _write_xdmf(path, [0.0], [dist])
@@ -186,43 +191,56 @@ def read_distribution(path: str | Path) -> VelocityDistribution:
     ------
     FileNotFoundError
         If the mesh file or its sidecar is missing.
-    ValueError
-        If the file is not a line mesh written by this module.
+    FileFormatError
+        If the file or its sidecar is damaged, foreign (not a line mesh written by this
+        module) or holds non-finite values (a ``ValueError``).
     """
     path = Path(path)
     fmt = _format_of(path)
     side = sidecar_path(path)
+    if not path.exists():
+        raise FileNotFoundError(f"{str(path)!r} does not exist")
     if not side.exists():
         raise FileNotFoundError(f"{str(side)!r} (the metadata sidecar of {str(path)!r}) is "
                                 "missing; files not written by kinetic_fem.io cannot be read")
-    meta = json.loads(side.read_text())
-    if meta.get("schema") != _SCHEMA:
-        raise ValueError(f"{str(side)!r} is not a kinetic_fem.io sidecar "
-                         f"(schema {meta.get('schema')!r}, expected {_SCHEMA!r})")
+    with reading(side, "kinetic_fem.io JSON sidecar"):
+        meta = json.loads(side.read_text())
+    if not isinstance(meta, dict) or meta.get("schema") != _SCHEMA:
+        got = meta.get("schema") if isinstance(meta, dict) else type(meta).__name__
+        raise FileFormatError(f"{str(side)!r} is not a kinetic_fem.io sidecar "
+                              f"(schema {got!r}, expected {_SCHEMA!r})")
     point_data: Mapping[str, Any]
-    if fmt == "xdmf":
-        v, steps = _read_xdmf(path, last_only=True)
-        point_data = steps[-1]
-    else:
-        mesh = meshio.read(path, file_format=fmt)
-        v, point_data = mesh.points[:, 0], mesh.point_data
+    with reading(path, f"{fmt.upper()} line mesh of kinetic_fem.io"):
+        if fmt == "xdmf":
+            v, steps = _read_xdmf(path, last_only=True)
+            point_data = steps[-1]
+        else:
+            mesh = meshio.read(path, file_format=fmt)
+            v, point_data = mesh.points[:, 0], mesh.point_data
     if "P" not in point_data:
-        raise ValueError(f"{str(path)!r} holds no point data 'P'")
+        raise FileFormatError(f"{str(path)!r} holds no point data 'P'")
     errors = point_data.get("P_error")
-    info = dict(meta["info"])
-    info["residual"] = float(info["residual"])
-    info["wall_time"] = float(info["wall_time"])
-    return VelocityDistribution(
-        v=np.ascontiguousarray(v, dtype=float),
-        values=np.asarray(point_data["P"], dtype=np.float64),
-        raw_moments=np.asarray(meta["raw_moments"], dtype=np.float64),
-        errors=None if errors is None else np.asarray(errors, dtype=float),
-        batch_moments=_array(meta["batch_moments"]),
-        method=meta["method"],
-        params=meta["params"],
-        info=RunInfo(**info),
-        series={k: np.asarray(s, dtype=np.float64) for k, s in meta["series"].items()},
-    )
+    with reading(side, "kinetic_fem.io JSON sidecar"):
+        info = dict(meta["info"])
+        info["residual"] = float(info["residual"])
+        info["wall_time"] = float(info["wall_time"])
+        raw = np.asarray(meta["raw_moments"], dtype=np.float64)
+        batch = _array(meta["batch_moments"])
+        series = {k: np.asarray(s, dtype=np.float64) for k, s in meta["series"].items()}
+    check_loaded_values(path, v=v, P=point_data["P"], P_error=errors)
+    check_loaded_values(side, raw_moments=raw, batch_moments=batch)
+    with reading(path, "distribution of kinetic_fem.io"):
+        return VelocityDistribution(
+            v=np.ascontiguousarray(v, dtype=float),
+            values=np.asarray(point_data["P"], dtype=np.float64),
+            raw_moments=raw,
+            errors=None if errors is None else np.asarray(errors, dtype=float),
+            batch_moments=batch,
+            method=meta["method"],
+            params=meta["params"],
+            info=RunInfo(**info),
+            series=series,
+        )
 
 
 def write_time_series(path: str | Path, times: ArrayLike,
@@ -299,7 +317,12 @@ def read_time_series(path: str | Path) -> tuple[NDArray[np.float64], NDArray[np.
     values : ndarray, shape (n_t, n_v)
         :math:`P(v, t)` at each time.
     """
-    v, steps = _read_xdmf(Path(path))
+    path = Path(path)
+    if not path.exists():
+        raise FileNotFoundError(f"{str(path)!r} does not exist")
+    with reading(path, "XDMF time series of kinetic_fem.io"):
+        v, steps = _read_xdmf(path)
+    check_loaded_values(path, **{f"P at step {k}": s.get("P") for k, s in enumerate(steps)})
     times = np.array([step["_t"] for step in steps])
     values = np.array([np.asarray(step["P"], dtype=float) for step in steps])
     return times, np.asarray(v, dtype=float), values

@@ -385,7 +385,8 @@ class Engine:
         save_checkpoint(path, arrays, meta)
 
     def load(self, path: Path) -> None:
-        arrays, meta = load_checkpoint(path)
+        arrays, meta = load_checkpoint(path, like={"v": self.v, "counts": self.counts,
+                                                   "sums": self.sums}, nonnegative=("counts",))
         if meta["key"] != self.opts.key:
             raise ValueError(f"checkpoint {path} belongs to a different run: {meta['key']} "
                              f"!= {self.opts.key}")

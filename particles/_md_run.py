@@ -297,11 +297,13 @@ def run_md(params: dict[str, Any], *, seed: Any, y: NDArray, v: NDArray,
     snaps: list[Snapshot] = []
     dens = np.zeros((len(boxes), 2))
     first, done, e0, p0 = 0, None, float(0.5 * np.sum(v * v)), float(np.sum(v))
+    ck.guard("md", ("params", json_params(params)))
     if ck.resume and ck.path is not None and ck.path.exists():
-        arrays, meta = load_checkpoint(ck.path)
-        if meta["params"] != json_params(params):
-            raise ValueError(f"checkpoint {ck.path} belongs to a different run (other "
-                             f"parameters): {meta['params']} != {json_params(params)}")
+        current = {**eng.state(), **acc.state()}
+        arrays, meta = load_checkpoint(
+            ck.path, engine="md", like={k: current[k] for k in ("md_x", "md_v", "md_tl",
+                                                                "acc_counts", "acc_sums")},
+            nonnegative=("acc_counts",))
         eng.restore(arrays)
         acc.restore(arrays)
         rng.bit_generator.state = meta["rng"]
@@ -333,7 +335,7 @@ def run_md(params: dict[str, Any], *, seed: Any, y: NDArray, v: NDArray,
                   "snap_c": np.array([s.c for s in snaps]).reshape(-1, n)}
         save_checkpoint(ck.path, arrays, {
             "params": json_params(params), "rng": rng.bit_generator.state, "done": done,
-            "e0": e0, "p0": p0, "t_next": t_next, "n_sampled": n_sampled})
+            "e0": e0, "p0": p0, "t_next": t_next, "n_sampled": n_sampled}, engine="md")
 
     span = max(plan.total - plan.sample_from, 1)
     interrupted, last_save = False, start

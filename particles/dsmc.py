@@ -372,6 +372,7 @@ def simulate_heated(alpha: float | RestitutionLaw, n_particles: int, *, density:
            "average_every": o["average_every"], "seed": entropy}
     opts = DSMCOptions(kind="heated", lo=-half, hi=half, entropy=entropy, key=key, dt=dt,
                        steps=steps, **kicks, **_model(gas), **o)
+    o["checkpointing"].guard("dsmc", ("key", key))
     return Engine(problem, v, run_seq, opts).run()
 
 
@@ -453,6 +454,7 @@ def simulate_cooling(alpha: float | RestitutionLaw, n_particles: int, *, density
            "seed": entropy}
     opts = DSMCOptions(kind="cooling", lo=-c_max, hi=c_max, entropy=entropy, key=key,
                        **_model(gas), **o)
+    o["checkpointing"].guard("dsmc", ("key", key))
     return Engine(problem, v, run_seq, opts).run()
 
 

@@ -16,11 +16,16 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from kinetic_fem.distribution import RunInfo, VelocityDistribution
+from kinetic_fem.exceptions import FileFormatError
+from kinetic_fem.files import npz_path, output_path
 from kinetic_fem.model import check_nonnegative, check_positive
+
+from .sampling import load_checkpoint
 
 __all__ = ["ParticleRun", "Checkpointing"]
 
@@ -67,7 +72,8 @@ class Checkpointing:
     Attributes
     ----------
     path : Path, optional
-        Checkpoint file (``.npz`` is appended if missing); None: no checkpoints.
+        Checkpoint file (``.npz`` is appended unless it is the suffix: the path given
+        is the path written); None: no checkpoints.
     every : float
         Write the state every ``every`` seconds of wall time (at the next stop point)
         and at the end of the run.
@@ -90,7 +96,9 @@ class Checkpointing:
         Parameters
         ----------
         checkpoint : str or Path, optional
-            Checkpoint file (``.npz`` replaces any other suffix); None: no checkpoints.
+            Checkpoint file (``.npz`` appended unless it is the suffix, never replacing
+            another one: ``"ck_alpha0.6"`` writes ``ck_alpha0.6.npz``); its directory
+            must exist and be writable.  None: no checkpoints.
         checkpoint_every : float
             Seconds of wall time between checkpoints (``>= 0``).
         resume : bool
@@ -105,6 +113,8 @@ class Checkpointing:
             ``checkpoint``).
         ValueError
             For ``resume=True`` without a path, negative intervals or wall times.
+        OSError
+            If the checkpoint cannot be written there (missing directory, no permission).
         """
         if not isinstance(resume, (bool, np.bool_)):
             raise TypeError(f"resume must be True or False (as in particles.dsmc), got "
@@ -113,5 +123,38 @@ class Checkpointing:
             raise ValueError("resume=True needs a checkpoint path")
         every = check_nonnegative("checkpoint_every", checkpoint_every)
         wall = None if max_wall_time is None else check_positive("max_wall_time", max_wall_time)
-        path = None if checkpoint is None else Path(checkpoint).with_suffix(".npz")
+        path = None if checkpoint is None else output_path(npz_path(checkpoint),
+                                                           name="checkpoint")
         return cls(path, every, bool(resume), wall)
+
+    def guard(self, engine: str, identity: tuple[str, Any]) -> None:
+        """Refuse, before any work, a checkpoint file that is not one of this run.
+
+        An existing file at :attr:`path` must be a valid checkpoint of ``engine`` (format,
+        checksum) whose metadata entry ``identity[0]`` equals ``identity[1]``: it is then
+        resumed (``resume=True``) or replaced.  Anything else is never overwritten.
+
+        Raises
+        ------
+        kinetic_fem.exceptions.FileFormatError
+            If the file is not a valid checkpoint of ``engine``.
+        FileExistsError
+            If it is a checkpoint of another run and ``resume`` is False.
+        ValueError
+            If it is a checkpoint of another run and ``resume`` is True.
+        """
+        if self.path is None or not self.path.exists():
+            return
+        try:
+            _, meta = load_checkpoint(self.path, engine=engine)
+        except FileFormatError as err:
+            raise FileFormatError(f"{err}; it is left untouched: choose another checkpoint "
+                                  "path") from None
+        key, value = identity
+        if meta.get(key) != value:
+            if self.resume:
+                raise ValueError(f"checkpoint {self.path} belongs to a different run (other "
+                                 f"parameters): {meta.get(key)} != {value}")
+            raise FileExistsError(f"checkpoint {str(self.path)!r} holds another run "
+                                  f"({key} {meta.get(key)}); it is not overwritten: choose "
+                                  "another checkpoint path or delete the file")

@@ -14,7 +14,9 @@ run through any ``concurrent.futures.Executor`` (a local process pool by default
 
 from __future__ import annotations
 
+import hashlib
 import json
+import logging
 import math
 from concurrent.futures import Executor, ProcessPoolExecutor
 from dataclasses import dataclass
@@ -25,13 +27,17 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from kinetic_fem.distribution import MAX_MOMENT, RunInfo, VelocityDistribution
+from kinetic_fem.exceptions import FileFormatError
+from kinetic_fem.files import check_loaded_values, json_entry, npz_path, read_npz
 from kinetic_fem.model import check_finite_array
 
 from ._jit import jit
 
 __all__ = ["Accumulator", "accumulate_kernel", "save_checkpoint", "load_checkpoint",
            "spawn_seeds", "run_replicas", "integrated_autocorrelation_time", "sonine_draws",
-           "initial_velocities_of", "SAMPLER_CHUNK"]
+           "initial_velocities_of", "SAMPLER_CHUNK", "CHECKPOINT_FORMAT"]
+
+logger = logging.getLogger(__name__)
 
 
 @jit
@@ -218,54 +224,121 @@ def integrated_autocorrelation_time(x: NDArray[np.float64], window: float = 5.0)
     return max(float(tau), 1.0)
 
 
+CHECKPOINT_FORMAT = "particles.checkpoint/1"
+"""Format tag written into every checkpoint (with the engine and a SHA-256 checksum)."""
+
+
+def _checksum(arrays: Mapping[str, NDArray[Any]], meta_json: str) -> str:
+    """SHA-256 over the metadata and every array (name, dtype, shape, bytes)."""
+    h = hashlib.sha256(meta_json.encode())
+    for k in sorted(arrays):
+        a = np.ascontiguousarray(arrays[k])
+        h.update(f"{k}|{a.dtype.str}|{a.shape}".encode())
+        h.update(a.tobytes())
+    return h.hexdigest()
+
+
 def save_checkpoint(path: str | Path, arrays: Mapping[str, NDArray[Any]],
-                    meta: Mapping[str, Any]) -> Path:
+                    meta: Mapping[str, Any], *, engine: str = "dsmc") -> Path:
     """Write arrays and JSON metadata (e.g. ``rng.bit_generator.state``) atomically.
 
     The file is written beside ``path`` and renamed, so an interrupted write never
-    leaves a corrupt checkpoint.
+    leaves a corrupt checkpoint.  It carries the format tag :data:`CHECKPOINT_FORMAT`,
+    the engine and a SHA-256 checksum of everything in it, checked by
+    :func:`load_checkpoint`.
 
     Parameters
     ----------
     path : str or Path
-        Destination file (``.npz``).
+        Destination file (``.npz`` is appended unless it is the suffix; the path given
+        is never cut at its last dot).
     arrays : mapping of str to ndarray
         The arrays to store.
     meta : mapping
         JSON-serialisable metadata.
+    engine : str
+        The engine writing it (``"dsmc"`` or ``"md"``).
 
     Returns
     -------
     Path
         The path written.
     """
-    path = Path(path)
-    if path.suffix != ".npz":
-        path = path.with_suffix(".npz")
-    tmp = path.with_name(path.stem + ".tmp.npz")
+    path = npz_path(path)
+    tmp = path.with_name(path.name[:-len(".npz")] + ".tmp.npz")
+    meta_json = json.dumps({**meta, "__format__": CHECKPOINT_FORMAT, "__engine__": engine})
+    arrays = {k: np.asarray(a) for k, a in arrays.items()}
+    digest = _checksum(arrays, meta_json)
     # (numpy's stub types **kwds of savez as its allow_pickle flag)
-    np.savez(tmp, __meta__=np.array(json.dumps(meta)), **arrays)  # type: ignore[arg-type]
+    np.savez(tmp, __meta__=np.array(meta_json), __sha256__=np.array(digest),  # type: ignore[arg-type]
+             **arrays)
     tmp.replace(path)
     return path
 
 
-def load_checkpoint(path: str | Path) -> tuple[dict[str, NDArray[Any]], dict[str, Any]]:
-    """Read a checkpoint written by :func:`save_checkpoint`.
+def load_checkpoint(path: str | Path, *, engine: str = "dsmc",
+                    like: Mapping[str, NDArray[Any]] | None = None,
+                    nonnegative: Sequence[str] = ()
+                    ) -> tuple[dict[str, NDArray[Any]], dict[str, Any]]:
+    """Read and verify a checkpoint written by :func:`save_checkpoint`.
 
     Parameters
     ----------
     path : str or Path
         The checkpoint file.
+    engine : str
+        The engine that must have written it (``"dsmc"`` or ``"md"``).
+    like : mapping of str to ndarray, optional
+        Arrays of the run being resumed: each that the file holds must have the same
+        shape and be finite.
+    nonnegative : sequence of str
+        Arrays that must be ``>= 0`` (counts).
 
     Returns
     -------
     arrays : dict of str to ndarray
     meta : dict
-        The JSON metadata.
+        The JSON metadata (without the format entries).
+
+    Raises
+    ------
+    FileNotFoundError
+        If the file does not exist.
+    kinetic_fem.exceptions.FileFormatError
+        If it is not a readable checkpoint, was written by the other engine, fails its
+        checksum (edited or damaged) or holds arrays of the wrong shape, non-finite
+        values or negative counts.
     """
-    with np.load(Path(path), allow_pickle=False) as data:
-        meta = json.loads(str(data["__meta__"]))
-        arrays = {k: data[k] for k in data.files if k != "__meta__"}
+    what = f"{engine.upper()} checkpoint"
+    data = read_npz(path, what=what, required=("__meta__",))
+    meta = json_entry(data, "__meta__", path, what)
+    arrays = {k: a for k, a in data.items() if k not in ("__meta__", "__sha256__")}
+    fmt, written_by = meta.pop("__format__", None), meta.pop("__engine__", None)
+    if fmt is None:  # before the format tag: no checksum, recognised by its identity entry
+        written_by = "dsmc" if "key" in meta else "md" if "params" in meta else None
+        logger.warning("checkpoint %s has no format tag or checksum (an earlier version); "
+                       "its arrays are checked for shape and finiteness only", path)
+    elif fmt != CHECKPOINT_FORMAT:
+        raise FileFormatError(f"{str(path)!r} has checkpoint format {fmt!r}; this version "
+                              f"reads {CHECKPOINT_FORMAT!r}")
+    elif "__sha256__" not in data or str(data["__sha256__"]) != _checksum(
+            arrays, str(data["__meta__"])):
+        raise FileFormatError(f"{str(path)!r} fails its checksum: the checkpoint was edited "
+                              "or damaged; it cannot be resumed")
+    if written_by != engine:
+        raise FileFormatError(f"{str(path)!r} is not a {what}"
+                              + ("" if written_by is None else
+                                 f": it was written by {str(written_by).upper()}"))
+    for k, ref in (like or {}).items():
+        if k in arrays and arrays[k].shape != np.shape(ref):
+            raise FileFormatError(f"{str(path)!r}: {k!r} has shape {arrays[k].shape}, the run "
+                                  f"has {np.shape(ref)}; the checkpoint was edited or belongs "
+                                  "to another run")
+    check_loaded_values(path, **{k: arrays[k] for k in (like or {}) if k in arrays})
+    for k in nonnegative:
+        if k in arrays and np.any(arrays[k] < 0):
+            raise FileFormatError(f"{str(path)!r}: {k!r} holds negative counts; the checkpoint "
+                                  "was edited or damaged")
     return arrays, meta
 
 

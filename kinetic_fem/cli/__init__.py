@@ -129,6 +129,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         return _RUN[args.command](args)
     except (ValueError, TypeError) as exc:
         parser.exit(2, f"kinetic-fem: error: {exc}\n")
+    except OSError as exc:  # an output path that cannot be written, a missing file
+        parser.exit(2, f"kinetic-fem: error: {exc}\n")
     except RuntimeError as exc:  # a solver that failed on valid input
         parser.exit(1, f"kinetic-fem: solver failed: {exc}\n")
     return 2  # pragma: no cover

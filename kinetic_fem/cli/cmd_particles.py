@@ -14,6 +14,7 @@ import time
 from pathlib import Path
 from typing import Any
 
+from ..files import npz_path
 from .parser import (
     add_model_arguments,
     check_options,
@@ -117,8 +118,8 @@ def _keywords(args: argparse.Namespace, function: Any) -> dict[str, Any]:
     if args.resume and args.checkpoint is None:
         raise ValueError("--resume needs --checkpoint FILE")
     if args.checkpoint is not None:
-        if args.out is not None and (args.out.with_suffix(".npz").resolve()
-                                     == args.checkpoint.with_suffix(".npz").resolve()):
+        if args.out is not None and (npz_path(args.out).resolve()
+                                     == npz_path(args.checkpoint).resolve()):
             raise ValueError(f"--out {str(args.out)!r} and --checkpoint "
                              f"{str(args.checkpoint)!r} would write the same .npz file")
         kw.update(checkpoint=args.checkpoint, resume=args.resume)
@@ -139,7 +140,7 @@ def run(args: argparse.Namespace) -> int:
     Returns
     -------
     int
-        Exit status (0).
+        Exit status: 0, or 1 if the run did not converge (the result is still saved).
     """
     check_out(args.out)
     module = importlib.import_module(f"particles.{args.command}")
@@ -159,4 +160,4 @@ def run(args: argparse.Namespace) -> int:
           f"({result.n_collisions / wall:.3g} /s), {state}")
     if args.out is not None:
         print(f"saved to {save(dist, args.out)}")
-    return 0
+    return 0 if dist.info.converged else 1

@@ -106,7 +106,7 @@ def run_heated(args: argparse.Namespace) -> int:
     Returns
     -------
     int
-        Exit status (0).
+        Exit status: 0, or 1 if the solver did not converge (the result is still saved).
     """
     options = _prepare(args, HEATED_SOLVERS, "heated")
     alpha = restitution_of(args)
@@ -117,7 +117,7 @@ def run_heated(args: argparse.Namespace) -> int:
           f"diffusion={args.diffusion} friction={args.friction} kernel={args.kernel}")
     print(f"T = {dist.temperature:.10g}")
     _report(dist, args.out)
-    return 0
+    return 0 if dist.info.converged else 1
 
 
 def run_cooling(args: argparse.Namespace) -> int:
@@ -131,7 +131,7 @@ def run_cooling(args: argparse.Namespace) -> int:
     Returns
     -------
     int
-        Exit status (0).
+        Exit status: 0, or 1 if the solver did not converge (the result is still saved).
     """
     options = _prepare(args, COOLING_SOLVERS, "cooling")
     alpha = restitution_of(args)
@@ -141,4 +141,4 @@ def run_cooling(args: argparse.Namespace) -> int:
           f"kernel={args.kernel} (scaled state, T = 1)")
     print(f"zeta = {dist.info.extra['zeta']:.10g}  (dT/dt = -2 zeta n T^(1+gamma/2))")
     _report(dist, args.out)
-    return 0
+    return 0 if dist.info.converged else 1

@@ -20,6 +20,7 @@ from typing import Any, Callable, Sequence
 
 from .. import io
 from ..distribution import VelocityDistribution
+from ..files import output_path
 from ..model import ThresholdRestitution, ViscoelasticRestitution
 
 __all__ = ["CommandParser", "key_value", "split_keys", "float_list", "int_list",
@@ -272,7 +273,7 @@ def check_options(function: Callable[..., Any], options: dict[str, Any], what: s
 
 
 def check_out(out: Path | None, suffixes: Sequence[str] = (".npz", *io.FORMATS)) -> None:
-    """Raise ValueError unless ``out`` is None or ends in one of ``suffixes``.
+    """Check ``--out`` before any computation: its suffix, and that it can be written.
 
     Parameters
     ----------
@@ -285,9 +286,14 @@ def check_out(out: Path | None, suffixes: Sequence[str] = (".npz", *io.FORMATS))
     ------
     ValueError
         For another suffix.
+    OSError
+        If the directory does not exist or is not writable
+        (:func:`kinetic_fem.files.output_path`).
     """
     if out is not None and out.suffix not in suffixes:
         raise ValueError(f"--out must end in {', '.join(suffixes)}; got {str(out)!r}")
+    if out is not None:
+        output_path(out, name="--out")
 
 
 def save(dist: VelocityDistribution, out: Path) -> Path:

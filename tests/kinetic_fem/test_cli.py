@@ -251,7 +251,7 @@ def test_dsmc_command_checkpoint_resume_and_output(tmp_path, capsys):
         main(["dsmc", "0.6", "-N", "400", "-o", "n_batch=5"])
     assert "valid -o names: ['average_every', 'bins', 'c_max'" in capsys.readouterr().err
     with pytest.raises(SystemExit):
-        main([*argv, "--out", str(tmp_path / "run.npz")])
+        main([*argv, "--out", str(tmp_path / "run.ckpt.npz")])
     assert "would write the same .npz file" in capsys.readouterr().err
     with pytest.raises(SystemExit):
         main(["dsmc", "0.6", "-N", "400", "--resume"])
