@@ -22,6 +22,7 @@ from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 from typing import Any, Callable
 
+from ..files import output_path
 from ..solve import COOLING_SOLVERS, HEATED_SOLVERS, solve_cooling, solve_heated
 from ..sweep import sweep
 from .parser import check_options, float_list, int_list, key_value
@@ -191,6 +192,8 @@ def _settings(args: argparse.Namespace) -> dict[str, Any]:
                          "--config")
     if pick["out"] is not None and Path(pick["out"]).suffix != ".nc":
         raise ValueError(f"--out must end in .nc, got {str(pick['out'])!r}")
+    if pick["out"] is not None:  # before the sweep: a failing export must not lose it
+        output_path(pick["out"], name="--out")
     return {"grid": grid, "options": options, **pick}
 
 
@@ -232,9 +235,28 @@ def run(args: argparse.Namespace) -> int:
             closing.shutdown() if isinstance(closing, ProcessPoolExecutor) else closing.close()
     _print_table(ds, list(s["grid"]))
     if s["out"] is not None:
-        ds.to_netcdf(s["out"], engine="scipy")
+        netcdf3(ds).to_netcdf(s["out"], engine="scipy")
         print(f"saved to {s['out']}")
     return 0
+
+
+def netcdf3(ds: Any) -> Any:
+    """``ds`` as netCDF3 (scipy's engine) can hold it: no 64-bit integers.
+
+    Integer variables and coordinates become int32 where every value fits, float64
+    (exact up to 2^53) otherwise.
+    """
+    import numpy as np
+
+    small = np.iinfo(np.int32)
+    changes = {}
+    for name, var in ds.variables.items():
+        if var.dtype.kind in "iu" and var.dtype.itemsize > 4:
+            fits = var.size == 0 or (small.min <= int(var.min()) and int(var.max()) <= small.max)
+            changes[name] = var.astype(np.int32 if fits else np.float64)
+    coords = {k: v for k, v in changes.items() if k in ds.coords}
+    data = {k: v for k, v in changes.items() if k not in ds.coords}
+    return ds.assign_coords(coords).assign(data)
 
 
 def _print_table(ds: Any, dims: list[str]) -> None:
