@@ -117,7 +117,7 @@ from kinetic_fem.sonine import a2_first_order
 
 from ._dsmc_engine import DSMCOptions, DSMCRun, Engine
 from ._dsmc_model import kernel_model
-from .run import Checkpointing
+from .run import Checkpointing, check_memory, check_seed, check_work
 from .sampling import initial_velocities_of
 
 __all__ = ["DSMCRun", "simulate_heated", "simulate_cooling", "combine_runs",
@@ -127,6 +127,13 @@ logger = logging.getLogger(__name__)
 
 MAX_COLLISIONS_PER_STEP = 0.5
 """Largest allowed expected number of collisions per particle in one heated step."""
+
+MAX_AUTO_WINDOW = 1e5
+"""Longest relaxation window (collisions per particle) that ``relax='auto'`` watches:
+alpha <= 0.99999 for hard rods; beyond, give ``relax`` explicitly."""
+
+_BYTES_PER_PARTICLE = 48
+"""Arrays per particle of a DSMC run (velocities, their copy, indices), for the check."""
 
 
 def _check_int(name: str, value: object, lo: int, hi: int | None = None) -> int:
@@ -141,6 +148,7 @@ def _check_int(name: str, value: object, lo: int, hi: int | None = None) -> int:
 
 def _seeds(seed: int | np.random.SeedSequence | None) -> tuple[Any, Any, str]:
     """Two independent children (initial state, kernel stream) without mutating ``seed``."""
+    seed = check_seed(seed)  # type: ignore[assignment]
     root = seed if isinstance(seed, np.random.SeedSequence) else np.random.SeedSequence(seed)
     kids = [np.random.SeedSequence(root.entropy, spawn_key=(*root.spawn_key, k))
             for k in (0, 1)]
@@ -157,6 +165,11 @@ def _common(n_particles: int, collisions_per_particle: float, relax: str | float
     cpp = check_positive("collisions_per_particle", collisions_per_particle)
     every = check_positive("sample_every", sample_every)
     nb = _check_int("n_batches", n_batches, 2)
+    check_work(0.5 * n * cpp, f"collisions_per_particle={cpp:g} with N={n}")
+    check_work(cpp / every, f"collisions_per_particle={cpp:g} / sample_every={every:g} "
+                            "(measurements)")
+    check_memory(_BYTES_PER_PARTICLE * n + 100.0 * cpp / every,
+                 f"DSMC of N={n} with {cpp / every:.3g} measurements")
     n_samples = int(math.ceil(cpp / every - 1e-9))
     if n_samples < nb:
         raise ValueError(f"collisions_per_particle={cpp} / sample_every={every} gives "
@@ -170,6 +183,13 @@ def _common(n_particles: int, collisions_per_particle: float, relax: str | float
         raise ValueError(f"average_every must be 'auto' or a positive number of collisions per "
                          f"particle, got {average_every!r}")
     ck = Checkpointing.from_arguments(checkpoint, checkpoint_every, resume, max_wall_time)
+    if relax == "auto" and w > MAX_AUTO_WINDOW:
+        raise ValueError(f"the relaxation window is {w:.3g} collisions per particle (3 "
+                         "relaxation times of T; 2/(1-alpha^2) for hard rods), above "
+                         f"{MAX_AUTO_WINDOW:g}: relax='auto' would watch up to 20 windows "
+                         f"({0.5 * n * 20 * w:.3g} collisions for N={n}).  Pass relax=<collisions "
+                         "per particle> to run this near-elastic gas anyway, or use the "
+                         "quasi-elastic solutions kinetic_fem.scaling.solve_phi / solve_psi")
     if cpp / nb < w:
         logger.warning("batches of %.3g collisions per particle are shorter than the "
                        "relaxation window %.3g (2/(1-alpha^2) for hard rods): consecutive "
@@ -365,6 +385,9 @@ def simulate_heated(alpha: float | RestitutionLaw, n_particles: int, *, density:
         amp = math.sqrt(2.0 * problem.diffusion * dt)
         kicks = {"decay": 1.0, "amp": amp, "half_decay": 1.0, "half_amp": amp / math.sqrt(2.0)}
     half = c_max * math.sqrt(t_ref)
+    check_work(o["n"] * (o["sample_every"] * o["n_samples"] + 20 * o["window"]
+                         * o["sample_every"]) / (dt * rate),
+               f"dt={dt:g} (time steps times particles)")
     steps = max(1, int(round(o["sample_every"] / (dt * rate))))
     key = {"kind": "heated", **_key_model(gas, xi), "diffusion": problem.diffusion,
            "n": o["n"], "dt": dt, "steps": steps, "samples": o["n_samples"],

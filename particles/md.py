@@ -110,6 +110,7 @@ from ._md_run import (
     run_md,
 )
 from .rods import check_geometry, hard_rods, initial_state, mean_free_time
+from .run import check_memory, check_seed, check_work
 
 __all__ = ["simulate_heated", "simulate_cooling", "MDRun", "Snapshot", "DensityFluctuations",
            "InelasticCollapseError", "initial_state", "density_fluctuations",
@@ -120,6 +121,10 @@ logger = logging.getLogger(__name__)
 
 KICK_FRACTION = 0.1
 """Default kick interval, in estimated mean free times (and in 1/xi in a bath)."""
+MAX_KICK_INTERVAL = 10.0
+"""Largest kick interval of heated runs, in estimated mean free times."""
+_BYTES_PER_ROD = 160
+"""Arrays per rod of an MD run (positions, velocities, event calendar), for the check."""
 HEATED_THRESHOLD = 1e-2
 """Default threshold of heated runs, in units of the estimated thermal speed."""
 LAW_SPEED_SPAN = 10.0
@@ -138,12 +143,30 @@ def _common(n_particles, density, sigma, collisions_per_particle, n_samples, n_b
         raise ValueError(f"n_samples={n_samples} must be >= n_batches={n_batches}")
     if box_counts is None:
         box_counts = [2**k for k in range(1, int(math.log2(max(n // 4, 2))) + 1)]
+    boxes = tuple(box_counts)
+    for m in boxes:
+        if isinstance(m, bool) or not isinstance(m, (int, np.integer)) or not 1 <= m <= n:
+            raise ValueError(f"box_counts must be integers in [1, n_particles={n}] (numbers "
+                             f"of boxes for the density fluctuations), got {m!r}")
     check_positive("collapse_tol", collapse_tol)
     stall = 100 * n + 100_000 if max_stall is None else int(max_stall)
-    return n, sig, cpp, tuple(int(m) for m in box_counts), stall
+    check_work(0.5 * n * cpp, f"collisions_per_particle={cpp:g} with N={n}")
+    check_memory(_BYTES_PER_ROD * n, f"MD of N={n}")
+    return n, sig, cpp, tuple(int(m) for m in boxes), stall
+
+
+def _check_snapshots(snapshots_at: Sequence[float], cpp: float) -> tuple[float, ...]:
+    snaps = tuple(snapshots_at)
+    for s in snaps:
+        if (isinstance(s, bool) or not isinstance(s, (int, float, np.integer, np.floating))
+                or not 0.0 <= s <= cpp):
+            raise ValueError(f"snapshots_at must hold numbers of collisions per particle in "
+                             f"[0, collisions_per_particle={cpp:g}], got {s!r}")
+    return tuple(float(s) for s in snaps)
 
 
 def _seeded(seed: Any) -> np.random.Generator:
+    seed = check_seed(seed)
     ss = seed if isinstance(seed, np.random.SeedSequence) else np.random.SeedSequence(seed)
     return np.random.default_rng(ss)
 
@@ -269,6 +292,11 @@ def simulate_heated(alpha: float | RestitutionLaw, n_particles: int, *, density:
                                 else tau)
     else:
         dt_k = check_positive("kick_interval", kick_interval)
+        if dt_k > MAX_KICK_INTERVAL * tau:
+            raise ValueError(f"kick_interval={dt_k:g} is {dt_k / tau:.3g} mean free times; at "
+                             f"most {MAX_KICK_INTERVAL:g} (<= {MAX_KICK_INTERVAL * tau:.4g}) "
+                             "are allowed: rarer kicks do not model the white noise (default "
+                             f"{KICK_FRACTION:g} mean free times)")
     sample_dt = check_positive("sample_interval", sample_interval) * tau
     thr = (HEATED_THRESHOLD * math.sqrt(t_est) if threshold is None
            else check_positive("threshold", threshold))
@@ -292,7 +320,7 @@ def simulate_heated(alpha: float | RestitutionLaw, n_particles: int, *, density:
     plan = RunPlan(scaled=False, total=int(round(cpp * n / 2)),
                    sample_from=int(round(warm * n / 2)), n_samples=n_batches,
                    n_batches=n_batches, hist_range=12.0 * math.sqrt(t_est), n_bins=n_bins,
-                   snapshots_at=tuple(float(s) for s in snapshots_at), n_records=n_records,
+                   snapshots_at=_check_snapshots(snapshots_at, cpp), n_records=n_records,
                    box_counts=boxes, sample_dt=sample_dt)
     return run_md(params, seed=seed, y=y, v=v, rng=rng, options=options, plan=plan,
                   checkpointing=ck, progress=progress)
@@ -363,9 +391,7 @@ checkpoint_every, resume, max_wall_time, collapse_tol, max_stall
     start = 0.5 * cpp if sample_from is None else float(sample_from)
     if not 0.0 <= start <= cpp:
         raise ValueError(f"sample_from={sample_from!r} must lie in [0, collisions_per_particle]")
-    for s in snapshots_at:
-        if not 0.0 <= s <= cpp:
-            raise ValueError(f"snapshot at {s!r} collisions per particle is outside the run")
+    snapshots_at = _check_snapshots(snapshots_at, cpp)
     rng = _seeded(seed)
     dens = gas.density
     y, v = initial_state(n, density=dens, sigma=sig, rng=rng, positions=positions,

@@ -14,6 +14,8 @@ DSMC and an MD run alike (``run.distribution``, ``run.a2``, ``run.a2_error``,
 
 from __future__ import annotations
 
+import math
+import os
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -27,7 +29,64 @@ from kinetic_fem.model import check_nonnegative, check_positive
 
 from .sampling import load_checkpoint
 
-__all__ = ["ParticleRun", "Checkpointing"]
+__all__ = ["ParticleRun", "Checkpointing", "MAX_EVENTS", "check_seed", "check_work",
+           "check_memory"]
+
+MAX_EVENTS = 1e13
+"""Most collisions (or time steps times particles) a run may plan: about a day at 1e8 per
+second.  Longer studies are several checkpointed runs; raise it here to go beyond."""
+
+
+def check_seed(seed: object) -> object:
+    """A root seed: None, a ``numpy.random.SeedSequence`` or an integer ``>= 0``.
+
+    Raises
+    ------
+    TypeError
+        For a bool (``seed=True`` is not the seed 1) or another type.
+    ValueError
+        For a negative integer.
+    """
+    if seed is None or isinstance(seed, np.random.SeedSequence):
+        return seed
+    if isinstance(seed, (bool, np.bool_)) or not isinstance(seed, (int, np.integer)):
+        raise TypeError(f"seed must be None, an integer >= 0 or a numpy SeedSequence, got "
+                        f"{type(seed).__name__} {seed!r}")
+    if seed < 0:
+        raise ValueError(f"seed={seed!r} is not allowed; seeds are integers >= 0")
+    return int(seed)
+
+
+def check_work(events: float, what: str) -> None:
+    """Refuse up front a run of more than :data:`MAX_EVENTS` planned events.
+
+    Parameters
+    ----------
+    events : float
+        The estimate (collisions, or time steps times particles).
+    what : str
+        How the estimate arose, for the message.
+    """
+    if not events <= MAX_EVENTS:
+        raise ValueError(f"{what} plans about {events:.3g} events, more than "
+                         f"particles.run.MAX_EVENTS = {MAX_EVENTS:.3g} (a day at 1e8 per "
+                         "second): shorten the run or split it into checkpointed runs")
+
+
+def available_memory() -> float:
+    """Bytes of memory available now (physical pages free; inf where unknown)."""
+    try:
+        return float(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+    except (ValueError, OSError, AttributeError):  # not POSIX
+        return math.inf
+
+
+def check_memory(n_bytes: float, what: str) -> None:
+    """Refuse up front a run whose arrays would not fit in the available memory."""
+    free = available_memory()
+    if n_bytes > free:
+        raise MemoryError(f"{what} needs about {n_bytes / 2**30:.3g} GiB of arrays; "
+                          f"{free / 2**30:.3g} GiB are available: use fewer particles")
 
 
 class ParticleRun:

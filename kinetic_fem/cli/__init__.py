@@ -131,7 +131,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         parser.exit(2, f"kinetic-fem: error: {exc}\n")
     except OSError as exc:  # an output path that cannot be written, a missing file
         parser.exit(2, f"kinetic-fem: error: {exc}\n")
-    except RuntimeError as exc:  # a solver that failed on valid input
+    except (RuntimeError, MemoryError) as exc:  # a solver that failed on valid input
         parser.exit(1, f"kinetic-fem: solver failed: {exc}\n")
     return 2  # pragma: no cover
 
