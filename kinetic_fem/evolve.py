@@ -23,6 +23,7 @@ from numpy.typing import ArrayLike
 
 from .distribution import VelocityDistribution
 from .evolution import Evolution
+from .limits import check_cooling_span
 from .model import CollisionKernel, HeatedProblem, InelasticGas, RestitutionLaw, check_positive
 from .model.protocol import Protocol
 from .solvers.fem_cooling_transient import evolve_cooling_fem
@@ -240,6 +241,9 @@ def evolve_cooling(alpha: float | RestitutionLaw, *, density: float = 1.0,
     if not isinstance(protocol, Protocol):
         raise TypeError(f"protocol must be a Protocol, got {type(protocol).__name__}")
     initial, initial_temperature = _initial(initial, initial_temperature)
-    return _method("cooling", method)(gas, times=check_times(times), initial=initial,
+    times = check_times(times)
+    check_cooling_span(gas, float(times[-1]), initial_temperature or (
+        1.0 if initial is None else initial.temperature))
+    return _method("cooling", method)(gas, times=times, initial=initial,
                                       initial_temperature=initial_temperature,
                                       protocol=protocol, **options)

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from typing import Any, Callable
 
+from . import limits
 from .distribution import VelocityDistribution
 from .model import CollisionKernel, CoolingProblem, HeatedProblem, RestitutionLaw
 
@@ -89,6 +90,13 @@ def solve_heated(alpha: float | RestitutionLaw, *, density: float = 1.0,
         For invalid parameters, an unknown method or an unknown option.
     UnsupportedModelError
         (a ValueError) if the method cannot solve this model; the message says which can.
+    ValueError
+        Also for parameters whose temperature lies outside
+        :data:`kinetic_fem.limits.TEMPERATURE_RANGE`, or alpha beyond the method's
+        near-elastic frontier (:data:`kinetic_fem.limits.FRONTIER`).
+    ConvergenceError
+        If a result that says converged is not a physical state
+        (:func:`kinetic_fem.limits.check_result`).
 
     Examples
     --------
@@ -106,7 +114,10 @@ def solve_heated(alpha: float | RestitutionLaw, *, density: float = 1.0,
     """
     problem = HeatedProblem.from_parameters(alpha, density=density, diffusion=diffusion,
                                             friction=friction, kernel=kernel)
-    return _lookup(HEATED_SOLVERS, method, "heated")(problem, **options)
+    solver = _lookup(HEATED_SOLVERS, method, "heated")
+    limits.check_frontier(problem, method)
+    limits.check_scale(problem)
+    return limits.check_result(solver(problem, **options))
 
 
 def solve_cooling(alpha: float | RestitutionLaw, *, density: float = 1.0,
@@ -143,4 +154,6 @@ def solve_cooling(alpha: float | RestitutionLaw, *, density: float = 1.0,
     (1.0, 0.43556748, 0.1610182)
     """
     problem = CoolingProblem.from_parameters(alpha, density=density, kernel=kernel)
-    return _lookup(COOLING_SOLVERS, method, "cooling")(problem, **options)
+    solver = _lookup(COOLING_SOLVERS, method, "cooling")
+    limits.check_frontier(problem, method)
+    return limits.check_result(solver(problem, **options))

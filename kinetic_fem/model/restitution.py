@@ -291,7 +291,8 @@ class ViscoelasticRestitution(RestitutionLaw):
 
     @property
     def max_speed(self) -> float:
-        return (C1 / (2.0 * C2 * self.delta)) ** 5
+        base = C1 / (2.0 * C2 * self.delta)
+        return base**5 if base < 1e60 else math.inf  # (delta < 1e-60: no finite limit)
 
     @property
     def min_alpha(self) -> float:
