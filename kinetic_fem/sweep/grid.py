@@ -73,7 +73,8 @@ def grid_points(grid: Mapping[str, Any]
     Raises
     ------
     TypeError, ValueError
-        For an empty grid, a name that is not an identifier, empty or repeated values.
+        For an empty grid, a name that is not an identifier, empty or repeated values,
+        or values of different kinds (numbers, bools, strings) under one name.
 
     Examples
     --------
@@ -84,6 +85,7 @@ def grid_points(grid: Mapping[str, Any]
     if not isinstance(grid, Mapping) or not grid:
         raise TypeError(f"grid must be a non-empty dict of name -> values, got {grid!r}")
     coords: dict[str, NDArray[Any]] = {}
+    values_of: dict[str, list[Any]] = {}
     for name, values in grid.items():
         if not isinstance(name, str) or not name.isidentifier():
             raise ValueError(f"grid names must be Python identifiers, got {name!r}")
@@ -94,10 +96,17 @@ def grid_points(grid: Mapping[str, Any]
             raise ValueError(f"grid[{name!r}] is empty; give at least one value")
         if len(set(map(repr, vals))) != len(vals):
             raise ValueError(f"grid[{name!r}] repeats a value: {vals}")
+        kinds = {"bool" if isinstance(v, bool) else "str" if isinstance(v, str) else "number"
+                 for v in vals}
+        if len(kinds) > 1:  # an array would turn 0.5 into '0.5', or True into 1
+            raise TypeError(f"grid[{name!r}] mixes {' and '.join(sorted(kinds))} values "
+                            f"{vals}: give one kind per name (a bool is not the number 1)")
+        if kinds == {"number"} and any(isinstance(v, float) for v in vals):
+            vals = [float(v) for v in vals]  # one dtype, as the coordinate holds them
         coords[name] = np.asarray(vals)
-    names = list(coords)
-    points = [dict(zip(names, (canonical_value(v) for v in combo), strict=True))
-              for combo in itertools.product(*coords.values())]
+        values_of[name] = vals
+    points = [dict(zip(values_of, combo, strict=True))
+              for combo in itertools.product(*values_of.values())]
     return coords, points
 
 

@@ -65,3 +65,12 @@ def test_converged_results_must_be_physical():
                              info=good.info))
     unconverged = replace(good, values=good.values * np.nan, info=RunInfo(converged=False))
     assert check_result(unconverged) is unconverged
+
+
+@pytest.mark.parametrize("values", [[0.5, "0.6"], [0.5, True]])
+def test_sweep_grid_keeps_types(values):
+    from kinetic_fem.sweep.grid import grid_points
+
+    with pytest.raises(TypeError, match="mixes"):
+        grid_points({"alpha": values})
+    assert grid_points({"alpha": [0.5, 1]})[1][1] == {"alpha": 1.0}
