@@ -18,6 +18,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 
 import numpy as np
 
@@ -25,8 +26,8 @@ from .distribution import VelocityDistribution
 from .exceptions import ConvergenceError
 from .model import CoolingProblem, HeatedProblem, InelasticGas
 
-__all__ = ["TEMPERATURE_RANGE", "FRONTIER", "check_scale", "check_frontier", "check_result",
-           "check_cooling_span"]
+__all__ = ["TEMPERATURE_RANGE", "FRONTIER", "MESH_OPTIONS", "check_scale", "check_frontier",
+           "check_result", "check_cooling_span"]
 
 TEMPERATURE_RANGE = (1e-24, 1e24)
 """Temperatures a heated problem may have: ``T^6`` stays far inside double precision."""
@@ -36,10 +37,15 @@ FRONTIER: dict[tuple[str, str], float] = {
 }
 """Smallest ``eps = 1 - alpha`` per (problem, method) with the default discretisation.
 
-Measured (issue 28, on a loaded 2-core machine): the FEM cooling state at alpha = 0.9999
-takes 7.4 s of CPU, at 0.99999 more than 60 s, at 0.999999 and 1 - 1e-9 no answer in
-80 s; the heated state at 0.99999 more than 60 s.  Methods not listed have no stated
-frontier."""
+Measured (issue 28, on a loaded 2-core machine, default options): the FEM cooling
+state at alpha = 0.9999 takes 7.4 s of CPU, at 0.99999 more than 60 s of wall time, at
+0.999999 and 1 - 1e-9 no answer in 80 s; the heated state at 0.999 / 0.9995 1.4 / 1.7 s
+of CPU, at 0.9999 more than 150 s and at 0.99999 more than 60 s of wall time.  The
+frontier applies to the default discretisation only: a mesh given as an option
+(:data:`MESH_OPTIONS`) is the caller's choice.  Methods not listed state no frontier."""
+
+MESH_OPTIONS = frozenset({"spacing", "vertices", "cutoff", "resolution", "n_v", "c_max"})
+"""Options that replace the default discretisation (the frontier is then not applied)."""
 
 _TAIL_SHARE = 1e-3
 """Largest share of :math:`\\langle c^4\\rangle` the ends of the mesh may leave out."""
@@ -69,8 +75,18 @@ def check_scale(problem: HeatedProblem) -> float:
     return t
 
 
-def check_frontier(problem: HeatedProblem | CoolingProblem, method: str) -> None:
+def check_frontier(problem: HeatedProblem | CoolingProblem, method: str,
+                   options: Iterable[str] = ()) -> None:
     """Refuse at once a constant ``alpha`` closer to 1 than the method resolves.
+
+    Parameters
+    ----------
+    problem : HeatedProblem or CoolingProblem
+        The request.
+    method : str
+        The registry key.
+    options : iterable of str
+        The option names given; with one of :data:`MESH_OPTIONS` nothing is refused.
 
     Raises
     ------
@@ -80,7 +96,8 @@ def check_frontier(problem: HeatedProblem | CoolingProblem, method: str) -> None
     alpha = problem.gas.restitution.constant
     kind = "cooling" if isinstance(problem, CoolingProblem) else "heated"
     eps_min = FRONTIER.get((kind, method))
-    if alpha is None or eps_min is None or alpha == 1.0 or 1.0 - alpha >= eps_min:
+    if (alpha is None or eps_min is None or alpha == 1.0 or 1.0 - alpha >= eps_min
+            or MESH_OPTIONS.intersection(options)):
         return
     if kind == "heated" and problem.friction > 0.0:
         return  # a bath keeps the state at its temperature: no near-elastic limit

@@ -115,7 +115,7 @@ def solve_heated(alpha: float | RestitutionLaw, *, density: float = 1.0,
     problem = HeatedProblem.from_parameters(alpha, density=density, diffusion=diffusion,
                                             friction=friction, kernel=kernel)
     solver = _lookup(HEATED_SOLVERS, method, "heated")
-    limits.check_frontier(problem, method)
+    limits.check_frontier(problem, method, options)
     limits.check_scale(problem)
     return limits.check_result(solver(problem, **options))
 
@@ -155,5 +155,5 @@ def solve_cooling(alpha: float | RestitutionLaw, *, density: float = 1.0,
     """
     problem = CoolingProblem.from_parameters(alpha, density=density, kernel=kernel)
     solver = _lookup(COOLING_SOLVERS, method, "cooling")
-    limits.check_frontier(problem, method)
+    limits.check_frontier(problem, method, options)
     return limits.check_result(solver(problem, **options))
