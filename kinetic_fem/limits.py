@@ -99,7 +99,7 @@ def check_frontier(problem: HeatedProblem | CoolingProblem, method: str,
     if (alpha is None or eps_min is None or alpha == 1.0 or 1.0 - alpha >= eps_min
             or MESH_OPTIONS.intersection(options)):
         return
-    if kind == "heated" and problem.friction > 0.0:
+    if isinstance(problem, HeatedProblem) and problem.friction > 0.0:
         return  # a bath keeps the state at its temperature: no near-elastic limit
     scaled = "solve_psi (cooling, scaled by eps)" if kind == "cooling" else \
         "solve_phi (heated, scaled by eps^(1/3))"

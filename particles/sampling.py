@@ -270,8 +270,8 @@ def save_checkpoint(path: str | Path, arrays: Mapping[str, NDArray[Any]],
     arrays = {k: np.asarray(a) for k, a in arrays.items()}
     digest = _checksum(arrays, meta_json)
     # (numpy's stub types **kwds of savez as its allow_pickle flag)
-    np.savez(tmp, __meta__=np.array(meta_json), __sha256__=np.array(digest),  # type: ignore[arg-type]
-             **arrays)
+    np.savez(tmp, __meta__=np.array(meta_json), __sha256__=np.array(digest),
+             **arrays)  # type: ignore[arg-type]
     tmp.replace(path)
     return path
 

@@ -363,7 +363,8 @@ class HeatedProblem:
                 t = float(np.exp(log_t))
                 return self.thermostat.energy_input(t) - self.gas.loss_rate(t)
 
-            hi = min(float(np.log(self.thermostat.bath_temperature)), 60.0)
+            t_bath = self.thermostat.bath_temperature  # (D/xi may underflow to 0)
+            hi = min(math.log(t_bath), 60.0) if t_bath > 0 else -math.inf
             if hi <= -60.0 or balance(hi) >= 0.0:  # (beyond the bracket: the bath's scale)
                 return self.thermostat.bath_temperature
             return float(np.exp(brentq(balance, -60.0, hi, xtol=1e-14, rtol=1e-14)))
