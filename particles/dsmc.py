@@ -249,6 +249,14 @@ def _key_model(gas: InelasticGas, friction: float = 0.0) -> dict[str, Any]:
     return out
 
 
+def _check_spread(v: NDArray[np.float64]) -> None:
+    """Initial velocities must differ: a run measures T = var(v) from the start."""
+    if not np.ptp(v) > 0:
+        raise ValueError("initial_velocities are all equal (temperature 0): no collision can "
+                         "happen and the scaled velocities v/sqrt(T) are undefined; give "
+                         "velocities with a positive spread")
+
+
 def _check_range(gas: InelasticGas, v: NDArray[np.float64], where: str) -> None:
     """A restitution law must cover the initial relative speeds."""
     if math.isfinite(gas.restitution.max_speed):
@@ -365,6 +373,7 @@ def simulate_heated(alpha: float | RestitutionLaw, n_particles: int, *, density:
         problem.friction == 0
     a2 = float(a2_first_order(gas.alpha)) if paper else 0.0
     v = initial_velocities_of(initial_velocities, o["n"], t_ref, init_seq, a2=a2)
+    _check_spread(v)
     _check_range(gas, v, "the initial velocities")
     t_max = max(t_ref, float(np.mean(v**2)))
     rate = gas.density * gas.kernel.gaussian_mean(t_ref)  # collisions per particle and time
@@ -468,8 +477,7 @@ def simulate_cooling(alpha: float | RestitutionLaw, n_particles: int, *, density
     c_max = check_positive("c_max", c_max)
     init_seq, run_seq, entropy = _seeds(seed)
     v = initial_velocities_of(initial_velocities, o["n"], 1.0, init_seq)
-    if not np.ptp(v) > 0:
-        raise ValueError("initial_velocities are all equal: no collision can ever happen")
+    _check_spread(v)
     _check_range(gas, v, "the initial velocities")
     key = {"kind": "cooling", **_key_model(gas), "n": o["n"], "every": o["sample_every"],
            "samples": o["n_samples"], "batches": o["n_batches"], "bins": o["bins"],

@@ -35,3 +35,9 @@ def test_particle_sweep_exports_netcdf(tmp_path):
                  "--out", str(out), "--quiet"]) == 0
     with xr.open_dataset(out, engine="scipy") as ds:
         assert int(ds.n_particles.values[0]) == 200 and bool(ds.converged.values.all())
+
+
+def test_unrepresentable_scale_exits_non_zero(capsys):
+    with pytest.raises(SystemExit) as exit_:
+        main(["solve-heated", "0.6", "--density", "1e300", "--quiet"])
+    assert exit_.value.code == 2 and "outside [1e-24" in capsys.readouterr().err

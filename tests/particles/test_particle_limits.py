@@ -42,3 +42,9 @@ def test_dsmc_too_many_particles_is_a_memory_error_before_allocating():
 def test_md_refuses_up_front(changes, match):
     with pytest.raises(ValueError, match=match):
         md.simulate_heated(0.9, 50, **{**KW, "collisions_per_particle": 10.0, **changes})
+
+
+@pytest.mark.parametrize("simulate", [dsmc.simulate_heated, dsmc.simulate_cooling])
+def test_equal_initial_velocities_are_refused_by_name(simulate):
+    with pytest.raises(ValueError, match="initial_velocities are all equal"):
+        simulate(0.6, 200, initial_velocities=np.zeros(200), **KW)
