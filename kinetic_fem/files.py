@@ -31,6 +31,15 @@ __all__ = ["FileFormatError", "npz_path", "output_path", "read_npz", "reading",
 def npz_path(path: str | Path) -> Path:
     """``path`` as given, with ``.npz`` appended unless it already ends in ``.npz``.
 
+    Parameters
+    ----------
+    path : str or Path
+        The path a user gave.
+
+    Returns
+    -------
+    Path
+
     Examples
     --------
     >>> npz_path("ck_alpha0.6").name, npz_path("run.npz").name, npz_path("a.dsmc").name
@@ -82,6 +91,13 @@ def reading(path: str | Path, what: str) -> Iterator[None]:
 
     ``SystemExit`` is caught too (meshio exits the process on some malformed files);
     ``FileNotFoundError``, ``KeyboardInterrupt`` and our own ``FileFormatError`` pass.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file read inside the block (named in the message).
+    what : str
+        What it should be, e.g. ``"VTU line mesh of kinetic_fem.io"``.
     """
     try:
         yield
@@ -135,7 +151,23 @@ def read_npz(path: str | Path, *, what: str, required: Iterable[str]
 
 def json_entry(arrays: dict[str, NDArray[Any]], key: str, path: str | Path, what: str
                ) -> dict[str, Any]:
-    """The JSON object stored as the string array ``arrays[key]``."""
+    """The JSON object stored as the string array ``arrays[key]``.
+
+    Parameters
+    ----------
+    arrays : dict of str to ndarray
+        What :func:`read_npz` returned.
+    key : str
+        The entry holding the JSON text.
+    path : str or Path
+        The file (for the message).
+    what : str
+        What the file should be (for the message).
+
+    Returns
+    -------
+    dict
+    """
     with reading(path, what):
         out = json.loads(str(arrays[key]))
     if not isinstance(out, dict):
@@ -144,7 +176,20 @@ def json_entry(arrays: dict[str, NDArray[Any]], key: str, path: str | Path, what
 
 
 def check_loaded_values(path: str | Path, **arrays: Any) -> None:
-    """Refuse NaN or infinite entries in arrays read from ``path`` (names in the message)."""
+    """Refuse NaN or infinite entries in arrays read from ``path`` (names in the message).
+
+    Parameters
+    ----------
+    path : str or Path
+        The file the arrays came from.
+    **arrays : array_like or None
+        The arrays by name (None is skipped).
+
+    Raises
+    ------
+    FileFormatError
+        For a non-finite or non-numeric entry.
+    """
     for name, a in arrays.items():
         if a is None:
             continue

@@ -54,6 +54,16 @@ _TAIL_SHARE = 1e-3
 def check_scale(problem: HeatedProblem) -> float:
     """The estimated temperature, refusing one outside :data:`TEMPERATURE_RANGE`.
 
+    Parameters
+    ----------
+    problem : HeatedProblem
+        The request.
+
+    Returns
+    -------
+    float
+        The Gaussian-closure temperature.
+
     Raises
     ------
     ValueError
@@ -126,6 +136,16 @@ def _tail_c4(c: np.ndarray, f: np.ndarray) -> float:
 def check_result(dist: VelocityDistribution) -> VelocityDistribution:
     """Raise if a result that says ``converged`` is not a physical state.
 
+    Parameters
+    ----------
+    dist : VelocityDistribution
+        A solver's result.
+
+    Returns
+    -------
+    VelocityDistribution
+        ``dist`` itself.
+
     Raises
     ------
     ConvergenceError
@@ -165,6 +185,15 @@ def check_cooling_span(gas: InelasticGas, t_end: float, temperature0: float) -> 
     :math:`L` the loss rate (:meth:`~kinetic_fem.model.InelasticGas.loss_rate`),
     gives :math:`T(t_{end})`; for a law or a saturating kernel the power law is an
     estimate.
+
+    Parameters
+    ----------
+    gas : InelasticGas
+        The gas.
+    t_end : float
+        The last output time.
+    temperature0 : float
+        The initial temperature.
 
     Raises
     ------

@@ -40,6 +40,15 @@ second.  Longer studies are several checkpointed runs; raise it here to go beyon
 def check_seed(seed: object) -> object:
     """A root seed: None, a ``numpy.random.SeedSequence`` or an integer ``>= 0``.
 
+    Parameters
+    ----------
+    seed : object
+        The ``seed`` argument.
+
+    Returns
+    -------
+    None, SeedSequence or int
+
     Raises
     ------
     TypeError
@@ -82,7 +91,20 @@ def available_memory() -> float:
 
 
 def check_memory(n_bytes: float, what: str) -> None:
-    """Refuse up front a run whose arrays would not fit in the available memory."""
+    """Refuse up front a run whose arrays would not fit in the available memory.
+
+    Parameters
+    ----------
+    n_bytes : float
+        Estimated bytes of the run's arrays.
+    what : str
+        The run, for the message.
+
+    Raises
+    ------
+    MemoryError
+        If ``n_bytes`` exceeds :func:`available_memory`.
+    """
     free = available_memory()
     if n_bytes > free:
         raise MemoryError(f"{what} needs about {n_bytes / 2**30:.3g} GiB of arrays; "
