@@ -33,13 +33,15 @@ TEMPERATURE_RANGE = (1e-24, 1e24)
 """Temperatures a heated problem may have: ``T^6`` stays far inside double precision."""
 
 FRONTIER: dict[tuple[str, str], float] = {
-    ("heated", "fem"): 1e-4, ("cooling", "fem"): 1e-4,
+    ("heated", "fem"): 1e-4, ("cooling", "fem"): 1e-6,
 }
 """Smallest ``eps = 1 - alpha`` per (problem, method) with the default discretisation.
 
-Measured (issue 28, on a loaded 2-core machine, default options): the FEM cooling
-state at alpha = 0.9999 takes 7.4 s of CPU, at 0.99999 more than 60 s of wall time, at
-0.999999 and 1 - 1e-9 no answer in 80 s; the heated state at 0.999 / 0.9995 1.4 / 1.7 s
+The FEM cooling state's continuation is measured to reach 1 - alpha = 1e-6
+(``solvers.fem_cooling_links.HUMP_FRONTIER``); beyond it (1 - 1e-9 ran for minutes
+before failing) the request is refused at once.  Measured (issue 28, on a loaded
+2-core machine, default options): the cooling state at alpha = 0.9999 takes 7.4 s of
+CPU, at 0.99999 more than 60 s of wall time; the heated state at 0.999 / 0.9995 1.4 / 1.7 s
 of CPU, at 0.9999 more than 150 s and at 0.99999 more than 60 s of wall time.  The
 frontier applies to the default discretisation only: a mesh given as an option
 (:data:`MESH_OPTIONS`) is the caller's choice.  Methods not listed state no frontier."""

@@ -159,7 +159,7 @@ def test_failure_below_the_frontier_names_the_limit(monkeypatch):
     monkeypatch.setattr(fem_cooling_links, "continued_state", step)
     monkeypatch.setattr(fem_cooling_links, "HUMP_MIN_RATIO", 1e9)  # no step halving
     with pytest.raises(fem_cooling.ConvergenceError, match="solve_psi"):
-        kf.solve_cooling(1 - 5e-7)
+        fem_cooling.solve_fem_cooling(kf.CoolingProblem.from_parameters(1 - 5e-7))
     lowest["eps"] = 1e-3
     with pytest.raises(fem_cooling.ConvergenceError, match="smaller resolution"):
         kf.solve_cooling(1 - 5e-4)
