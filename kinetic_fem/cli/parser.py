@@ -14,7 +14,9 @@ import ast
 import difflib
 import inspect
 import logging
+import os
 import sys
+import tempfile
 from pathlib import Path
 from typing import Any, Callable, Sequence
 
@@ -310,5 +312,16 @@ def save(dist: VelocityDistribution, out: Path) -> Path:
     -------
     Path
         The path written.
+
+    Raises
+    ------
+    OSError
+        If ``out`` cannot be written; the result is then saved in the temporary
+        directory and the message names that file.
     """
-    return dist.save(out) if out.suffix == ".npz" else io.write_distribution(dist, out)
+    try:
+        return dist.save(out) if out.suffix == ".npz" else io.write_distribution(dist, out)
+    except OSError as err:  # the directory vanished, the disk is full: keep the result
+        fallback = Path(tempfile.gettempdir()) / f"kinetic-fem-{os.getpid()}.npz"
+        raise OSError(f"--out {str(out)!r} could not be written ({err}); the result is "
+                      f"saved in {str(dist.save(fallback))!r}") from err

@@ -1,7 +1,9 @@
 """The CLI checks outputs before computing, exports what it computed (issue 28)."""
 
 import time
+from pathlib import Path
 
+import numpy as np
 import pytest
 
 from kinetic_fem.cli import main
@@ -41,3 +43,16 @@ def test_unrepresentable_scale_exits_non_zero(capsys):
     with pytest.raises(SystemExit) as exit_:
         main(["solve-heated", "0.6", "--density", "1e300", "--quiet"])
     assert exit_.value.code == 2 and "outside [1e-24" in capsys.readouterr().err
+
+
+def test_a_failing_export_keeps_the_result(tmp_path):
+    from kinetic_fem.cli.parser import save
+    from kinetic_fem.distribution import VelocityDistribution
+
+    v = np.linspace(-6, 6, 61)
+    dist = VelocityDistribution.from_values(v, np.exp(-v**2 / 2), method="demo")
+    with pytest.raises(OSError, match="the result is saved in") as err:
+        save(dist, tmp_path / "gone" / "x.npz")
+    kept = Path(str(err.value).split("saved in ")[1].strip("'"))
+    assert np.array_equal(VelocityDistribution.load(kept).values, dist.values)
+    kept.unlink()
