@@ -33,15 +33,15 @@ TEMPERATURE_RANGE = (1e-24, 1e24)
 """Temperatures a heated problem may have: ``T^6`` stays far inside double precision."""
 
 FRONTIER: dict[tuple[str, str], float] = {
-    ("heated", "fem"): 1e-4, ("cooling", "fem"): 1e-6,
+    ("heated", "fem"): 1e-4, ("cooling", "fem"): 1e-4,
 }
 """Smallest ``eps = 1 - alpha`` per (problem, method) with the default discretisation.
 
-The FEM cooling state's continuation is measured to reach 1 - alpha = 1e-6
-(``solvers.fem_cooling_links.HUMP_FRONTIER``); beyond it (1 - 1e-9 ran for minutes
-before failing) the request is refused at once.  Measured (issue 28, on a loaded
-2-core machine, default options): the cooling state at alpha = 0.9999 takes 7.4 s of
-CPU, at 0.99999 more than 60 s of wall time; the heated state at 0.999 / 0.9995 1.4 / 1.7 s
+The FEM cooling state's continuation reaches 1 - alpha = 1e-6 at most
+(``solvers.fem_cooling_links.HUMP_FRONTIER``), but slowly.  Measured (issue 28, on a
+loaded 2-core machine, default options): the cooling state at alpha = 0.9999 takes
+7.4 s of CPU, at 0.99999 more than 60 s and at 0.999999 more than 400 s of wall time
+(1 - 1e-9: minutes, then a failure); the heated state at 0.999 / 0.9995 1.4 / 1.7 s
 of CPU, at 0.9999 more than 150 s and at 0.99999 more than 60 s of wall time.  The
 frontier applies to the default discretisation only: a mesh given as an option
 (:data:`MESH_OPTIONS`) is the caller's choice.  Methods not listed state no frontier."""
@@ -118,8 +118,10 @@ def check_frontier(problem: HeatedProblem | CoolingProblem, method: str,
     raise ValueError(f"alpha={alpha!r} (1 - alpha = {1.0 - alpha:.3g}) is beyond the "
                      f"near-elastic frontier of the {kind} method {method!r}: 1 - alpha >= "
                      f"{eps_min:g} (the state's width shrinks with 1 - alpha until the "
-                     "mesh or expansion cannot resolve it); closer to elastic collisions use "
-                     f"the quasi-elastic solution kinetic_fem.scaling.{scaled}")
+                     "mesh or expansion cannot resolve it in reasonable time); closer to "
+                     f"elastic collisions use the quasi-elastic solution kinetic_fem.scaling."
+                     f"{scaled}, or give the mesh yourself (one of {sorted(MESH_OPTIONS)}) "
+                     "to run the method anyway (minutes or more)")
 
 
 def _tail_c4(c: np.ndarray, f: np.ndarray) -> float:
