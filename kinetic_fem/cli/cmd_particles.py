@@ -14,6 +14,7 @@ import time
 from pathlib import Path
 from typing import Any
 
+from . import COMMANDS
 from .parser import (
     add_model_arguments,
     check_options,
@@ -61,7 +62,7 @@ def add_parsers(sub: argparse._SubParsersAction) -> list[argparse.ArgumentParser
     parsers = []
     for cmd in ("dsmc", "md"):
         extra = "\n  kinetic-fem md 0.9 -N 2000 -o sigma=0.25" if cmd == "md" else ""
-        p = sub.add_parser(cmd, help=_DESCRIPTION[cmd].split(":")[0].lower(),
+        p = sub.add_parser(cmd, help=COMMANDS[cmd][1],
                            description=_DESCRIPTION[cmd],
                            epilog=EPILOG.format(cmd=cmd, extra=extra),
                            formatter_class=argparse.RawDescriptionHelpFormatter)

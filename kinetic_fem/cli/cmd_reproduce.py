@@ -12,6 +12,7 @@ from tqdm import tqdm
 from tqdm.contrib.logging import logging_redirect_tqdm
 
 from .. import reproduce
+from . import COMMANDS
 from .parser import PACKAGES, split_keys
 
 __all__ = ["add_parser", "run", "select_items"]
@@ -42,7 +43,7 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     argparse.ArgumentParser
     """
     rep = sub.add_parser(
-        "reproduce", help="regenerate the paper's figures and check its claims",
+        "reproduce", help=COMMANDS["reproduce"][1],
         description="Regenerate the figures of Barrat et al. (2002) and check its claims.",
         epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
     size = rep.add_mutually_exclusive_group()

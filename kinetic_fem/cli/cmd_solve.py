@@ -5,8 +5,10 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from .. import load_solvers
 from ..distribution import VelocityDistribution
 from ..solve import COOLING_SOLVERS, HEATED_SOLVERS, solve_cooling, solve_heated
+from . import COMMANDS
 from .parser import (
     add_model_arguments,
     check_options,
@@ -47,13 +49,14 @@ def add_parsers(sub: argparse._SubParsersAction) -> list[argparse.ArgumentParser
     -------
     list of argparse.ArgumentParser
     """
+    load_solvers()  # the registered methods are the --method choices
     heated = sub.add_parser(
-        "solve-heated", help="steady state of the heated gas at one alpha",
+        "solve-heated", help=COMMANDS["solve-heated"][1],
         description="Solve the heated steady state and print T and a2.",
         epilog=HEATED_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
     _arguments(heated, HEATED_SOLVERS, "fem", heated=True, example="spacing=0.05")
     cooling = sub.add_parser(
-        "solve-cooling", help="homogeneous cooling state (free cooling) at one alpha",
+        "solve-cooling", help=COMMANDS["solve-cooling"][1],
         description="Solve the scaled homogeneous cooling state and print a2 and the "
                     "cooling rate zeta (dT/dt = -2 zeta n T^(1+gamma/2)).",
         epilog=COOLING_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)

@@ -22,8 +22,10 @@ from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 from typing import Any, Callable
 
+from .. import load_solvers
 from ..solve import COOLING_SOLVERS, HEATED_SOLVERS, solve_cooling, solve_heated
 from ..sweep import sweep
+from . import COMMANDS
 from .parser import check_options, float_list, int_list, key_value
 
 __all__ = ["add_parser", "run", "read_config", "GRID_OPTIONS"]
@@ -58,9 +60,10 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     -------
     argparse.ArgumentParser
     """
+    load_solvers()  # the registered methods are the --method choices
     methods = sorted({*HEATED_SOLVERS, *COOLING_SOLVERS, *_PARTICLE_METHODS})
     p = sub.add_parser(
-        "sweep", help="a parameter sweep (grid of alpha, kernel, ...) persisted point by point",
+        "sweep", help=COMMANDS["sweep"][1],
         description="Evaluate a solver or particle simulation on the outer product of a grid "
                     "and print T and a2 for each point; with --store every finished point is "
                     "saved at once and a rerun computes only the missing ones.",

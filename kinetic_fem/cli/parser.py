@@ -16,11 +16,10 @@ import inspect
 import logging
 import sys
 from pathlib import Path
-from typing import Any, Callable, Sequence
+from typing import TYPE_CHECKING, Any, Callable, Sequence
 
-from .. import io
-from ..distribution import VelocityDistribution
-from ..model import ThresholdRestitution, ViscoelasticRestitution
+if TYPE_CHECKING:
+    from ..distribution import VelocityDistribution
 
 __all__ = ["CommandParser", "key_value", "split_keys", "float_list", "int_list",
            "setup_logging", "add_model_arguments", "restitution_of", "check_options",
@@ -226,6 +225,8 @@ def restitution_of(args: argparse.Namespace) -> Any:
     -------
     float or RestitutionLaw
     """
+    from ..model import ThresholdRestitution, ViscoelasticRestitution
+
     kind, value = args.restitution
     if kind == "viscoelastic":
         if args.alpha is not None:
@@ -271,21 +272,24 @@ def check_options(function: Callable[..., Any], options: dict[str, Any], what: s
         raise ValueError(f"unknown option(s) {unknown} for {what}; valid -o names: {valid}")
 
 
-def check_out(out: Path | None, suffixes: Sequence[str] = (".npz", *io.FORMATS)) -> None:
+def check_out(out: Path | None, suffixes: Sequence[str] | None = None) -> None:
     """Raise ValueError unless ``out`` is None or ends in one of ``suffixes``.
 
     Parameters
     ----------
     out : Path or None
         The ``--out`` file.
-    suffixes : sequence of str
-        The allowed suffixes.
+    suffixes : sequence of str, optional
+        The allowed suffixes (default: ``.npz`` and :data:`kinetic_fem.io.FORMATS`).
 
     Raises
     ------
     ValueError
         For another suffix.
     """
+    from .. import io
+
+    suffixes = (".npz", *io.FORMATS) if suffixes is None else suffixes
     if out is not None and out.suffix not in suffixes:
         raise ValueError(f"--out must end in {', '.join(suffixes)}; got {str(out)!r}")
 
@@ -305,4 +309,6 @@ def save(dist: VelocityDistribution, out: Path) -> Path:
     Path
         The path written.
     """
+    from .. import io
+
     return dist.save(out) if out.suffix == ".npz" else io.write_distribution(dist, out)
