@@ -24,7 +24,7 @@ from .parser import (
     save,
 )
 
-__all__ = ["add_parsers", "run"]
+__all__ = ["add_parsers", "run", "interrupt_note"]
 
 EPILOG = """\
 examples:
@@ -80,13 +80,15 @@ def add_parsers(sub: argparse._SubParsersAction) -> list[argparse.ArgumentParser
                        help="write the state to FILE during the run and at its end")
         p.add_argument("--resume", action="store_true",
                        help="continue bit-identically from --checkpoint if it exists")
-        p.add_argument("--progress", action="store_true", help="progress bar (stderr)")
+        p.add_argument("--progress", action="store_true",
+                       help="progress bar on stderr (the default; --quiet hides it)")
         p.add_argument("--out", type=Path, default=None, metavar="FILE",
                        help="save the distribution: .npz, .vtu or .xdmf")
         p.add_argument("-o", "--option", dest="options", type=key_value, action="append",
                        default=[], metavar="KEY=VALUE",
                        help="further keyword of the simulation, repeatable")
-        p.add_argument("--quiet", action="store_true", help="no log messages")
+        p.add_argument("--quiet", action="store_true",
+                       help="no progress bar and no log messages")
         parsers.append(p)
     return parsers
 
@@ -98,7 +100,7 @@ _SET_BY_FLAGS = ("alpha", "n_particles", "density", "diffusion", "friction", "ke
 def _keywords(args: argparse.Namespace, function: Any) -> dict[str, Any]:
     params = inspect.signature(function).parameters
     kw: dict[str, Any] = {"density": args.density, "seed": args.seed,
-                          "progress": args.progress}
+                          "progress": args.progress or not args.quiet}
     model = {"kernel": (args.kernel, 1.0)}
     if args.cooling:
         for name, default in (("diffusion", 1.0), ("friction", 0.0)):
@@ -127,6 +129,28 @@ def _keywords(args: argparse.Namespace, function: Any) -> dict[str, Any]:
     check_options(function, options, f"{function.__module__}.{function.__name__}",
                   exclude=_SET_BY_FLAGS)
     return {**kw, **options}
+
+
+def interrupt_note(args: argparse.Namespace) -> str:
+    """What a Ctrl-C kept: the last checkpoint, if any, and how to resume.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line.
+
+    Returns
+    -------
+    str
+    """
+    if args.checkpoint is None:
+        return ("nothing was kept (no --checkpoint); add --checkpoint FILE to keep the "
+                "state and resume with --resume")
+    path = args.checkpoint.with_suffix(".npz")
+    if not path.exists():
+        return (f"no checkpoint was written yet to {path} (one is written every "
+                "checkpoint_every seconds); run the command again")
+    return f"the state last written to {path} is kept; add --resume to continue from it"
 
 
 def run(args: argparse.Namespace) -> int:

@@ -26,9 +26,10 @@ from .. import load_solvers
 from ..solve import COOLING_SOLVERS, HEATED_SOLVERS, solve_cooling, solve_heated
 from ..sweep import sweep
 from . import COMMANDS
-from .parser import check_options, float_list, int_list, key_value
+from .parser import api_default, check_options, float_list, int_list, key_value
 
-__all__ = ["add_parser", "run", "read_config", "GRID_OPTIONS"]
+__all__ = ["add_parser", "run", "read_config", "check_grid", "interrupt_note",
+           "GRID_OPTIONS"]
 
 EPILOG = """\
 examples:
@@ -94,8 +95,9 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("-o", "--option", dest="options", type=key_value, action="append",
                    default=[], metavar="KEY=VALUE",
                    help="fixed keyword of the solver / simulation, repeatable")
-    p.add_argument("--progress", action="store_true", help="progress bar over the points")
-    p.add_argument("--quiet", action="store_true", help="no log messages")
+    p.add_argument("--progress", action="store_true",
+                   help="progress bar over the points (the default; --quiet hides it)")
+    p.add_argument("--quiet", action="store_true", help="no progress bar and no log messages")
     return p
 
 
@@ -187,7 +189,7 @@ def _settings(args: argparse.Namespace) -> dict[str, Any]:
     options = {**config.get("options", {}), **dict(args.options)}
     pick = {k: getattr(args, k) if getattr(args, k) is not None else config.get(k)
             for k in ("method", "problem", "store", "workers", "scheduler", "seed", "out")}
-    pick["method"] = pick["method"] or "fem"
+    pick["method"] = pick["method"] or api_default(solve_heated, "method")
     pick["problem"] = pick["problem"] or "heated"
     if not grid:
         raise ValueError("empty grid: give e.g. --alpha 0.3,0.6,0.9 or a [grid] table in "
@@ -224,12 +226,13 @@ def run(args: argparse.Namespace) -> int:
                        if k not in ("density", "diffusion", "friction", "kernel")}
         check_options(table[s["method"]], solver_opts, f"method {s['method']!r}",
                       exclude=("problem",))
+    check_grid(s["grid"], s["options"], s["problem"])
     if s["seed"] is not None:
         fixed["seed"] = s["seed"]
     executor, closing = _executor(s["workers"], s["scheduler"])
     try:
         ds = sweep(function, s["grid"], store=s["store"], executor=executor,
-                   progress=args.progress, **fixed, **s["options"])
+                   progress=args.progress or not args.quiet, **fixed, **s["options"])
     finally:
         if closing is not None:
             closing.shutdown() if isinstance(closing, ProcessPoolExecutor) else closing.close()
@@ -238,6 +241,75 @@ def run(args: argparse.Namespace) -> int:
         ds.to_netcdf(s["out"], engine="scipy")
         print(f"saved to {s['out']}")
     return 0
+
+
+_MODEL_KEYS = {"heated": ("alpha", "density", "diffusion", "friction", "kernel"),
+               "cooling": ("alpha", "density", "kernel")}
+
+
+def check_grid(grid: dict[str, list[Any]], options: dict[str, Any], problem: str) -> None:
+    """Validate the model parameters of every grid point before the first one runs.
+
+    Each point's ``alpha``, ``density``, ``kernel`` (and heated: ``diffusion``,
+    ``friction``) build the problem of :mod:`kinetic_fem.model`, which checks them; a
+    bad value is refused here, naming the point, instead of after the good points ran.
+
+    Parameters
+    ----------
+    grid : dict of str to list
+        The grid values (``--alpha 0.3,0.6`` ...).
+    options : dict
+        Fixed keywords (``-o``), which may hold model parameters too.
+    problem : {"heated", "cooling"}
+        Which problem the sweep solves.
+
+    Raises
+    ------
+    ValueError
+        Naming the first invalid grid point and the model's message.
+    """
+    from itertools import product
+
+    from ..model import CoolingProblem, HeatedProblem
+
+    keys = [k for k in _MODEL_KEYS[problem] if k in grid]
+    fixed = {k: v for k, v in options.items() if k in _MODEL_KEYS[problem]}
+    build = HeatedProblem.from_parameters if problem == "heated" else \
+        CoolingProblem.from_parameters
+    for values in product(*(grid[k] for k in keys)):
+        point = dict(zip(keys, values, strict=True))
+        model = {**fixed, **point}
+        try:
+            build(model.pop("alpha", 0.5), **model)
+        except (ValueError, TypeError) as exc:
+            raise ValueError(f"grid point {point} is invalid (nothing was computed): "
+                             f"{exc}") from None
+
+
+def interrupt_note(args: argparse.Namespace) -> str:
+    """What a Ctrl-C kept: the finished points of the store, and how to resume.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line.
+
+    Returns
+    -------
+    str
+    """
+    store = args.store
+    if store is None and args.config is not None:
+        try:
+            store = read_config(args.config).get("store")
+        except (OSError, ValueError):
+            store = None
+    if store is None:
+        return ("nothing was kept (no --store); add --store DIR to keep each finished "
+                "point and resume")
+    points = len(list(Path(store).glob("point-*.nc")))
+    return (f"{points} finished point(s) are kept in {store}; run the same command again "
+            "to compute only the missing ones")
 
 
 def _print_table(ds: Any, dims: list[str]) -> None:
