@@ -17,6 +17,9 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import math
+import os
+import signal
 import sys
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
@@ -152,7 +155,14 @@ def _function(method: str, problem: str) -> tuple[Callable[..., Any], dict[str, 
     return (solve_heated if problem == "heated" else solve_cooling), {"method": method}
 
 
-def _executor(workers: int | None, scheduler: str | None) -> tuple[Any, Any]:
+def _ignore_interrupt() -> None:
+    """Initializer of the local workers: Ctrl-C reaches the whole process group, and is
+    the parent's to handle (it reports what was kept); a worker finishes its point."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def _executor(workers: int | None, scheduler: str | None,
+              n_points: int = 1) -> tuple[Any, Any]:
     """(executor for sweep, object to close afterwards)."""
     if scheduler is not None:
         if workers is not None:
@@ -164,13 +174,13 @@ def _executor(workers: int | None, scheduler: str | None) -> tuple[Any, Any]:
                              "'kinetic-fem[distributed]'") from exc
         client = Client(scheduler)
         return client, client
-    if workers is None:
-        return None, None
-    if workers < 1:
+    if workers is not None and workers < 1:
         raise ValueError(f"--workers must be >= 1, got {workers}")
     if workers == 1:
         return "serial", None
-    pool = ProcessPoolExecutor(workers)
+    if workers is None:  # as kinetic_fem.sweep's default pool
+        workers = max(1, min(n_points, os.cpu_count() or 1))
+    pool = ProcessPoolExecutor(workers, initializer=_ignore_interrupt)
     return pool, pool
 
 
@@ -229,10 +239,16 @@ def run(args: argparse.Namespace) -> int:
     check_grid(s["grid"], s["options"], s["problem"])
     if s["seed"] is not None:
         fixed["seed"] = s["seed"]
-    executor, closing = _executor(s["workers"], s["scheduler"])
+    n_points = math.prod(len(v) for v in s["grid"].values())
+    executor, closing = _executor(s["workers"], s["scheduler"], n_points)
     try:
         ds = sweep(function, s["grid"], store=s["store"], executor=executor,
                    progress=args.progress or not args.quiet, **fixed, **s["options"])
+    except KeyboardInterrupt:
+        if isinstance(closing, ProcessPoolExecutor):  # no wait for the queued points
+            closing.shutdown(wait=False, cancel_futures=True)
+            closing = None
+        raise
     finally:
         if closing is not None:
             closing.shutdown() if isinstance(closing, ProcessPoolExecutor) else closing.close()
