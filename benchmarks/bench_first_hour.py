@@ -212,27 +212,33 @@ def measure_features(source: Path) -> list[tuple[str, str]]:
         proc = subprocess.run([sys.executable, "-m", "kinetic_fem", "sweep", "--alpha",
                                "0.3,1.5", "--store", str(Path(tmp) / "s"), "--quiet"],
                               env=env, capture_output=True, text=True, check=False)
-        points = list((Path(tmp) / "s").rglob("*.npz")) + list((Path(tmp) / "s").rglob("*.json"))
+        points = list((Path(tmp) / "s").glob("point-*.nc"))
         rows.append(("`sweep --alpha 0.3,1.5`: points computed before the refusal",
                      f"{len(points)} (status {proc.returncode}, "
                      f"{time.perf_counter() - t0:.1f} s wall)"))
-    # Ctrl-C on a CLI command
+    # Ctrl-C on a CLI command: SIGINT to the process group (as a terminal sends it)
+    # once the first point is stored
     with tempfile.TemporaryDirectory() as tmp:
+        store = Path(tmp) / "s"
         cmd = [sys.executable, "-m", "kinetic_fem", "sweep", "--alpha",
                ",".join(f"{a:.2f}" for a in (0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9)),
-               "--store", str(Path(tmp) / "s"), "--workers", "1"]
+               "--method", "spectral", "--store", str(store), "--workers", "2"]
         child = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                                 text=True)
-        time.sleep(8.0)
+                                 text=True, start_new_session=True)
+        deadline = time.monotonic() + 300
+        while (not list(store.glob("point-*.nc")) and time.monotonic() < deadline
+               and child.poll() is None):
+            time.sleep(0.2)
         t0 = time.perf_counter()
-        child.send_signal(signal.SIGINT)
-        out, err = child.communicate(timeout=120)
+        os.killpg(child.pid, signal.SIGINT)
+        out, err = child.communicate(timeout=300)
         lines = err.strip().splitlines()
         rows.append(("Ctrl-C on `sweep`: exit status, seconds to exit",
                      f"{child.returncode}, {time.perf_counter() - t0:.1f}"))
-        rows.append(("Ctrl-C on `sweep`: traceback printed",
-                     "yes" if "Traceback" in err else "no"))
-        rows.append(("Ctrl-C on `sweep`: last line", (lines[-1] if lines else "")[:110]))
+        rows.append(("Ctrl-C on `sweep`: tracebacks printed (command and workers)",
+                     str(err.count("Traceback"))))
+        rows.append(("Ctrl-C on `sweep`: last line of stderr",
+                     (lines[-1] if lines else "").replace("|", "/")[:120]))
     return rows
 
 
