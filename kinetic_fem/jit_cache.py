@@ -230,10 +230,11 @@ def announce_compilation(package: str) -> None:
             if module.split(".")[0] in self.packages and not getattr(self, "done", False):
                 self.done = True
                 where = os.environ.get("NUMBA_CACHE_DIR") or "the package's __pycache__"
-                warnings.warn(
-                    f"compiling numba kernels, once per install (about {COMPILE_SECONDS} s "
-                    f"of CPU for a first heated and cooling solve); later runs load them "
-                    f"from {where}", CompilationNotice, stacklevel=2)
+                warnings.warn_explicit(
+                    f"compiling the numba kernels this call needs, once per install (tens "
+                    f"of seconds of CPU; a first heated and cooling solve about "
+                    f"{COMPILE_SECONDS} s); later runs load them from {where}",
+                    CompilationNotice, filename=module.split(".")[0], lineno=0, module=module)
 
         def on_end(self, ev: Any) -> None:
             pass

@@ -55,7 +55,7 @@ examples:
   kinetic-fem reproduce --quick --out reproduce-out   every figure, CI-sized (minutes)
   kinetic-fem reproduce --list                        what can be reproduced
   kinetic-fem solve-heated 0.9 --method fem           T and a2 of the heated gas at alpha=0.9
-  kinetic-fem dsmc 0.9 -N 10000 --seed 1              a DSMC run, one-line summary
+  kinetic-fem dsmc 0.9 -N 10000 --collisions 400 --seed 1   a DSMC run, one-line summary
   kinetic-fem sweep --alpha 0.3,0.6,0.9 --store s     a2 against alpha, resumable
   kinetic-fem <command> --help                        options of one command
 """

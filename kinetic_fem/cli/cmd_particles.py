@@ -31,8 +31,8 @@ examples:
   kinetic-fem {cmd} 0.9 -N 10000 --collisions 200 --seed 1 --out run.npz
   kinetic-fem {cmd} 0.6 -N 100000 --progress --checkpoint run.ckpt      (Ctrl-C, then:)
   kinetic-fem {cmd} 0.6 -N 100000 --progress --checkpoint run.ckpt --resume
-  kinetic-fem {cmd} 0.9 -N 5000 --cooling --collisions 50
-  kinetic-fem {cmd} 0.9 -N 5000 -o n_batches=10{extra}
+  kinetic-fem {cmd} 0.9 -N 5000 --cooling --collisions 50 -o n_batches=4
+  kinetic-fem {cmd} 0.9 -N 5000 -o n_batches=5{extra}
 
 One line summarises the run: T, a2 with its batch error, collisions, wall time and
 collisions per second.  Any keyword of particles.{cmd}.simulate_heated/_cooling can
