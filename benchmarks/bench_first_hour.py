@@ -79,6 +79,7 @@ def child_cpu(cmd: list[str], source: Path, *, cwd: Path | None = None,
         ``(cpu_seconds, wall_seconds, returncode)``.
     """
     full = {**os.environ, "PYTHONPATH": str(source), **(env or {})}
+    cwd = cwd or Path(tempfile.gettempdir())  # not this tree: `python -c/-m` put cwd first
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
     proc = subprocess.run(cmd, env=full, cwd=cwd, stdout=subprocess.DEVNULL,
@@ -162,6 +163,7 @@ def measure_reproduce(source: Path, unit: float) -> list[tuple[str, float]]:
 
 FEATURES = textwrap.dedent("""
     import warnings
+    import numpy as np
     import matplotlib
     matplotlib.use("Agg")
     import kinetic_fem as kf
@@ -181,7 +183,10 @@ FEATURES = textwrap.dedent("""
     ok("dist.to_xarray()", lambda: d.to_xarray())
     ok("plot_f(Dataset)", lambda: plot.plot_f(d.to_xarray()))
     ok("dist._repr_html_()", lambda: d._repr_html_())
-    ev = kf.evolve_heated(0.5, kernel=0.0, initial_temperature=1.0, times=[0.1, 0.2])
+    from kinetic_fem.evolution import Evolution
+    w = np.gradient(d.v)
+    ev = Evolution([0.0, 1.0], np.stack([d.v, d.v]), np.stack([d.values, d.values]),
+                   np.stack([w, w]), method="fem")  # two states, as an evolve call returns
     ok("ev.to_xarray()", lambda: ev.to_xarray())
     ok("ev._repr_html_()", lambda: ev._repr_html_())
     print("dir(kinetic_fem) has logging/sys", "yes" if {"logging", "sys"} & set(dir(kf)) else "no")
@@ -192,8 +197,9 @@ def measure_features(source: Path) -> list[tuple[str, str]]:
     """Yes/no figures: one-line results, CLI defaults, sweep validation, Ctrl-C."""
     env = {**os.environ, "PYTHONPATH": str(source)}
     rows: list[tuple[str, str]] = []
+    tmp_cwd = tempfile.gettempdir()  # not this tree: `python -c/-m` put cwd first
     proc = subprocess.run([sys.executable, "-c", FEATURES], env=env, capture_output=True,
-                          text=True, check=False)
+                          text=True, check=False, cwd=tmp_cwd)
     for line in proc.stdout.splitlines():
         label, _, value = line.partition(" yes") if " yes" in line else line.partition(" no")
         rows.append((label.strip(), "yes" if " yes" in line else "no" + value))
@@ -203,7 +209,7 @@ def measure_features(source: Path) -> list[tuple[str, str]]:
             "print(p.get_default('method'), "
             "inspect.signature(kf.solve_cooling).parameters['method'].default)")
     proc = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
-                          text=True, check=False)
+                          text=True, check=False, cwd=tmp_cwd)
     cli, _, api = proc.stdout.strip().partition(" ")
     rows.append(("`solve-cooling` method: CLI / API default", f"{cli} / {api}"))
     # sweep: a bad value after a good one is refused before any point runs
@@ -211,7 +217,8 @@ def measure_features(source: Path) -> list[tuple[str, str]]:
         t0 = time.perf_counter()
         proc = subprocess.run([sys.executable, "-m", "kinetic_fem", "sweep", "--alpha",
                                "0.3,1.5", "--store", str(Path(tmp) / "s"), "--quiet"],
-                              env=env, capture_output=True, text=True, check=False)
+                              env=env, capture_output=True, text=True, check=False,
+                              cwd=tmp_cwd)
         points = list((Path(tmp) / "s").glob("point-*.nc"))
         rows.append(("`sweep --alpha 0.3,1.5`: points computed before the refusal",
                      f"{len(points)} (status {proc.returncode}, "
@@ -224,7 +231,7 @@ def measure_features(source: Path) -> list[tuple[str, str]]:
                ",".join(f"{a:.2f}" for a in (0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9)),
                "--method", "spectral", "--store", str(store), "--workers", "2"]
         child = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                                 text=True, start_new_session=True)
+                                 text=True, start_new_session=True, cwd=tmp_cwd)
         deadline = time.monotonic() + 300
         while (not list(store.glob("point-*.nc")) and time.monotonic() < deadline
                and child.poll() is None):
