@@ -11,10 +11,18 @@ fails the build.
 With ``KINETIC_FEM_DOCS_QUICK=1`` in the environment the examples run at the cheap
 sizes they state (CI does this).  Maths is rendered by a MathJax copy bundled with
 ``sphinx-mathjax-offline``, so pages need no network.
+
+Rebuilds are incremental: sphinx-gallery runs only the examples whose source changed
+since their output in ``docs/auto_examples`` was written (its MD5 check; deleting that
+folder runs them all), and all of them again when ``KINETIC_FEM_DOCS_QUICK`` differs from
+the last build (recorded in ``docs/auto_examples/.docs-mode``).  Ctrl-C stops the build
+at once (with a line saying so), also while an example runs.
 """
 
 from __future__ import annotations
 
+import os
+import signal
 import sys
 from pathlib import Path
 
@@ -100,6 +108,35 @@ sphinx_gallery_conf = {
 
 _HERE = Path(__file__).parent
 write_api_pages(_HERE)
+
+
+def _gallery_mode_changed(gallery: Path) -> bool:
+    """Whether the examples in ``gallery`` ran at other sizes (quick or full) than now."""
+    mode = "quick" if os.environ.get("KINETIC_FEM_DOCS_QUICK") else "full"
+    marker = gallery / ".docs-mode"
+    changed = marker.is_file() and marker.read_text().strip() != mode
+    gallery.mkdir(exist_ok=True)
+    marker.write_text(mode + "\n")
+    return changed
+
+
+# unchanged examples are not run again, unless they ran at the other sizes
+sphinx_gallery_conf["run_stale_examples"] = _gallery_mode_changed(_HERE / "auto_examples")
+
+
+def _stop_build(signum: int, frame: object) -> None:
+    """Ctrl-C: stop the whole build now (sphinx-gallery would report the interrupt as an
+    error of the running example, or a SystemError from a numba kernel, and go on)."""
+    sys.stderr.write("\ndocs build interrupted (Ctrl-C): stopped; unchanged examples "
+                     "keep their output for the next build\n")
+    os._exit(130)
+
+
+if signal.getsignal(signal.SIGINT) is signal.default_int_handler:
+    try:
+        signal.signal(signal.SIGINT, _stop_build)
+    except ValueError:  # not the main thread (an embedding application): leave it
+        pass
 
 _USER_GUIDE_GLOB = "   user_guide/*\n"
 _USER_GUIDE_LISTED = {"physics", "methods", "reproducing"}

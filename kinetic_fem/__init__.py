@@ -11,38 +11,20 @@ Deterministic solvers of the homogeneous Boltzmann equation
 (heated steady state, free cooling), its quasi-elastic limits, and the common
 result type :class:`VelocityDistribution`.  Particle methods live in the
 ``particles`` package.
+
+``import kinetic_fem`` is light (no scipy, numba or scikit-fem): every public name and
+submodule is imported on first use (PEP 562 module ``__getattr__``), and the solver
+modules register themselves with the solver registry the first time a solver, a
+registry or ``register_solver`` is looked up (:func:`load_solvers`).
 """
 
-import logging
-import sys
+from __future__ import annotations
 
-from . import gas, model, operators, solvers, sonine  # noqa: F401
-from .distribution import RunInfo, VelocityDistribution
-from .evolve import evolve_cooling, evolve_heated
-from .model import (
-    CoolingProblem,
-    FokkerPlanckBath,
-    HeatedProblem,
-    InelasticGas,
-    PowerLawKernel,
-    SaturatingKernel,
-    ThresholdRestitution,
-    ViscoelasticRestitution,
-    WhiteNoise,
-)
-from .solve import COOLING_SOLVERS, HEATED_SOLVERS, register_solver, solve_cooling, solve_heated
-
-# Importing a solver module registers it (kinetic_fem.solve): all of them, at import.
-from .solvers import (  # noqa: F401
-    fd_cooling,
-    fem,
-    fem_cooling,
-    finite_difference,
-    scaling,  # noqa: F401 - public as kf.scaling (DESIGN.md)
-    spectral,
-)
-from .solvers.relaxation import relaxation_spectrum
-from .sweep import sweep  # noqa: F401 - kf.sweep is the function, kinetic_fem.sweep the package
+import importlib as _importlib
+import logging as _logging
+import sys as _sys
+import types as _types
+from typing import Any as _Any
 
 __version__ = "0.1.0"
 __all__ = [
@@ -50,11 +32,88 @@ __all__ = [
     "solve_heated", "solve_cooling", "register_solver", "HEATED_SOLVERS", "COOLING_SOLVERS",
     "PowerLawKernel", "SaturatingKernel", "ThresholdRestitution", "ViscoelasticRestitution",
     "WhiteNoise", "FokkerPlanckBath", "sonine", "scaling", "grid", "gas", "model",
-    "evolve_heated", "evolve_cooling", "relaxation_spectrum",
+    "evolve_heated", "evolve_cooling", "relaxation_spectrum", "sweep", "load_solvers",
 ]
 
-# ``import kinetic_fem.scaling`` keeps working: the quasi-elastic solvers moved to
-# kinetic_fem.solvers.scaling with the model-layer layout, their public name did not.
-sys.modules[__name__ + ".scaling"] = scaling
+_NAMES = {
+    "distribution": ("RunInfo", "VelocityDistribution"),
+    "evolve": ("evolve_cooling", "evolve_heated"),
+    "model": ("CoolingProblem", "FokkerPlanckBath", "HeatedProblem", "InelasticGas",
+              "PowerLawKernel", "SaturatingKernel", "ThresholdRestitution",
+              "ViscoelasticRestitution", "WhiteNoise"),
+    "solve": ("COOLING_SOLVERS", "HEATED_SOLVERS", "register_solver", "solve_cooling",
+              "solve_heated"),
+    "solvers.relaxation": ("relaxation_spectrum",),
+    "sweep": ("sweep",),  # kf.sweep is the function, kinetic_fem.sweep the package
+}
+_HOME = {name: module for module, names in _NAMES.items() for name in names}
+"""Public name -> the module (relative to the package) that defines it."""
 
-logging.getLogger(__name__).addHandler(logging.NullHandler())
+_SOLVER_MODULES = ("fd_cooling", "fem", "fem_cooling", "finite_difference", "scaling",
+                   "spectral")
+"""Modules of :mod:`kinetic_fem.solvers` that register solvers; public as ``kf.<name>``."""
+
+_MODULES = {**{name: f"solvers.{name}" for name in _SOLVER_MODULES}, "grid": "operators.grid"}
+"""Public module names that live elsewhere (``kf.scaling`` is kinetic_fem.solvers.scaling)."""
+
+_SUBMODULES = ("analysis", "distribution", "evolution", "evolve", "exceptions", "gas", "io",
+               "jit_cache", "model", "moments", "operators", "plot", "progress", "reproduce",
+               "run_info", "solve", "solvers", "sonine")
+
+
+def load_solvers() -> None:
+    """Import every solver module, so that each registers its methods (once per process).
+
+    :func:`solve_heated`, :func:`solve_cooling` and the registries call it; importing
+    ``kinetic_fem`` alone does not, so that the import stays light.
+    """
+    if _LOADED:
+        return
+    _LOADED.append(True)
+    for name in _SOLVER_MODULES:
+        _importlib.import_module(f"{__name__}.solvers.{name}")
+
+
+_LOADED: list[bool] = []
+
+
+def __getattr__(name: str) -> _Any:
+    """Import a public name or submodule on first use (PEP 562)."""
+    if name in _HOME:
+        if _HOME[name] == "solve":
+            load_solvers()
+        value = getattr(_importlib.import_module(f"{__name__}.{_HOME[name]}"), name)
+    elif name in _MODULES:
+        value = _importlib.import_module(f"{__name__}.{_MODULES[name]}")
+    elif name in _SUBMODULES:
+        value = _importlib.import_module(f"{__name__}.{name}")
+    else:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    """The public names (and the loaded submodules), not the helpers of this module."""
+    loaded = [k for k, v in globals().items()
+              if isinstance(v, _types.ModuleType) and not k.startswith("_")]
+    return sorted({*__all__, *_MODULES, *_SUBMODULES, *loaded, "__version__"})
+
+
+class _Package(_types.ModuleType):
+    """The package's module type: ``kf.sweep`` stays the function when the
+    ``kinetic_fem.sweep`` package is imported (the import system would set the
+    attribute to the package)."""
+
+    def __setattr__(self, name: str, value: _Any) -> None:
+        if name == "sweep" and isinstance(value, _types.ModuleType):
+            value = value.sweep
+        super().__setattr__(name, value)
+
+
+_sys.modules[__name__].__class__ = _Package
+
+# ``import kinetic_fem.scaling`` keeps working (kinetic_fem/scaling.py is an alias of
+# kinetic_fem.solvers.scaling, where the quasi-elastic solvers moved).
+
+_logging.getLogger(__name__).addHandler(_logging.NullHandler())

@@ -13,11 +13,13 @@ from typing import Any, Callable
 
 import numba
 
-from .jit_cache import ensure_fresh_cache
+from .jit_cache import announce_compilation, configure_cache_dir, ensure_fresh_cache
 
 __all__ = ["jit"]
 
+configure_cache_dir(Path(__file__).parent)  # a user folder if the package is read-only
 ensure_fresh_cache(Path(__file__).parent)  # before any cached kernel is loaded
+announce_compilation(__name__.split(".")[0])
 
 
 def jit(func: Callable[..., Any] | None = None, **options: Any) -> Any:

@@ -515,3 +515,38 @@ class VelocityDistribution:
                 method=meta["method"], params=meta["params"], info=RunInfo(**meta["info"]),
                 series=series,
             )
+
+    # ------------------------------------------------------------------ one-line views
+    def plot(self, *, ax: Any = None, **options: Any) -> Any:
+        """:math:`f(c)` on a log scale with the Gaussian and the error band where known.
+
+        Parameters
+        ----------
+        ax : matplotlib Axes, optional
+            Where to draw (default: a new figure, without pyplot).
+        **options
+            Of :func:`kinetic_fem.plot.plot_f` (``log``, ``gaussian``, ``errors``,
+            ``label``, line style).
+
+        Returns
+        -------
+        matplotlib Axes
+        """
+        from .plot import plot_f
+
+        return plot_f(self, ax=ax, **options)
+
+    def to_xarray(self) -> Any:
+        """The distribution as an ``xarray.Dataset`` over its nodes.
+
+        See :func:`kinetic_fem.export.distribution_dataset`.
+        """
+        from .export import distribution_dataset
+
+        return distribution_dataset(self)
+
+    def _repr_html_(self) -> str:
+        """A small table for Jupyter (:func:`kinetic_fem.export.distribution_html`)."""
+        from .export import distribution_html
+
+        return distribution_html(self)

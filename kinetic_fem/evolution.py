@@ -215,3 +215,16 @@ class Evolution:
         if path is not None:
             save_figure(fig, path)
         return fig
+
+    # ------------------------------------------------------------------ one-line views
+    def to_xarray(self) -> Any:
+        """An ``xarray.Dataset`` over time (:func:`kinetic_fem.export.evolution_dataset`)."""
+        from .export import evolution_dataset
+
+        return evolution_dataset(self)
+
+    def _repr_html_(self) -> str:
+        """A small table for Jupyter (:func:`kinetic_fem.export.evolution_html`)."""
+        from .export import evolution_html
+
+        return evolution_html(self)

@@ -9,15 +9,29 @@ run the old callee, silently.  :func:`ensure_fresh_cache` closes that gap: it ha
 sources of every module of a package that compiles kernels and, if the hash differs
 from the one stored beside the cache, removes the package's cached kernels (``*.nbi``,
 ``*.nbc``) before any is loaded, so that everything is compiled afresh once.
+
+Where the cache lives: numba writes it beside the sources (each ``__pycache__``).  When
+the package folder is not writable (a system-wide installation) and the user has not
+chosen a folder with ``NUMBA_CACHE_DIR``, :func:`configure_cache_dir` points numba at a
+user cache folder, ``$XDG_CACHE_HOME/kinetic-fem/numba`` (``~/.cache/...``), where
+:func:`ensure_fresh_cache` keeps it consistent in the same way.  :func:`announce_compilation`
+says once per process, as a :class:`CompilationNotice` warning on stderr, that kernels are
+being compiled (the first solve after a fresh install spends most of its time there).
 """
 
 from __future__ import annotations
 
 import hashlib
 import logging
+import os
+import sys
+import warnings
 from pathlib import Path
+from typing import Any
 
-__all__ = ["ensure_fresh_cache", "kernel_sources_digest"]
+__all__ = ["ensure_fresh_cache", "kernel_sources_digest", "configure_cache_dir",
+           "user_cache_dir", "cache_folders", "announce_compilation", "CompilationNotice",
+           "COMPILE_SECONDS"]
 
 logger = logging.getLogger(__name__)
 
@@ -78,15 +92,19 @@ def ensure_fresh_cache(package_dir: str | Path, *, recheck: bool = False) -> boo
     if root in _DONE and not recheck:
         return False
     _DONE.add(root)
-    stamp = root / "__pycache__" / STAMP
+    folders = cache_folders(root)
+    user = os.environ.get("NUMBA_CACHE_DIR")
+    stamp = (Path(user) / f"{root.name}-{_path_hash(str(root))[:12]}-{STAMP}" if user
+             else root / "__pycache__" / STAMP)
     try:
         digest = kernel_sources_digest(root)
         if stamp.is_file() and stamp.read_text().strip() == digest:
             return False
-        stale = [*root.rglob("__pycache__/*.nbi"), *root.rglob("__pycache__/*.nbc")]
+        stale = [p for folder in folders for pattern in ("*.nbi", "*.nbc")
+                 for p in folder.glob(pattern)]
         for path in stale:
             path.unlink(missing_ok=True)
-        stamp.parent.mkdir(exist_ok=True)
+        stamp.parent.mkdir(parents=True, exist_ok=True)
         stamp.write_text(digest)
     except OSError as err:  # read-only installation: numba cannot cache there either
         logger.debug("numba cache of %s not checked: %s", root, err)
@@ -95,3 +113,132 @@ def ensure_fresh_cache(package_dir: str | Path, *, recheck: bool = False) -> boo
         logger.info("kernel sources of %s changed: removed %d cached kernel files",
                     root.name, len(stale))
     return bool(stale)
+
+
+COMPILE_SECONDS = 30
+"""Rough CPU seconds numba spends compiling the kernels of a first heated and cooling
+solve on an idle core (``benchmarks/bench_first_hour.py``, first-solve row), quoted by
+:func:`announce_compilation`."""
+
+
+class CompilationNotice(UserWarning):
+    """Numba is compiling kernels (once per install; later runs load them from disk)."""
+
+
+def _path_hash(path: str) -> str:
+    return hashlib.sha1(path.encode()).hexdigest()
+
+
+def user_cache_dir() -> Path:
+    """The user's cache folder for kinetic-fem's kernels: ``$XDG_CACHE_HOME/kinetic-fem/numba``.
+
+    Returns
+    -------
+    Path
+        ``~/.cache/kinetic-fem/numba`` unless ``XDG_CACHE_HOME`` is set.
+    """
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(base) / "kinetic-fem" / "numba"
+
+
+def configure_cache_dir(package_dir: str | Path) -> Path | None:
+    """Send numba's cache to :func:`user_cache_dir` if ``package_dir`` is not writable.
+
+    Only when the user has not set ``NUMBA_CACHE_DIR`` (their choice wins); numba would
+    otherwise fall back to its own user-wide folder, which :func:`ensure_fresh_cache`
+    does not know.  Sets ``NUMBA_CACHE_DIR`` (inherited by worker processes) and, if
+    numba is already imported, its ``config.CACHE_DIR``.
+
+    Parameters
+    ----------
+    package_dir : str or Path
+        Directory of the package whose kernels are cached.
+
+    Returns
+    -------
+    Path or None
+        The folder chosen, or None if nothing was changed.
+    """
+    if os.environ.get("NUMBA_CACHE_DIR"):
+        return None
+    root = Path(package_dir)
+    pycache = root / "__pycache__"
+    if os.access(pycache if pycache.is_dir() else root, os.W_OK):
+        return None
+    folder = user_cache_dir()
+    os.environ["NUMBA_CACHE_DIR"] = str(folder)
+    config = sys.modules.get("numba.core.config")
+    if config is not None:
+        config.CACHE_DIR = str(folder)  # type: ignore[attr-defined]
+    logger.info("%s is not writable: numba kernels are cached in %s", root, folder)
+    return folder
+
+
+def cache_folders(package_dir: str | Path) -> list[Path]:
+    """The folders where numba caches the kernels of a package's modules.
+
+    Each ``__pycache__`` of the package, or with ``NUMBA_CACHE_DIR`` set the subfolders
+    numba names ``<directory>_<sha1 of its path>`` there.
+
+    Parameters
+    ----------
+    package_dir : str or Path
+        Directory of the package.
+
+    Returns
+    -------
+    list of Path
+        Existing or not.
+    """
+    root = Path(package_dir)
+    dirs = sorted({p.parent for p in root.rglob("*.py") if "__pycache__" not in p.parts})
+    user = os.environ.get("NUMBA_CACHE_DIR")
+    if not user:
+        return [d / "__pycache__" for d in dirs]
+    names = {f"{d.name}_{_path_hash(os.path.abspath(d))}" for d in dirs}
+    names |= {f"{d.name}_{_path_hash(str(d.resolve()))}" for d in dirs}
+    return [Path(user) / name for name in sorted(names)]
+
+
+_ANNOUNCED: list[Any] = []
+
+
+def announce_compilation(package: str) -> None:
+    """Warn once per process when numba first compiles a kernel of ``package``.
+
+    A listener of numba's ``numba:compile`` event, which fires only when a kernel is
+    not found in the cache; the warning (:class:`CompilationNotice`) names the cost
+    and says that it is paid once per install.
+
+    Parameters
+    ----------
+    package : str
+        Top-level package name (``"kinetic_fem"``, ``"particles"``).
+    """
+    from numba.core import event
+
+    if _ANNOUNCED:
+        _ANNOUNCED[0].packages.add(package)
+        return
+
+    class _Listener(event.Listener):  # type: ignore[misc]
+        packages = {package}
+
+        def on_start(self, ev: Any) -> None:
+            func = getattr(ev.data.get("dispatcher"), "py_func", None)
+            module = str(getattr(func, "__module__", ""))
+            if module.split(".")[0] in self.packages and not getattr(self, "done", False):
+                self.done = True
+                where = os.environ.get("NUMBA_CACHE_DIR") or "the package's __pycache__"
+                warnings.warn_explicit(
+                    f"compiling the numba kernels this call needs, once per install (tens "
+                    f"of seconds of CPU; a first heated and cooling solve about "
+                    f"{COMPILE_SECONDS} s); later runs load them from {where}",
+                    CompilationNotice, filename=module.split(".")[0], lineno=0, module=module)
+
+        def on_end(self, ev: Any) -> None:
+            pass
+
+    listener = _Listener()
+    _ANNOUNCED.append(listener)
+    event.register("numba:compile", listener)

@@ -1,6 +1,8 @@
-"""Plots of sweeps: :math:`a_2` against a parameter with error bars, families of f(c).
+"""Plots of results and sweeps: f(c) on a log scale, :math:`a_2` against a parameter.
 
-The helpers take the ``xarray.Dataset`` of :func:`kinetic_fem.sweep.sweep` and draw on
+:func:`plot_f` draws one result, several, an evolution or a sweep (it is
+``dist.plot()``); :func:`plot_a2` takes the ``xarray.Dataset`` of
+:func:`kinetic_fem.sweep.sweep`.  The helpers draw on
 a given matplotlib ``Axes`` or on a new :class:`matplotlib.figure.Figure` created
 without pyplot, so importing this module (or drawing) never selects a backend; a
 backend is chosen only where a figure is written, by :func:`save_figure` (Agg, for
@@ -15,7 +17,7 @@ from typing import Any, Callable
 
 import numpy as np
 
-__all__ = ["subplots", "plot_a2", "plot_f", "plot_sweep", "new_axes", "save_figure"]
+__all__ = ["subplots", "plot_a2", "plot_f", "plot_sweep", "new_axes", "save_figure", "F_FLOOR"]
 
 
 def new_axes(n: int = 1, *, width: float = 5.0, height: float = 3.8) -> list[Any]:
@@ -162,56 +164,132 @@ def plot_a2(ds: Any, *, x: str = "alpha", ax: Any = None, label: str | None = No
     return ax
 
 
-def plot_f(ds: Any, *, ax: Any = None, log: bool = True, gaussian: bool = True,
-           **style: Any) -> Any:
-    """The family :math:`f(c)` of every point of the sweep (one curve each).
+def plot_f(data: Any, *, ax: Any = None, log: bool = True, gaussian: bool = True,
+           errors: bool | None = None, label: str | None = None, **style: Any) -> Any:
+    """:math:`f(c)` of one or several results: a distribution, a list, an evolution or
+    a Dataset (a sweep's, or one made by ``to_xarray``).
 
-    Sampled points are drawn with their error band; ``log`` gives a log scale in
-    :math:`f` (tails), ``gaussian`` adds :math:`e^{-c^2/2}/\\sqrt{2\\pi}`.
+    Sampled results are drawn with their error band (one standard error);
+    deterministic ones with the band of their error estimate (``dist.error``) where
+    known; ``log`` gives a log scale in :math:`f` (tails, down to
+    :data:`F_FLOOR`), ``gaussian`` adds :math:`e^{-c^2/2}/\\sqrt{2\\pi}`.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        A sweep result of :func:`kinetic_fem.sweep` (variables ``f`` over ``c`` and
-        ``f_error`` where sampled).
+    data : VelocityDistribution, Evolution, list of them, or xarray.Dataset
+        A distribution; an evolution (one curve per output time); a list or tuple of
+        distributions; the Dataset of :func:`kinetic_fem.sweep` (variables ``f`` over
+        ``c`` and ``f_error``, one curve per point) or of ``to_xarray()``.
     ax : matplotlib Axes, optional
-        Where to draw (default: a new figure).
+        Where to draw (default: a new pyplot-free figure, see :func:`save_figure`).
     log : bool
         Logarithmic ``f`` axis.
     gaussian : bool
         Add the unit Gaussian for reference.
+    errors : bool, optional
+        Error bands: None (default) draws the ones known without extra work (sampled
+        results, and deterministic estimates already computed); True also computes
+        the estimate of a deterministic result (``dist.error``, about one more solve);
+        False draws none.
+    label : str, optional
+        Legend label of a single curve (default: the method and alpha).
     **style
         Passed to ``ax.plot``.
 
     Returns
     -------
     matplotlib Axes
+
+    Examples
+    --------
+    >>> import kinetic_fem as kf
+    >>> v = np.linspace(-10, 10, 401)
+    >>> d = kf.VelocityDistribution.from_values(v, np.exp(-v**2 / 2), method="exact")
+    >>> ax = plot_f([d, d.rescaled(2.0)])
+    >>> len(ax.lines)  # two curves and the Gaussian
+    3
     """
     ax = new_axes()[0] if ax is None else ax
-    c = np.asarray(ds.c.values, dtype=float)
-    flat = [(text, line) for text, line in _series(ds, ds.a2.dims[0])]
-    for text, line in flat:
-        first = ds.a2.dims[0]
-        for k in range(line.sizes[first]):
-            point = line.isel({first: k})
-            name = ", ".join(p for p in (f"{first}={point[first].item()}", text) if p)
-            f = np.asarray(point.f.values, dtype=float)
-            keep = f > 0 if log else np.isfinite(f)
-            (curve,) = ax.plot(c[keep], f[keep], label=name, **style)
-            err = np.asarray(point.f_error.values, dtype=float)
-            if np.isfinite(err[keep]).any():
-                ax.fill_between(c[keep], np.maximum(f - err, 0)[keep], (f + err)[keep],
-                                color=curve.get_color(), alpha=0.25, lw=0)
+    curves = _curves(data, errors=errors, label=label)
+    if not curves:
+        raise ValueError(f"nothing to plot in {type(data).__name__}")
+    lowest = 1.0
+    for name, c, f, err in curves:
+        keep = (f > 0) & np.isfinite(f) if log else np.isfinite(f)
+        (curve,) = ax.plot(c[keep], f[keep], label=name, **style)
+        if err is not None and np.isfinite(err[keep]).any():
+            band = np.nan_to_num(err)
+            ax.fill_between(c[keep], np.maximum(f - band, 0)[keep], (f + band)[keep],
+                            color=curve.get_color(), alpha=0.25, lw=0)
+        if keep.any():
+            lowest = min(lowest, float(f[keep].min()))
     if gaussian:
-        ax.plot(c, np.exp(-c**2 / 2) / math.sqrt(2 * math.pi), "k:", lw=1, label="Gaussian")
+        span = max(float(np.nanmax(np.abs(c[np.isfinite(c)]))) for _, c, _, _ in curves)
+        g = np.linspace(-span, span, 801)
+        ax.plot(g, np.exp(-g**2 / 2) / math.sqrt(2 * math.pi), "k:", lw=1, label="Gaussian")
     if log:
         ax.set_yscale("log")
-        positive = np.asarray(ds.f.values)[np.asarray(ds.f.values) > 0]
-        if positive.size:
-            ax.set_ylim(max(positive.min(), 1e-12) / 2, 1.0)
+        ax.set_ylim(max(lowest, F_FLOOR) / 2, 1.0)
     ax.set(xlabel="c", ylabel="f(c)")
     ax.legend(fontsize="small")
     return ax
+
+
+F_FLOOR = 1e-30
+"""Lowest :math:`f` shown on a log scale (the paper's 30 decades)."""
+
+_Curve = tuple[str, Any, Any, Any]
+
+
+def _name(dist: Any) -> str:
+    alpha = dict(dist.params).get("alpha")
+    return " ".join(p for p in (dist.method, "" if alpha is None else f"alpha={alpha}") if p)
+
+
+def _distribution_curve(dist: Any, errors: bool | None, label: str | None) -> _Curve:
+    """(label, c, f, one standard error or error-estimate band of f or None)."""
+    c, f = np.asarray(dist.c, dtype=float), np.asarray(dist.f_values, dtype=float)
+    err = None if errors is False else dist.f_errors
+    if err is None and errors is not False and hasattr(dist, "error") \
+            and (errors or "error" in vars(dist)):
+        estimate = dist.error  # computed here only with errors=True
+        err = np.abs(f) * np.nan_to_num(np.asarray(estimate.f(c), dtype=float))
+    return (label if label is not None else _name(dist)), c, f, err
+
+
+def _dataset_curves(ds: Any, errors: bool | None) -> list[_Curve]:
+    """Curves of a Dataset: a sweep's (``f`` over ``c``) or one of ``to_xarray``."""
+    if "c" in ds.dims:  # a sweep: one curve per point, on the common c grid
+        c = np.asarray(ds.c.values, dtype=float)
+        first = ds.a2.dims[0]
+        out = []
+        for text, line in _series(ds, first):
+            for k in range(line.sizes[first]):
+                point = line.isel({first: k})
+                name = ", ".join(p for p in (f"{first}={point[first].item()}", text) if p)
+                err = None if errors is False else np.asarray(point.f_error.values, dtype=float)
+                out.append((name, c, np.asarray(point.f.values, dtype=float), err))
+        return out
+    if "time" in ds.dims:  # Evolution.to_xarray
+        return [(f"t={float(ds.time[i]):.4g}", np.asarray(ds.c[i], dtype=float),
+                 np.asarray(ds.f[i], dtype=float), None) for i in range(ds.sizes["time"])]
+    err = ds["f_error"].values if "f_error" in ds and errors is not False else None
+    return [(str(ds.attrs.get("method", "")), np.asarray(ds.c.values, dtype=float),
+             np.asarray(ds.f.values, dtype=float), err)]
+
+
+def _curves(data: Any, *, errors: bool | None, label: str | None) -> list[_Curve]:
+    if hasattr(data, "data_vars"):
+        return _dataset_curves(data, errors)
+    if hasattr(data, "f_values"):
+        return [_distribution_curve(data, errors, label)]
+    if hasattr(data, "times") and hasattr(data, "grid"):  # an Evolution
+        return [_distribution_curve(data[i], errors, f"t={t:.4g}")
+                for i, t in enumerate(data.times)]
+    if isinstance(data, (list, tuple)):
+        return [curve for item in data for curve in _curves(item, errors=errors, label=None)]
+    raise TypeError(f"plot_f takes a VelocityDistribution, an Evolution, a list of "
+                    f"distributions or an xarray Dataset; got {type(data).__name__}")
 
 
 def plot_sweep(ds: Any, path: str | Path | None = None, *, x: str = "alpha",

@@ -26,7 +26,8 @@ from pathlib import Path
 from typing import Any, Callable
 
 __all__ = ["Context", "ClaimRow", "Item", "ITEMS", "register", "load_plugins", "run_items",
-           "item_order", "write_table", "quick_mode_summary", "QUICK_MARK"]
+           "item_order", "write_table", "quick_mode_summary", "QUICK_MARK", "EXPLANATIONS",
+           "classify", "verdict_summary"]
 
 logger = logging.getLogger(__name__)
 
@@ -73,6 +74,10 @@ class ClaimRow:
         The method that gave the number (``"fem"``, ``"dsmc"``, ...).
     note : str
         Anything a reader needs to judge the row.
+    explained : str
+        Why a verdict ``agrees=False`` is expected, as a key of :data:`EXPLANATIONS`
+        (``"misprint"``, ``"peak exponent"``); empty if a disagreement would be
+        unexplained.
     """
 
     claim: str
@@ -82,6 +87,15 @@ class ClaimRow:
     agrees: bool | None
     method: str = ""
     note: str = ""
+    explained: str = ""
+
+
+EXPLANATIONS = {
+    "misprint": "misprints (the formula derived from its equations agrees)",
+    "peak exponent": "the n(c) peak's exponents (derived: v* ~ eps^(-8/15), "
+                     "3 - n* ~ eps^(2/5))",
+}
+"""Reasons a row may disagree with the paper although the computation is right."""
 
 
 @dataclass(frozen=True)
@@ -236,7 +250,8 @@ def _mark_quick(rows: list[ClaimRow], key: str,
     return [replace(r, note=f"{r.note}; {mark}" if r.note else mark) for r in rows]
 
 
-def run_items(ctx: Context, keys: list[str] | None = None) -> list[ClaimRow]:
+def run_items(ctx: Context, keys: list[str] | None = None, *,
+              progress: bool | None = None) -> list[ClaimRow]:
     """Run the selected items (all by default) in figure order; collect their claims.
 
     In quick mode (``ctx.quick``) the warnings the items log are not shown; the rows
@@ -249,11 +264,16 @@ def run_items(ctx: Context, keys: list[str] | None = None) -> list[ClaimRow]:
         Output directory, quick or full mode, seeds.
     keys : list of str, optional
         Item labels to run (default: all registered items).
+    progress : bool, optional
+        A bar naming the running item, its clock refreshed every second (default:
+        when interactive, :func:`kinetic_fem.progress.resolve_progress`).
 
     Returns
     -------
     list of ClaimRow
     """
+    from .progress import progress_bar, ticking
+
     ctx.out.mkdir(parents=True, exist_ok=True)
     selected = sorted(ITEMS if keys is None else keys, key=item_order)
     unknown = [k for k in selected if k not in ITEMS]
@@ -262,14 +282,19 @@ def run_items(ctx: Context, keys: list[str] | None = None) -> list[ClaimRow]:
                          f"{sorted(ITEMS, key=item_order)}")
     rows: list[ClaimRow] = []
     packages = _plugin_packages() if ctx.quick else []
-    for key in selected:
-        logger.info("reproduce %s: %s", key, ITEMS[key].title)
-        if not ctx.quick:
-            rows.extend(ITEMS[key].run(ctx))
-            continue
-        with _collect_warnings(packages) as records:
-            item_rows = ITEMS[key].run(ctx)
-        rows.extend(_mark_quick(item_rows, key, records) if records else item_rows)
+    bar = progress_bar(total=len(selected), progress=progress, desc="reproduce", unit="item",
+                       bar_format="{desc} {n_fmt}/{total_fmt} |{bar:20}| {elapsed} {postfix}")
+    with bar, ticking(bar):
+        for key in selected:
+            bar.set_postfix_str(f"{key}: {ITEMS[key].title[:50]}")
+            logger.info("reproduce %s: %s", key, ITEMS[key].title)
+            if not ctx.quick:
+                rows.extend(ITEMS[key].run(ctx))
+            else:
+                with _collect_warnings(packages) as records:
+                    item_rows = ITEMS[key].run(ctx)
+                rows.extend(_mark_quick(item_rows, key, records) if records else item_rows)
+            bar.update(1)
     return rows
 
 
@@ -314,6 +339,88 @@ def quick_mode_summary(rows: list[ClaimRow]) -> str:
             f"`kinetic-fem reproduce --full` runs the paper's sizes.")
 
 
+def classify(row: ClaimRow) -> str:
+    """The kind of verdict of a row.
+
+    Parameters
+    ----------
+    row : ClaimRow
+        A measured claim.
+
+    Returns
+    -------
+    str
+        ``"agrees"``; ``"not decided"`` (``agrees`` is None: a qualitative or new
+        quantity); for a disagreeing row ``"paper: <reason>"`` (its :attr:`ClaimRow.explained`,
+        a key of :data:`EXPLANATIONS`), else ``"quick-mode statistics"`` if its item
+        warned in quick mode, else ``"unexplained"``.
+
+    Examples
+    --------
+    >>> classify(ClaimRow("C12", "slope", "-1.0", "-2.0", False, explained="misprint"))
+    'paper: misprint'
+    """
+    if row.agrees is True:
+        return "agrees"
+    if row.agrees is None:
+        return "not decided"
+    if row.explained:
+        if row.explained not in EXPLANATIONS:
+            raise ValueError(f"row {row.claim} {row.quantity!r}: explained={row.explained!r} "
+                             f"is not one of {sorted(EXPLANATIONS)}")
+        return f"paper: {row.explained}"
+    if any(_QUICK_NOTE.match(p) for p in row.note.split("; ")):
+        return "quick-mode statistics"
+    return "unexplained"
+
+
+def verdict_summary(rows: list[ClaimRow]) -> str:
+    """The closing summary: rows that agree, where the paper is wrong, quick-mode limited.
+
+    Parameters
+    ----------
+    rows : list of ClaimRow
+        The rows of a run.
+
+    Returns
+    -------
+    str
+        A few lines ending in ``0 unexplained`` or the list of unexplained rows.
+
+    Examples
+    --------
+    >>> rows = [ClaimRow("C1", "T", "1", "1", True),
+    ...         ClaimRow("C12", "slope", "-1", "-2", False, explained="misprint")]
+    >>> print(verdict_summary(rows))
+    2 claim row(s): 1 agree with the paper, 0 not decided (qualitative or new), 1 disagree:
+      1 where the paper is wrong, misprints (the formula derived from its equations agrees): C12
+      0 limited by quick-mode statistics
+      0 unexplained
+    """
+    kinds: dict[str, list[ClaimRow]] = {}
+    for r in rows:
+        kinds.setdefault(classify(r), []).append(r)
+
+    def claims(group: list[ClaimRow]) -> str:
+        return ", ".join(sorted({r.claim for r in group}, key=item_order))
+
+    n_no = sum(r.agrees is False for r in rows)
+    lines = [f"{len(rows)} claim row(s): {len(kinds.get('agrees', []))} agree with the paper, "
+             f"{len(kinds.get('not decided', []))} not decided (qualitative or new), "
+             f"{n_no} disagree:"]
+    for reason, text in EXPLANATIONS.items():
+        group = kinds.get(f"paper: {reason}", [])
+        if group:
+            lines.append(f"  {len(group)} where the paper is wrong, {text}: {claims(group)}")
+    quick = kinds.get("quick-mode statistics", [])
+    lines.append(f"  {len(quick)} limited by quick-mode statistics"
+                 + (f": {claims(quick)} (`--full` runs the paper's sizes)" if quick else ""))
+    bad = kinds.get("unexplained", [])
+    lines.append(f"  {len(bad)} unexplained" + "".join(
+        f"\n    {r.claim} {r.quantity}: measured {r.measured}, paper {r.paper}" for r in bad))
+    return "\n".join(lines)
+
+
 def _short_note(note: str) -> str:
     """The note for the markdown table: quick-mode marks without their warning text."""
     return "; ".join(QUICK_MARK if _QUICK_NOTE.match(p) else p for p in note.split("; ")
@@ -353,5 +460,6 @@ def write_table(rows: list[ClaimRow], out: Path) -> tuple[Path, Path]:
     summary = quick_mode_summary(rows)
     if summary:
         lines += ["", summary]
+    lines += ["", verdict_summary(rows)]
     md_path.write_text("\n".join(lines) + "\n")
     return csv_path, md_path

@@ -10,6 +10,7 @@ over :data:`HEATED_SOLVERS`, so a new solver is tested automatically.
 
 from __future__ import annotations
 
+import importlib
 from typing import Any, Callable
 
 from . import limits
@@ -51,6 +52,7 @@ def register_solver(key: str, *, problem: str) -> Callable[[Solver], Solver]:
 
 
 def _lookup(table: dict[str, Solver], method: str, problem: str) -> Solver:
+    importlib.import_module(__package__).load_solvers()  # solver modules register on import
     if not isinstance(method, str) or method not in table:
         raise ValueError(f"unknown {problem} method {method!r}; available: {sorted(table)}")
     return table[method]

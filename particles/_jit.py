@@ -18,7 +18,11 @@ from llvmlite import ir
 from numba.core import cgutils, types
 from numba.extending import intrinsic, overload
 
-from kinetic_fem.jit_cache import ensure_fresh_cache
+from kinetic_fem.jit_cache import (
+    announce_compilation,
+    configure_cache_dir,
+    ensure_fresh_cache,
+)
 
 try:  # the name of llvm.prefetch's pointer overload follows the pointer kind
     from llvmlite import ir_layer_typed_pointers_enabled as _TYPED_POINTERS
@@ -27,7 +31,9 @@ except ImportError:  # pragma: no cover - older llvmlite: typed pointers
 
 __all__ = ["jit", "prefetch"]
 
+configure_cache_dir(Path(__file__).parent)  # a user folder if the package is read-only
 ensure_fresh_cache(Path(__file__).parent)  # before any cached kernel is loaded
+announce_compilation(__name__.split(".")[0])
 
 
 def jit(func=None, **options):

@@ -19,7 +19,10 @@ Sub-commands:
     persisted point by point, on local processes or a dask scheduler.
 
 Also runs as ``python -m kinetic_fem``.  A mistyped option prints the usage of the
-sub-command it was typed in and that sub-command's valid options.
+sub-command it was typed in and that sub-command's valid options.  Only the module of
+the sub-command being run is imported (:data:`COMMANDS`), so ``kinetic-fem --help``
+loads no solver.  Ctrl-C ends any command with one line saying what was kept and how
+to resume (each command module's ``interrupt_note``), exit status 130.
 """
 
 from __future__ import annotations
@@ -27,17 +30,15 @@ from __future__ import annotations
 import argparse
 import importlib
 import logging
-import pkgutil
 import sys
-from typing import Sequence
+from typing import Any, Sequence
 
-from . import cmd_particles, cmd_reproduce, cmd_solve, cmd_sweep
-from .cmd_reproduce import select_items
-from .parser import CommandParser, setup_logging
-
-__all__ = ["main", "build_parser", "select_items"]
+__all__ = ["main", "build_parser", "select_items", "COMMANDS", "INTERRUPTED"]
 
 logger = logging.getLogger(__name__)
+
+INTERRUPTED = 130
+"""Exit status after Ctrl-C (128 + SIGINT, as a shell reports it)."""
 
 _DESCRIPTION = """\
 kinetic-fem computes velocity distributions P(v) of the one-dimensional inelastic
@@ -54,43 +55,91 @@ examples:
   kinetic-fem reproduce --quick --out reproduce-out   every figure, CI-sized (minutes)
   kinetic-fem reproduce --list                        what can be reproduced
   kinetic-fem solve-heated 0.9 --method fem           T and a2 of the heated gas at alpha=0.9
-  kinetic-fem dsmc 0.9 -N 10000 --seed 1              a DSMC run, one-line summary
+  kinetic-fem dsmc 0.9 -N 10000 --collisions 400 --seed 1   a DSMC run, one-line summary
   kinetic-fem sweep --alpha 0.3,0.6,0.9 --store s     a2 against alpha, resumable
   kinetic-fem <command> --help                        options of one command
 """
 
-_RUN = {"reproduce": cmd_reproduce.run, "solve-heated": cmd_solve.run_heated,
-        "solve-cooling": cmd_solve.run_cooling, "dsmc": cmd_particles.run,
-        "md": cmd_particles.run, "sweep": cmd_sweep.run}
+COMMANDS = {
+    "reproduce": ("cmd_reproduce", "regenerate the paper's figures and check its claims"),
+    "solve-heated": ("cmd_solve", "steady state of the heated gas at one alpha"),
+    "solve-cooling": ("cmd_solve", "homogeneous cooling state (free cooling) at one alpha"),
+    "dsmc": ("cmd_particles", "direct simulation monte carlo of the homogeneous boltzmann "
+                              "equation (velocities only)"),
+    "md": ("cmd_particles", "event-driven molecular dynamics of inelastic rods on a ring"),
+    "sweep": ("cmd_sweep", "a parameter sweep (grid of alpha, kernel, ...) persisted point "
+                           "by point"),
+}
+"""Sub-command -> (module of ``kinetic_fem.cli`` that defines and runs it, one-line help).
+
+Only the module of the command being run is imported, so ``kinetic-fem --help`` and a
+mistyped command answer without loading the solvers."""
+
+_ADD = {"cmd_reproduce": "add_parser", "cmd_solve": "add_parsers",
+        "cmd_particles": "add_parsers", "cmd_sweep": "add_parser"}
+_RUN = {"reproduce": "run", "solve-heated": "run_heated", "solve-cooling": "run_cooling",
+        "dsmc": "run", "md": "run", "sweep": "run"}
 
 
-def _import_solvers() -> None:
-    """Import every public module of ``kinetic_fem`` so that all solvers register."""
-    import kinetic_fem
-
-    for mod in pkgutil.iter_modules(kinetic_fem.__path__):
-        if not mod.name.startswith("_") and mod.name not in {"cli", "figures", "plot"}:
-            try:
-                importlib.import_module(f"kinetic_fem.{mod.name}")
-            except ImportError as exc:  # an optional dependency is missing
-                logger.warning("kinetic_fem.%s not loaded: %s", mod.name, exc)
+def _module(name: str) -> Any:
+    return importlib.import_module(f"{__name__}.{name}")
 
 
-def build_parser() -> CommandParser:
+def select_items(only: list[str] | None) -> list[str]:
+    """Item keys for ``reproduce --only`` (:func:`kinetic_fem.cli.cmd_reproduce.select_items`).
+
+    Parameters
+    ----------
+    only : list of str or None
+        Item keys and claim labels; None: every item.
+
+    Returns
+    -------
+    list of str
+    """
+    return _module("cmd_reproduce").select_items(only)  # type: ignore[no-any-return]
+
+
+def build_parser(command: str | None = "all") -> Any:
     """The argument parser of ``kinetic-fem`` (exposed for the docs and tests).
 
-    ``parser.commands`` maps each sub-command to its own parser.
+    ``parser.commands`` maps each fully built sub-command to its own parser.
+
+    Parameters
+    ----------
+    command : str or None
+        Build this sub-command's parser in full (``"all"``, the default: every one);
+        the others get their name and one-line help only, so that ``kinetic-fem
+        --help`` (``command=None``) imports no solver.
+
+    Returns
+    -------
+    CommandParser
     """
-    _import_solvers()
+    from .parser import CommandParser
+
     parser = CommandParser(prog="kinetic-fem", description=_DESCRIPTION, epilog=_EPILOG,
                            formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--version", action="version", version=_version())
     sub = parser.add_subparsers(dest="command", metavar="COMMAND",
                                 parser_class=CommandParser)
-    commands = [cmd_reproduce.add_parser(sub), *cmd_solve.add_parsers(sub),
-                *cmd_particles.add_parsers(sub), cmd_sweep.add_parser(sub)]
+    commands: list[argparse.ArgumentParser] = []
+    for name, (module, text) in COMMANDS.items():
+        if any(p.prog.split()[-1] == name for p in commands):
+            continue  # added with its sibling (solve-heated/solve-cooling, dsmc/md)
+        if command == "all" or (command in COMMANDS and COMMANDS[command][0] == module):
+            added = getattr(_module(module), _ADD[module])(sub)
+            commands += added if isinstance(added, list) else [added]
+        else:
+            sub.add_parser(name, help=text)
     parser.commands = {p.prog.split()[-1]: p for p in commands}  # type: ignore[attr-defined]
     return parser
+
+
+def _command_of(argv: Sequence[str]) -> str | None:
+    """The sub-command named in ``argv`` (its first word that is not an option), if any."""
+    word = next((a for a in argv if not a.startswith("-")), None)
+    return word if word in COMMANDS else None
 
 
 def _version() -> str:
@@ -99,13 +148,24 @@ def _version() -> str:
     return f"kinetic-fem {__version__}"
 
 
+def _interrupted(exc: BaseException) -> bool:
+    """A Ctrl-C, also when it surfaced through a numba kernel as a SystemError."""
+    while exc is not None:
+        if isinstance(exc, KeyboardInterrupt):
+            return True
+        exc = exc.__cause__ or exc.__context__  # type: ignore[assignment]
+    return False
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of ``kinetic-fem``; returns the exit status.
 
     Bad input (an unknown item, an invalid alpha, a mistyped option ...) prints one
     line ``kinetic-fem: error: ...`` (for options: the sub-command's usage and valid
     options) and exits with status 2, without a traceback; a solver that fails on valid
-    input prints ``kinetic-fem: solver failed: ...`` and exits with status 1.
+    input prints ``kinetic-fem: solver failed: ...`` and exits with status 1; Ctrl-C
+    prints ``kinetic-fem: interrupted: ...`` (what was kept, how to resume) and exits
+    with status 130.
 
     Parameters
     ----------
@@ -115,24 +175,40 @@ def main(argv: Sequence[str] | None = None) -> int:
     Returns
     -------
     int
-        Exit status: 0 on success, 1 if a solver failed, 2 for bad input.
+        Exit status: 0 on success, 1 if a solver failed, 2 for bad input, 130 after
+        Ctrl-C.
     """
-    parser = build_parser()
-    args, extra = parser.parse_known_args(argv)
-    if extra:
-        parser.commands.get(args.command, parser).reject_unknown(extra)  # type: ignore[attr-defined]
-    if args.command is None:
-        parser.print_help()
-        return 0
-    setup_logging(args.quiet)
+    argv = list(sys.argv[1:] if argv is None else argv)
+    command = _command_of(argv)
+    args: argparse.Namespace | None = None
     try:
-        return _RUN[args.command](args)
+        parser = build_parser(command)
+        args, extra = parser.parse_known_args(argv)
+        if extra:
+            parser.commands.get(args.command, parser).reject_unknown(extra)
+        if args.command is None:
+            parser.print_help()
+            return 0
+        from .parser import setup_logging
+
+        setup_logging(args.quiet)
+        module = _module(COMMANDS[args.command][0])
+        return int(getattr(module, _RUN[args.command])(args))
     except (ValueError, TypeError) as exc:
         parser.exit(2, f"kinetic-fem: error: {exc}\n")
     except OSError as exc:  # an output path that cannot be written, a missing file
         parser.exit(2, f"kinetic-fem: error: {exc}\n")
     except (RuntimeError, MemoryError) as exc:  # a solver that failed on valid input
         parser.exit(1, f"kinetic-fem: solver failed: {exc}\n")
+    except (KeyboardInterrupt, SystemError) as exc:
+        if not _interrupted(exc):
+            raise
+        note = "nothing was kept; run the command again"
+        if args is not None and args.command is not None:
+            module = _module(COMMANDS[args.command][0])
+            note = getattr(module, "interrupt_note", lambda a: note)(args)
+        sys.stderr.write(f"\nkinetic-fem: interrupted: {note}\n")
+        return INTERRUPTED
     return 2  # pragma: no cover
 
 

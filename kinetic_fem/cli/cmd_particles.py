@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import Any
 
 from ..files import npz_path
+from . import COMMANDS
 from .parser import (
     add_model_arguments,
     check_options,
@@ -24,15 +25,15 @@ from .parser import (
     save,
 )
 
-__all__ = ["add_parsers", "run"]
+__all__ = ["add_parsers", "run", "interrupt_note"]
 
 EPILOG = """\
 examples:
   kinetic-fem {cmd} 0.9 -N 10000 --collisions 200 --seed 1 --out run.npz
   kinetic-fem {cmd} 0.6 -N 100000 --progress --checkpoint run.ckpt      (Ctrl-C, then:)
   kinetic-fem {cmd} 0.6 -N 100000 --progress --checkpoint run.ckpt --resume
-  kinetic-fem {cmd} 0.9 -N 5000 --cooling --collisions 50
-  kinetic-fem {cmd} 0.9 -N 5000 -o n_batches=10{extra}
+  kinetic-fem {cmd} 0.9 -N 5000 --cooling --collisions 50 -o n_batches=4
+  kinetic-fem {cmd} 0.9 -N 5000 -o n_batches=5{extra}
 
 One line summarises the run: T, a2 with its batch error, collisions, wall time and
 collisions per second.  Any keyword of particles.{cmd}.simulate_heated/_cooling can
@@ -62,7 +63,7 @@ def add_parsers(sub: argparse._SubParsersAction) -> list[argparse.ArgumentParser
     parsers = []
     for cmd in ("dsmc", "md"):
         extra = "\n  kinetic-fem md 0.9 -N 2000 -o sigma=0.25" if cmd == "md" else ""
-        p = sub.add_parser(cmd, help=_DESCRIPTION[cmd].split(":")[0].lower(),
+        p = sub.add_parser(cmd, help=COMMANDS[cmd][1],
                            description=_DESCRIPTION[cmd],
                            epilog=EPILOG.format(cmd=cmd, extra=extra),
                            formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -80,13 +81,15 @@ def add_parsers(sub: argparse._SubParsersAction) -> list[argparse.ArgumentParser
                        help="write the state to FILE during the run and at its end")
         p.add_argument("--resume", action="store_true",
                        help="continue bit-identically from --checkpoint if it exists")
-        p.add_argument("--progress", action="store_true", help="progress bar (stderr)")
+        p.add_argument("--progress", action="store_true",
+                       help="progress bar on stderr (the default; --quiet hides it)")
         p.add_argument("--out", type=Path, default=None, metavar="FILE",
                        help="save the distribution: .npz, .vtu or .xdmf")
         p.add_argument("-o", "--option", dest="options", type=key_value, action="append",
                        default=[], metavar="KEY=VALUE",
                        help="further keyword of the simulation, repeatable")
-        p.add_argument("--quiet", action="store_true", help="no log messages")
+        p.add_argument("--quiet", action="store_true",
+                       help="no progress bar and no log messages")
         parsers.append(p)
     return parsers
 
@@ -98,7 +101,7 @@ _SET_BY_FLAGS = ("alpha", "n_particles", "density", "diffusion", "friction", "ke
 def _keywords(args: argparse.Namespace, function: Any) -> dict[str, Any]:
     params = inspect.signature(function).parameters
     kw: dict[str, Any] = {"density": args.density, "seed": args.seed,
-                          "progress": args.progress}
+                          "progress": args.progress or not args.quiet}
     model = {"kernel": (args.kernel, 1.0)}
     if args.cooling:
         for name, default in (("diffusion", 1.0), ("friction", 0.0)):
@@ -127,6 +130,28 @@ def _keywords(args: argparse.Namespace, function: Any) -> dict[str, Any]:
     check_options(function, options, f"{function.__module__}.{function.__name__}",
                   exclude=_SET_BY_FLAGS)
     return {**kw, **options}
+
+
+def interrupt_note(args: argparse.Namespace) -> str:
+    """What a Ctrl-C kept: the last checkpoint, if any, and how to resume.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line.
+
+    Returns
+    -------
+    str
+    """
+    if args.checkpoint is None:
+        return ("nothing was kept (no --checkpoint); add --checkpoint FILE to keep the "
+                "state and resume with --resume")
+    path = args.checkpoint.with_suffix(".npz")
+    if not path.exists():
+        return (f"no checkpoint was written yet to {path} (one is written every "
+                "checkpoint_every seconds); run the command again")
+    return f"the state last written to {path} is kept; add --resume to continue from it"
 
 
 def run(args: argparse.Namespace) -> int:

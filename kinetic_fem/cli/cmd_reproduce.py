@@ -4,17 +4,16 @@ from __future__ import annotations
 
 import argparse
 import logging
-import sys
 import time
 from pathlib import Path
 
-from tqdm import tqdm
 from tqdm.contrib.logging import logging_redirect_tqdm
 
 from .. import reproduce
+from . import COMMANDS
 from .parser import PACKAGES, split_keys
 
-__all__ = ["add_parser", "run", "select_items"]
+__all__ = ["add_parser", "run", "select_items", "interrupt_note"]
 
 EPILOG = """\
 Items are figures (F1..F11, as in the paper) and checks (S1, ...); each reports
@@ -42,7 +41,7 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     argparse.ArgumentParser
     """
     rep = sub.add_parser(
-        "reproduce", help="regenerate the paper's figures and check its claims",
+        "reproduce", help=COMMANDS["reproduce"][1],
         description="Regenerate the figures of Barrat et al. (2002) and check its claims.",
         epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
     size = rep.add_mutually_exclusive_group()
@@ -128,20 +127,34 @@ def run(args: argparse.Namespace) -> int:
     ctx = reproduce.Context(out=args.out, quick=args.quick, progress=not args.quiet,
                             seed=args.seed)
     ctx.out.mkdir(parents=True, exist_ok=True)
-    rows: list[reproduce.ClaimRow] = []
     start = time.perf_counter()
     loggers = [logging.getLogger(name) for name in PACKAGES]
     with logging_redirect_tqdm(loggers=loggers):
-        bar = tqdm(keys, desc="reproduce", unit="item", disable=args.quiet, file=sys.stderr)
-        for key in bar:
-            bar.set_postfix_str(key)
-            rows.extend(reproduce.run_items(ctx, [key]))
+        rows = reproduce.run_items(ctx, keys, progress=not args.quiet)
     csv_path, md_path = reproduce.write_table(rows, ctx.out)
     print(md_path.read_text(), end="")
     pngs = sorted(ctx.out.glob("*.png"))
-    failed = sum(r.agrees is False for r in rows)
-    print(f"\n{len(keys)} item(s), {len(rows)} claim row(s), {failed} disagreeing, "
-          f"{time.perf_counter() - start:.1f} s ({'quick' if ctx.quick else 'full'} mode)")
+    print(f"\n{len(keys)} item(s), {time.perf_counter() - start:.1f} s "
+          f"({'quick' if ctx.quick else 'full'} mode)")
     print(f"figures: {len(pngs)} PNG file(s) in {ctx.out}/")
     print(f"claims table: {md_path} and {csv_path}")
     return 0
+
+
+def interrupt_note(args: argparse.Namespace) -> str:
+    """What a Ctrl-C kept: the figures written so far; how to finish.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line.
+
+    Returns
+    -------
+    str
+    """
+    if args.list:
+        return "nothing to keep"
+    pngs = len(list(Path(args.out).glob("*.png"))) if Path(args.out).is_dir() else 0
+    return (f"{pngs} figure(s) written so far are kept in {args.out}/ (the claims table is "
+            "written at the end); rerun with --only KEYS for the items still missing")

@@ -5,10 +5,13 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from .. import load_solvers
 from ..distribution import VelocityDistribution
 from ..solve import COOLING_SOLVERS, HEATED_SOLVERS, solve_cooling, solve_heated
+from . import COMMANDS
 from .parser import (
     add_model_arguments,
+    api_default,
     check_options,
     check_out,
     key_value,
@@ -16,7 +19,7 @@ from .parser import (
     save,
 )
 
-__all__ = ["add_parsers", "run_heated", "run_cooling"]
+__all__ = ["add_parsers", "run_heated", "run_cooling", "interrupt_note"]
 
 HEATED_EPILOG = """\
 examples:
@@ -47,17 +50,20 @@ def add_parsers(sub: argparse._SubParsersAction) -> list[argparse.ArgumentParser
     -------
     list of argparse.ArgumentParser
     """
+    load_solvers()  # the registered methods are the --method choices
     heated = sub.add_parser(
-        "solve-heated", help="steady state of the heated gas at one alpha",
+        "solve-heated", help=COMMANDS["solve-heated"][1],
         description="Solve the heated steady state and print T and a2.",
         epilog=HEATED_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
-    _arguments(heated, HEATED_SOLVERS, "fem", heated=True, example="spacing=0.05")
+    _arguments(heated, HEATED_SOLVERS, api_default(solve_heated, "method"), heated=True,
+               example="spacing=0.05")
     cooling = sub.add_parser(
-        "solve-cooling", help="homogeneous cooling state (free cooling) at one alpha",
+        "solve-cooling", help=COMMANDS["solve-cooling"][1],
         description="Solve the scaled homogeneous cooling state and print a2 and the "
                     "cooling rate zeta (dT/dt = -2 zeta n T^(1+gamma/2)).",
         epilog=COOLING_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
-    _arguments(cooling, COOLING_SOLVERS, "fd", heated=False, example="spacing=0.01")
+    _arguments(cooling, COOLING_SOLVERS, api_default(solve_cooling, "method"), heated=False,
+               example="spacing=0.01")
     return [heated, cooling]
 
 
@@ -76,6 +82,21 @@ def _arguments(parser: argparse.ArgumentParser, table: dict, method: str, *, hea
                         help=f"solver option, repeatable, e.g. -o {example}; an unknown KEY "
                              "lists the method's valid options")
     parser.add_argument("--quiet", action="store_true", help="no log messages")
+
+
+def interrupt_note(args: argparse.Namespace) -> str:
+    """What a Ctrl-C kept: nothing (one solve); run the command again.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line.
+
+    Returns
+    -------
+    str
+    """
+    return "nothing was kept (a single solve); run the command again"
 
 
 def _report(dist: VelocityDistribution, out: Path | None) -> None:

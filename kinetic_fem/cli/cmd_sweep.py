@@ -17,17 +17,23 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import math
+import os
+import signal
 import sys
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 from typing import Any, Callable
 
+from .. import load_solvers
 from ..files import output_path
 from ..solve import COOLING_SOLVERS, HEATED_SOLVERS, solve_cooling, solve_heated
 from ..sweep import sweep
-from .parser import check_options, float_list, int_list, key_value
+from . import COMMANDS
+from .parser import api_default, check_options, float_list, int_list, key_value
 
-__all__ = ["add_parser", "run", "read_config", "GRID_OPTIONS"]
+__all__ = ["add_parser", "run", "read_config", "check_grid", "interrupt_note",
+           "GRID_OPTIONS"]
 
 EPILOG = """\
 examples:
@@ -59,9 +65,10 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     -------
     argparse.ArgumentParser
     """
+    load_solvers()  # the registered methods are the --method choices
     methods = sorted({*HEATED_SOLVERS, *COOLING_SOLVERS, *_PARTICLE_METHODS})
     p = sub.add_parser(
-        "sweep", help="a parameter sweep (grid of alpha, kernel, ...) persisted point by point",
+        "sweep", help=COMMANDS["sweep"][1],
         description="Evaluate a solver or particle simulation on the outer product of a grid "
                     "and print T and a2 for each point; with --store every finished point is "
                     "saved at once and a rerun computes only the missing ones.",
@@ -92,8 +99,9 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("-o", "--option", dest="options", type=key_value, action="append",
                    default=[], metavar="KEY=VALUE",
                    help="fixed keyword of the solver / simulation, repeatable")
-    p.add_argument("--progress", action="store_true", help="progress bar over the points")
-    p.add_argument("--quiet", action="store_true", help="no log messages")
+    p.add_argument("--progress", action="store_true",
+                   help="progress bar over the points (the default; --quiet hides it)")
+    p.add_argument("--quiet", action="store_true", help="no progress bar and no log messages")
     return p
 
 
@@ -148,7 +156,14 @@ def _function(method: str, problem: str) -> tuple[Callable[..., Any], dict[str, 
     return (solve_heated if problem == "heated" else solve_cooling), {"method": method}
 
 
-def _executor(workers: int | None, scheduler: str | None) -> tuple[Any, Any]:
+def _ignore_interrupt() -> None:
+    """Initializer of the local workers: Ctrl-C reaches the whole process group, and is
+    the parent's to handle (it reports what was kept); a worker finishes its point."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def _executor(workers: int | None, scheduler: str | None,
+              n_points: int = 1) -> tuple[Any, Any]:
     """(executor for sweep, object to close afterwards)."""
     if scheduler is not None:
         if workers is not None:
@@ -160,13 +175,13 @@ def _executor(workers: int | None, scheduler: str | None) -> tuple[Any, Any]:
                              "'kinetic-fem[distributed]'") from exc
         client = Client(scheduler)
         return client, client
-    if workers is None:
-        return None, None
-    if workers < 1:
+    if workers is not None and workers < 1:
         raise ValueError(f"--workers must be >= 1, got {workers}")
     if workers == 1:
         return "serial", None
-    pool = ProcessPoolExecutor(workers)
+    if workers is None:  # as kinetic_fem.sweep's default pool
+        workers = max(1, min(n_points, os.cpu_count() or 1))
+    pool = ProcessPoolExecutor(workers, initializer=_ignore_interrupt)
     return pool, pool
 
 
@@ -185,7 +200,7 @@ def _settings(args: argparse.Namespace) -> dict[str, Any]:
     options = {**config.get("options", {}), **dict(args.options)}
     pick = {k: getattr(args, k) if getattr(args, k) is not None else config.get(k)
             for k in ("method", "problem", "store", "workers", "scheduler", "seed", "out")}
-    pick["method"] = pick["method"] or "fem"
+    pick["method"] = pick["method"] or api_default(solve_heated, "method")
     pick["problem"] = pick["problem"] or "heated"
     if not grid:
         raise ValueError("empty grid: give e.g. --alpha 0.3,0.6,0.9 or a [grid] table in "
@@ -224,12 +239,19 @@ def run(args: argparse.Namespace) -> int:
                        if k not in ("density", "diffusion", "friction", "kernel")}
         check_options(table[s["method"]], solver_opts, f"method {s['method']!r}",
                       exclude=("problem",))
+    check_grid(s["grid"], s["options"], s["problem"])
     if s["seed"] is not None:
         fixed["seed"] = s["seed"]
-    executor, closing = _executor(s["workers"], s["scheduler"])
+    n_points = math.prod(len(v) for v in s["grid"].values())
+    executor, closing = _executor(s["workers"], s["scheduler"], n_points)
     try:
         ds = sweep(function, s["grid"], store=s["store"], executor=executor,
-                   progress=args.progress, **fixed, **s["options"])
+                   progress=args.progress or not args.quiet, **fixed, **s["options"])
+    except KeyboardInterrupt:
+        if isinstance(closing, ProcessPoolExecutor):  # no wait for the queued points
+            closing.shutdown(wait=False, cancel_futures=True)
+            closing = None
+        raise
     finally:
         if closing is not None:
             closing.shutdown() if isinstance(closing, ProcessPoolExecutor) else closing.close()
@@ -257,6 +279,75 @@ def netcdf3(ds: Any) -> Any:
     coords = {k: v for k, v in changes.items() if k in ds.coords}
     data = {k: v for k, v in changes.items() if k not in ds.coords}
     return ds.assign_coords(coords).assign(data)
+
+
+_MODEL_KEYS = {"heated": ("alpha", "density", "diffusion", "friction", "kernel"),
+               "cooling": ("alpha", "density", "kernel")}
+
+
+def check_grid(grid: dict[str, list[Any]], options: dict[str, Any], problem: str) -> None:
+    """Validate the model parameters of every grid point before the first one runs.
+
+    Each point's ``alpha``, ``density``, ``kernel`` (and heated: ``diffusion``,
+    ``friction``) build the problem of :mod:`kinetic_fem.model`, which checks them; a
+    bad value is refused here, naming the point, instead of after the good points ran.
+
+    Parameters
+    ----------
+    grid : dict of str to list
+        The grid values (``--alpha 0.3,0.6`` ...).
+    options : dict
+        Fixed keywords (``-o``), which may hold model parameters too.
+    problem : {"heated", "cooling"}
+        Which problem the sweep solves.
+
+    Raises
+    ------
+    ValueError
+        Naming the first invalid grid point and the model's message.
+    """
+    from itertools import product
+
+    from ..model import CoolingProblem, HeatedProblem
+
+    keys = [k for k in _MODEL_KEYS[problem] if k in grid]
+    fixed = {k: v for k, v in options.items() if k in _MODEL_KEYS[problem]}
+    build = HeatedProblem.from_parameters if problem == "heated" else \
+        CoolingProblem.from_parameters
+    for values in product(*(grid[k] for k in keys)):
+        point = dict(zip(keys, values, strict=True))
+        model = {**fixed, **point}
+        try:
+            build(model.pop("alpha", 0.5), **model)
+        except (ValueError, TypeError) as exc:
+            raise ValueError(f"grid point {point} is invalid (nothing was computed): "
+                             f"{exc}") from None
+
+
+def interrupt_note(args: argparse.Namespace) -> str:
+    """What a Ctrl-C kept: the finished points of the store, and how to resume.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line.
+
+    Returns
+    -------
+    str
+    """
+    store = args.store
+    if store is None and args.config is not None:
+        try:
+            store = read_config(args.config).get("store")
+        except (OSError, ValueError):
+            store = None
+    if store is None:
+        return ("nothing was kept (no --store); add --store DIR to keep each finished "
+                "point and resume")
+    points = len(list(Path(store).glob("point-*.nc")))
+    return (f"{points} finished point(s) are kept in {store}; run the same command again "
+            "to compute only the missing ones")
 
 
 def _print_table(ds: Any, dims: list[str]) -> None:

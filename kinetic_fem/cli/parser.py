@@ -18,14 +18,14 @@ import os
 import sys
 import tempfile
 from pathlib import Path
-from typing import Any, Callable, Sequence
+from typing import TYPE_CHECKING, Any, Callable, Sequence
 
-from .. import io
-from ..distribution import VelocityDistribution
 from ..files import output_path
-from ..model import ThresholdRestitution, ViscoelasticRestitution
 
-__all__ = ["CommandParser", "key_value", "split_keys", "float_list", "int_list",
+if TYPE_CHECKING:
+    from ..distribution import VelocityDistribution
+
+__all__ = ["CommandParser", "api_default", "key_value", "split_keys", "float_list", "int_list",
            "setup_logging", "add_model_arguments", "restitution_of", "check_options",
            "check_out", "save", "PACKAGES"]
 
@@ -182,9 +182,36 @@ def _law(text: str) -> tuple[str, float | None]:
         f"expected constant, threshold:SPEED or viscoelastic:DELTA, got {text!r}")
 
 
+def api_default(function: Callable[..., Any], name: str) -> Any:
+    """The default of keyword ``name`` of ``function``: the CLI takes the API's defaults.
+
+    Parameters
+    ----------
+    function : callable
+        A public function (``kf.solve_heated`` ...).
+    name : str
+        One of its keyword parameters.
+
+    Returns
+    -------
+    object
+        The default value.
+
+    Examples
+    --------
+    >>> import kinetic_fem as kf
+    >>> api_default(kf.solve_cooling, "method")
+    'fem'
+    """
+    return inspect.signature(function).parameters[name].default
+
+
 def add_model_arguments(parser: argparse.ArgumentParser, *, heated: bool,
                         alpha: bool = True) -> None:
     """``alpha`` (positional), ``--restitution``, ``--kernel`` and (heated) ``--friction``.
+
+    Their defaults are those of :func:`kinetic_fem.solve_heated` (heated) or
+    :func:`kinetic_fem.solve_cooling`.
 
     Parameters
     ----------
@@ -195,6 +222,9 @@ def add_model_arguments(parser: argparse.ArgumentParser, *, heated: bool,
     alpha : bool
         Add the positional ``alpha``.
     """
+    from ..solve import solve_cooling, solve_heated
+
+    api = solve_heated if heated else solve_cooling
     if alpha:
         parser.add_argument("alpha", type=float, nargs="?", default=None,
                             help="restitution coefficient, 0 <= alpha < 1 (not with "
@@ -204,17 +234,21 @@ def add_model_arguments(parser: argparse.ArgumentParser, *, heated: bool,
                             help="constant (default: alpha), threshold:SPEED (elastic below "
                                  "the relative speed SPEED, alpha above) or viscoelastic:DELTA "
                                  "(Brilliantov-Poeschel law)")
-    parser.add_argument("--kernel", type=float, default=1.0, metavar="GAMMA",
-                        help="collision kernel |g|^GAMMA, 0 <= GAMMA <= 2 (default 1: hard "
-                             "rods; 0: Maxwell model)")
-    parser.add_argument("--density", type=float, default=1.0, metavar="N",
+    parser.add_argument("--kernel", type=float, default=api_default(api, "kernel"),
+                        metavar="GAMMA",
+                        help="collision kernel |g|^GAMMA, 0 <= GAMMA <= 2 (default "
+                             "%(default)s; 1: hard rods, 0: Maxwell model)")
+    parser.add_argument("--density", type=float, default=api_default(api, "density"),
+                        metavar="N",
                         help="number density n > 0 (default: %(default)s)")
     if heated:
-        parser.add_argument("--diffusion", type=float, default=1.0, metavar="D",
+        parser.add_argument("--diffusion", type=float, default=api_default(api, "diffusion"),
+                            metavar="D",
                             help="noise strength D > 0 (default: %(default)s)")
-        parser.add_argument("--friction", type=float, default=0.0, metavar="XI",
+        parser.add_argument("--friction", type=float, default=api_default(api, "friction"),
+                            metavar="XI",
                             help="friction xi >= 0 of a Fokker-Planck bath, bath temperature "
-                                 "D/xi (default 0: white noise, the paper)")
+                                 "D/xi (default %(default)s; 0: white noise, the paper)")
 
 
 def restitution_of(args: argparse.Namespace) -> Any:
@@ -229,6 +263,8 @@ def restitution_of(args: argparse.Namespace) -> Any:
     -------
     float or RestitutionLaw
     """
+    from ..model import ThresholdRestitution, ViscoelasticRestitution
+
     kind, value = args.restitution
     if kind == "viscoelastic":
         if args.alpha is not None:
@@ -274,15 +310,15 @@ def check_options(function: Callable[..., Any], options: dict[str, Any], what: s
         raise ValueError(f"unknown option(s) {unknown} for {what}; valid -o names: {valid}")
 
 
-def check_out(out: Path | None, suffixes: Sequence[str] = (".npz", *io.FORMATS)) -> None:
+def check_out(out: Path | None, suffixes: Sequence[str] | None = None) -> None:
     """Check ``--out`` before any computation: its suffix, and that it can be written.
 
     Parameters
     ----------
     out : Path or None
         The ``--out`` file.
-    suffixes : sequence of str
-        The allowed suffixes.
+    suffixes : sequence of str, optional
+        The allowed suffixes (default: ``.npz`` and :data:`kinetic_fem.io.FORMATS`).
 
     Raises
     ------
@@ -292,6 +328,9 @@ def check_out(out: Path | None, suffixes: Sequence[str] = (".npz", *io.FORMATS))
         If the directory does not exist or is not writable
         (:func:`kinetic_fem.files.output_path`).
     """
+    from .. import io
+
+    suffixes = (".npz", *io.FORMATS) if suffixes is None else suffixes
     if out is not None and out.suffix not in suffixes:
         raise ValueError(f"--out must end in {', '.join(suffixes)}; got {str(out)!r}")
     if out is not None:
@@ -319,6 +358,8 @@ def save(dist: VelocityDistribution, out: Path) -> Path:
         If ``out`` cannot be written; the result is then saved in the temporary
         directory and the message names that file.
     """
+    from .. import io
+
     try:
         return dist.save(out) if out.suffix == ".npz" else io.write_distribution(dist, out)
     except OSError as err:  # the directory vanished, the disk is full: keep the result

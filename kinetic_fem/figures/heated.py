@@ -202,21 +202,22 @@ def figure_f6(ctx: Context) -> list[ClaimRow]:
                  bool(abs(n0 - 2) < 0.01), "scaling.solve_phi"),
         ClaimRow("C7", "exponent of v* against eps", f"{v_exp:.3f} (local: {loc_v})", "-1/3",
                  bool(abs(last[2] + 1 / 3) < 0.05), "fem + tail",
-                 f"{span}; {asymptotic}; {why}; {table}"),
+                 f"{span}; {asymptotic}; {why}; {table}", explained="peak exponent"),
         ClaimRow("C7", "exponent of 3 - n* against eps", f"{n_exp:.3f} (local: {loc_n})", "1/3",
                  bool(abs(last[3] - 1 / 3) < 0.05), "fem + tail",
                  f"{span}; {asymptotic}; local exponent from "
                  f"{local[0][3] if local else math.nan:.3f} (largest eps) to {last[3]:.3f} "
-                 "(smallest), toward the derived 2/5"),
+                 "(smallest), toward the derived 2/5", explained="peak exponent"),
         ClaimRow("C7", f"local exponent of v*, smallest pair ({pair})",
                  f"{last[2]:.4f} +- {last_err[0]:.1e}", "-1/3",
                  bool(abs(last[2] + 1 / 3) < 0.05), "fem + tail",
                  "two-point exponent between the two smallest eps, error bar from mesh "
-                 "refinement; derived asymptote -8/15 = -0.5333"),
+                 "refinement; derived asymptote -8/15 = -0.5333", explained="peak exponent"),
         ClaimRow("C7", f"local exponent of 3 - n*, smallest pair ({pair})",
                  f"{last[3]:.4f} +- {last_err[1]:.1e}", "1/3",
                  bool(abs(last[3] - 1 / 3) < 0.05), "fem + tail",
-                 "two-point exponent between the two smallest eps; derived asymptote 2/5"),
+                 "two-point exponent between the two smallest eps; derived asymptote 2/5",
+                 explained="peak exponent"),
         ClaimRow("C6", "x* = v*/v_cr1, v_cr1 = (D/(n eps))^(1/3)",
                  ", ".join(f"{r:.2f}" for r in ratios), "O(1), eps-independent",
                  bool(ratios and max(ratios) / min(ratios) < 1.2), "fem + tail",
@@ -224,7 +225,7 @@ def figure_f6(ctx: Context) -> list[ClaimRow]:
                  f"measured x* grows from {ratios[0] if ratios else math.nan:.2f} to "
                  f"{ratios[-1] if ratios else math.nan:.2f} (eps = "
                  f"{eps_sel[0] if sel else math.nan:.0e} ... "
-                 f"{eps_sel[-1] if sel else math.nan:.0e})"),
+                 f"{eps_sel[-1] if sel else math.nan:.0e})", explained="peak exponent"),
         ClaimRow("C6", "v* / (v_cr1^(2/5) v_cr2^(3/5)) = x* eps^(1/5)",
                  ", ".join(f"{r:.3f}" for r in scaled),
                  "not in the paper (derived: -> (64<x^2>/3)^(1/5) = 1.820)", None,

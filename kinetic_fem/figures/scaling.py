@@ -140,19 +140,22 @@ def psi_claims(ctx: Context) -> list[ClaimRow]:
                  "psi"),
         ClaimRow("C12", "right tail slope d ln psi/dy", f"{a.right_slope:.9f}",
                  f"-2<y^2> = {-2 * sol.y2:.9f}", bool(abs(a.right_slope + 2 * sol.y2) < 1e-3),
-                 "psi", f"misprint: derived -<y^2> = {-sol.y2:.9f}"),
+                 "psi", f"misprint: derived -<y^2> = {-sol.y2:.9f}", explained="misprint"),
         ClaimRow("C12", "right tail prefactor ln C'", f"{a.right_log_prefactor:.9f}",
                  f"ln C - <y^3>/3 = {lnc - sol.y3 / 3:.9f}",
                  bool(abs(a.right_log_prefactor - (lnc - sol.y3 / 3)) < 1e-3), "psi",
-                 f"misprint: derived ln C + <y^3>/3 = {lnc + sol.y3 / 3:.9f}"),
+                 f"misprint: derived ln C + <y^3>/3 = {lnc + sol.y3 / 3:.9f}",
+                 explained="misprint"),
         ClaimRow("C12", "(ln psi)'''' - psi (max on [-3, 6] / max psi)",
                  f"{a.ode_residual_paper:.4f}", "(ln psi)'''' = psi",
                  bool(a.ode_residual_paper < 1e-3), "psi",
-                 f"misprint: (ln psi)'''' = -2 psi holds to {a.ode_residual:.1e}"),
+                 f"misprint: (ln psi)'''' = -2 psi holds to {a.ode_residual:.1e}",
+                 explained="misprint"),
         ClaimRow("C12", "eq. (psi), differential form, on the solution", f"max|res|/max|psi'| = "
                  f"{a.differential_residual:.1e}", "b0 psi' + 2 b2 psi + ... = 0",
                  bool(a.differential_residual < 1e-6), "psi",
-                 "solution of the log form with -1/6 (the paper prints +1/6: a misprint)"),
+                 "solution of the log form with -1/6 (the paper prints +1/6: a misprint)",
+                 explained="misprint"),
     ]
     y = np.linspace(-5.0, 25.0, 600)
     fig, ax = subplots(figsize=(5.5, 4))

@@ -338,3 +338,74 @@ def test_sweep_command_in_a_subprocess(tmp_path):
                           capture_output=True, text=True, timeout=120, check=False)
     assert done.returncode == 0, done.stderr
     assert "2/2 point(s) converged" in done.stdout
+
+
+# ------------------------------------------------------------------ issue 30: first hour
+def test_top_level_help_loads_no_solver():
+    """``kinetic-fem --help`` builds only the command list: no scipy, numba or solver."""
+    code = ("import sys\nfrom kinetic_fem.cli import main\n"
+            "try:\n    main(['--help'])\nexcept SystemExit:\n    pass\n"
+            "print(sorted(m for m in ('scipy', 'numba', 'skfem', 'xarray', 'kinetic_fem.solve')"
+            " if m in sys.modules))")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          check=True, timeout=120)
+    assert done.stdout.strip().endswith("[]") and "solve-cooling" in done.stdout
+
+
+def test_import_is_light_and_dir_is_clean():
+    code = ("import sys, kinetic_fem as kf\n"
+            "print(sorted(m for m in ('scipy', 'numba', 'skfem', 'xarray', 'matplotlib')"
+            " if m in sys.modules), 'logging' in dir(kf), 'sys' in dir(kf))")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          check=True, timeout=120)
+    assert done.stdout.split() == ["[]", "False", "False"]
+
+
+def test_cli_takes_the_api_defaults():
+    import inspect
+
+    import kinetic_fem as kf
+
+    parser = build_parser()
+    for command, function in (("solve-heated", kf.solve_heated),
+                              ("solve-cooling", kf.solve_cooling)):
+        sub = parser.commands[command]
+        for name in ("method", "density", "kernel"):
+            assert sub.get_default(name) == inspect.signature(function).parameters[name].default
+    assert parser.commands["solve-cooling"].get_default("method") == "fem"
+
+
+def test_sweep_refuses_a_bad_value_before_any_point(tmp_path, capsys):
+    store = tmp_path / "s"
+    with pytest.raises(SystemExit) as exc:
+        main(["sweep", "--alpha", "0.3,1.5", "--store", str(store), "--quiet"])
+    assert exc.value.code == 2
+    assert "{'alpha': 1.5} is invalid (nothing was computed)" in capsys.readouterr().err
+    assert not list(store.glob("point-*.nc")) if store.exists() else True
+
+
+def test_ctrl_c_on_a_sweep_says_what_was_kept(tmp_path):
+    """SIGINT to the process group (as a terminal's Ctrl-C) after the first stored point:
+    one line, exit status 130, no traceback from the command or its workers."""
+    import os
+    import signal
+    import time
+
+    store = tmp_path / "s"
+    alphas = ",".join(f"{a:.2f}" for a in np.linspace(0.05, 0.95, 19))
+    child = subprocess.Popen([sys.executable, "-m", "kinetic_fem", "sweep", "--alpha", alphas,
+                              "--method", "spectral", "--store", str(store), "--workers", "2"],
+                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                             start_new_session=True)
+    deadline = time.monotonic() + 240
+    while not list(store.glob("point-*.nc")) and time.monotonic() < deadline \
+            and child.poll() is None:
+        time.sleep(0.2)
+    if child.poll() is not None:
+        pytest.skip("the sweep finished before it could be interrupted")
+    os.killpg(child.pid, signal.SIGINT)
+    _, err = child.communicate(timeout=120)
+    assert child.returncode == 130, err
+    assert "Traceback" not in err
+    last = err.strip().splitlines()[-1]
+    assert last.startswith("kinetic-fem: interrupted: ") and f"kept in {store}" in last

@@ -57,3 +57,53 @@ def test_the_installed_packages_stamp_matches_their_sources():
             "    stamp = root / '__pycache__' / STAMP\n"
             "    assert stamp.read_text() == kernel_sources_digest(root), root\n")
     subprocess.run([sys.executable, "-c", code], check=True)
+
+
+def test_a_read_only_package_caches_in_the_user_folder(tmp_path, monkeypatch):
+    import numba.core.config
+
+    from kinetic_fem import jit_cache
+
+    monkeypatch.delenv("NUMBA_CACHE_DIR", raising=False)
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    monkeypatch.setattr(numba.core.config, "CACHE_DIR", numba.core.config.CACHE_DIR)
+    pkg = _package(tmp_path)
+    assert jit_cache.configure_cache_dir(pkg) is None  # writable: numba's own __pycache__
+    monkeypatch.setattr(jit_cache.os, "access", lambda path, mode: False)
+    folder = jit_cache.configure_cache_dir(pkg)
+    assert folder == tmp_path / "cache" / "kinetic-fem" / "numba"
+    assert jit_cache.os.environ["NUMBA_CACHE_DIR"] == str(folder)
+    assert numba.core.config.CACHE_DIR == str(folder)
+    assert jit_cache.configure_cache_dir(pkg) is None  # set now: kept
+
+
+def test_the_users_numba_cache_dir_wins_and_is_kept_fresh(tmp_path, monkeypatch):
+    from numba.core.caching import _CacheLocator
+
+    from kinetic_fem import jit_cache
+
+    monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path / "mine"))
+    monkeypatch.setattr(jit_cache.os, "access", lambda path, mode: False)
+    pkg = _package(tmp_path)
+    assert jit_cache.configure_cache_dir(pkg) is None
+    sub = _CacheLocator.get_suitable_cache_subpath(str(pkg / "sub" / "callee.py"))
+    assert tmp_path / "mine" / sub in jit_cache.cache_folders(pkg)
+    (tmp_path / "mine" / sub).mkdir(parents=True)
+    stale = tmp_path / "mine" / sub / "callee.f-1.py311.nbi"
+    stale.write_bytes(b"machine code")
+    assert ensure_fresh_cache(pkg) is True and not stale.exists()
+    stale.write_bytes(b"machine code")
+    assert ensure_fresh_cache(pkg, recheck=True) is False and stale.exists()
+
+
+def test_the_first_compilation_is_announced_once(tmp_path):
+    """A CompilationNotice on stderr when a kernel is compiled, none when it is cached."""
+    code = ("import warnings; warnings.simplefilter('default')\n"
+            "from kinetic_fem.model.restitution import restitution_value\n"
+            "restitution_value(0, 0.5, 0.0, 1.0); restitution_value(0, 0.5, 0.0, 2.0)\n")
+    env = {**__import__("os").environ, "NUMBA_CACHE_DIR": str(tmp_path)}
+    runs = [subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
+                           text=True, check=True, timeout=300) for _ in range(2)]
+    assert runs[0].stderr.count("CompilationNotice: compiling the numba kernels this call "
+                                "needs, once per install") == 1
+    assert "CompilationNotice" not in runs[1].stderr

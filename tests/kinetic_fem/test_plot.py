@@ -57,3 +57,46 @@ def test_import_and_drawing_select_no_backend():
                           timeout=120, check=False)
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == "False"
+
+
+# ------------------------------------------------------------------ one result, one line
+def _gaussian(scale: float = 1.0, method: str = "exact") -> kf.VelocityDistribution:
+    v = np.linspace(-12, 12, 481) * scale
+    return kf.VelocityDistribution.from_values(v, np.exp(-v**2 / (2 * scale**2)), method=method,
+                                               params={"alpha": 0.5})
+
+
+def _sampled() -> kf.VelocityDistribution:
+    rng = np.random.default_rng(3)
+    return kf.VelocityDistribution.from_samples(rng.standard_normal(20000), n_batches=10,
+                                                bins=41, method="dsmc")
+
+
+def test_plot_f_takes_a_distribution_a_list_an_evolution_and_datasets():
+    from kinetic_fem.evolution import Evolution
+
+    d = _gaussian()
+    ax = plot_f(d)
+    c, f = ax.get_lines()[0].get_data()
+    np.testing.assert_array_equal(f, d.f_values[d.f_values > 0])
+    assert ax.get_yscale() == "log" and ax.get_legend().get_texts()[0].get_text() == \
+        "exact alpha=0.5"
+    assert len(plot_f([d, _gaussian(2.0)]).get_lines()) == 2 + 1  # and the Gaussian
+    assert len(plot_f(d.to_xarray()).get_lines()) == 2
+    ev = Evolution([0.0, 1.0], np.stack([d.v, d.v]), np.stack([d.values, d.values]),
+                   np.full((2, d.v.size), d.v[1] - d.v[0]), method="test")
+    assert len(plot_f(ev).get_lines()) == 3
+    assert len(plot_f(ev.to_xarray()).get_lines()) == 3
+    with pytest.raises(TypeError, match="VelocityDistribution"):
+        plot_f(np.zeros(3))
+
+
+def test_dist_plot_draws_the_error_band_of_sampled_results_only():
+    d = _sampled()
+    ax = d.plot()
+    assert len(ax.collections) == 1  # the band of one standard error
+    band = ax.collections[0].get_paths()[0].vertices[:, 1]
+    top = (d.f_values + d.f_errors)[d.f_values > 0]
+    assert band.min() >= 0 and band.max() == pytest.approx(top.max())
+    assert len(_gaussian().plot().collections) == 0  # no estimate computed: no band
+    assert len(d.plot(errors=False).collections) == 0

@@ -37,7 +37,7 @@ def test_run_and_table(tmp_path, toy_item):
     with csv_path.open() as fh:
         table = list(csv.DictReader(fh))
     assert table == [{"claim": "C99", "quantity": "x", "measured": "1.0", "paper": "1",
-                      "agrees": "True", "method": "toy", "note": "a | pipe"}]
+                      "agrees": "True", "method": "toy", "note": "a | pipe", "explained": ""}]
     text = md_path.read_text()
     assert text.startswith("| claim | quantity | measured | paper | agrees |")
     assert "| C99 | x | 1.0 | 1 | yes | toy |" in text
@@ -114,3 +114,24 @@ def test_fem_hump_items_quick(tmp_path):
     assert {r.claim for r in rows} == {"C11", "C12"}
     assert all(r.agrees for r in rows), rows
     assert all(r.method.startswith("fem") for r in rows)
+
+
+def test_verdict_summary_separates_paper_errors_quick_mode_and_unexplained_rows():
+    from kinetic_fem.reproduce import QUICK_MARK, classify, verdict_summary
+
+    rows = [ClaimRow("C1", "T", "1", "1", True),
+            ClaimRow("C6", "x*", "grows", "constant", False, explained="peak exponent"),
+            ClaimRow("C12", "slope", "-1", "-2", False, explained="misprint"),
+            ClaimRow("C2", "tau", "-0.5", "-2/3", False,
+                     note=f"{QUICK_MARK} (3 warnings in C2-DSMC: batches too short)"),
+            ClaimRow("C9", "hump", "one", "two", None)]
+    assert [classify(r) for r in rows] == ["agrees", "paper: peak exponent", "paper: misprint",
+                                           "quick-mode statistics", "not decided"]
+    text = verdict_summary(rows)
+    assert "5 claim row(s): 1 agree with the paper, 1 not decided" in text
+    assert "3 disagree" in text and text.endswith("0 unexplained")
+    bad = ClaimRow("C4", "tail", "2", "1.5", False)
+    assert verdict_summary([*rows, bad]).endswith(
+        "1 unexplained\n    C4 tail: measured 2, paper 1.5")
+    with pytest.raises(ValueError, match="explained='typo'"):
+        classify(ClaimRow("C4", "tail", "2", "1.5", False, explained="typo"))

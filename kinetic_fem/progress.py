@@ -1,0 +1,134 @@
+"""Progress bars: shown when a person is watching, quiet otherwise.
+
+Long calls take ``progress=None`` (the default: a bar when the session is interactive,
+that is when stderr is a terminal or the code runs in a Jupyter notebook), ``True`` or
+``False``; :func:`resolve_progress` turns that into a bool and :func:`progress_bar`
+makes the bar (``tqdm``; its notebook widget in Jupyter), on stderr.  The command line
+always shows its bars unless ``--quiet``.  :func:`ticking` refreshes a bar every
+second while one long step runs, so that its clock moves.
+"""
+
+from __future__ import annotations
+
+import sys
+import threading
+from collections.abc import Iterable, Iterator
+from contextlib import contextmanager
+from typing import Any
+
+__all__ = ["interactive", "resolve_progress", "progress_bar", "ticking"]
+
+
+def _in_notebook() -> bool:
+    shell = sys.modules.get("IPython")
+    if shell is None:
+        return False
+    try:
+        ip = shell.get_ipython()  # type: ignore[attr-defined]
+    except AttributeError:
+        return False
+    return ip is not None and type(ip).__name__ == "ZMQInteractiveShell"
+
+
+def interactive() -> bool:
+    """Whether someone is watching: stderr is a terminal, or this is a Jupyter notebook.
+
+    Returns
+    -------
+    bool
+    """
+    try:
+        tty = bool(sys.stderr.isatty())
+    except (AttributeError, ValueError):  # closed or replaced stderr
+        tty = False
+    return tty or _in_notebook()
+
+
+def resolve_progress(progress: bool | None) -> bool:
+    """The ``progress=`` argument of a long call as a bool.
+
+    Parameters
+    ----------
+    progress : bool or None
+        None: :func:`interactive`; a bool is returned as given.
+
+    Returns
+    -------
+    bool
+
+    Raises
+    ------
+    TypeError
+        For anything but None or a bool.
+
+    Examples
+    --------
+    >>> resolve_progress(False), resolve_progress(True)
+    (False, True)
+    """
+    if progress is None:
+        return interactive()
+    if not isinstance(progress, bool):
+        raise TypeError(f"progress must be True, False or None (shown when interactive), "
+                        f"got {progress!r}")
+    return progress
+
+
+def progress_bar(iterable: Iterable[Any] | None = None, *, progress: bool | None = None,
+                 **options: Any) -> Any:
+    """A ``tqdm`` bar on stderr (the notebook widget in Jupyter), disabled unless wanted.
+
+    Parameters
+    ----------
+    iterable : iterable, optional
+        What to iterate over.
+    progress : bool or None
+        See :func:`resolve_progress`.
+    **options
+        Passed to ``tqdm`` (``total``, ``desc``, ``unit`` ...).
+
+    Returns
+    -------
+    tqdm.tqdm
+        Iterable and updatable; ``disable`` set from ``progress``.
+    """
+    if _in_notebook():
+        from tqdm.auto import tqdm
+    else:
+        from tqdm import tqdm
+    options.setdefault("file", sys.stderr)
+    return tqdm(iterable, disable=not resolve_progress(progress), **options)
+
+
+@contextmanager
+def ticking(bar: Any, interval: float = 1.0) -> Iterator[Any]:
+    """Refresh ``bar`` every ``interval`` seconds while the block runs (its clock moves).
+
+    Parameters
+    ----------
+    bar : tqdm.tqdm
+        The bar (a disabled bar is left alone).
+    interval : float
+        Seconds between refreshes.
+
+    Yields
+    ------
+    tqdm.tqdm
+        The bar.
+    """
+    stop = threading.Event()
+
+    def tick() -> None:
+        while not stop.wait(interval):
+            bar.refresh()
+
+    thread = None
+    if not getattr(bar, "disable", True):
+        thread = threading.Thread(target=tick, name="progress-tick", daemon=True)
+        thread.start()
+    try:
+        yield bar
+    finally:
+        stop.set()
+        if thread is not None:
+            thread.join()
