@@ -154,9 +154,12 @@ def cooling_estimate(disc: FEMDiscretisation, u: NDArray, zeta: float,
                           line_search=False)
     better = build(fine, step.u)
     base = build(disc, u)
-    return ErrorEstimate.from_comparison(base, better, method=BISECTED_METHOD,
-                                         factor=richardson_factor(disc.order),
-                                         zeta=(zeta, step.zeta))
+    est = ErrorEstimate.from_comparison(base, better, method=BISECTED_METHOD,
+                                        factor=richardson_factor(disc.order),
+                                        zeta=(zeta, step.zeta))
+    # the scaled state has unit temperature by construction (a constraint of Newton's
+    # system): its error is the constraint's residual, not the step's second-order one
+    return replace(est, temperature=abs(base.temperature - 1.0))
 
 
 def cooling_recipe(disc: FEMDiscretisation, u: NDArray, zeta: float,
