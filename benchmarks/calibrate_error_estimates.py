@@ -2,12 +2,15 @@
 
 For each problem the result's estimated errors (T relative, a2 absolute, zeta relative,
 the largest relative f error where f > 1e-30) are compared with its true errors against
-an independent reference:
+an independent reference (f over the nodes where the estimate is below 1, i.e. claims
+a significant digit):
 
 - the exact moments of the heated Maxwell model (:mod:`kinetic_fem.solvers.maxwell`);
-- otherwise a much finer mesh of another element order (FEM P2 <-> P3), whose own
-  estimate must be at most a tenth of the true error measured with it (else the row's
-  reference is flagged ``ref?`` and the ratio left out of the summary).
+- otherwise a much finer mesh of another element order (FEM P2 <-> P3; for a default P3
+  state of a soft kernel, P3 on a mesh 3-4 times finer: P2 does not reach its accuracy
+  at an affordable size), whose own estimate must be at most a tenth of the true error
+  measured with it (else the row's reference is flagged ``ref?`` and the ratio left out
+  of the summary).
 
 FEM results are computed on meshes coarser than the defaults (explicit ``order`` and
 ``spacing``) so that their errors stand well above round-off; a few rows use the
@@ -28,6 +31,7 @@ Writes nothing; the table of the last full run is ``benchmarks/results/error_cal
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import time
 import warnings
@@ -86,8 +90,8 @@ PROBLEMS = [
     Problem("heated P2 h=0.25", "heated", 0.3, options=_fem(2, 0.25), reference=_fem(3, 0.1)),
     Problem("heated P2 h=0.2", "heated", 0.9, options=_fem(2, 0.2), reference=_fem(3, 0.08)),
     Problem("heated P2 h=0.1", "heated", 0.99, options=_fem(2, 0.1), reference=_fem(3, 0.04)),
-    Problem("heated default", "heated", 1 - 1e-4, options={"method": "fem"},
-            reference=_fem(2, 0.02)),
+    Problem("heated P2 h=0.1", "heated", 1 - 1e-4, options=_fem(2, 0.1),
+            reference=_fem(3, 0.04)),
     # ---- heated FEM, Maxwell kernel: exact moments
     Problem("heated P3 h=0.5", "heated", 0.2, kernel=0.0, options=_fem(3, 0.5),
             reference={"maxwell": True, **_fem(2, 0.05)}, quick=True),
@@ -99,7 +103,7 @@ PROBLEMS = [
     Problem("heated P3 h=0.5", "heated", 0.3, kernel=0.5, options=_fem(3, 0.5),
             reference=_fem(2, 0.05)),
     Problem("heated default", "heated", 0.6, kernel=0.5, options={"method": "fem"},
-            reference=_fem(2, 0.04)),
+            reference=_fem(3, 0.1)),
     Problem("heated P2 h=0.25", "heated", 0.3, kernel=2.0, options=_fem(2, 0.25),
             reference=_fem(3, 0.1)),
     Problem("heated default", "heated", 0.8, kernel=2.0, options={"method": "fem"},
@@ -126,7 +130,7 @@ PROBLEMS = [
             reference={"method": "fem"}),
     Problem("cooling P2 h=0.2", "cooling", 0.9, options=_fem(2, 0.2),
             reference={"method": "fem"}),
-    Problem("cooling P2 h=0.1", "cooling", 0.99, options=_fem(2, 0.1),
+    Problem("cooling P2 h=0.15", "cooling", 0.95, options=_fem(2, 0.15),
             reference={"method": "fem"}),
     Problem("cooling P2 h=0.25", "cooling", 0.6, kernel=0.5, options=_fem(2, 0.25),
             reference=_fem(2, 0.05)),
@@ -188,15 +192,21 @@ def calibrate(problem: Problem) -> dict[str, Any]:
     true_zeta = math.nan
     if problem.kind == "cooling":
         true_zeta = abs(dist.info.extra["zeta"] / ref.info.extra["zeta"] - 1.0)
-    cmp = dist.compare(ref, floor=1e-30)
-    true_f = cmp.f_rel_max
+    # f: over the nodes where f > 1e-30 (both) and the estimate claims a digit (< 1):
+    # a Sonine result's far tail is unresolved (estimated and true errors >> 1 there)
+    c = dist.c
+    mine, theirs = dist.f_values, ref.f(c)
+    est_f = est.f_relative
+    keep = (mine > 1e-30) & (theirs > 1e-30) & np.isfinite(est_f) & (est_f < 1.0)
+    true_f = float(np.max(np.abs(mine[keep] / theirs[keep] - 1.0))) if keep.any() else math.nan
+    est_f_max = float(est_f[keep].max()) if keep.any() else math.nan
     ref_est = ref.error
     # the FEM reference is good enough if its own estimate is well below the true error
     ref_ok = True
     if not problem.reference.get("maxwell"):
         ref_ok = ref_est.temperature <= 0.1 * max(true_t, FLOOR) and \
             ref_est.a2 <= 0.1 * max(true_a2, FLOOR)
-    ref_f_ok = not (ref_est.f_max > 0.1 * max(true_f, F_FLOOR_EST))
+    ref_f_ok = not (ref_est.f_max > 0.1 * max(true_f, F_FLOOR_EST))  # (NaN: ok)
     return {
         "label": problem.label, "kind": problem.kind, "method": problem.method,
         "alpha": problem.alpha if isinstance(problem.alpha, float) else repr(problem.alpha),
@@ -205,7 +215,8 @@ def calibrate(problem: Problem) -> dict[str, Any]:
         "est_a2": est.a2, "true_a2": true_a2, "r_a2": _ratio(true_a2, est.a2, FLOOR),
         "est_zeta": est.zeta, "true_zeta": true_zeta,
         "r_zeta": _ratio(true_zeta, est.zeta, FLOOR),
-        "est_f": est.f_max, "true_f": true_f, "r_f": _ratio(true_f, est.f_max, F_FLOOR_EST),
+        "est_f": est_f_max, "true_f": true_f, "r_f": _ratio(true_f, est_f_max, F_FLOOR_EST),
+        "f_c_max": float(np.abs(c[keep]).max()) if keep.any() else math.nan,
         "ref_ok": ref_ok, "ref_f_ok": ref_f_ok, "asymptotic": est.asymptotic,
         "t_solve": t_solve, "t_est": t_est,
     }
@@ -224,9 +235,14 @@ def _fmt(x: Any) -> str:
 def table(rows: list[dict[str, Any]]) -> str:
     """The rows as a Markdown table."""
     head = ("| problem | alpha | gamma | xi | est T | true T | ratio | est a2 | true a2 | ratio "
-            "| est zeta | ratio | est f | true f | ratio | est/solve CPU |")
+            "| est zeta | ratio | est f | true f | ratio (c <=) | est/solve CPU |")
     lines = [head, "|" + "---|" * 16]
     for r in rows:
+        if "failed" in r:
+            alpha = r["alpha"] if isinstance(r["alpha"], str) else f"{r['alpha']:.6g}"
+            lines.append(f"| {r['label']} | {alpha} | {r['kernel']:g} | {r['friction']:g} | "
+                         f"failed: {r['failed']} |" + " |" * 11)
+            continue
         flag = "" if r["ref_ok"] else " ref?"
         flag += " asym." if r["asymptotic"] else ""
         alpha = r["alpha"] if isinstance(r["alpha"], str) else f"{r['alpha']:.6g}"
@@ -236,7 +252,7 @@ def table(rows: list[dict[str, Any]]) -> str:
             f"| {_fmt(r['est_a2'])} | {_fmt(r['true_a2'])} | {_fmt(r['r_a2'])} "
             f"| {_fmt(r['est_zeta'])} | {_fmt(r['r_zeta'])} "
             f"| {_fmt(r['est_f'])} | {_fmt(r['true_f'])} | "
-            f"{_fmt(r['r_f']) + ('' if r['ref_f_ok'] else ' ref?')} "
+            f"{_fmt(r['r_f']) + ('' if r['ref_f_ok'] else ' ref?')} ({_fmt(r['f_c_max'])}) "
             f"| {r['t_est'] / r['t_solve']:.2f} |")
     return "\n".join(lines)
 
@@ -251,7 +267,7 @@ def summary(rows: list[dict[str, Any]]) -> str:
     out = []
     for group, keep in (("FEM and spectral", lambda r: r["method"] != "fd"),
                         ("FD (upper bound)", lambda r: r["method"] == "fd")):
-        sel = [r for r in rows if keep(r)]
+        sel = [r for r in rows if "failed" not in r and keep(r)]
         if not sel:
             continue
         parts = []
@@ -268,28 +284,54 @@ def summary(rows: list[dict[str, Any]]) -> str:
                          f"{inside} within {list(target)} (lowest: {_name(lo[1])}; "
                          f"highest: {_name(hi[1])})")
         out.append(f"{group}:\n  " + "\n  ".join(parts))
-    est_cost = [r["t_est"] / r["t_solve"] for r in rows if r["method"] == "fem"]
+    est_cost = [r["t_est"] / r["t_solve"] for r in rows
+                if "failed" not in r and r["method"] == "fem"]
     if est_cost:
         out.append(f"FEM estimate / solve CPU: median {np.median(est_cost):.2f}, "
                    f"range [{min(est_cost):.2f}, {max(est_cost):.2f}] (paid on first read)")
     return "\n".join(out)
 
 
-def main(quick: bool = False) -> list[dict[str, Any]]:
-    """Run the calibration; returns the rows."""
+def main(quick: bool = False, shard: tuple[int, int] = (0, 1),
+         log: str | None = None) -> list[dict[str, Any]]:
+    """Run the calibration (problems ``shard[0]::shard[1]``); returns the rows.
+
+    A problem whose solve fails gives a row with its ``failed`` message (left out of the
+    summary).  With ``log``, each row is appended to that file (JSON lines) when done.
+    """
     rows = []
-    for p in PROBLEMS:
-        if quick and not p.quick:
-            continue
-        rows.append(calibrate(p))
+    chosen = [p for p in PROBLEMS if p.quick or not quick][shard[0]::shard[1]]
+    for p in chosen:
+        try:
+            row = calibrate(p)
+        except Exception as exc:  # reported in the table, not hidden
+            row = {"label": p.label, "kind": p.kind, "method": p.method,
+                   "alpha": p.alpha if isinstance(p.alpha, float) else repr(p.alpha),
+                   "kernel": p.kernel, "friction": p.friction,
+                   "failed": f"{type(exc).__name__}: {str(exc)[:120]}"}
+        rows.append(row)
+        if log:
+            with open(log, "a") as fh:
+                fh.write(json.dumps(row) + "\n")
     return rows
 
 
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="a few cheap problems")
+    parser.add_argument("--shard", default="0/1", help="i/n: every n-th problem from i")
+    parser.add_argument("--log", help="append each row to this JSON-lines file")
+    parser.add_argument("--report", nargs="+", help="print the table of JSON-lines files")
     args = parser.parse_args()
-    result = main(quick=args.quick)
+    if args.report:
+        result = [json.loads(line) for name in args.report for line in open(name)]
+        order = {(p.label, p.kind, repr(p.alpha) if not isinstance(p.alpha, float) else p.alpha,
+                  p.kernel, p.friction): i for i, p in enumerate(PROBLEMS)}
+        result.sort(key=lambda r: order.get((r["label"], r["kind"], r["alpha"], r["kernel"],
+                                             r["friction"]), 999))
+    else:
+        i, n = (int(x) for x in args.shard.split("/"))
+        result = main(quick=args.quick, shard=(i, n), log=args.log)
     print(table(result))
     print()
     print(summary(result))

@@ -175,6 +175,7 @@ def test_calibration_over_the_benchmark_problems():
     rows = mod.main()
     assert len(rows) >= 30
     for r in rows:
+        assert "failed" not in r, r
         if r["method"] == "fd":
             assert not r["r_t"] > 1 and not r["r_a2"] > 1, r
             continue
