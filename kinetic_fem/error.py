@@ -73,7 +73,8 @@ class ErrorEstimate:
     c : ndarray, shape (m,)
         Scaled velocities at which the f error is known (increasing).
     f_relative : ndarray, shape (m,)
-        Relative error of :math:`f` at ``c``; NaN where :math:`f \\le` :data:`F_FLOOR`.
+        Relative error of :math:`f` at ``c``; NaN where :math:`f \\le` :data:`F_FLOOR`,
+        ``inf`` where the method does not resolve :math:`f` (a Sonine tail).
     method : str
         How the estimate was obtained.
     asymptotic : bool
@@ -121,14 +122,17 @@ class ErrorEstimate:
         c = np.asarray(c, dtype=float)
         if self.c.size < 2:
             return np.full(c.shape, np.nan)
-        out = np.interp(c, self.c, self.f_relative, left=np.nan, right=np.nan)
-        # NaN where either neighbour is unresolved (interp would mix NaN anyway)
-        return np.asarray(out, dtype=float)
+        # inf (unresolved) carried through the interpolation as a huge finite value
+        huge = np.finfo(float).max / 4
+        out = np.interp(c, self.c, np.minimum(self.f_relative, huge), left=np.nan,
+                        right=np.nan)
+        return np.where(out >= huge, np.inf, out)
 
     @property
     def f_max(self) -> float:
-        """Largest relative f error over the nodes where :math:`f >` :data:`F_FLOOR`."""
-        ok = np.isfinite(self.f_relative)
+        """Largest relative f error over the nodes where :math:`f >` :data:`F_FLOOR`
+        (``inf`` if a method does not resolve f somewhere there)."""
+        ok = ~np.isnan(self.f_relative)
         return float(self.f_relative[ok].max()) if ok.any() else float("nan")
 
     def meets(self, target: float) -> bool:
@@ -208,9 +212,10 @@ class ErrorEstimate:
         mine = dist.f_values
         theirs = better.f(c)
         f_rel = np.full(c.shape, np.nan)
-        ok = (mine > F_FLOOR) & (theirs > 0)
-        f_rel[ok] = np.abs(mine[ok] / theirs[ok] - 1.0)
-        # where better has no value (outside its nodes) but f is resolved: unknown
+        ok = mine > F_FLOOR
+        pos = ok & (theirs > 0)
+        f_rel[pos] = np.abs(mine[pos] / theirs[pos] - 1.0)
+        f_rel[ok & ~pos] = 1.0  # the better result is not positive there: no digit
         filled = np.where(ok, f_rel, 0.0)
         env = maximum_filter1d(filled, size=max(1, envelope), mode="nearest")
         f_rel = np.where(ok, factor * env, np.nan)
