@@ -43,6 +43,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.interpolate import CubicSpline
 
+from .error import ErrorEstimate, ErrorRecipe
 from .exceptions import FileFormatError
 from .files import check_loaded_values, json_entry, npz_path, read_npz, reading
 from .gas import check_finite_array
@@ -110,6 +111,9 @@ class VelocityDistribution:
         Convergence and cost of the run.
     series : dict of str to ndarray
         Optional time series (``"t"``, ``"temperature"``, ``"a2"``, ...).
+    error_recipe : ErrorRecipe, optional
+        How a deterministic solver estimates this result's errors when :attr:`error` is
+        first read (:mod:`kinetic_fem.error`).
     """
 
     v: NDArray[np.float64]
@@ -121,6 +125,7 @@ class VelocityDistribution:
     params: Mapping[str, Any] = field(default_factory=dict)
     info: RunInfo = field(default_factory=RunInfo)
     series: Mapping[str, NDArray[np.float64]] = field(default_factory=dict)
+    error_recipe: ErrorRecipe | None = field(default=None, repr=False, compare=False)
 
     def __repr__(self) -> str:
         """One line: method, nodes, T, a2 (with its error if sampled), convergence, params.
@@ -550,3 +555,46 @@ class VelocityDistribution:
         from .export import distribution_html
 
         return distribution_html(self)
+
+    # ------------------------------------------------------------------ error estimates
+    @cached_property
+    def error(self) -> ErrorEstimate:
+        """Estimated errors of :attr:`temperature` (relative), :attr:`a2`, zeta and f(c).
+
+        The same names for every method (:class:`~kinetic_fem.error.ErrorEstimate`):
+        a particle run's batch standard errors (``error.a2`` is :attr:`a2_error`), a
+        deterministic result's a posteriori estimate by its method, computed on first
+        read and cached (:mod:`kinetic_fem.error`).  A result without either (loaded,
+        unpickled or built by hand) answers NaNs with a ``note`` saying why.
+
+        Examples
+        --------
+        >>> rng = np.random.default_rng(1)
+        >>> d = VelocityDistribution.from_samples(rng.normal(size=200_000))
+        >>> d.error.a2 == d.a2_error, d.error.kind
+        (True, 'standard error')
+        """
+        if self.batch_moments is not None:
+            return ErrorEstimate.from_batches(self)
+        if self.error_recipe is not None:
+            return self.error_recipe(self)
+        return ErrorEstimate.unavailable(
+            f"no error estimate for this result (method {self.method!r}): only solvers' "
+            "results and sampled distributions carry one")
+
+    def with_error(self, recipe: ErrorRecipe | None,
+                   estimate: ErrorEstimate | None = None) -> VelocityDistribution:
+        """A copy whose :attr:`error` is computed by ``recipe`` (solvers call this).
+
+        Parameters
+        ----------
+        recipe : ErrorRecipe or None
+            The estimate's recipe.
+        estimate : ErrorEstimate, optional
+            The estimate if already computed (e.g. by a solver that refined until it met
+            an accuracy): :attr:`error` returns it without calling ``recipe``.
+        """
+        out = replace(self, error_recipe=recipe)
+        if estimate is not None:
+            out.__dict__["error"] = estimate  # the cached_property's slot
+        return out

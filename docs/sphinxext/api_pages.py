@@ -33,7 +33,7 @@ START_HERE = (
                "kinetic_fem.sweep")),
     ("Time dependence", ("kinetic_fem.evolution.Evolution", "kinetic_fem.model.protocol.Protocol")),
     ("Results", ("kinetic_fem.VelocityDistribution", "kinetic_fem.distribution.Comparison",
-                 "kinetic_fem.RunInfo")),
+                 "kinetic_fem.RunInfo", "kinetic_fem.error.ErrorEstimate")),
     ("Particles", ("particles.dsmc.simulate_heated", "particles.dsmc.simulate_cooling",
                    "particles.md.simulate_heated", "particles.md.simulate_cooling")),
     ("The model", ("kinetic_fem.model.PowerLawKernel",
@@ -51,7 +51,8 @@ START_HERE = (
 
 GROUPS = (
     ("Entry points and results", ("=kinetic_fem", "kinetic_fem.solve", "kinetic_fem.distribution",
-                                  "kinetic_fem.evolve", "kinetic_fem.evolution",
+                                  "kinetic_fem.error", "kinetic_fem.evolve",
+                                  "kinetic_fem.evolution",
                                   "kinetic_fem.sweep")),
     ("The model", ("kinetic_fem.model", "kinetic_fem.gas", "kinetic_fem.model.protocol")),
     ("Deterministic solvers", ("kinetic_fem.solvers", "kinetic_fem.sonine")),

@@ -65,6 +65,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..distribution import RunInfo, VelocityDistribution
+from ..error import comparison_recipe
 from ..exceptions import ResolutionWarning
 from ..gas import CoolingProblem, check_alpha, check_positive
 from ..model import UnsupportedModelError
@@ -396,8 +397,17 @@ def solve_fd_cooling(problem: CoolingProblem, *, spacing: float | None = None,
                    residual=max(s.residual for s in sols),
                    wall_time=time.perf_counter() - start, message=sols[-1].message,
                    extra=extra)
-    return VelocityDistribution.from_values(grid.v_full, grid.full(f), weights=grid.weights,
+    dist = VelocityDistribution.from_values(grid.v_full, grid.full(f), weights=grid.weights,
                                             method="fd", params=problem.as_dict(), info=info)
+    if not levels:
+        return dist
+
+    def pair() -> tuple[VelocityDistribution, VelocityDistribution]:
+        return dist, VelocityDistribution.from_values(grid.v_full, grid.full(f_prev),
+                                                      weights=grid.weights)
+
+    return dist.with_error(comparison_recipe(
+        pair, "Richardson levels (the best against the one before)", zeta=(zeta, zeta_prev)))
 
 
 def _a2(grid: HalfGrid, f: NDArray[np.float64]) -> float:

@@ -90,6 +90,7 @@ from .fem_defaults import (
     scaled_model,
     tail_exponent,
 )
+from .fem_error import heated_estimate, heated_recipe
 from .fem_newton import (
     CHORD_LEVEL,
     CHORD_RATE,
@@ -124,6 +125,8 @@ TAIL_FLOOR = 1e-30
 CUTOFF_TARGET = 1e-33
 """With the default cut-off the interval is widened until f(cut-off) is below this."""
 MAX_WIDENINGS = 4
+ACCURACY_REFINEMENTS = 4
+"""Most refinements of the spacing with ``accuracy=`` (:func:`solve_fem_heated`)."""
 CONTINUATION_ALPHA = 0.95
 """Above this alpha Newton starts from the solution at ten times the inelasticity."""
 SEQUENCE_FACTOR = 3
@@ -402,7 +405,7 @@ def _widened_solve(alpha: float, scaled: ScaledModel, paper: bool, order: int,
 def solve_fem_heated(problem: HeatedProblem, *, order: int | None = None,
                      spacing: float | None = None, cutoff: float | None = None, vertices=None,
                      intorder: int | None = None, symmetric: bool = False, tol: float = 1e-11,
-                     max_iter: int = 40) -> VelocityDistribution:
+                     max_iter: int = 40, accuracy: float | None = None) -> VelocityDistribution:
     """Steady state of the heated gas by Galerkin FEM and Newton's method.
 
     Parameters
@@ -441,17 +444,27 @@ def solve_fem_heated(problem: HeatedProblem, *, order: int | None = None,
         Stop when the Newton update of :math:`\\ln P` is below ``tol`` everywhere.
     max_iter : int
         Newton iteration limit.
+    accuracy : float, optional
+        Target accuracy of T (relative) and a2 (absolute), in place of a mesh: the
+        spacing (from ``spacing`` or the default) is refined, at the same element degree,
+        until the error estimate ``dist.error`` (one Newton step on the bisected mesh,
+        :mod:`kinetic_fem.solvers.fem_error`) meets it; ``ConvergenceError`` says what
+        was reached if it cannot be (:data:`ACCURACY_REFINEMENTS` refinements, or the
+        estimate stops decreasing at round-off).  Not with ``vertices``.  (``tol`` is
+        Newton's tolerance, not an accuracy.)
 
     Returns
     -------
     VelocityDistribution
         On the quadrature points with the quadrature weights; ``info.extra`` holds
-        the mesh size and both sides of the discrete energy balance (C1).
+        the mesh size and both sides of the discrete energy balance (C1);
+        ``dist.error`` the estimate of the errors of T, a2 and f(c) (computed when
+        first read, or during the solve with ``accuracy``).
 
     Raises
     ------
     ConvergenceError
-        If Newton's method does not converge.
+        If Newton's method does not converge, or ``accuracy`` cannot be met.
 
     Warns
     -----
@@ -459,10 +472,52 @@ def solve_fem_heated(problem: HeatedProblem, *, order: int | None = None,
         If the cut-off truncates f(c) above 1e-30 or the spacing is too coarse.
     """
     problem.require("fem")
+    if accuracy is not None:
+        check_positive("accuracy", accuracy)
+        if vertices is not None:
+            raise ValueError("accuracy= refines the spacing: it cannot be combined with "
+                             "explicit vertices; give spacing (or neither)")
     state = steady_state(problem, order=order, spacing=spacing, cutoff=cutoff,
                          vertices=vertices, intorder=intorder, symmetric=symmetric, tol=tol,
                          max_iter=max_iter)
-    return state_distribution(problem, state, state.disc.order)
+    if accuracy is None:
+        return state_distribution(problem, state, state.disc.order)
+    order = state.disc.order
+    scaled = scaled_model(problem)
+    if spacing is None:
+        spacing = default_spacing(scaled.alpha, order) if scaled.is_paper_model else \
+            model_spacing(scaled, order)
+    history: list[tuple[float, float]] = []
+    for refinement in range(ACCURACY_REFINEMENTS + 1):
+        est = heated_estimate(state.disc, state.u, state.disc.distribution(state.u))
+        err = max(est.temperature, est.a2)
+        history.append((spacing, err))
+        logger.info("accuracy=%g: spacing %.4g, P%d, estimated error %.2e", accuracy,
+                    spacing, order, err)
+        if est.meets(accuracy):
+            dist = state_distribution(problem, state, order)
+            return dist.with_error(dist.error_recipe, est)
+        stalled = len(history) > 1 and err > 0.5 * history[-2][1]
+        if refinement == ACCURACY_REFINEMENTS or stalled:
+            break
+        # error ~ h^rate: k + 1 at first, then the rate observed (T and a2 often
+        # converge faster than ln P)
+        rate = order + 1.0
+        if len(history) > 1 and err > 0:
+            (h0, e0), (h1, e1) = history[-2:]
+            rate = min(max(math.log(e0 / e1) / math.log(h0 / h1), 1.0), 2.0 * (order + 1))
+        factor = min(0.8, max(0.25, 0.8 * (accuracy / err) ** (1.0 / rate)))
+        spacing *= factor
+        state = steady_state(problem, order=order, spacing=spacing, cutoff=cutoff,
+                             intorder=intorder, symmetric=symmetric, tol=tol,
+                             max_iter=max_iter)
+    raise ConvergenceError(
+        f"FEM did not reach accuracy={accuracy:g} (T relative and a2): estimated errors "
+        + ", ".join(f"{e:.2g} at spacing {h:.3g}" for h, e in history)
+        + f" (P{order}); " + ("the estimate stopped decreasing (round-off or the cut-off); "
+                              if len(history) > 1 and history[-1][1] > 0.5 * history[-2][1]
+                              else "")
+        + "ask for less, or give a smaller spacing")
 
 
 def state_distribution(problem: HeatedProblem, state: SteadyState,
@@ -486,6 +541,7 @@ def state_distribution(problem: HeatedProblem, state: SteadyState,
     info = replace(state.info, extra=LazyExtra({"n_dofs": int(state.u.size), "order": order},
                                                lazy=energy_balance))
     dist = state.disc.distribution(state.u, method="fem", params=problem.as_dict(), info=info)
+    dist = dist.with_error(heated_recipe(state.disc, state.u))
     return dist.rescaled(problem.velocity_scale) if problem.velocity_scale != 1.0 else dist
 
 

@@ -88,6 +88,7 @@ from __future__ import annotations
 import functools
 import logging
 import math
+from collections.abc import Callable
 from dataclasses import replace
 
 import numpy as np
@@ -151,6 +152,7 @@ from .fem_cooling_order import (
 )
 from .fem_cooling_seeds import seed_start
 from .fem_cooling_tail import maxwell_hcs, recovered_distribution
+from .fem_error import cooling_recipe
 
 __all__ = ["solve_fem_cooling", "cooling_state", "CoolingState", "continued_state",
            "hump_chain", "hump_start", "uses_hump_mesh", "HUMP_EPS", "HUMP_RESOLUTION",
@@ -483,8 +485,13 @@ def cooling_distribution(problem: CoolingProblem, state: CoolingState) -> Veloci
                                       "cutoff": float(state.disc.vertices[-1])})
     if isinstance(state, MaxwellTailState):
         return state.distribution(method="fem", params=problem.as_dict(), info=info)
+    # the result of a state and its error estimate (kinetic_fem.solvers.fem_error)
+    def plain(disc: FEMDiscretisation, u: NDArray, **kw: object) -> VelocityDistribution:
+        return disc.distribution(u, **kw)
+
+    build: Callable[..., VelocityDistribution] = plain
     if problem.gas.gamma == 0.0:
         # --- the Maxwell model's c^-4 tail: kinetic_fem.solvers.fem_cooling_tail ---
-        return recovered_distribution(state.disc, state.u, method="fem",
-                                      params=problem.as_dict(), info=info)
-    return state.disc.distribution(state.u, method="fem", params=problem.as_dict(), info=info)
+        build = recovered_distribution
+    dist = build(state.disc, state.u, method="fem", params=problem.as_dict(), info=info)
+    return dist.with_error(cooling_recipe(state.disc, state.u, state.zeta, build))

@@ -90,6 +90,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..distribution import RunInfo, VelocityDistribution
+from ..error import ErrorRecipe, comparison_recipe
 from ..exceptions import ConvergenceWarning
 from ..gas import HeatedProblem, check_positive
 from ..model import FokkerPlanckBath, UnsupportedModelError, WhiteNoise
@@ -420,6 +421,18 @@ def solve_fd_heated(problem: HeatedProblem, *, spacing: float | None = None,
     params = {**problem.as_dict(), "spacing": spacing, "cutoff": cutoff, "steady": steady,
               "richardson": levels, "log_interp": log_interp,
               "interpolation_order": interpolation_order}
-    return VelocityDistribution.from_values(grid.v_full * u, grid.full(p) / u,
+    dist = VelocityDistribution.from_values(grid.v_full * u, grid.full(p) / u,
                                             weights=grid.weights * u, method="fd",
                                             params=params, info=info, series=series)
+    return dist.with_error(_richardson_recipe(grid, p, prev) if levels else None)
+
+
+def _richardson_recipe(grid: HalfGrid, best: NDArray[np.float64], prev: NDArray[np.float64]
+                       ) -> ErrorRecipe:
+    """``dist.error``: the most extrapolated level against the one before (unit problem)."""
+    def pair() -> tuple[VelocityDistribution, VelocityDistribution]:
+        return tuple(VelocityDistribution.from_values(grid.v_full, grid.full(q),  # type: ignore
+                                                      weights=grid.weights)
+                     for q in (best, prev))
+
+    return comparison_recipe(pair, "Richardson levels (the best against the one before)")

@@ -65,6 +65,8 @@ from .scaling_common import (
     fourth_derivative_extrapolated,
     log_normalise,
     newton_krylov,
+    refinement_estimate,
+    with_estimate,
 )
 from .scaling_psi import PsiAsymptotics, PsiSolution, solve_psi
 
@@ -317,23 +319,30 @@ def solve_phi(
         u, ln_c, info = _solve_phi_on(grid, -grid**2 / 2 - 0.5 * np.log(2 * np.pi), tol, max_iter)
         return u, _phi_constants(grid, np.exp(u), ln_c), info
 
+    def as_dist(grid: NDArray[np.float64], u: NDArray[np.float64], **kw) -> VelocityDistribution:
+        return VelocityDistribution.from_values(grid, np.exp(u), weights=simpson_weights(grid),
+                                                normalize=False, **kw)
+
     u, consts, info = run(x)
     errors = {k: float("nan") for k in consts}
     extra: dict = {"cutoff": float(cutoff), "n_v": int(n_v), "tol": tol}
+    variants = []
     if estimate_errors:
         half = (n_v - 1) // 2
         grow = 2 * max(1, round(half / 8))  # even: keeps n_v = 4k + 1
-        refined = run(phi_grid(cutoff, 2 * n_v - 1))[1]
-        enlarged = run(phi_grid(cutoff * (half + grow) / half, n_v + 2 * grow))[1]
-        errors, parts = combine_errors(consts, refined, enlarged)
+        for grid in (phi_grid(cutoff, 2 * n_v - 1),
+                     phi_grid(cutoff * (half + grow) / half, n_v + 2 * grow)):
+            variants.append((grid, *run(grid)[:2]))
+        errors, parts = combine_errors(consts, variants[0][2], variants[1][2])
         extra["error_parts"] = parts
     info = RunInfo(converged=info.converged, iterations=info.iterations,
                    residual=info.residual, wall_time=info.wall_time, message=info.message,
                    extra=extra)
-    dist = VelocityDistribution.from_values(x, np.exp(u), weights=simpson_weights(x),
-                                            method="phi", params={"limit": "heated, eps -> 0",
-                                                                  "variable": "x"},
-                                            info=info, normalize=False)
+    dist = as_dist(x, u, method="phi", params={"limit": "heated, eps -> 0", "variable": "x"},
+                   info=info)
+    if variants:  # dist.error: T, a2, f of phi by the same two changes
+        dist = with_estimate(dist, refinement_estimate(
+            dist, *(as_dist(grid, ug) for grid, ug, _ in variants)))
     logger.info("solve_phi: lambda = %.12f, C = %.12f (%s)", consts["lam"], consts["C"],
                 info.message)
     return PhiSolution(distribution=dist, errors=errors, info=info, **consts)

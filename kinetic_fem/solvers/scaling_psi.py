@@ -61,6 +61,8 @@ from .scaling_common import (
     line_fit,
     log_normalise,
     newton_krylov,
+    refinement_estimate,
+    with_estimate,
 )
 
 __all__ = ["solve_psi", "PsiSolution", "PsiAsymptotics", "psi_kernel", "psi_flux_kernel"]
@@ -344,6 +346,7 @@ def solve_psi(
     consts = _psi_constants(y, u, c, ln_c)
     errors = {k: float("nan") for k in consts}
     extra: dict = {"domain": [float(y[0]), float(y[-1])], "n_v": int(n_v), "tol": tol}
+    shapes: list[VelocityDistribution] = []
     if estimate_errors:
         h = float(y[1] - y[0])
         grow_lo = max(1, round(abs(y[0]) / (4 * h)))
@@ -358,6 +361,8 @@ def solve_psi(
             ug, cg, ln_cg, _ = _solve_psi_on(grid, log_normalise(u0, simpson_weights(grid)), c,
                                             tol, max_iter)
             variants.append(_psi_constants(grid, ug, cg, ln_cg))
+            shapes.append(VelocityDistribution.from_values(
+                grid, np.exp(ug), weights=simpson_weights(grid), normalize=False))
         errors, parts = combine_errors(consts, *variants)
         extra["error_parts"] = parts
     info = RunInfo(converged=info.converged, iterations=info.iterations,
@@ -367,4 +372,6 @@ def solve_psi(
                                             method="psi", params={"limit": "cooling, eps -> 0",
                                                                   "variable": "y"},
                                             info=info, normalize=False)
+    if shapes:  # dist.error: T, a2, f of psi by the same two changes
+        dist = with_estimate(dist, refinement_estimate(dist, *shapes))
     return PsiSolution(distribution=dist, c=c, errors=errors, info=info, **consts)

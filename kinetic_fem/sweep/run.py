@@ -5,7 +5,9 @@ of the outer product of ``grid`` (:mod:`kinetic_fem.sweep.grid`) and reduces eac
 result, a :class:`~kinetic_fem.distribution.VelocityDistribution` or a particle run
 (any object with ``.distribution``, ``.a2``, ``.a2_error``, ``.temperature`` and
 ``.n_collisions``, as :mod:`particles.dsmc` and :mod:`particles.md` return), to a small
-record on the worker: :math:`T`, :math:`a_2` and its error, :math:`\\zeta`, the Sonine
+record on the worker: :math:`T`, :math:`a_2` and their errors (a particle run's standard
+errors, a deterministic result's a posteriori estimate ``dist.error``, as absolute
+errors: ``T_error``, ``a2_error``, ``f_error``), :math:`\\zeta`, the Sonine
 coefficients :math:`a_p`, ``p = 2..6``, the wall time, ``converged`` and
 :math:`f(c) = \\sqrt{T}P(u + c\\sqrt T)` on a common grid of :math:`c`.  Only records
 travel back to the caller, which writes each to the store
@@ -101,12 +103,19 @@ def summarize(result: Any, c: NDArray[np.float64] = C_GRID) -> dict[str, NDArray
     n_coll = extra.get("n_collisions", math.nan) if n_coll is None else n_coll
     f_err = (np.full(c.shape, np.nan) if dist.f_errors is None else
              np.interp(c, dist.c, dist.f_errors, left=np.nan, right=np.nan))
+    a2_error = float(src.a2_error)
+    f = np.asarray(dist.f(c), dtype=float)
+    if run is None and dist.batch_moments is None:
+        # a deterministic result: its a posteriori estimate (kinetic_fem.error), as
+        # absolute errors like the particle runs' standard errors
+        est = dist.error
+        t_error, a2_error, f_err = est.temperature * temperature, est.a2, est.f(c) * f
     out = {"T": temperature, "T_error": t_error, "a2": float(src.a2),
-           "a2_error": float(src.a2_error), "zeta": float(zeta), "wall_time": math.nan,
+           "a2_error": a2_error, "zeta": float(zeta), "wall_time": math.nan,
            "converged": float(bool(dist.info.converged)), "n_collisions": float(n_coll)}
     rec = {k: np.asarray(v, dtype=float) for k, v in out.items()}
     rec["sonine"] = np.array([dist.sonine_coefficient(int(p)) for p in SONINE_ORDERS])
-    rec["f"] = np.asarray(dist.f(c), dtype=float)
+    rec["f"] = f
     rec["f_error"] = np.asarray(f_err, dtype=float)
     return rec
 

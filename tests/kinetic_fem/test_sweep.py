@@ -73,7 +73,10 @@ def test_deterministic_sweep_equals_direct_solves():
     assert float(point.a2) == pytest.approx(d.a2, rel=1e-12)
     assert float(point.sonine.sel(p=3)) == pytest.approx(d.sonine_coefficient(3), rel=1e-12)
     np.testing.assert_allclose(point.f, d.f(ds.c.values), rtol=1e-12, atol=0)
-    assert bool(ds.converged.all()) and np.isnan(ds.a2_error).all() and "seed" not in ds
+    assert bool(ds.converged.all()) and "seed" not in ds
+    # deterministic methods: the a posteriori estimate dist.error (issue 29)
+    assert float(point.a2_error) == pytest.approx(d.error.a2, rel=1e-9)
+    assert bool((ds.a2_error > 0).all()) and bool((ds.T_error > 0).all())
     assert ds.attrs["function"] == "kinetic_fem.solve.solve_heated"
     assert ds.attrs["method"] == "spectral" and ds.attrs["fixed_method"] == "spectral"
 
