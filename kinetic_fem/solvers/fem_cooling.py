@@ -91,6 +91,7 @@ from dataclasses import replace
 from ..distribution import VelocityDistribution
 from ..exceptions import ConvergenceError
 from ..model import CoolingProblem, UnsupportedModelError
+from ..operators.fem_discretisation import FEMDiscretisation
 from ..solve import register_solver
 from .fem_cooling_hump import (
     HUMP_LINK_RESOLUTION,
@@ -123,13 +124,13 @@ from .fem_cooling_tail import maxwell_hcs, recovered_distribution
 from .fem_regimes import CoolingOptions, hump_start, link_start, solve_state, uses_hump_mesh
 
 __all__ = ["solve_fem_cooling", "cooling_state", "CoolingState", "CoolingOptions",
-           "ConvergenceError", "continued_state", "hump_chain", "hump_start", "uses_hump_mesh",
-           "HUMP_EPS",
-           "HUMP_RESOLUTION", "HUMP_FRONTIER", "hcs_cutoff", "hcs_spacing", "hcs_vertices",
-           "maxwell_hcs", "initial_log_f", "newton_cooling", "MAXWELL_CUTOFF",
-           "HUMP_STEP_RESOLUTION", "HUMP_LINK_RESOLUTION", "HUMP_INTORDER", "HUMP_P3_EPS",
-           "HUMP_P3_RESOLUTION", "link_start", "cooling_distribution", "HUMP_RATIO",
-           "HUMP_STEP_TOL", "HUMP_STEP_ITER", "HUMP_MIN_RATIO"]
+           "ConvergenceError", "FEMDiscretisation", "continued_state", "hump_chain",
+           "hump_start", "uses_hump_mesh", "HUMP_EPS", "HUMP_RESOLUTION", "HUMP_FRONTIER",
+           "hcs_cutoff", "hcs_spacing", "hcs_vertices", "maxwell_hcs", "initial_log_f",
+           "newton_cooling", "MAXWELL_CUTOFF", "HUMP_STEP_RESOLUTION", "HUMP_LINK_RESOLUTION",
+           "HUMP_INTORDER", "HUMP_P3_EPS", "HUMP_P3_RESOLUTION", "link_start",
+           "cooling_distribution", "HUMP_RATIO", "HUMP_STEP_TOL", "HUMP_STEP_ITER",
+           "HUMP_MIN_RATIO"]
 
 logger = logging.getLogger(__name__)
 

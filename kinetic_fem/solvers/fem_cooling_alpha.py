@@ -19,7 +19,7 @@ the ``memo`` of the call (:class:`~.fem_regimes.Run`) for the globalised retry o
 same call of :func:`~.fem_cooling.cooling_state`, whose Newton step on the default fine
 mesh turns singular there (its far tail underflows).  For gamma = 2 on the default mesh the chain
 only runs if the one Newton solve from the stored anchors of :mod:`.fem_cooling_gamma2`
-fails (and to generate those anchors: ``benchmarks/gamma2_anchors.py``).
+fails (and to generate those anchors: :mod:`.fem_cooling_generate`).
 """
 
 from __future__ import annotations
