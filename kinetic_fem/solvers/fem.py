@@ -487,8 +487,3 @@ def state_distribution(problem: HeatedProblem, state: SteadyState,
                                                lazy=energy_balance))
     dist = state.disc.distribution(state.u, method="fem", params=problem.as_dict(), info=info)
     return dist.rescaled(problem.velocity_scale) if problem.velocity_scale != 1.0 else dist
-
-
-# the cooling-state solver shares this module's discretisation; importing it here
-# registers the "fem" cooling method wherever the heated one is available
-from . import fem_cooling  # noqa: E402, F401
