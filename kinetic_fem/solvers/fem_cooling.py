@@ -81,6 +81,10 @@ of :math:`\\ln f_h` (:mod:`kinetic_fem.solvers.fem_cooling_tail`).
 
 A velocity-dependent restitution law has no homogeneous cooling state (the law has its
 own speed scale, so the state changes as the gas cools); such problems are refused.
+
+Which of these paths solves a problem is one table, :data:`.fem_regimes.REGIMES`: a
+regime per class with its thresholds, exactly one of which applies to a kernel,
+restitution coefficient and set of options (:class:`.fem_regimes.CoolingOptions`).
 """
 
 from __future__ import annotations

@@ -159,6 +159,13 @@ class Run:
         Returns
         -------
         CoolingState
+
+        Raises
+        ------
+        ConvergenceError
+            If Newton's method does not converge.
+        ValueError
+            For options the regime does not take (e.g. ``resolution`` off the humps).
         """
         return select(problem, options).solve(problem, options, self)
 
@@ -694,22 +701,6 @@ def select(problem: CoolingProblem, options: CoolingOptions) -> Regime:
 
 
 def solve_state(problem: CoolingProblem, options: CoolingOptions) -> CoolingState:
-    """The cooling state by the regime that applies (one :class:`Run`).
-
-    Parameters
-    ----------
-    problem : CoolingProblem
-        Constant restitution, a power-law kernel.
-    options : CoolingOptions
-        The options.
-
-    Returns
-    -------
-    CoolingState
-
-    Raises
-    ------
-    ConvergenceError
-        If Newton's method does not converge.
-    """
+    """The cooling state by the regime that applies, in a new :class:`Run` (parameters,
+    returns and errors as :meth:`Run.solve`)."""
     return Run().solve(problem, options)
