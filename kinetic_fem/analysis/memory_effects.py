@@ -445,12 +445,3 @@ def sonine_distribution(temperature: float, a2: float, *, c_max: float = 10.0,
     p = np.exp(-0.5 * x) / math.sqrt(2 * math.pi) * (1 + a2 * (x * x / 8 - 0.75 * x + 0.375))
     v = c * math.sqrt(temperature)
     return VelocityDistribution.from_values(v, p / math.sqrt(temperature))
-
-
-def __getattr__(name: str) -> Any:
-    """The Mpemba names, moved to :mod:`.mpemba`, stay importable from here."""
-    if name in ("MpembaResult", "mpemba", "mpemba_threshold"):
-        from . import mpemba as _mpemba_module
-
-        return getattr(_mpemba_module, name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -42,7 +42,7 @@ from ..model.kernel import as_kernel
 __all__ = ["orthonormal_sonine", "collision_tensor", "maxwell_tensor", "laplacian_coefficients",
            "dilation_coefficients", "quadrature_tensor"]
 
-_CACHE: dict[tuple[float, float], NDArray[np.float64]] = {}
+_CACHE: dict[tuple[int, float, float], NDArray[np.float64]] = {}
 _LOCK = Lock()
 _MAX_CACHED = 12
 
@@ -215,9 +215,11 @@ def maxwell_tensor(order: int, alpha: float) -> NDArray[np.float64]:
 def collision_tensor(order: int, alpha: float, gamma: float) -> NDArray[np.float64]:
     """:math:`A_{qrs}`, ``q, r, s = 0 .. order`` (see the module docstring).
 
-    Tensors are cached per ``(alpha, gamma)`` at the highest order computed; lower
-    orders are its leading blocks (the basis does not depend on the order).  For
-    ``gamma = 0`` the closed form :func:`maxwell_tensor` is used.
+    Tensors are cached per ``(order, alpha, gamma)``, every input: the quadrature's
+    rule grows with the order, so a lower order's tensor is not bitwise the leading
+    block of a higher one's (a2 moved by 6e-16 when the cache held order 10), and a
+    result would depend on the calls before it (issue 26).  For ``gamma = 0`` the
+    closed form :func:`maxwell_tensor` is used.
 
     Parameters
     ----------
@@ -241,11 +243,11 @@ def collision_tensor(order: int, alpha: float, gamma: float) -> NDArray[np.float
     >>> bool(abs(a[1, 0, 0] - 0.75 * 2 / (2 * math.sqrt(2))) < 1e-15)
     True
     """
-    key = (float(alpha), float(gamma))
+    key = (int(order), float(alpha), float(gamma))
     with _LOCK:
         cached = _CACHE.get(key)
-    if cached is not None and cached.shape[0] > order:
-        return cached[: order + 1, : order + 1, : order + 1]
+    if cached is not None:
+        return cached
     if as_kernel(gamma).is_maxwell:
         tensor = maxwell_tensor(order, float(alpha))
     else:

@@ -543,8 +543,3 @@ def state_distribution(problem: HeatedProblem, state: SteadyState,
     dist = state.disc.distribution(state.u, method="fem", params=problem.as_dict(), info=info)
     dist = dist.with_error(heated_recipe(state.disc, state.u))
     return dist.rescaled(problem.velocity_scale) if problem.velocity_scale != 1.0 else dist
-
-
-# the cooling-state solver shares this module's discretisation; importing it here
-# registers the "fem" cooling method wherever the heated one is available
-from . import fem_cooling  # noqa: E402, F401

@@ -14,12 +14,12 @@ the Gaussian start converges) to the target in equal steps of the inelasticity o
 scale, each of ratio at most :data:`ALPHA_CHAIN_RATIO`, on the target's mesh; a failed
 step is retried through the geometric mean.  Below :data:`~.fem_cooling_quasi.QUASI_EPS`
 the chain stops there and :func:`~.fem_cooling_quasi.quasi_elastic_chain` continues on
-meshes that follow the humps; that state is on its own mesh, and it is remembered
-(:data:`QUASI_CACHE_SIZE` states) for the globalised retry of
-:func:`~.fem_cooling.cooling_state`, whose Newton step on the default fine mesh turns
-singular there (its far tail underflows).  For gamma = 2 on the default mesh the chain
+meshes that follow the humps; that state is on its own mesh, and it is remembered in
+the ``memo`` of the call (:class:`~.fem_regimes.Run`) for the globalised retry of the
+same call of :func:`~.fem_cooling.cooling_state`, whose Newton step on the default fine
+mesh turns singular there (its far tail underflows).  For gamma = 2 on the default mesh the chain
 only runs if the one Newton solve from the stored anchors of :mod:`.fem_cooling_gamma2`
-fails (and to generate those anchors: ``benchmarks/gamma2_anchors.py``).
+fails (and to generate those anchors: :mod:`.fem_cooling_generate`).
 """
 
 from __future__ import annotations
@@ -38,7 +38,7 @@ from .fem_cooling_order import STRONG_ALPHA, order_spacing
 from .fem_cooling_quasi import QUASI_EPS, check_frontier, quasi_elastic_chain
 
 __all__ = ["HARD_GAMMA", "ALPHA_CHAIN_RATIO", "ALPHA_CHAIN_COARSE", "ALPHA_CHAIN_TOL",
-           "QUASI_TOL", "QUASI_CACHE_SIZE", "DIRECT_EPS", "uses_alpha_chain", "alpha_chain",
+           "QUASI_TOL", "DIRECT_EPS", "uses_alpha_chain", "alpha_chain",
            "quasi_seed_vertices"]
 
 logger = logging.getLogger(__name__)
@@ -57,8 +57,6 @@ ALPHA_CHAIN_COARSE = 2.0
 (residual 8e-6) on 4 times the bulk spacing (0.147) and converged on 2 times (0.07, 1.5 s)."""
 MIN_RATIO = 1.02
 """Steps are not halved below this ratio of inelasticities."""
-QUASI_CACHE_SIZE = 4
-"""Near-elastic states remembered by :func:`alpha_chain` (key: alpha, kernel, degree)."""
 DIRECT_EPS = 3e-3
 """Below this inelasticity :func:`~.fem_cooling.cooling_state` (default mesh) goes
 straight to the near-elastic chain on its own meshes: the Newton step on the default
@@ -67,8 +65,7 @@ in zeta against 1e-8 for the chain's state), and the detour through the target's
 cost 1.2-1.3x (alpha 0.998 4.59 -> 3.48 CPU s, 0.999 5.58 -> 4.32 s, 0.9995 10.95 ->
 9.03 s; the same states to 1e-15)."""
 QUASI_TOL = 1e-11
-"""Newton tolerance (at most) of the near-elastic chain, whichever call asks first."""
-_QUASI_CACHE: dict[tuple, CoolingState] = {}
+"""Newton tolerance (at most) of the near-elastic chain."""
 
 
 def uses_alpha_chain(problem: CoolingProblem) -> bool:
@@ -110,7 +107,8 @@ def quasi_seed_vertices(gamma: float, order: int) -> NDArray[np.float64]:
 
 
 def alpha_chain(disc: FEMDiscretisation, start: CoolingState, alpha_start: float, *,
-                tol: float, max_iter: int) -> CoolingState:
+                tol: float, max_iter: int,
+                memo: dict[tuple, CoolingState] | None = None) -> CoolingState:
     """Continuation in :math:`\\varepsilon = 1 - \\alpha` from ``start`` to ``disc.alpha``.
 
     Parameters
@@ -125,6 +123,12 @@ def alpha_chain(disc: FEMDiscretisation, start: CoolingState, alpha_start: float
         Newton tolerance of the state at the target.
     max_iter : int
         Newton steps allowed per step of the chain.
+    memo : dict, optional
+        The near-elastic states of one call of the solver (below
+        :data:`~.fem_cooling_quasi.QUASI_EPS`), keyed on alpha, kernel, degrees, tolerance
+        and iteration limit, not on ``start``: a second chain of the same call toward the
+        same state (the globalised retry after mesh sequencing) reuses the first's.  None:
+        nothing is remembered.
 
     Returns
     -------
@@ -142,11 +146,12 @@ def alpha_chain(disc: FEMDiscretisation, start: CoolingState, alpha_start: float
     eps, eps_prev = 1.0 - disc.alpha, 1.0 - alpha_start
     if eps < QUASI_EPS and eps_prev > QUASI_EPS:
         check_frontier(disc.alpha, disc.kernel.gamma)
-        # one key for the coarse call and the globalised retry (tol 1e-11 for both: the
-        # links' Newton ends quadratically, a looser tol saved nothing)
-        key = (disc.alpha, disc.gamma, disc.order, disc.intorder)
-        if key in _QUASI_CACHE:
-            return _QUASI_CACHE[key]
+        # one key for the coarse solve and the globalised retry of a call (tol 1e-11 for
+        # both: the links' Newton ends quadratically, a looser tol saved nothing)
+        quasi_tol = min(tol, QUASI_TOL)
+        key = (disc.alpha, disc.gamma, disc.order, disc.intorder, quasi_tol, max_iter)
+        if memo is not None and key in memo:
+            return memo[key]
         # the state at QUASI_EPS only seeds the links: on its own coarse mesh (alpha 0.999:
         # 3.6 CPU s on the target's coarse mesh, 1.5 s on this one)
         mid_verts = quasi_seed_vertices(disc.kernel.gamma, disc.order)
@@ -155,15 +160,14 @@ def alpha_chain(disc: FEMDiscretisation, start: CoolingState, alpha_start: float
         start = CoolingState(FEMDiscretisation(alpha_start, mid_verts, disc.order,
                                                disc.intorder, gamma=disc.gamma),
                              start.log_f(mid.dof_locations), start.zeta, start.info)
-        state = alpha_chain(mid, start, alpha_start, tol=ALPHA_CHAIN_TOL, max_iter=max_iter)
+        state = alpha_chain(mid, start, alpha_start, tol=ALPHA_CHAIN_TOL, max_iter=max_iter,
+                            memo=memo)
         if not state.info.converged:
             return state
-        state = quasi_elastic_chain(state, QUASI_EPS, disc.alpha, tol=min(tol, QUASI_TOL),
+        state = quasi_elastic_chain(state, QUASI_EPS, disc.alpha, tol=quasi_tol,
                                     max_iter=max_iter)
-        if state.info.converged:
-            while len(_QUASI_CACHE) >= QUASI_CACHE_SIZE:
-                _QUASI_CACHE.pop(next(iter(_QUASI_CACHE)))
-            _QUASI_CACHE[key] = state
+        if state.info.converged and memo is not None:
+            memo[key] = state
         return state
     pending = log_chain(eps, eps_prev, ALPHA_CHAIN_RATIO)[::-1]  # a stack
     prev = start

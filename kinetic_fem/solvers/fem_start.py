@@ -15,19 +15,31 @@ the same to round-off).
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 import numpy as np
 from numpy.typing import NDArray
 
-if TYPE_CHECKING:
-    from .fem_defaults import ScaledModel
+from ..model import CollisionKernel
 
-__all__ = ["start_exponent"]
+__all__ = ["TailModel", "start_exponent"]
+
+
+class TailModel(Protocol):
+    """What :func:`start_exponent` reads of a heated model
+    (:class:`~kinetic_fem.solvers.fem_defaults.ScaledModel` is one)."""
+
+    @property
+    def friction(self) -> float:
+        """Friction of the bath (0: white noise)."""
+
+    @property
+    def kernel(self) -> CollisionKernel:
+        """The collision kernel."""
 
 
 def start_exponent(gauss: NDArray[np.float64], action: NDArray[np.float64],
-                   model: ScaledModel) -> NDArray[np.float64]:
+                   model: TailModel) -> NDArray[np.float64]:
     """:math:`-\\ln P` (unnormalised) of the start on an increasing grid from 0.
 
     :math:`\\min(G, S)` (the Gaussian exponent ``gauss`` in the bulk, the tail action
@@ -42,8 +54,9 @@ def start_exponent(gauss: NDArray[np.float64], action: NDArray[np.float64],
         :math:`G(v) = v^2/2T` on the grid.
     action : ndarray
         :math:`S(v)` on the grid (:math:`S(0) = 0`).
-    model : ScaledModel
-        The heated model (``friction``, ``kernel``).
+    model : TailModel
+        The heated model (its ``friction`` and ``kernel``, e.g. a
+        :class:`~kinetic_fem.solvers.fem_defaults.ScaledModel`).
 
     Returns
     -------

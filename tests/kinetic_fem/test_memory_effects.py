@@ -135,14 +135,6 @@ def test_bad_input_raises():
         sonine_distribution(math.inf, 0.5)
 
 
-def test_mpemba_names_still_importable_from_memory_effects():
-    from kinetic_fem.analysis import memory_effects
-
-    assert memory_effects.mpemba is mpemba
-    with pytest.raises(AttributeError):
-        memory_effects.no_such_name  # noqa: B018
-
-
 def test_hard_rod_mpemba_quick_options_bracket_the_threshold():
     """The B2 options (spacing 0.5, rtol 1e-6, cutoff 10; exact threshold 0.4577 there,
     ``benchmarks/results/memory_effects.md``): a hot start with a2 = 0.40 is still above

@@ -9,9 +9,10 @@ import pytest
 
 from kinetic_fem.model import CoolingProblem
 from kinetic_fem.solvers import fem_cooling as fc
+from kinetic_fem.solvers.fem_cooling_generate import seed_state
 from kinetic_fem.solvers.fem_cooling_hump import HUMP_FAST_LINK, P3_MONITOR_LOG_F
 from kinetic_fem.solvers.fem_cooling_newton import newton_cooling
-from kinetic_fem.solvers.fem_cooling_seeds import SEED_EPS, SeedStart, compute_seed, seed_start
+from kinetic_fem.solvers.fem_cooling_seeds import SEED_EPS, SeedStart, seed_start
 
 
 @pytest.mark.parametrize("eps", SEED_EPS)
@@ -20,7 +21,7 @@ def test_stored_seeds_are_the_recomputed_link_states(eps):
     stored, eps_seed = seed_start(eps)
     assert eps_seed == eps
     zeta, c, log_f = stored.zeta, stored.c, stored.values
-    fresh = compute_seed(eps)
+    fresh = seed_state(eps)
     assert zeta == pytest.approx(fresh.zeta, rel=1e-12)
     verts = fresh.disc.vertices
     nodes = verts[verts >= verts[verts <= 0.5].max()]
