@@ -140,9 +140,9 @@ def evolve_heated(alpha: float | RestitutionLaw, *, density: float = 1.0,
     if not isinstance(protocol, Protocol):
         raise TypeError(f"protocol must be a Protocol, got {type(protocol).__name__}")
     initial, initial_temperature = _initial(initial, initial_temperature)
-    return lookup_solver("transient-heated", method)(problem, times=check_times(times), protocol=protocol,
-                                     initial=initial, initial_temperature=initial_temperature,
-                                     **options)
+    solver = lookup_solver("transient-heated", method)
+    return solver(problem, times=check_times(times), protocol=protocol, initial=initial,
+                  initial_temperature=initial_temperature, **options)
 
 
 def evolve_cooling(alpha: float | RestitutionLaw, *, density: float = 1.0,
@@ -228,6 +228,6 @@ def evolve_cooling(alpha: float | RestitutionLaw, *, density: float = 1.0,
     if not isinstance(protocol, Protocol):
         raise TypeError(f"protocol must be a Protocol, got {type(protocol).__name__}")
     initial, initial_temperature = _initial(initial, initial_temperature)
-    return lookup_solver("transient-cooling", method)(gas, times=check_times(times), initial=initial,
-                                      initial_temperature=initial_temperature,
-                                      protocol=protocol, **options)
+    solver = lookup_solver("transient-cooling", method)
+    return solver(gas, times=check_times(times), initial=initial,
+                  initial_temperature=initial_temperature, protocol=protocol, **options)

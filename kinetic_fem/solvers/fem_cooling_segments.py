@@ -1,10 +1,10 @@
 """Segments of the free-cooling transient: remaps and mesh extents.
 
 Helpers of :mod:`kinetic_fem.solvers.fem_cooling_transient` (see there for the method):
-:func:`remap_log_density`, :func:`remap_vertices` and :func:`normalise` (the state in a new velocity unit on a new mesh, unit mass and
-temperature restored), :func:`usable_extent` and :func:`steepest_drop` (where a mesh may
-end and when a segment must end), :func:`padded_outputs` (outputs of different meshes as
-one array).
+:func:`remap_log_density`, :func:`remap_vertices` and :func:`normalise` (the state in a
+new velocity unit on a new mesh, unit mass and temperature restored),
+:func:`usable_extent` and :func:`steepest_drop` (where a mesh may end and when a segment
+must end), :func:`padded_outputs` (outputs of different meshes as one array).
 """
 
 from __future__ import annotations

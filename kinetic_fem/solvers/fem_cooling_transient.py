@@ -38,7 +38,8 @@ needed, and kernels that are not homogeneous are allowed.  A restitution change 
 time, a new discretisation on the same mesh and a restart (backward Euler, small step).
 
 Why not the scaled variables :math:`c = v/\\sqrt{T}` with :math:`\\zeta` as an algebraic
-unknown (an earlier ``Integrator(cooling=True)``, removed)?  Measured on it: the failures come from the
+unknown (an earlier ``Integrator(cooling=True)``, removed)?  Measured on it: the failures
+come from the
 unresolved far tail (history masses :math:`\\le 0` on 182 of 285 dofs at the first step
 for alpha 0.5 with its default cut-off 35; Newton divergent from the first step at alpha
 0.8 with its default spacing 0.097), where the drift :math:`\\zeta\\partial_c(cf)` only
@@ -68,8 +69,8 @@ from ..evolution import Evolution
 from ..exceptions import ConvergenceError
 from ..model import InelasticGas, RestitutionLaw
 from ..model.protocol import Protocol
-from ..solve import register_solver
 from ..operators.fem_discretisation import FEMDiscretisation
+from ..solve import register_solver
 from .fem_cooling_segments import (
     CONTINUE_WIDTH,
     EDGE_DROP,
@@ -82,8 +83,14 @@ from .fem_cooling_segments import (
     steepest_drop,
     usable_extent,
 )
-from .fem_transient import BDF2, TimeIntegrator, TransientOptions, build_mesh, floor_log, \
-    make_discretisation
+from .fem_transient import (
+    BDF2,
+    TimeIntegrator,
+    TransientOptions,
+    build_mesh,
+    floor_log,
+    make_discretisation,
+)
 from .fem_transient_setup import default_newton_tol, distribution_log_density, progress_bar
 
 __all__ = ["evolve_cooling_fem", "default_cooling_cutoff", "check_free_cooling",

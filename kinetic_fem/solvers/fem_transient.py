@@ -342,12 +342,6 @@ class BDF2(TimeIntegrator):
         _, temp, a2 = self.moments(u)
         return np.array([temp, a2])
 
-    def observables_rate(self, level: Level) -> NDArray:
-        """Time derivative of :meth:`observables` at ``level`` (from :math:`\\dot u`)."""
-        if level.udot is None:
-            level.udot = self.derivative(level.u, level.s)
-        return self.moments_change(level.u, level.udot)
-
     def moments_change(self, u: NDArray, du: NDArray) -> NDArray:
         """Change of ``(T, a2)`` of :math:`e^u` to first order in a change ``du`` of u."""
         p = self.disc.values(u)
@@ -575,13 +569,13 @@ class BDF2(TimeIntegrator):
             c_old = self.history_target(c_old, last.m, c_new)
             ratio = lte_ratio((h, h1, h2), 2)
             weights = lagrange_weights([lv.s for lv in hist[-3:]], s_new)
-            obs_pred = sum(c * lv.obs for c, lv in zip(weights, hist[-3:], strict=True))
-            u_pred = sum(c * lv.u for c, lv in zip(weights, hist[-3:], strict=True))
+            u_pred = np.sum([c * lv.u for c, lv in zip(weights, hist[-3:], strict=True)],
+                            axis=0)
             u_start = u_pred
         else:                # backward Euler, from the last level
             c_new, c_old, ratio = 1.0, last.m, lte_ratio((h,), 1)
-            obs_pred = last.obs + h * self.observables_rate(last)
-            assert last.udot is not None  # set by observables_rate
+            if last.udot is None:
+                last.udot = self.derivative(last.u, last.s)
             u_pred = last.u + h * last.udot
             u_start = last.u
         u = self.solve_step(last.u, u_start, c_new, c_old, h, s_new)
