@@ -143,10 +143,13 @@ class TransientStats:
 
 
 def default_newton_tol(rtol: float) -> float:
-    """Default tolerance of the step Newton on the update of ln P: ``1e-3 rtol``.
+    """Default tolerance of the step Newton on the update of ln P: ``1e-3 rtol``, at
+    least 1e-11.
 
     Far below the local error the step control admits (``rtol`` per collision time),
-    so the Newton error does not reach the error estimate; tighter costs iterations.
+    so the Newton error does not reach the error estimate; tighter costs iterations,
+    and below 1e-11 (the earlier fixed tolerance) the simplified Newton meets round-off
+    (``rtol`` 5e-10 stalled).
 
     Parameters
     ----------
@@ -157,7 +160,7 @@ def default_newton_tol(rtol: float) -> float:
     -------
     float
     """
-    return 1e-3 * rtol
+    return max(1e-3 * rtol, 1e-11)
 
 
 def lte_ratio(steps: tuple[float, ...], order: int) -> float:
