@@ -9,14 +9,16 @@ from an initial distribution (any normalised
 :class:`~kinetic_fem.distribution.VelocityDistribution`, or a Gaussian at
 ``initial_temperature``) to the requested output ``times``; the time dependence of
 :math:`D`, :math:`\\xi` and :math:`\\alpha` is a :class:`~kinetic_fem.model.protocol.Protocol`.
-Parameters are validated here; methods are registered in :data:`TRANSIENT_SOLVERS`
-(``"fem"``: adaptive BDF2 on the Galerkin system, :mod:`kinetic_fem.solvers.fem_evolution`
-and :mod:`kinetic_fem.solvers.fem_cooling_transient`).
+Parameters are validated here; methods are registered in the one solver registry
+(:data:`kinetic_fem.solve.SOLVERS`, problem kinds ``"transient-heated"`` and
+``"transient-cooling"``; ``"fem"``: adaptive BDF2 on the Galerkin system,
+:mod:`kinetic_fem.solvers.fem_evolution` and
+:mod:`kinetic_fem.solvers.fem_cooling_transient`).
 """
 
 from __future__ import annotations
 
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -26,16 +28,10 @@ from .evolution import Evolution
 from .limits import check_cooling_span
 from .model import CollisionKernel, HeatedProblem, InelasticGas, RestitutionLaw, check_positive
 from .model.protocol import Protocol
-from .solvers.fem_cooling_transient import evolve_cooling_fem
-from .solvers.fem_evolution import evolve_heated_fem
+from .solve import lookup_solver
+from .solvers import fem_cooling_transient, fem_evolution  # noqa: F401  (registers "fem")
 
-__all__ = ["evolve_heated", "evolve_cooling", "TRANSIENT_SOLVERS", "check_times"]
-
-TRANSIENT_SOLVERS: dict[str, dict[str, Callable[..., Evolution]]] = {
-    "heated": {"fem": evolve_heated_fem},
-    "cooling": {"fem": evolve_cooling_fem},
-}
-"""Transient methods by problem and registry key."""
+__all__ = ["evolve_heated", "evolve_cooling", "check_times"]
 
 
 def check_times(times: ArrayLike) -> np.ndarray:
@@ -85,14 +81,6 @@ def _initial(initial: Any, initial_temperature: Any) -> tuple[Any, float | None]
     if initial_temperature is not None:
         initial_temperature = check_positive("initial_temperature", initial_temperature)
     return initial, initial_temperature
-
-
-def _method(problem: str, method: str) -> Callable[..., Evolution]:
-    table = TRANSIENT_SOLVERS[problem]
-    if not isinstance(method, str) or method not in table:
-        raise ValueError(f"unknown {problem} transient method {method!r}; available: "
-                         f"{sorted(table)}")
-    return table[method]
 
 
 def evolve_heated(alpha: float | RestitutionLaw, *, density: float = 1.0,
@@ -153,9 +141,9 @@ def evolve_heated(alpha: float | RestitutionLaw, *, density: float = 1.0,
     if not isinstance(protocol, Protocol):
         raise TypeError(f"protocol must be a Protocol, got {type(protocol).__name__}")
     initial, initial_temperature = _initial(initial, initial_temperature)
-    return _method("heated", method)(problem, times=check_times(times), protocol=protocol,
-                                     initial=initial, initial_temperature=initial_temperature,
-                                     **options)
+    solver = lookup_solver("transient-heated", method)
+    return solver(problem, times=check_times(times), protocol=protocol, initial=initial,
+                  initial_temperature=initial_temperature, **options)
 
 
 def evolve_cooling(alpha: float | RestitutionLaw, *, density: float = 1.0,
@@ -244,6 +232,6 @@ def evolve_cooling(alpha: float | RestitutionLaw, *, density: float = 1.0,
     times = check_times(times)
     check_cooling_span(gas, float(times[-1]), initial_temperature or (
         1.0 if initial is None else initial.temperature))
-    return _method("cooling", method)(gas, times=times, initial=initial,
-                                      initial_temperature=initial_temperature,
-                                      protocol=protocol, **options)
+    solver = lookup_solver("transient-cooling", method)
+    return solver(gas, times=times, initial=initial,
+                  initial_temperature=initial_temperature, protocol=protocol, **options)

@@ -1,7 +1,9 @@
 """Public entry points and the registry of deterministic solvers.
 
-Each solver registers itself under a key (``"fem"``, ``"fd"``, ``"spectral"``)
-with :func:`register_solver`; :func:`solve_heated` and :func:`solve_cooling`
+Each solver registers itself under a key (``"fem"``, ``"fd"``, ``"spectral"``) and a
+problem kind (steady ``"heated"``, ``"cooling"``; ``"transient-heated"``,
+``"transient-cooling"``) with :func:`register_solver`, in one registry
+(:data:`SOLVERS`); :func:`solve_heated` and :func:`solve_cooling`
 validate the parameters once and dispatch.  A solver is a function
 ``solver(problem, **options) -> VelocityDistribution`` whose options are explicit
 keyword arguments, so a misspelt option raises ``TypeError``.  Tests parametrise
@@ -17,30 +19,46 @@ from . import limits
 from .distribution import VelocityDistribution
 from .model import CollisionKernel, CoolingProblem, HeatedProblem, RestitutionLaw
 
-__all__ = ["HEATED_SOLVERS", "COOLING_SOLVERS", "register_solver", "solve_heated",
-           "solve_cooling"]
+__all__ = ["SOLVERS", "PROBLEM_KINDS", "HEATED_SOLVERS", "COOLING_SOLVERS",
+           "TRANSIENT_HEATED_SOLVERS", "TRANSIENT_COOLING_SOLVERS", "register_solver",
+           "lookup_solver", "solve_heated", "solve_cooling"]
 
-Solver = Callable[..., VelocityDistribution]
-HEATED_SOLVERS: dict[str, Solver] = {}
-COOLING_SOLVERS: dict[str, Solver] = {}
+Solver = Callable[..., Any]
+PROBLEM_KINDS = ("heated", "cooling", "transient-heated", "transient-cooling")
+"""The problem kinds of the registry: steady states (``solver(problem, **options) ->
+VelocityDistribution``) and transients (``solver(problem_or_gas, *, times, ...) ->
+Evolution``, see :mod:`kinetic_fem.evolve`)."""
+SOLVERS: dict[str, dict[str, Solver]] = {kind: {} for kind in PROBLEM_KINDS}
+"""The one registry: solvers by problem kind and method key."""
+HEATED_SOLVERS: dict[str, Solver] = SOLVERS["heated"]
+COOLING_SOLVERS: dict[str, Solver] = SOLVERS["cooling"]
+TRANSIENT_HEATED_SOLVERS: dict[str, Solver] = SOLVERS["transient-heated"]
+TRANSIENT_COOLING_SOLVERS: dict[str, Solver] = SOLVERS["transient-cooling"]
 
 
 def register_solver(key: str, *, problem: str) -> Callable[[Solver], Solver]:
-    """Decorator registering ``solver`` under ``key`` for ``problem`` ("heated"/"cooling").
+    """Decorator registering ``solver`` under ``key`` for a problem kind.
 
     Parameters
     ----------
     key : str
         Method name (``method=key`` selects it).
-    problem : {"heated", "cooling"}
-        The registry to add to.
+    problem : {"heated", "cooling", "transient-heated", "transient-cooling"}
+        The problem kind (:data:`PROBLEM_KINDS`).
 
     Returns
     -------
     callable
         A decorator returning the solver unchanged.
+
+    Raises
+    ------
+    ValueError
+        For an unknown problem kind.
     """
-    table = {"heated": HEATED_SOLVERS, "cooling": COOLING_SOLVERS}[problem]
+    if problem not in SOLVERS:
+        raise ValueError(f"unknown problem kind {problem!r}; allowed: {list(PROBLEM_KINDS)}")
+    table = SOLVERS[problem]
 
     def decorate(solver: Solver) -> Solver:
         if key in table:
@@ -49,6 +67,28 @@ def register_solver(key: str, *, problem: str) -> Callable[[Solver], Solver]:
         return solver
 
     return decorate
+
+
+def lookup_solver(problem: str, method: str) -> Solver:
+    """The solver registered as ``method`` for the problem kind ``problem``.
+
+    Parameters
+    ----------
+    problem : str
+        A problem kind of :data:`PROBLEM_KINDS`.
+    method : str
+        The registry key.
+
+    Returns
+    -------
+    callable
+
+    Raises
+    ------
+    ValueError
+        For an unknown method (the message lists the available ones).
+    """
+    return _lookup(SOLVERS[problem], method, problem)
 
 
 def _lookup(table: dict[str, Solver], method: str, problem: str) -> Solver:

@@ -1,11 +1,10 @@
-"""Segments of the free-cooling transient: the integrator, remaps and mesh extents.
+"""Segments of the free-cooling transient: remaps and mesh extents.
 
 Helpers of :mod:`kinetic_fem.solvers.fem_cooling_transient` (see there for the method):
-:class:`CoolingIntegrator` (BDF2 with a positive history term), :func:`remap_log_density`
-and :func:`normalise` (the state in a new velocity unit on a new mesh, unit mass and
-temperature restored), :func:`usable_extent` and :func:`steepest_drop` (where a mesh may
-end and when a segment must end), :func:`padded_outputs` (outputs of different meshes as
-one array).
+:func:`remap_log_density`, :func:`remap_vertices` and :func:`normalise` (the state in a
+new velocity unit on a new mesh, unit mass and temperature restored),
+:func:`usable_extent` and :func:`steepest_drop` (where a mesh may end and when a segment
+must end), :func:`padded_outputs` (outputs of different meshes as one array).
 """
 
 from __future__ import annotations
@@ -17,11 +16,11 @@ from numpy.typing import NDArray
 
 from ..operators.fem_discretisation import FEMDiscretisation
 from ..operators.fem_kernels import evaluate_field
-from .fem_transient import Integrator
+from .fem_transient import BDF2
 
-__all__ = ["CoolingIntegrator", "normalise", "remap_log_density", "usable_extent",
-           "steepest_drop", "graded_vertices", "padded_outputs", "TAIL_LEVEL", "EDGE_DROP",
-           "HISTORY_FLOOR", "MAX_ELEMENT_DROP", "GRADE_DROP",
+__all__ = ["normalise", "remap_log_density", "usable_extent",
+           "steepest_drop", "remap_vertices", "padded_outputs", "TAIL_LEVEL", "EDGE_DROP",
+           "MAX_ELEMENT_DROP", "GRADE_DROP",
            "CONTINUE_WIDTH", "EDGE_ELEMENTS", "MIN_EXTENT"]
 
 TAIL_LEVEL = 1e-30
@@ -37,10 +36,6 @@ ln P at t = 3.6 for hard rods, alpha 0.8; gamma = 2 stopped at t = 0.62 when onl
 outermost element was watched).  The remap then ends the mesh where the fall is below
 :data:`MAX_ELEMENT_DROP`."""
 
-HISTORY_FLOOR = 0.3
-"""A BDF2 history term below this fraction of ``c_new m^k`` is replaced by backward
-Euler's (:class:`CoolingIntegrator`)."""
-
 MAX_ELEMENT_DROP = 2.0
 """A new mesh ends before :math:`\\ln P_h` falls by more than this over an element:
 steeper, the vertex masses of P2 elements lose positivity and the tail oscillates
@@ -48,7 +43,7 @@ steeper, the vertex masses of P2 elements lose positivity and the tail oscillate
 
 GRADE_DROP = 1.0
 """A new mesh is refined where :math:`\\ln P` would fall by more than this over an element
-of the nominal size (:func:`graded_vertices`): the steep tails of nearly elastic states
+of the nominal size (:func:`remap_vertices`): the steep tails of nearly elastic states
 (a viscoelastic gas late in its cooling, :math:`\\ln f` falling like :math:`c^3`) then
 stay resolved, where a uniform mesh ended them below :data:`MIN_EXTENT` (measured:
 viscoelastic delta 0.2 at t = 70-111 for spacings 0.5 and 0.25)."""
@@ -67,68 +62,12 @@ MIN_EXTENT = 4.0
 """Smallest mesh half-width (thermal velocities) a remap may leave."""
 
 
-class CoolingIntegrator(Integrator):
-    """:class:`~kinetic_fem.solvers.fem_transient.Integrator` whose BDF2 history term
-    stays positive.
-
-    A far-tail dof decaying by more than a factor ~4 per step (the loss rate grows with
-    the speed, :math:`\\nu(v) \\approx n|v|` for hard rods) gets a negative BDF2 history
-    term, ``c_old = (1+w) m^k - w^2/(1+w) m^{k-1} < 0``, and the step has no positive
-    solution: measured, every Newton failure of a hard-rod run (alpha 0.3, 123 of 123)
-    had one (with the floor 0.3: 1 Newton failure in 322 steps; 0.1: 45; 1e-3 and 0:
-    the run stops at t = 2.66).  Such dofs (``c_old < HISTORY_FLOOR c_new m^k``) take a
-    backward Euler step of length ``h/c_new`` instead (``c_old = c_new m^k``, positivity
-    preserving).
-    The rest of the history term is scaled by ``1 - delta`` to keep its sum, so the mass
-    stays conserved; :attr:`mass_defect` sums the mass moved (those dofs hold the far
-    tail: measured 1e-11 over a whole run, i.e. ``delta`` ~ 1e-14 per step).
-
-    Parameters
-    ----------
-    *args, **kwargs
-        As :class:`~kinetic_fem.solvers.fem_transient.Integrator`.
-    """
-
-    def __init__(self, *args, **kwargs) -> None:
-        super().__init__(*args, **kwargs)
-        self.limited = 0
-        self.mass_defect = 0.0
-
-    def history_target(self, c_old: NDArray, m_last: NDArray, c_new: float) -> NDArray:
-        """``c_old`` with the dofs below ``HISTORY_FLOOR c_new m_last`` set to
-        ``c_new m_last``.
-
-        Parameters
-        ----------
-        c_old : ndarray
-            BDF2 history term.
-        m_last : ndarray
-            Masses of the last level.
-        c_new : float
-            Coefficient of the new masses.
-
-        Returns
-        -------
-        ndarray
-        """
-        low = c_old < HISTORY_FLOOR * c_new * m_last
-        if not low.any():
-            return c_old
-        out = np.where(low, c_new * m_last, c_old)
-        # the rest of the history term absorbs the change: the mass stays conserved
-        rest = ~low
-        out[rest] *= 1.0 - float(np.sum(out[low] - c_old[low])) / float(np.sum(c_old[rest]))
-        self.limited += int(low.sum())
-        self.mass_defect += float(np.sum(out[low] - c_old[low])) / c_new
-        return out
-
-
-def normalise(integ: Integrator, u: NDArray) -> NDArray:
+def normalise(integ: BDF2, u: NDArray) -> NDArray:
     """``u + a + b x^2`` with unit mass and unit temperature (Newton on ``b``).
 
     Parameters
     ----------
-    integ : Integrator
+    integ : BDF2
         Holds the discretisation (masses).
     u : ndarray
         ln P at the dofs.
@@ -247,7 +186,7 @@ def _half_line(disc: FEMDiscretisation, u: NDArray) -> tuple[NDArray, NDArray]:
     return x[order], u[order]
 
 
-def graded_vertices(old: FEMDiscretisation, u: NDArray, ratio: float, extent: float,
+def remap_vertices(old: FEMDiscretisation, u: NDArray, ratio: float, extent: float,
                     h: float, resolved: float = math.inf) -> NDArray:
     """Symmetric vertices on ``[-extent, extent]`` for the state ``u`` in the unit
     ``ratio`` times the old one: elements of size ``h``, smaller where :math:`\\ln P` falls

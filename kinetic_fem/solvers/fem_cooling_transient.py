@@ -23,7 +23,8 @@ its own mesh: no extrapolation), followed by the correction :math:`u \\to u + a 
 that restores unit mass and the temperature exactly, so that :math:`T(t)` is continuous
 across a remap to round-off; the integrator restarts (backward Euler) from there.  Far-tail
 dofs that decay too fast for BDF2 take backward Euler steps
-(:class:`~kinetic_fem.solvers.fem_cooling_segments.CoolingIntegrator`).
+(:meth:`~kinetic_fem.solvers.fem_transient.BDF2.history_target`).  The remap is the
+integrator's ``remap`` hook, checked after each accepted step.
 
 **Any law, any kernel, restitution changes.**  In the unit :math:`V` the collision
 term is that of the law :math:`g \\mapsto \\alpha(Vg)` (``law.rescaled(V)``,
@@ -37,7 +38,8 @@ needed, and kernels that are not homogeneous are allowed.  A restitution change 
 time, a new discretisation on the same mesh and a restart (backward Euler, small step).
 
 Why not the scaled variables :math:`c = v/\\sqrt{T}` with :math:`\\zeta` as an algebraic
-unknown (``Integrator(cooling=True)``)?  Measured on it: the failures come from the
+unknown (an earlier ``Integrator(cooling=True)``, removed)?  Measured on it: the failures
+come from the
 unresolved far tail (history masses :math:`\\le 0` on 182 of 285 dofs at the first step
 for alpha 0.5 with its default cut-off 35; Newton divergent from the first step at alpha
 0.8 with its default spacing 0.097), where the drift :math:`\\zeta\\partial_c(cf)` only
@@ -68,21 +70,28 @@ from ..exceptions import ConvergenceError
 from ..model import InelasticGas, RestitutionLaw
 from ..model.protocol import Protocol
 from ..operators.fem_discretisation import FEMDiscretisation
+from ..solve import register_solver
 from .fem_cooling_segments import (
     CONTINUE_WIDTH,
     EDGE_DROP,
     MIN_EXTENT,
     TAIL_LEVEL,
-    CoolingIntegrator,
-    graded_vertices,
     normalise,
     padded_outputs,
     remap_log_density,
+    remap_vertices,
     steepest_drop,
     usable_extent,
 )
-from .fem_evolution import initial_log_density
-from .fem_transient import Level, TransientOptions, build_mesh, floor_log, make_discretisation
+from .fem_transient import (
+    BDF2,
+    TimeIntegrator,
+    TransientOptions,
+    build_mesh,
+    floor_log,
+    make_discretisation,
+)
+from .fem_transient_setup import default_newton_tol, distribution_log_density, progress_bar
 
 __all__ = ["evolve_cooling_fem", "default_cooling_cutoff", "check_free_cooling",
            "DEFAULT_RESCALE"]
@@ -151,13 +160,14 @@ def check_free_cooling(gas: InelasticGas, protocol: Protocol) -> None:
                          "a one-dimensional gas: nothing cools; take alpha < 1")
 
 
+@register_solver("fem", problem="transient-cooling")
 def evolve_cooling_fem(gas: InelasticGas, *, times: NDArray, initial: VelocityDistribution | None,
                        initial_temperature: float | None, protocol: Protocol | None = None,
                        rtol: float = 1e-6, order: int = 2, spacing: float = 0.25,
                        cutoff: float | None = None, rescale: float = DEFAULT_RESCALE,
                        first_step: float | None = None, max_step: float = math.inf,
-                       max_steps: int = 20000, newton_tol: float = 1e-11,
-                       max_newton: int = 12) -> Evolution:
+                       max_steps: int = 20000, newton_tol: float | None = None,
+                       max_newton: int = 12, progress: bool = False) -> Evolution:
     """Free cooling by adaptive BDF2 on segments of fixed velocity scale (see the module).
 
     Parameters
@@ -188,7 +198,10 @@ def evolve_cooling_fem(gas: InelasticGas, *, times: NDArray, initial: VelocityDi
     first_step, max_step, max_steps, newton_tol, max_newton
         Step-size and Newton options
         (:class:`kinetic_fem.solvers.fem_transient.TransientOptions`); ``first_step``
-        and ``max_step`` in physical time.
+        and ``max_step`` in physical time; ``newton_tol`` default
+        :func:`~kinetic_fem.solvers.fem_transient_setup.default_newton_tol`.
+    progress : bool
+        Show a progress bar over time (tqdm).
 
     Returns
     -------
@@ -252,23 +265,19 @@ def evolve_cooling_fem(gas: InelasticGas, *, times: NDArray, initial: VelocityDi
     else:
         t0 = 1.0 if initial_temperature is None else float(initial_temperature)
     unit[0] = math.sqrt(t0)
+    tol = default_newton_tol(rtol) if newton_tol is None else newton_tol
     opt = TransientOptions(rtol, 1e-9 / rate_in_units(1.0), order, spacing, cutoff,
-                           first_step, max_step, max_steps, newton_tol, max_newton)
+                           first_step, max_step, max_steps, tol, max_newton)
     # error per collision time (as evolve_heated): the mean free time at the segment's
     # temperature ``temp`` (in units V^2)
-    integ = CoolingIntegrator(
-        discretise(build_mesh(c_cut, h_el), 0.0), coefficients, cooling=False, options=opt,
-        collision_time=lambda temp: 1.0 / rate_in_units(math.sqrt(temp)))
+    integ = BDF2(discretise(build_mesh(c_cut, h_el), 0.0), coefficients, options=opt,
+                 collision_time=lambda temp: 1.0 / rate_in_units(math.sqrt(temp)),
+                 positive_history=True)
     x = integ.x
     if initial is not None:
-        u = initial_log_density(initial, x, scale=unit[0])
+        u = distribution_log_density(initial, x, scale=unit[0])
     else:
         u = floor_log(x, -0.5 * x**2 - 0.5 * math.log(2.0 * math.pi))
-    zero = np.zeros(2)
-
-    def level(t: float, u: NDArray) -> Level:
-        return Level(t, u, integ.masses(u), 0.0, zero, integ.observables(u, zero))
-
     def remap(u: NDArray, ratio: float, t: float) -> NDArray:
         """The state in the unit ``ratio V`` on a new mesh.
 
@@ -293,58 +302,63 @@ def evolve_cooling_fem(gas: InelasticGas, *, times: NDArray, initial: VelocityDi
                 f"the cooling state at t={t:.6g} is resolved only to {extent:.3g} thermal "
                 f"velocities: refine the mesh (spacing={spacing:g})")
         unit[0] *= ratio
-        integ.set_disc(discretise(graded_vertices(old, u, ratio, extent, h_el, resolved), t))
+        integ.set_disc(discretise(remap_vertices(old, u, ratio, extent, h_el, resolved), t))
         return normalise(integ, remap_log_density(old, u, integ.x, ratio, resolved))
 
     def first_h() -> float:
         return first_step if first_step is not None else 0.1 * math.sqrt(rtol) / rate_in_units(1.0)
 
-    hist = [level(0.0, remap(u, 1.0, 0.0))]
-    h = first_h()
+    integ.start(integ.level(0.0, remap(u, 1.0, 0.0)), first_h())
     outputs: list[tuple[NDArray, NDArray, NDArray]] = []
     masses: list[float] = []
     zetas: list[float] = []
     rates: list[float] = []
     segs: list[int] = []
-    n_seg = n_edge = 0
+    count = {"segments": 0, "edge": 0}
+
+    def remap_hook(integ: TimeIntegrator) -> None:
+        """A new segment once T (units V^2) fell below 1/rescale or the tail is steep."""
+        assert isinstance(integ, BDF2)
+        last = integ.hist[-1]
+        temp_w = float(integ.x**2 @ last.m)
+        edge = steepest_drop(integ.disc, last.u) > EDGE_DROP
+        if temp_w < 1.0 / rescale or edge:
+            ratio = math.sqrt(temp_w)
+            h_next = integ.h * ratio ** (-degree)  # the collision time grew by ratio^-d
+            integ.restart(integ.level(last.s, remap(last.u, ratio, last.s)), h_next)
+            count["segments"] += 1
+            count["edge"] += int(edge)
+            logger.debug("remap at t=%.6g (edge %s): unit %.6g, extent %.4g, step %.3g",
+                         last.s, edge, unit[0], float(integ.x.max()), h_next)
+
+    integ.remap = remap_hook
     output_set = set(times.tolist())
-    for stop in sorted(output_set | set(breaks)):
-        reached = stop <= 0.0
-        while not reached:
-            h, reached = integ.advance(hist, h, stop)
-            temp_w = float(integ.x**2 @ hist[-1].m)
-            edge = steepest_drop(integ.disc, hist[-1].u) > EDGE_DROP
-            if temp_w < 1.0 / rescale or edge:
-                ratio = math.sqrt(temp_w)
-                hist[:] = [level(hist[-1].s, remap(hist[-1].u, ratio, hist[-1].s))]
-                integ.stats.restarts += 1
-                n_seg += 1
-                n_edge += int(edge)
-                h = h * ratio ** (-degree)  # the collision time grew by ratio^-d
-                logger.debug("remap at t=%.6g (edge %s): unit %.6g, extent %.4g, step %.3g",
-                             hist[-1].s, edge, unit[0], float(integ.x.max()), h)
-        if stop in breaks:
-            # a restitution change: same mesh, new law, restart with backward Euler
-            law_now[0] = protocol.restitution_at(stop, gas.restitution)
-            verts = integ.disc.mesh_arrays[0]
-            integ.set_disc(discretise(verts, stop))
-            hist[:] = [level(stop, hist[-1].u)]
-            integ.stats.restarts += 1
-            h = first_h()
-            logger.debug("restitution change at t=%.6g: %r", stop, law_now[0])
-        if stop not in output_set:
-            continue
-        u_out = hist[-1].u
-        v = unit[0]
-        outputs.append((integ.xq * v, integ.disc.values(u_out) / v, integ.wq * v))
-        segs.append(n_seg)
-        x2 = integ.x**2
-        m = integ.masses(u_out)
-        masses.append(float(m.sum()))
-        temp_w = float(x2 @ m) / masses[-1]
-        loss = -float(x2 @ integ.disc.collision(u_out, energy_power=None)[0]) / masses[-1]
-        zetas.append(loss / (2.0 * temp_w ** (1.0 + 0.5 * degree)))
-        rates.append(coefficients(stop)[0] * loss / temp_w)
+    bar, update = progress_bar(progress, t_end, "evolve_cooling")
+    with bar:
+        for stop in sorted(output_set | set(breaks)):
+            if stop > 0.0:
+                integ.advance_to(stop, update)
+            if stop in breaks:
+                # a restitution change: same mesh, new law, restart with backward Euler
+                law_now[0] = protocol.restitution_at(stop, gas.restitution)
+                verts = integ.disc.mesh_arrays[0]
+                integ.set_disc(discretise(verts, stop))
+                integ.restart(integ.level(stop, integ.hist[-1].u), first_h())
+                logger.debug("restitution change at t=%.6g: %r", stop, law_now[0])
+            if stop not in output_set:
+                continue
+            u_out = integ.hist[-1].u
+            v = unit[0]
+            outputs.append((integ.xq * v, integ.disc.values(u_out) / v, integ.wq * v))
+            segs.append(count["segments"])
+            x2 = integ.x**2
+            m = integ.masses(u_out)
+            masses.append(float(m.sum()))
+            temp_w = float(x2 @ m) / masses[-1]
+            loss = -float(x2 @ integ.disc.collision(u_out, energy_power=None)[0]) / masses[-1]
+            zetas.append(loss / (2.0 * temp_w ** (1.0 + 0.5 * degree)))
+            rates.append(coefficients(stop)[0] * loss / temp_w)
+    n_seg, n_edge = count["segments"], count["edge"]
     params = {"problem": "cooling transient", **gas.as_dict(), "protocol": repr(protocol)}
     st = integ.stats
     message = (f"adaptive BDF2 on {n_seg + 1} segments (rescale {rescale:g}, {n_edge} ended "

@@ -34,17 +34,11 @@ from ..model import (
     as_thermostat,
 )
 from ..model.protocol import Protocol
-from .fem_transient import (
-    Integrator,
-    Level,
-    TransientOptions,
-    build_mesh,
-    floor_log,
-    make_discretisation,
-)
+from ..solve import register_solver
+from .fem_transient import BDF2, TransientOptions, build_mesh, floor_log, make_discretisation
+from .fem_transient_setup import default_newton_tol, distribution_log_density, progress_bar
 
-__all__ = ["evolve_heated_fem", "default_transient_cutoff", "initial_log_density",
-           "check_normalised"]
+__all__ = ["evolve_heated_fem", "default_transient_cutoff"]
 
 logger = logging.getLogger(__name__)
 
@@ -65,59 +59,6 @@ def default_transient_cutoff(gamma: float) -> float:
     float
     """
     return max(10.0, 26.0 - 11.0 * gamma)
-
-
-def check_normalised(dist: VelocityDistribution) -> None:
-    """Raise ``ValueError`` unless ``dist`` has unit mass (to 1e-6).
-
-    Parameters
-    ----------
-    dist : VelocityDistribution
-        An initial state.
-
-    Raises
-    ------
-    ValueError
-        If its mass differs from 1 by more than 1e-6.
-    """
-    mass = float(dist.raw_moments[0])
-    if not abs(mass - 1.0) <= 1e-6:
-        raise ValueError(f"the initial distribution is not normalised: its mass is {mass:.8g}; "
-                         "pass a normalised VelocityDistribution (from_values normalises "
-                         "by default)")
-
-
-def initial_log_density(dist: VelocityDistribution, v: NDArray[np.float64], *,
-                        scale: float = 1.0) -> NDArray:
-    """``ln(scale P(scale v))`` of an even version of ``dist``, floored, Gaussian beyond.
-
-    Parameters
-    ----------
-    dist : VelocityDistribution
-        The initial distribution.
-    v : ndarray
-        Velocities where :math:`\\ln P` is wanted.
-    scale : float
-        Velocity scale factor (see the summary).
-
-    Returns
-    -------
-    ndarray
-
-    Raises
-    ------
-    ValueError
-        If ``dist`` is not normalised (mass differs from 1 by more than 1e-6).
-    """
-    check_normalised(dist)
-    temp = dist.temperature
-    inner = 0.999 * min(abs(dist.v[0]), abs(dist.v[-1]))
-    av = np.abs(v) * scale
-    a_in = np.minimum(av, inner)
-    p = 0.5 * (dist.pdf(a_in) + dist.pdf(-a_in)) * scale
-    tiny = np.finfo(float).tiny
-    log_p = np.log(np.maximum(p, tiny)) - 0.5 * (av**2 - a_in**2) / temp
-    return floor_log(v, log_p)
 
 
 def _temperatures(problem: HeatedProblem, protocol: Protocol, t_end: float,
@@ -141,13 +82,12 @@ def _temperatures(problem: HeatedProblem, protocol: Protocol, t_end: float,
     return out
 
 
-def _evolution(outputs: list, grid_scale: list[float], integ: Integrator, times: NDArray,
-               params: dict, start: float, message: str, series: dict) -> Evolution:
+def _evolution(outputs: list, integ: BDF2, times: NDArray, params: dict, start: float,
+               message: str, series: dict) -> Evolution:
     xq, wq = integ.xq, integ.wq
-    grid = np.array([xq * s for s in grid_scale])
-    values = np.array([integ.disc.values(u) / s for u, s in zip(outputs, grid_scale,
-                                                                  strict=True)])
-    weights = np.array([wq * s for s in grid_scale])
+    grid = np.array([xq for _ in outputs])
+    values = np.array([integ.disc.values(u) for u in outputs])
+    weights = np.array([wq for _ in outputs])
     st = integ.stats
     info = RunInfo(converged=True, iterations=st.accepted, residual=float("nan"),
                    wall_time=time.perf_counter() - start, message=message,
@@ -158,13 +98,14 @@ def _evolution(outputs: list, grid_scale: list[float], integ: Integrator, times:
                      series=series)
 
 
+@register_solver("fem", problem="transient-heated")
 def evolve_heated_fem(problem: HeatedProblem, *, times: NDArray, protocol: Protocol,
                       initial: VelocityDistribution | None,
                       initial_temperature: float | None, rtol: float = 1e-4, order: int = 2,
                       spacing: float = 0.25, cutoff: float | None = None,
                       first_step: float | None = None, max_step: float = math.inf,
-                      max_steps: int = 20000, newton_tol: float = 1e-11,
-                      max_newton: int = 12) -> Evolution:
+                      max_steps: int = 20000, newton_tol: float | None = None,
+                      max_newton: int = 12, progress: bool = False) -> Evolution:
     """Transient of the heated gas under ``protocol`` by adaptive BDF2 (see the module).
 
     Parameters
@@ -180,7 +121,10 @@ def evolve_heated_fem(problem: HeatedProblem, *, times: NDArray, protocol: Proto
     initial_temperature : float or None
         Temperature of the Gaussian start.
     rtol, order, spacing, cutoff, first_step, max_step, max_steps, newton_tol, max_newton
-        Numerical options (:class:`kinetic_fem.solvers.fem_transient.TransientOptions`).
+        Numerical options (:class:`kinetic_fem.solvers.fem_transient.TransientOptions`;
+        ``newton_tol`` default :func:`default_newton_tol`).
+    progress : bool
+        Show a progress bar over time (tqdm).
 
     Returns
     -------
@@ -213,38 +157,34 @@ def evolve_heated_fem(problem: HeatedProblem, *, times: NDArray, protocol: Proto
     t_coll = 1.0 / (gas.density * float(gas.kernel.rate(math.sqrt(cold))))
     # first step (and after a switch): backward Euler's error per unit step is about
     # h/t_coll, so rtol collision times; the step control grows it
-    h0 = h_first = first_step if first_step is not None else rtol * t_coll
+    h0 = first_step if first_step is not None else rtol * t_coll
+    tol = default_newton_tol(rtol) if newton_tol is None else newton_tol
     opt = TransientOptions(rtol, 0.0, order, spacing, cutoff, first_step, max_step,
-                           max_steps, newton_tol, max_newton)
-    integ = Integrator(disc_at(0.0), coefficients, cooling=False, options=opt,
-                       gamma=gas.kernel.scale_degree,
-                       collision_time=lambda temp: 1.0 / (
-                           gas.density * float(gas.kernel.rate(math.sqrt(temp)))))
+                           max_steps, tol, max_newton)
+    integ = BDF2(disc_at(0.0), coefficients, options=opt,
+                 collision_time=lambda temp: 1.0 / (
+                     gas.density * float(gas.kernel.rate(math.sqrt(temp)))))
     x = integ.x
     if initial is not None:
-        u = initial_log_density(initial, x)
+        u = distribution_log_density(initial, x)
     else:
         u = floor_log(x, -0.5 * x**2 / t_init - 0.5 * math.log(2.0 * math.pi * t_init))
     u = u - math.log(integ.moments(u)[0])
-    hist = [Level(0.0, u, integ.masses(u), 0.0, np.zeros(2), integ.observables(u, np.zeros(2)))]
+    integ.start(integ.level(0.0, u), h0)
     breaks = list(protocol.breakpoints(t_end))
     stops = sorted(set(times.tolist()) | set(breaks))
     outputs = [u] if times[0] == 0.0 else []
-    h = h_first
-    for stop in stops:
-        if stop == 0.0:
-            continue
-        reached = False
-        while not reached:
-            h, reached = integ.advance(hist, h, stop)
-        if times[np.searchsorted(times, stop)] == stop if stop <= t_end else False:
-            outputs.append(hist[-1].u)
-        if stop in breaks:
-            integ.stats.restarts += 1
-            integ.set_disc(disc_at(stop))
-            last = hist[-1]
-            hist[:] = [Level(stop, last.u, last.m, 0.0, last.y, last.obs)]
-            h = h0
+    bar, update = progress_bar(progress, t_end, "evolve_heated")
+    with bar:
+        for stop in stops:
+            if stop == 0.0:
+                continue
+            integ.advance_to(stop, update)
+            if times[np.searchsorted(times, stop)] == stop if stop <= t_end else False:
+                outputs.append(integ.hist[-1].u)
+            if stop in breaks:
+                integ.set_disc(disc_at(stop))
+                integ.restart(integ.level(stop, integ.hist[-1].u), h0)
     params = {**problem.as_dict(), "problem": "heated transient",
               "protocol": repr(protocol)}
     series = {"diffusion": np.array([coefficients(t, False)[1] for t in times]),
@@ -253,7 +193,7 @@ def evolve_heated_fem(problem: HeatedProblem, *, times: NDArray, protocol: Proto
     message = (f"adaptive BDF2, rtol={rtol:g}: {st.accepted} steps ({st.forced} at the minimum "
                f"step {opt.min_step:.3g} above tolerance, {st.rejected} rejected, "
                f"{st.newton_failures} Newton failures), {st.newton_iterations} Newton "
-               f"iterations, {st.restarts} restarts")
+               f"iterations, {st.jacobians} Jacobians, {st.factorisations} factorisations, "
+               f"{st.restarts} restarts")
     logger.info(message)
-    return _evolution(outputs, [1.0] * len(outputs), integ, times, params, start, message,
-                      series)
+    return _evolution(outputs, integ, times, params, start, message, series)

@@ -5,8 +5,7 @@ validated numerical options (:class:`TransientOptions`), the run counters
 (:class:`TransientStats`), the ratio of error constants of the step-size control
 (:func:`lte_ratio`), the symmetric mesh, graded where a Gaussian is steep
 (:func:`build_mesh`), the discretisation of a model (:func:`make_discretisation`), the
-floored initial data (:func:`floor_log`), the accepted levels (:class:`Level`) and the
-size form of the step equations (:func:`abs_mass`).
+floored initial data (:func:`floor_log`) and the accepted levels (:class:`Level`).
 """
 
 from __future__ import annotations
@@ -16,17 +15,18 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
-from skfem import LinearForm
 
+from ..distribution import VelocityDistribution
 from ..model import CollisionKernel, RestitutionLaw
 from ..operators.grid import symmetric_grid, uniform_grid
 from .fem import FEMDiscretisation
 
-__all__ = ["MAX_RATIO", "MIN_EXPONENT", "retry_step", "CAP_GROWTH", "CHORD_RATE",
-           "CHORD_STEP", "NOISE_FLOOR", "STEP_PREDICT",
+__all__ = ["MAX_RATIO", "MIN_EXPONENT", "retry_step", "CAP_GROWTH", "NOISE_FLOOR",
            "INITIAL_FLOOR", "LOG_SMALLEST", "LOG_TAIL", "MAX_DROP", "MESH_GROWTH",
            "TransientOptions", "TransientStats", "lte_ratio", "build_mesh",
-           "make_discretisation", "floor_log", "Level", "lagrange_weights", "abs_mass"]
+           "make_discretisation", "floor_log", "Level", "lagrange_weights",
+           "check_normalised", "distribution_log_density", "progress_bar",
+           "default_newton_tol"]
 
 CAP_GROWTH = 1.2
 """After a Newton failure at a step h, steps stay below 0.7 h, and after a rejected
@@ -44,16 +44,6 @@ the same step (:func:`retry_step`)."""
 NOISE_FLOOR = 10.0
 """The local error tolerance of a step is at least this many Newton tolerances (the
 error per unit step of a very short step would otherwise be below the Newton noise)."""
-
-CHORD_STEP = 0.1
-"""Step Newton: below this update the factorisation is reused (chord steps)."""
-
-CHORD_RATE = 0.2
-"""Step Newton: a chord step must shrink the update by this factor or better."""
-
-STEP_PREDICT = 1.0
-"""Step Newton: ``predict`` of the shared driver (a chord step whose predicted next
-update is below ``newton_tol`` ends the iteration without a confirming residual)."""
 
 INITIAL_FLOOR = 1e-45
 """Initial data are floored at this fraction of their maximum (see :func:`floor_log`).
@@ -130,8 +120,11 @@ class TransientStats:
     ----------
     accepted, rejected, newton_failures, newton_iterations, restarts, forced : int
         Counts of steps and Newton iterations.
-    residuals, jacobians : int
-        Residual evaluations of the step Newton, and how many of them with a Jacobian.
+    residuals, jacobians, factorisations : int
+        Residual evaluations of the step Newton, Jacobian evaluations (kept across
+        steps) and LU factorisations of the step matrix.
+    slow_newton : int
+        Simplified Newton iterations stopped for slow contraction or divergence.
     """
 
     accepted: int = 0
@@ -142,9 +135,32 @@ class TransientStats:
     forced: int = 0
     residuals: int = 0
     jacobians: int = 0
+    factorisations: int = 0
+    slow_newton: int = 0
 
     def as_dict(self) -> dict[str, int]:
         return dict(vars(self))
+
+
+def default_newton_tol(rtol: float) -> float:
+    """Default tolerance of the step Newton on the update of ln P: ``1e-3 rtol``, at
+    least 1e-11.
+
+    Far below the local error the step control admits (``rtol`` per collision time),
+    so the Newton error does not reach the error estimate; tighter costs iterations,
+    and below 1e-11 (the earlier fixed tolerance) the simplified Newton meets round-off
+    (``rtol`` 5e-10 stalled).
+
+    Parameters
+    ----------
+    rtol : float
+        The transient's tolerance.
+
+    Returns
+    -------
+    float
+    """
+    return max(1e-3 * rtol, 1e-11)
 
 
 def lte_ratio(steps: tuple[float, ...], order: int) -> float:
@@ -335,12 +351,6 @@ def floor_log(x: NDArray[np.float64], u: NDArray[np.float64]) -> NDArray[np.floa
     return out
 
 
-@LinearForm
-def abs_mass(v, w):
-    """:math:`\\int |\\varphi_i| e^{u}`: the size of the terms of a dof's equation."""
-    return np.exp(w.u) * np.abs(v)
-
-
 @dataclass
 class Level:
     """One accepted level: time ``s``, ``u``, masses, ``zeta``, aux ``y``, observables.
@@ -395,3 +405,84 @@ def lagrange_weights(nodes: list[float], s: float) -> list[float]:
                 w *= (s - sk) / (sj - sk)
         out.append(w)
     return out
+
+
+def check_normalised(dist: VelocityDistribution) -> None:
+    """Raise ``ValueError`` unless ``dist`` has unit mass (to 1e-6).
+
+    Parameters
+    ----------
+    dist : VelocityDistribution
+        An initial state.
+
+    Raises
+    ------
+    ValueError
+        If its mass differs from 1 by more than 1e-6.
+    """
+    mass = float(dist.raw_moments[0])
+    if not abs(mass - 1.0) <= 1e-6:
+        raise ValueError(f"the initial distribution is not normalised: its mass is {mass:.8g}; "
+                         "pass a normalised VelocityDistribution (from_values normalises "
+                         "by default)")
+
+
+def distribution_log_density(dist: VelocityDistribution, v: NDArray[np.float64], *,
+                        scale: float = 1.0) -> NDArray:
+    """``ln(scale P(scale v))`` of an even version of ``dist``, floored, Gaussian beyond.
+
+    Parameters
+    ----------
+    dist : VelocityDistribution
+        The initial distribution.
+    v : ndarray
+        Velocities where :math:`\\ln P` is wanted.
+    scale : float
+        Velocity scale factor (see the summary).
+
+    Returns
+    -------
+    ndarray
+
+    Raises
+    ------
+    ValueError
+        If ``dist`` is not normalised (mass differs from 1 by more than 1e-6).
+    """
+    check_normalised(dist)
+    temp = dist.temperature
+    inner = 0.999 * min(abs(dist.v[0]), abs(dist.v[-1]))
+    av = np.abs(v) * scale
+    a_in = np.minimum(av, inner)
+    p = 0.5 * (dist.pdf(a_in) + dist.pdf(-a_in)) * scale
+    tiny = np.finfo(float).tiny
+    log_p = np.log(np.maximum(p, tiny)) - 0.5 * (av**2 - a_in**2) / temp
+    return floor_log(v, log_p)
+
+
+def progress_bar(progress: bool, t_end: float, desc: str):
+    """A tqdm bar over the time ``[0, t_end]`` (disabled unless ``progress``) and its
+    update ``t -> None``.
+
+    Parameters
+    ----------
+    progress : bool
+        Show the bar.
+    t_end : float
+        Last output time.
+    desc : str
+        Label of the bar.
+
+    Returns
+    -------
+    bar, update
+    """
+    from tqdm.auto import tqdm
+
+    bar = tqdm(total=float(t_end), desc=desc, disable=not progress, unit="t",
+               bar_format="{l_bar}{bar}| t={n:.4g}/{total:.4g} [{elapsed}]")
+
+    def update(t: float) -> None:
+        bar.update(min(float(t), float(t_end)) - bar.n)
+
+    return bar, update

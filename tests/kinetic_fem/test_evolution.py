@@ -121,7 +121,7 @@ def test_a_step_that_never_succeeds_is_given_up_with_a_clear_error(monkeypatch):
     def never(self, hist, h):
         calls.append(h)
 
-    monkeypatch.setattr(fem_transient.Integrator, "attempt", never)
+    monkeypatch.setattr(fem_transient.BDF2, "attempt", never)
     with pytest.raises(ConvergenceError, match="no step accepted after 60 tries|Newton "
                        "failed down to the step"):
         kf.evolve_heated(0.6, times=[1.0], spacing=0.6)
@@ -135,14 +135,14 @@ def test_step_ratio_stays_below_two_also_after_output_times(monkeypatch):
     from kinetic_fem.solvers import fem_transient
 
     ratios = []
-    attempt = fem_transient.Integrator.attempt
+    attempt = fem_transient.BDF2.attempt
 
     def logged(self, hist, h):
         if len(hist) >= 3:
             ratios.append(h / (hist[-1].s - hist[-2].s))
         return attempt(self, hist, h)
 
-    monkeypatch.setattr(fem_transient.Integrator, "attempt", logged)
+    monkeypatch.setattr(fem_transient.BDF2, "attempt", logged)
     times = np.concatenate([[0.0], np.cumsum(np.linspace(0.013, 0.11, 12))])
     ev = kf.evolve_heated(0.5, times=times, initial_temperature=0.8, **COARSE)
     assert len(ratios) > 20 and max(ratios) <= fem_transient.MAX_RATIO * (1 + 1e-12)

@@ -1,0 +1,133 @@
+"""Cost of the FEM transients against steady solves of the same model (issue 30, item 1).
+
+The two calls of the issue, at their default tolerance, as a user pays them:
+
+* ``kf.evolve_heated(0.6, times=np.linspace(0, 5, 11), initial_temperature=0.5)``
+  (hard rods, white noise), against ``kf.solve_heated(0.6)``;
+* ``kf.evolve_heated(0.5, kernel=0.0, friction=0.5, initial_temperature=1.0,
+  times=[0.25, 0.5, 1, 2, 5])`` (the Maxwell model in a bath), against
+  ``kf.solve_heated(0.5, kernel=0.0, friction=0.5)``, with the global error of T
+  (relative) and a2 (absolute) against the exact moment equations
+  (:func:`kinetic_fem.solvers.maxwell.evolve_moments`).
+
+For each: CPU seconds (``time.process_time``), accepted steps, Jacobian assemblies and
+LU factorisations of the step Newton, nodes, the ratio to a steady solve measured in
+the same process (best of 3), and yardstick units (10 LU of 1000 x 1000,
+single-threaded BLAS, ``bench_fem_speed.cpu_yardstick``).  Target: ratio <= 20.
+
+    python benchmarks/bench_transient_speed.py [--rtol R ...] [--only heated|maxwell]
+
+``--rtol`` runs the calls at these tolerances as well (the table of global error
+against CPU time); run it with ``PYTHONPATH`` at another tree to measure that tree.
+"""
+
+from __future__ import annotations
+
+import os
+
+for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS"):
+    os.environ[_var] = "1"
+
+import argparse  # noqa: E402
+import sys  # noqa: E402
+import time  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+import numpy as np  # noqa: E402
+import scipy.linalg  # noqa: E402
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bench_fem_speed import cpu_yardstick  # noqa: E402
+
+import kinetic_fem as kf  # noqa: E402
+from kinetic_fem.solvers.maxwell import evolve_moments  # noqa: E402
+
+CASES = {
+    "heated": (dict(alpha=0.6), dict(times=np.linspace(0.0, 5.0, 11), initial_temperature=0.5)),
+    "maxwell": (dict(alpha=0.5, kernel=0.0, friction=0.5),
+                dict(times=[0.25, 0.5, 1.0, 2.0, 5.0], initial_temperature=1.0)),
+}
+TARGET = 20.0
+
+_FACTORS = [0]
+_lu_factor = scipy.linalg.lu_factor
+
+
+def _counting_lu_factor(*args, **kwargs):
+    _FACTORS[0] += 1
+    return _lu_factor(*args, **kwargs)
+
+
+scipy.linalg.lu_factor = _counting_lu_factor   # counts every dense LU of the step Newton
+
+
+def steady_cpu(model: dict) -> float:
+    """Best of three CPU seconds of ``kf.solve_heated`` of ``model``."""
+    best = np.inf
+    for _ in range(3):
+        t0 = time.process_time()
+        kf.solve_heated(model["alpha"], **{k: v for k, v in model.items() if k != "alpha"})
+        best = min(best, time.process_time() - t0)
+    return best
+
+
+def maxwell_errors(model: dict, call: dict, ev) -> tuple[float, float]:
+    """Largest relative error of T and absolute error of a2 against the exact moments."""
+    times = np.concatenate([[0.0], np.asarray(call["times"], dtype=float)])
+    exact = evolve_moments(model["alpha"], times, friction=model["friction"],
+                           initial_temperature=call["initial_temperature"], order=4)
+    err_t = np.max(np.abs(np.asarray(ev.temperature) / exact.temperature[1:] - 1.0))
+    err_a2 = np.max(np.abs(np.asarray(ev.a2) - exact.a2[1:]))
+    return float(err_t), float(err_a2)
+
+
+def run(name: str, rtol: float | None, unit: float) -> dict:
+    """One evolve call of case ``name`` (default rtol if None) and its figures."""
+    model, call = CASES[name]
+    options = {} if rtol is None else {"rtol": rtol}
+    kwargs = {k: v for k, v in model.items() if k != "alpha"}
+    _FACTORS[0] = 0
+    t0 = time.process_time()
+    ev = kf.evolve_heated(model["alpha"], **kwargs, **call, **options)
+    cpu = time.process_time() - t0
+    extra = ev.info.extra
+    row = {"case": name, "rtol": extra.get("rtol", rtol), "cpu": cpu,
+           "steps": extra.get("accepted"), "rejected": extra.get("rejected"),
+           "jacobians": extra.get("jacobians"), "factorisations": _FACTORS[0],
+           "nodes": extra.get("n_dofs"), "units": cpu / unit,
+           "T_end": float(ev.temperature[-1]), "a2_end": float(ev.a2[-1])}
+    if name == "maxwell":
+        row["err_T"], row["err_a2"] = maxwell_errors(model, call, ev)
+    return row
+
+
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--rtol", type=float, nargs="*", default=[])
+    parser.add_argument("--only", choices=sorted(CASES), default=None)
+    args = parser.parse_args(argv)
+    kf.solve_heated(0.6)    # compile outside the timings (steady and transient kernels)
+    kf.evolve_heated(0.6, times=[0.01], initial_temperature=0.5, spacing=0.5, rtol=1e-2)
+    names = [args.only] if args.only else list(CASES)
+    print(f"tree: {Path(kf.__file__).resolve().parents[1]}")
+    header = ("| case | rtol | CPU s | steps (rej.) | Jacobians | LU | nodes | steady CPU s | "
+              "ratio | units | err T | err a2 |")
+    print(header)
+    print("|" + "---|" * 12)
+    for name in names:
+        for rtol in [None, *args.rtol]:
+            unit = cpu_yardstick()
+            steady = steady_cpu(CASES[name][0])
+            row = run(name, rtol, unit)
+            unit = 0.5 * (unit + cpu_yardstick())
+            errs = (f"{row['err_T']:.2e} | {row['err_a2']:.2e}" if "err_T" in row
+                    else f"(T_end {row['T_end']:.8f}) | (a2_end {row['a2_end']:.8f})")
+            print(f"| {name} | {row['rtol']:g} | {row['cpu']:.2f} | {row['steps']} "
+                  f"({row['rejected']}) | {row['jacobians']} | {row['factorisations']} | "
+                  f"{row['nodes']} | {steady:.3f} | {row['cpu'] / steady:.1f} | "
+                  f"{row['cpu'] / unit:.1f} | {errs} |", flush=True)
+    print(f"yardstick CPU s (last): {unit:.3f}; target ratio <= {TARGET:g}")
+
+
+if __name__ == "__main__":
+    main()
