@@ -392,11 +392,15 @@ class Engine:
             raise ValueError(f"checkpoint {path} belongs to a different run: {meta['key']} "
                              f"!= {self.opts.key}")
         stream = meta.get("stream", 1)
-        if stream != STREAMS[self.kind] or arrays["state"].shape != self.state.shape:
-            raise ValueError(f"checkpoint {path} was written with random stream version "
-                             f"{stream} of the {self.kind} DSMC; this version of particles runs "
-                             f"stream {STREAMS[self.kind]} and cannot resume it: start the run "
-                             "again (or resume it with the particles version that wrote it)")
+        if stream != STREAMS[self.kind]:
+            raise ValueError(f"checkpoint {path} holds random stream {stream} of the {self.kind} "
+                             f"DSMC, written by an earlier version of particles; this version "
+                             f"runs stream {STREAMS[self.kind]} and cannot resume it: start the "
+                             "run again (or finish it with the version that wrote it)")
+        if arrays["state"].shape != self.state.shape:
+            raise ValueError(f"checkpoint {path} was written by an earlier version with another "
+                             f"random stream ({arrays['state'].size} state words, this version "
+                             f"has {self.state.size}); start the run again")
         counters = dict(meta["counters"])
         if "tick" not in counters:  # checkpoints before the averaging cadence: one tick each
             counters.update(tick=counters["n_samples"] - 1, k=1, k_set=False,
