@@ -277,13 +277,13 @@ class Engine:
             return
         target = k * max(1, int(round(0.5 * o.sample_every * self.n)))
         ratio = self.c["accepted"] / self.c["candidates"] if self.c["candidates"] else 0.1
-        acc, cand, d_log_scale, elapsed = seg.cooling_segment(
+        acc, cand, d_log_scale, log_time = seg.cooling_segment(
             self.v, target, self.n, max(ratio, 1e-3), *model, self.c["log_scale"], self.state,
             *self.work)
         self.c["accepted"] += int(acc)
         self.c["candidates"] += int(cand)
-        if elapsed > 0:
-            log_dt = (math.log(2.0 * elapsed / (self.n * self.gas.density))
+        if log_time > -math.inf:
+            log_dt = (math.log(2.0 / (self.n * self.gas.density)) + log_time
                       - o.gamma * self.c["log_scale"])
             self.c["log_t"] = float(np.logaddexp(self.c["log_t"], log_dt))
         self.c["log_scale"] += d_log_scale  # rescaled to unit variance by _measure

@@ -331,16 +331,17 @@ def cooling_segment(v, target, refresh, ratio, kcode, gamma, lcode, p0, p1, log_
     accepted, candidates : int
     log_scale : float
         Velocities on entry are ``exp(log_scale)`` times the returned ones' units.
-    time : float
-        As :func:`cooling_block` (``2 time / (n N)`` is the elapsed time in the units of
-        ``v`` on entry).
+    log_time : float
+        Logarithm of the ``time`` of :func:`cooling_block` (``2 time / (n N)`` is the
+        elapsed time in the units of ``v`` on entry); ``-inf`` if no candidate was drawn.
+        In logarithms: over a long segment the scale and the time leave the float range.
     """
     n = v.shape[0]
     lanes = kcode == KERNEL_HARD_RODS and lcode == CONSTANT
     accepted = 0
     candidates = 0
     log_scale = 0.0
-    elapsed = 0.0
+    log_time = -math.inf
     g_ref = -1.0
     while accepted < target:
         lo, hi = extent_fast(v)
@@ -369,9 +370,11 @@ def cooling_segment(v, target, refresh, ratio, kcode, gamma, lcode, p0, p1, log_
         accepted += a
         candidates += m
         if kcode == KERNEL_HARD_RODS:
-            elapsed += m / (g_max * math.exp(log_scale))
+            log_dt = math.log(m) - math.log(g_max) - log_scale
         elif kcode == KERNEL_MAXWELL:
-            elapsed += m
+            log_dt = math.log(m)
         else:
-            elapsed += m / (g_max * math.exp(log_scale)) ** gamma
-    return accepted, candidates, log_scale, elapsed
+            log_dt = math.log(m) - gamma * (math.log(g_max) + log_scale)
+        hi_t = max(log_time, log_dt)
+        log_time = hi_t + math.log1p(math.exp(-abs(log_time - log_dt)))
+    return accepted, candidates, log_scale, log_time
