@@ -39,6 +39,16 @@ alpha = 0.6 and 0.9, DSMC and MD.
 ``--before REV``: the same rows and figure of merit with the code of git revision
 ``REV`` (``kinetic_fem`` and ``particles`` extracted by ``git archive`` into a temporary
 directory, run in a subprocess), interleaved with this tree's and the C runs.
+
+The shared yardstick (issue 31): the careful C programs of ``shared/yardstick/``
+(``dsmc.c``, ``md_edmd.c``; found in a ``shared/yardstick`` beside the checkout or one
+of its parents, or given by ``--yardstick DIR``) are built here too (``gcc -O3
+-march=native``, into the temporary directory) and run in the same repetitions with the
+issue's commands (:data:`YARDSTICK`); their own printed rate is the comparable figure
+("incl. rescaling", "incl. heating", the whole run, "without bursts": the yardstick
+splits its CPU time between phases itself).  The column "yardstick" and the ratio
+"py/yard" are printed beside the C columns.  Without gcc, or without the yardstick's
+sources, the C columns are skipped with a message and the Python calls still run.
 """
 
 from __future__ import annotations
@@ -47,6 +57,7 @@ import argparse
 import json
 import math
 import os
+import re
 import resource
 import shutil
 import subprocess
@@ -87,18 +98,73 @@ SIZES = {"dsmc_cooling": 25000, "dsmc_heated": 25000, "md_cooling": 5000, "md_he
          "md_large": 100000}
 
 
-def build(tmp: Path) -> dict[str, Path]:
-    """Compile the C programs into ``tmp``; returns name -> executable."""
+# the shared yardstick's command for each row (issue 31) and the figure of its RESULT line
+# that is comparable with a whole public call
+YARDSTICK = {
+    "dsmc_cooling": (["dsmc", "mode=cool", "N=25000", "alpha=0.9", "steps=20000"],
+                     r"incl\. rescaling:.*?coll_per_s=(\S+)"),
+    "dsmc_heated": (["dsmc", "mode=heat", "N=25000", "alpha=0.6", "steps=20000"],
+                    r"incl\. heating:.*?coll_per_s=(\S+)"),
+    "md_cooling": (["md_edmd", "mode=cool", "N=5000", "alpha=0.9", "coll=2.5e6"],
+                   r"coll_per_s=(\S+)"),
+    "md_heated": (["md_edmd", "mode=heat", "N=5000", "alpha=0.9", "coll=5e6"],
+                  r"without bursts:.*?coll_per_s_total=(\S+)"),
+    "md_large": (["md_edmd", "mode=cool", "N=100000", "alpha=0.99", "coll=1e7"],
+                 r"coll_per_s=(\S+)"),
+}
+
+
+def find_yardstick(given: str | None) -> Path | None:
+    """The directory of the shared yardstick's sources, or None (with a message)."""
+    if given:
+        cands = [Path(given)]
+    else:
+        root = Path(__file__).resolve().parents[1]
+        cands = [p / "shared" / "yardstick" for p in (root, *root.parents)]
+    for d in cands:
+        if (d / "dsmc.c").is_file() and (d / "md_edmd.c").is_file():
+            return d
+    print("shared yardstick not found (dsmc.c, md_edmd.c in shared/yardstick beside the "
+          "checkout or above it; --yardstick DIR): its columns are skipped")
+    return None
+
+
+def build(tmp: Path, yardstick: Path | None = None) -> dict[str, Path]:
+    """Compile the C programs (and the yardstick's) into ``tmp``; name -> executable.
+
+    Without gcc nothing is built (a message says so) and the C columns stay empty.
+    """
     gcc = shutil.which("gcc")
     if gcc is None:
-        raise RuntimeError("gcc not found: the C side of the comparison needs it")
+        print("gcc not found: the C programs and the yardstick are skipped, only the "
+              "Python calls are timed")
+        return {}
+    srcs = sorted(HERE.glob("*.c"))
+    if yardstick is not None:
+        srcs += [yardstick / "dsmc.c", yardstick / "md_edmd.c"]
     out = {}
-    for src in sorted(HERE.glob("*.c")):
-        exe = tmp / src.stem
+    for src in srcs:
+        name = ("yard_" if src.parent != HERE else "") + src.stem
+        exe = tmp / name
         subprocess.run([gcc, "-O3", "-march=native", "-o", str(exe), str(src), "-lm"],
                        check=True)
-        out[src.stem] = exe
+        out[name] = exe
     return out
+
+
+def time_yardstick(exes: dict[str, Path], name: str) -> float:
+    """Collisions per CPU second the yardstick prints for row ``name`` (NaN if not built)."""
+    args, pattern = YARDSTICK[name]
+    exe = exes.get("yard_" + args[0])
+    if exe is None:
+        return math.nan
+    out = subprocess.run([str(exe), *args[1:]], check=True, capture_output=True,
+                         text=True).stdout
+    line = next(x for x in out.splitlines() if x.startswith("RESULT"))
+    found = re.search(pattern, line)
+    if found is None:
+        raise RuntimeError(f"no rate {pattern!r} in the yardstick's line {line!r}")
+    return float(found.group(1))
 
 
 def c_args(name: str, run) -> list[str]:
@@ -262,20 +328,28 @@ def table(names: list[str], repeat: int, exes: dict[str, Path], before: Path | N
                     cw, cc, ccoll = time_c(exes, same)
                     line += f", C same {cc:.2f}"
                 keep(best[name], "cs", ccoll, cw, cc)
+            yard = time_yardstick(exes, name)
+            best[name]["yard"] = max(best[name].get("yard", 0.0), yard)
+            line += f", yardstick {yard:.3g} coll/s"
             if before is not None:
                 line += f", before {best[name]['before_cpu']:.2f}"
             print(line, flush=True)
     print(f"\nload average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores; "
           f"best of {repeat}; collisions per CPU second")
     head = (f"{'call':<78} {'before':>9} {'python':>9} {'C':>9} {'C same':>9} "
-            f"{'before/C':>8} {'py/C':>6} {'py/C same':>9}")
+            f"{'yardstick':>9} {'before/C':>8} {'py/C':>6} {'py/C same':>9} "
+            f"{'before/yard':>11} {'py/yard':>7}")
     print(head)
     for name in names:
         r = {key: best[name][key + "_coll"] / best[name][key + "_cpu"]
              if key + "_cpu" in best[name] else math.nan for key in ("before", "py", "c", "cs")}
+        yard = best[name].get("yard", math.nan)
         print(f"{ROWS[name][0]:<78} {r['before']:>9.3g} {r['py']:>9.3g} {r['c']:>9.3g} "
-              f"{r['cs']:>9.3g} {r['before'] / r['c']:>8.2f} {r['py'] / r['c']:>6.2f} "
-              f"{r['py'] / r['cs']:>9.2f}")
+              f"{r['cs']:>9.3g} {yard:>9.3g} {r['before'] / r['c']:>8.2f} "
+              f"{r['py'] / r['c']:>6.2f} {r['py'] / r['cs']:>9.2f} "
+              f"{r['before'] / yard:>11.2f} {r['py'] / yard:>7.2f}")
+    print("yardstick: shared/yardstick (gcc -O3 -march=native), the issue's commands "
+          "(YARDSTICK), its own printed rate; best of the repetitions")
     if merit_cpp > 0:
         print(f"\nfigure of merit: standard error of the heated a2 after one CPU second "
               f"(se * sqrt(cpu s)); DSMC N = 25000, {merit_cpp:g} collisions per particle "
@@ -343,6 +417,9 @@ def main() -> None:
     p.add_argument("--growth-kinds", nargs="*", default=["dsmc", "md"],
                    choices=["dsmc", "dsmc-heated", "md"], help="which growth tables")
     p.add_argument("--no-table", action="store_true", help="only the growth tables")
+    p.add_argument("--yardstick", metavar="DIR",
+                   help="directory of the shared yardstick's dsmc.c and md_edmd.c "
+                        "(default: shared/yardstick beside the checkout or above it)")
     args = p.parse_args()
     warm_up()
     if args.json:
@@ -363,7 +440,7 @@ def main() -> None:
     if args.no_table:
         return
     with tempfile.TemporaryDirectory() as tmp:
-        exes = build(Path(tmp))
+        exes = build(Path(tmp), find_yardstick(args.yardstick))
         before = None
         if args.before:
             before = before_worker(args.before, Path(tmp))

@@ -22,10 +22,10 @@ from tqdm.auto import tqdm
 from kinetic_fem.distribution import MAX_MOMENT, RunInfo, VelocityDistribution
 
 from . import _dsmc_segments as seg
-from .rng import heated_state, ziggurat_tables
+from ._dsmc_kernels import CANDIDATE_BLOCK
+from .rng import cooling_state, heated_state, ziggurat_tables
 from .run import Checkpointing, ParticleRun
 from .sampling import (
-    accumulate_kernel,
     integrated_autocorrelation_time,
     load_checkpoint,
     save_checkpoint,
@@ -34,6 +34,12 @@ from .sampling import (
 __all__ = ["DSMCRun", "DSMCOptions", "Engine"]
 
 logger = logging.getLogger("particles.dsmc")
+
+STREAMS = {"heated": 1, "cooling": 2}
+"""Version of the random stream of each kind of run, stored in checkpoints: a checkpoint
+of another stream cannot resume the run (1: the 5-word heated state of issue 13 and the
+4-word xoshiro256** cooling state; 2: the cooling lanes of issue 31,
+:func:`particles.rng.cooling_state`).  Checkpoints without the field are version 1."""
 
 _SERIES = ("collisions_per_particle", "t", "log_t", "temperature", "log_temperature", "a2", "a3")
 
@@ -223,7 +229,11 @@ class Engine:
         self.v = v
         self.n = v.size
         self.state = (heated_state(seed_seq) if opts.kind == "heated"  # + the wyrand word
-                      else seed_seq.generate_state(4, dtype=np.uint64))
+                      else cooling_state(seed_seq))  # + the candidate lanes
+        # work space of the cooling candidate blocks (zeros: the prefetch reads ahead)
+        self.work = (np.zeros(2 * CANDIDATE_BLOCK, np.uint64),
+                     np.zeros(CANDIDATE_BLOCK + 32, np.uint64),
+                     np.zeros(CANDIDATE_BLOCK + 32, np.uint64), np.zeros(CANDIDATE_BLOCK + 32))
         self.tables = ziggurat_tables()
         self.c = {"accepted": 0, "candidates": 0, "debt": 0.0, "log_t": -math.inf,
                   "log_scale": 0.0, "relaxed_at": -1.0, "avg_start_acc": 0,
@@ -238,7 +248,7 @@ class Engine:
         self.batch_loss = np.zeros(nb)
         self.batch_time = np.zeros(nb)
         self.seg_loss = self.seg_time = 0.0
-        self.sample_counts = np.zeros(opts.bins)  # heated: the last measurement's histogram
+        self.sample_counts = np.zeros(opts.bins)  # the last measurement's histogram
         self.sample_sums = np.zeros(MAX_MOMENT + 1)
 
     # ----------------------------------------------------------------- dynamics
@@ -265,36 +275,32 @@ class Engine:
             self.c["accepted"] += int(acc)
             self.seg_loss, self.seg_time = loss, t
             return
-        target = self.c["accepted"] + k * max(1, int(round(0.5 * o.sample_every * self.n)))
-        while self.c["accepted"] < target:
-            ratio = self.c["accepted"] / self.c["candidates"] if self.c["candidates"] else 0.1
-            need = int((target - self.c["accepted"]) / max(ratio, 1e-3)) + 1
-            m = min(need, max(4 * self.n, 1 << 16))
-            acc, d_log_scale, elapsed = seg.cooling_block(self.v, m, self.n, *model,
-                                                          self.c["log_scale"], self.state)
-            self.c["accepted"] += int(acc)
-            self.c["candidates"] += m
-            if elapsed > 0:
-                log_dt = (math.log(2.0 * elapsed / (self.n * self.gas.density))
-                          - o.gamma * self.c["log_scale"])
-                self.c["log_t"] = float(np.logaddexp(self.c["log_t"], log_dt))
-            self.c["log_scale"] += d_log_scale
-            mean, cm = seg.central_sums(self.v, 2)
-            if not cm[2] > 0:
-                raise FloatingPointError("all velocities became equal; no collision can occur")
-            s = math.sqrt(cm[2])
-            self.v -= mean
-            self.v /= s
-            self.c["log_scale"] += math.log(s)
+        target = k * max(1, int(round(0.5 * o.sample_every * self.n)))
+        ratio = self.c["accepted"] / self.c["candidates"] if self.c["candidates"] else 0.1
+        acc, cand, d_log_scale, log_time = seg.cooling_segment(
+            self.v, target, self.n, max(ratio, 1e-3), *model, self.c["log_scale"], self.state,
+            *self.work)
+        self.c["accepted"] += int(acc)
+        self.c["candidates"] += int(cand)
+        if log_time > -math.inf:
+            log_dt = (math.log(2.0 / (self.n * self.gas.density)) + log_time
+                      - o.gamma * self.c["log_scale"])
+            self.c["log_t"] = float(np.logaddexp(self.c["log_t"], log_dt))
+        self.c["log_scale"] += d_log_scale  # rescaled to unit variance by _measure
 
     def _measure(self) -> tuple[float, float, float]:
-        if self.kind == "heated":  # centre, moments, histogram and power sums in one kernel
+        # centre (cooling: and rescale to unit variance), moments, histogram and power
+        # sums in one kernel
+        if self.kind == "heated":
             seg.measure_centred(self.v, self.opts.lo, self.opts.hi, self.sample_counts,
                                 self.sample_sums)
-            cm = self.sample_sums[:7] / self.n
         else:
-            mean, cm = seg.central_sums(self.v, 6)
-            self.v -= mean
+            sd = seg.measure_scaled(self.v, self.opts.lo, self.opts.hi, self.sample_counts,
+                                    self.sample_sums)
+            if not sd > 0:
+                raise FloatingPointError("all velocities became equal; no collision can occur")
+            self.c["log_scale"] += math.log(sd)
+        cm = self.sample_sums[:7] / self.n
         temp = cm[2]
         a2 = cm[4] / (3 * temp**2) - 1.0
         a3 = 1.0 + 3.0 * a2 - cm[6] / (15.0 * temp**3)
@@ -335,12 +341,8 @@ class Engine:
         o = self.opts
         tick = int(self.c["tick"])
         b = tick * o.n_batches // o.n_samples
-        if self.kind == "heated":  # the histogram and sums of the last measurement
-            self.counts[b] += self.sample_counts
-            self.sums[b] += self.sample_sums
-        else:
-            x = self.v / math.sqrt(np.mean(self.v**2))
-            accumulate_kernel(x, o.lo, o.hi, self.counts[b], self.sums[b])
+        self.counts[b] += self.sample_counts  # the histogram and sums of the last measurement
+        self.sums[b] += self.sample_sums
         if tick > 0:  # energy of the segment that led to this sample
             self.batch_loss[b] += self.seg_loss
             self.batch_time[b] += self.seg_time
@@ -381,7 +383,7 @@ class Engine:
         arrays = {"v": self.v, "state": self.state, "counts": self.counts, "sums": self.sums,
                   "batch_loss": self.batch_loss, "batch_time": self.batch_time}
         arrays.update({f"series__{k}": np.asarray(s) for k, s in self.series.items()})
-        meta = {"counters": self.c, "key": self.opts.key}
+        meta = {"counters": self.c, "key": self.opts.key, "stream": STREAMS[self.kind]}
         save_checkpoint(path, arrays, meta)
 
     def load(self, path: Path) -> None:
@@ -390,9 +392,16 @@ class Engine:
         if meta["key"] != self.opts.key:
             raise ValueError(f"checkpoint {path} belongs to a different run: {meta['key']} "
                              f"!= {self.opts.key}")
+        stream = meta.get("stream", 1)
+        if stream != STREAMS[self.kind]:
+            raise ValueError(f"checkpoint {path} holds random stream {stream} of the {self.kind} "
+                             f"DSMC, written by an earlier version of particles; this version "
+                             f"runs stream {STREAMS[self.kind]} and cannot resume it: start the "
+                             "run again (or finish it with the version that wrote it)")
         if arrays["state"].shape != self.state.shape:
             raise ValueError(f"checkpoint {path} was written by an earlier version with another "
-                             "random stream of the heated kicks; start the run again")
+                             f"random stream ({arrays['state'].size} state words, this version "
+                             f"has {self.state.size}); start the run again")
         counters = dict(meta["counters"])
         if "tick" not in counters:  # checkpoints before the averaging cadence: one tick each
             counters.update(tick=counters["n_samples"] - 1, k=1, k_set=False,

@@ -54,7 +54,7 @@ from ._jit import jit, prefetch
 from .rng import WYRAND_WORD, mul128, normal_slow, wyrand
 
 __all__ = ["ONE_DRAW_MAX_N", "kick", "collide_heated", "heated_segment", "majorant_power",
-           "measure_centred"]
+           "measure_centred", "scaled_sums"]
 
 ONE_DRAW_MAX_N = 1 << 22
 """Largest ``N`` for which a hard-rod candidate of :func:`collide_heated` is one draw
@@ -349,11 +349,12 @@ def measure_centred(v, lo, hi, counts, sums):  # pragma: no cover - compiled
 
     The first pass sums ``v`` (four partial sums); the second subtracts the mean,
     stores the centred velocity ``d`` and adds it to a histogram on ``[lo, hi)`` and
-    to the power sums :math:`\\sum d^k`, ``k = 0 .. 12`` (kept in registers).  The
-    central moments are ``sums[k] / N``; ``counts`` and ``sums`` (shapes (bins,) and
-    (13,)) are overwritten, so that a sample can be added to a batch once averaging
-    has started.  One pass less than the mean, central moments, the shift and
-    :func:`particles.sampling.accumulate_kernel` in turn, and no divide per velocity.
+    to the power sums :math:`\\sum d^k`, ``k = 0 .. 12`` (kept in registers;
+    :func:`scaled_sums`).  The central moments are ``sums[k] / N``; ``counts`` and
+    ``sums`` (shapes (bins,) and (13,)) are overwritten, so that a sample can be added to
+    a batch once averaging has started.  One pass less than the mean, central moments,
+    the shift and :func:`particles.sampling.accumulate_kernel` in turn, and no divide per
+    velocity.
 
     Parameters
     ----------
@@ -371,8 +372,6 @@ def measure_centred(v, lo, hi, counts, sums):  # pragma: no cover - compiled
     mean : float
         The mean that was subtracted.
     """
-    if sums.shape[0] != 13:
-        raise ValueError("measure_centred keeps the power sums k = 0 .. 12")
     n = v.shape[0]
     a0 = a1 = a2 = a3 = 0.0
     k = 0
@@ -386,12 +385,27 @@ def measure_centred(v, lo, hi, counts, sums):  # pragma: no cover - compiled
         a0 += v[k]
         k += 1
     mean = ((a0 + a1) + (a2 + a3)) / n
+    scaled_sums(v, mean, 1.0, lo, hi, counts, sums)
+    return mean
+
+
+@jit
+def scaled_sums(v, mean, scale, lo, hi, counts, sums):  # pragma: no cover - compiled
+    """``v = (v - mean) * scale``; histogram on ``[lo, hi)`` and power sums ``k <= 12``.
+
+    ``counts`` and ``sums`` (shapes (bins,) and (13,)) are overwritten with the
+    histogram of the new ``v`` and :math:`\\sum v^k`; one pass, the sums in registers.
+    (``scale = 1.0`` multiplies exactly.)
+    """
+    if sums.shape[0] != 13:
+        raise ValueError("the measurement keeps the power sums k = 0 .. 12")
+    n = v.shape[0]
     n_bins = counts.shape[0]
     inv_width = n_bins / (hi - lo)
     counts[:] = 0.0
     s1 = s2 = s3 = s4 = s5 = s6 = s7 = s8 = s9 = s10 = s11 = s12 = 0.0
     for i in range(n):
-        x1 = v[i] - mean
+        x1 = (v[i] - mean) * scale
         v[i] = x1
         x2 = x1 * x1
         x3 = x2 * x1
@@ -416,4 +430,3 @@ def measure_centred(v, lo, hi, counts, sums):  # pragma: no cover - compiled
     out = (float(n), s1, s2, s3, s4, s5, s6, s7, s8, s9, s10, s11, s12)
     for m in range(13):
         sums[m] = out[m]
-    return mean

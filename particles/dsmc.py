@@ -74,7 +74,9 @@ Random numbers: an explicit-state xoshiro256** stream inside the kernels (seeded
 from a ``numpy.random.SeedSequence``, saved in checkpoints) for pairs and acceptance;
 heated runs draw the Gaussian kicks (ziggurat) and the hard-rod candidates from a second
 word of the state, a wyrand counter (one draw per candidate; the ziggurat's rare slow
-paths stay on xoshiro256**); see :mod:`particles.rng`.
+paths stay on xoshiro256**); free cooling of hard rods with a constant ``alpha`` draws
+its candidates in blocks from eight lock-step xoshiro256++ streams (a fixed layout, the
+same numbers on every machine); see :mod:`particles.rng`.
 
 *Relaxation detector* (``relax="auto"``): the time series are cut into windows of
 :math:`W = \\max(2, 2/(1-\\alpha^2))` collisions per particle (at least 10 samples;
