@@ -157,7 +157,7 @@ class MDEngine:
         law = o.restitution
         self._law = (law.code, *law.parameters, law.max_speed, o.elastic_below)
         self._temp_key: tuple[int, int] | None = None
-        self._temp = math.nan
+        self._moments = (math.nan, math.nan, math.nan)
         # free cooling: calendar epochs of about N collisions, the first from T
         # (collision rate N n_f sqrt(T/pi) of points at the reduced density n_f)
         temp = float(np.var(self.v)) if n > 1 else 0.0
@@ -187,12 +187,17 @@ class MDEngine:
     def n_collisions(self) -> int:
         return int(self.istate[K.I_NCOLL])
 
-    def temperature(self) -> float:
-        """``var(v)``; cached until the next collision or kick changes ``v``."""
+    def moments(self) -> tuple[float, float, float]:
+        """``(sum v, sum v^2, var v)``; cached until a collision or kick changes ``v``."""
         key = (int(self.istate[K.I_NCOLL]), int(self.istate[K.I_NKICK]))
         if self._temp_key != key:
-            self._temp_key, self._temp = key, float(np.var(self.v))
-        return self._temp
+            s1, s2, var = K.velocity_moments(self.v)
+            self._temp_key, self._moments = key, (float(s1), float(s2), float(var))
+        return self._moments
+
+    def temperature(self) -> float:
+        """``var(v)`` (central); cached until the next collision or kick changes ``v``."""
+        return self.moments()[2]
 
     def advance(self, coll_target: int, t_stop: float = np.inf) -> bool:
         """Run until ``coll_target`` collisions in total or time ``t_stop``.
@@ -238,6 +243,7 @@ class MDEngine:
     def rod_positions(self, t: float | None = None) -> NDArray[np.float64]:
         """Rod left ends at time ``t`` (default: the last event), in ``[0, L)``, ring order."""
         t = self.fstate[K.F_T] if t is None else t
-        y = self.x + self.v * (t - self.tl)
-        big_l = self.free_length + self.sigma * y.size
-        return np.mod(y + self.sigma * np.arange(y.size), big_l)
+        out = np.empty(self.x.size)
+        K.rod_positions_at(float(t), self.x, self.v, self.tl, self.sigma,
+                           self.free_length + self.sigma * self.x.size, out)
+        return out

@@ -84,7 +84,7 @@ __all__ = ["F_T", "F_T_KICK", "F_DISS", "F_INJ", "F_BASE", "F_INV_W", "F_HORIZON
            "STATUS_COLLAPSE_SPEED", "STATUS_COLLAPSE_STALL", "STATUS_NO_EVENTS",
            "STATUS_LAW_RANGE", "N_FSTATE", "N_ISTATE", "HEAP_PAD", "ZIGGURAT",
            "PREFETCH_MIN_N", "bucket_of", "build_heap", "fill_normals", "kick_sweep",
-           "run_events"]
+           "run_events", "velocity_moments", "rod_positions_at"]
 
 # slots of the float state vector (F_BASE, F_INV_W, F_HORIZON = 4, 5, 6: the calendar's)
 F_T, F_T_KICK, F_DISS, F_INJ = 0, 1, 2, 3
@@ -160,6 +160,57 @@ def build_heap(t, t_cut, x, v, tl, free_length, heap, hkey, where, ptime, head, 
     calendar_start(size, t, t_cut, heap, hkey, where, ptime, head, nxt, prv, bkt, fstate,
                    istate)
     return approaching
+
+
+@jit
+def velocity_moments(v):  # pragma: no cover - compiled
+    """``(sum v, sum v^2, var v)`` of ``v`` (shape (N,)); the variance is central.
+
+    Four interleaved partial sums per pass (independent additions, about 1 ns per
+    element less than one running sum), the variance from a second pass around the
+    mean: one compiled call instead of the numpy ``mean``, ``var`` and ``sum`` calls
+    at every record and sample (about 40 us at N = 5000).
+    """
+    n = v.shape[0]
+    a0 = a1 = a2 = a3 = 0.0
+    b0 = b1 = b2 = b3 = 0.0
+    m = n - n % 4
+    for i in range(0, m, 4):
+        w0, w1, w2, w3 = v[i], v[i + 1], v[i + 2], v[i + 3]
+        a0 += w0
+        a1 += w1
+        a2 += w2
+        a3 += w3
+        b0 += w0 * w0
+        b1 += w1 * w1
+        b2 += w2 * w2
+        b3 += w3 * w3
+    for i in range(m, n):
+        a0 += v[i]
+        b0 += v[i] * v[i]
+    s1 = (a0 + a1) + (a2 + a3)
+    s2 = (b0 + b1) + (b2 + b3)
+    u = s1 / n
+    c0 = c1 = c2 = c3 = 0.0
+    for i in range(0, m, 4):
+        d0, d1, d2, d3 = v[i] - u, v[i + 1] - u, v[i + 2] - u, v[i + 3] - u
+        c0 += d0 * d0
+        c1 += d1 * d1
+        c2 += d2 * d2
+        c3 += d3 * d3
+    for i in range(m, n):
+        c0 += (v[i] - u) * (v[i] - u)
+    return s1, s2, ((c0 + c1) + (c2 + c3)) / n
+
+
+@jit
+def rod_positions_at(t, x, v, tl, sigma, big_l, out):  # pragma: no cover - compiled
+    """Rod left ends at time ``t`` in ``[0, big_l)`` into ``out`` (shape (N,)).
+
+    ``np.mod(x + v (t - tl) + sigma i, big_l)`` element by element, as numpy computes it.
+    """
+    for i in range(x.shape[0]):
+        out[i] = np.mod(x[i] + v[i] * (t - tl[i]) + sigma * i, big_l)
 
 
 @jit
