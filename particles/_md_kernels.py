@@ -50,11 +50,9 @@ Kicks: :math:`v_i \\to d\\,v_i + b\\,\\xi_i`, white noise with :math:`d = 1`,
 :math:`b = \\sqrt{2 D \\Delta t_k}`, or the exact Ornstein-Uhlenbeck update of a
 Fokker-Planck bath over the kick interval, :math:`d = e^{-\\xi \\Delta t_k}`,
 :math:`b = \\sqrt{T_b (1 - e^{-2\\xi\\Delta t_k})}`; the standard normals ``xi``
-drawn inside the kernel by the ziggurat of :mod:`particles.rng` (its
-tables and rare paths; the fast path is inlined) from an explicit-state
-xoshiro256** generator (``rng``, ``uint64[4]``, seeded by the driver
-and saved in checkpoints): about 2.5 ns per normal against 10 ns for a numpy normal
-here.  All kernels take arrays and scalars only.
+drawn inside the kernel by the branch-free, vectorised Box-Muller transform of
+:mod:`particles._md_kicks` on a counter-based splitmix64 stream (``rng``, ``uint64[1]``,
+seeded by the driver and saved in checkpoints).  All kernels take arrays and scalars only.
 """
 
 from __future__ import annotations
@@ -75,14 +73,13 @@ from ._md_calendar import (
     bucket_of,
     calendar_start,
 )
-from ._md_kicks import fill_normals, kick_sweep
-from .rng import ziggurat_tables
+from ._md_kicks import STREAM_VERSION, fill_normals, kick_sweep
 
 __all__ = ["F_T", "F_T_KICK", "F_DISS", "F_INJ", "F_BASE", "F_INV_W", "F_HORIZON", "F_SPAN",
            "I_NCOLL", "I_HSIZE", "I_STALL", "I_NKICK", "I_NELASTIC", "I_BAD_PAIR", "I_CUR",
            "I_NB", "I_EPOCH_C0", "STATUS_COLLISIONS", "STATUS_TIME",
            "STATUS_COLLAPSE_SPEED", "STATUS_COLLAPSE_STALL", "STATUS_NO_EVENTS",
-           "STATUS_LAW_RANGE", "N_FSTATE", "N_ISTATE", "HEAP_PAD", "ZIGGURAT",
+           "STATUS_LAW_RANGE", "N_FSTATE", "N_ISTATE", "HEAP_PAD", "STREAM_VERSION",
            "PREFETCH_MIN_N", "bucket_of", "build_heap", "fill_normals", "kick_sweep",
            "run_events", "velocity_moments", "rod_positions_at"]
 
@@ -102,8 +99,6 @@ STATUS_COLLAPSE_STALL = 4  # too many consecutive collisions without time advanc
 STATUS_NO_EVENTS = 5  # no approaching pair and no kicks: free streaming forever
 STATUS_LAW_RANGE = 6  # a collision faster than the restitution law's range (I_BAD_PAIR)
 
-ZIGGURAT = ziggurat_tables()
-"""``(ki, wi, fi)`` of the 256-layer normal ziggurat, passed to the kernels."""
 PREFETCH_MIN_N = 1 << 14
 """From this N on (arrays beyond the 1 MiB L2 cache) :func:`run_events` prefetches."""
 
@@ -215,7 +210,7 @@ def rod_positions_at(t, x, v, tl, sigma, big_l, out):  # pragma: no cover - comp
 
 @jit
 def run_events(x, v, tl, heap, hkey, where, ptime, head, nxt, prv, bkt, fstate, istate, rng,
-               ki, wi, fi, normals, free_length, law, p0, p1, max_speed, threshold, kick_dt,
+               normals, free_length, law, p0, p1, max_speed, threshold, kick_dt,
                kick_decay, kick_amp, speed_floor, max_stall, t_stop,
                coll_stop):  # pragma: no cover - compiled
     """Advance the event-driven dynamics until a stop condition; return a status code.
@@ -234,11 +229,10 @@ def run_events(x, v, tl, heap, hkey, where, ptime, head, nxt, prv, bkt, fstate, 
         Collisions, heap size, stall counter, kicks, threshold (elastic) collisions,
         pair of the last collapse, calendar bucket and buckets, collisions at the
         start of the epoch.
-    rng : ndarray of uint64, shape (4,)
-        xoshiro256** state of the kick normals (unused when ``kick_dt`` is inf).
-    ki, wi, fi : ndarray, shape (256,)
-        Ziggurat tables (:data:`ZIGGURAT`).
-    normals : ndarray, shape (N,)
+    rng : ndarray of uint64, shape (1,)
+        Counter of the kick normals (:func:`particles._md_kicks.fill_normals`; unused
+        when ``kick_dt`` is inf).
+    normals : ndarray, shape (N + N % 2,)
         Scratch space for the normals of a kick.
     free_length : float
         Length of the reduced ring :math:`L - N\\sigma`.
@@ -324,7 +318,7 @@ def run_events(x, v, tl, heap, hkey, where, ptime, head, nxt, prv, bkt, fstate, 
                 nk = istate[I_NKICK] + 1
                 t = t_kick
                 t_kick = (nk + 1) * kick_dt
-                fill_normals(normals, rng, ki, wi, fi)
+                fill_normals(normals, rng)
                 fstate[F_INJ] += kick_sweep(t, t_kick, kick_decay, kick_amp, normals, x, v, tl,
                                             free_length, heap, hkey, where, ptime, head, nxt,
                                             prv, bkt, fstate, istate)
