@@ -27,7 +27,7 @@ __all__ = ["InelasticCollapseError", "Kicks", "EngineOptions", "MDEngine"]
 
 logger = logging.getLogger(__name__)
 
-_JIT = not numba.config.DISABLE_JIT
+_JIT = not numba.config.DISABLE_JIT  # type: ignore[attr-defined]
 
 
 class InelasticCollapseError(RuntimeError):
