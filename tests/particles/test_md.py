@@ -20,7 +20,7 @@ from kinetic_fem.sonine import a2_first_order, haff_temperature, steady_temperat
 from particles import _md_kernels as K
 from particles import md
 from particles._md_kicks import box_muller
-from particles.sampling import run_replicas, spawn_seeds
+from particles.sampling import load_checkpoint, run_replicas, save_checkpoint, spawn_seeds
 
 
 def ring_gaps(x: np.ndarray, length: float) -> np.ndarray:
@@ -215,6 +215,21 @@ def test_checkpoint_resume_is_bit_identical(tmp_path, problem):
     assert np.array_equal(again.distribution.values, whole.distribution.values)
     with pytest.raises(ValueError, match="different run"):
         sim(0.8, 150, checkpoint=path, resume=True, **kw)
+
+
+def test_checkpoint_of_the_old_random_stream_is_refused(tmp_path):
+    """A checkpoint of stream version 1 (ziggurat kicks, no ``md_stream``) cannot resume."""
+    kw = {"seed": 4, "collisions_per_particle": 20.0}
+    path = tmp_path / "md.npz"
+    with pytest.raises(RuntimeError, match="resume"):
+        md.simulate_heated(0.9, 100, checkpoint=path, max_wall_time=1e-9, **kw)
+    arrays, meta = load_checkpoint(path)
+    assert int(arrays["md_stream"][0]) == K.STREAM_VERSION
+    del arrays["md_stream"]  # as written before the stream had a version
+    arrays["md_rng_state"] = np.array([1, 2, 3, 4], np.uint64)
+    save_checkpoint(path, arrays, meta)
+    with pytest.raises(ValueError, match="version 1 of the MD random stream"):
+        md.simulate_heated(0.9, 100, checkpoint=path, resume=True, **kw)
 
 
 def test_checkpoint_arguments_are_those_of_dsmc(tmp_path):
