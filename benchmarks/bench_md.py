@@ -89,12 +89,11 @@ def _kick_cost(alpha: float, n: int, kick_fraction: float, repeats: int = 200) -
                   kick_fraction)
     eng.advance(10 * n)
     tk, dt = eng.fstate[K.F_T_KICK], eng.kick_dt
-    ki, wi, fi = K.ZIGGURAT
     best = np.inf
     for _ in range(5):
         start = time.process_time()
         for _ in range(repeats):
-            K.fill_normals(eng.xi, eng.rng_state, ki, wi, fi)
+            K.fill_normals(eng.xi, eng.rng_state)
             eng.head[:eng.istate[K.I_NB]] = -1  # (the previous sweep's buckets: empty)
             K.kick_sweep(tk, tk + dt, 1.0, 0.0, eng.xi, eng.x, eng.v, eng.tl, eng.free_length,
                          eng.heap, eng.hkey, eng.where, eng.ptime, eng.head, eng.nxt, eng.prv,

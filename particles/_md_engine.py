@@ -15,6 +15,7 @@ import math
 from dataclasses import dataclass, field
 from typing import Mapping, NoReturn
 
+import numba
 import numpy as np
 from numpy.typing import NDArray
 
@@ -25,6 +26,8 @@ from . import _md_kernels as K
 __all__ = ["InelasticCollapseError", "Kicks", "EngineOptions", "MDEngine"]
 
 logger = logging.getLogger(__name__)
+
+_JIT = not numba.config.DISABLE_JIT  # type: ignore[attr-defined]
 
 
 class InelasticCollapseError(RuntimeError):
@@ -148,16 +151,16 @@ class MDEngine:
         self.fstate = np.zeros(K.N_FSTATE)
         self.istate = np.zeros(K.N_ISTATE, np.int64)
         self.fstate[K.F_T_KICK] = kick_dt
-        self.rng_state = rng.bit_generator.random_raw(4).astype(np.uint64)
-        if not self.rng_state.any():  # xoshiro256** must not start from zero
-            self.rng_state[0] = 1
-        self.xi = np.zeros(n)  # scratch: the normals of one kick
+        # the counter of the kick normals (_md_kicks.fill_normals)
+        self.rng_state = rng.bit_generator.random_raw(1).astype(np.uint64)
+        self.stream = np.array([K.STREAM_VERSION], np.int64)
+        self.xi = np.zeros(n + n % 2)  # scratch: the normals of one kick (even length)
         self.free_length, self.sigma = o.free_length, o.sigma
         self.kick_dt = kick_dt
         law = o.restitution
         self._law = (law.code, *law.parameters, law.max_speed, o.elastic_below)
         self._temp_key: tuple[int, int] | None = None
-        self._temp = math.nan
+        self._moments = (math.nan, math.nan, math.nan)
         # free cooling: calendar epochs of about N collisions, the first from T
         # (collision rate N n_f sqrt(T/pi) of points at the reduced density n_f)
         temp = float(np.var(self.v)) if n > 1 else 0.0
@@ -167,9 +170,10 @@ class MDEngine:
         K.build_heap(0.0, horizon, self.x, self.v, self.tl, o.free_length, self.heap,
                      self.hkey, self.where, self.ptime, self.head, self.nxt, self.prv,
                      self.bkt, self.fstate, self.istate)
+        self._args = self._kernel_args()
 
     _ARRAYS = ("x", "v", "tl", "heap", "hkey", "where", "ptime", "head", "nxt", "prv", "bkt",
-               "fstate", "istate", "rng_state")
+               "fstate", "istate", "rng_state", "stream")
 
     def state(self) -> dict[str, NDArray]:
         return {f"md_{k}": getattr(self, k).copy() for k in self._ARRAYS}
@@ -179,20 +183,40 @@ class MDEngine:
             raise ValueError("the checkpoint was written by an older version of the MD "
                              "engine (other event calendar layout); it cannot be "
                              "resumed, rerun from the start")
+        version = int(arrays["md_stream"][0]) if "md_stream" in arrays else 1
+        if version != K.STREAM_VERSION:
+            raise ValueError(f"the checkpoint was written with version {version} of the MD "
+                             f"random stream (kick normals), this engine draws version "
+                             f"{K.STREAM_VERSION}: it cannot be resumed bit-identically, "
+                             "rerun from the start")
         for k in self._ARRAYS:
             setattr(self, k, np.array(arrays[f"md_{k}"]))
         self._temp_key = None
+        self._args = self._kernel_args()
+
+    def _kernel_args(self) -> tuple:
+        """The arrays and constants of :func:`K.run_events` before the stop arguments."""
+        o = self.options
+        return (self.x, self.v, self.tl, self.heap, self.hkey, self.where, self.ptime,
+                self.head, self.nxt, self.prv, self.bkt, self.fstate, self.istate,
+                self.rng_state, self.xi, self.free_length, *self._law, self.kick_dt,
+                o.kicks.decay, o.kicks.amplitude)
 
     @property
     def n_collisions(self) -> int:
         return int(self.istate[K.I_NCOLL])
 
-    def temperature(self) -> float:
-        """``var(v)``; cached until the next collision or kick changes ``v``."""
+    def moments(self) -> tuple[float, float, float]:
+        """``(sum v, sum v^2, var v)``; cached until a collision or kick changes ``v``."""
         key = (int(self.istate[K.I_NCOLL]), int(self.istate[K.I_NKICK]))
         if self._temp_key != key:
-            self._temp_key, self._temp = key, float(np.var(self.v))
-        return self._temp
+            s1, s2, var = K.velocity_moments(self.v)
+            self._temp_key, self._moments = key, (float(s1), float(s2), float(var))
+        return self._moments
+
+    def temperature(self) -> float:
+        """``var(v)`` (central); cached until the next collision or kick changes ``v``."""
+        return self.moments()[2]
 
     def advance(self, coll_target: int, t_stop: float = np.inf) -> bool:
         """Run until ``coll_target`` collisions in total or time ``t_stop``.
@@ -201,13 +225,11 @@ class MDEngine:
         """
         o = self.options
         floor = o.collapse_tol * math.sqrt(max(self.temperature(), 1e-300))
-        with np.errstate(over="ignore"):  # uint64 wrap-around of the generator (no-JIT mode)
-            status = K.run_events(self.x, self.v, self.tl, self.heap, self.hkey,
-                                  self.where, self.ptime, self.head, self.nxt, self.prv,
-                                  self.bkt, self.fstate, self.istate, self.rng_state,
-                                  *K.ZIGGURAT, self.xi, self.free_length, *self._law,
-                                  self.kick_dt, o.kicks.decay, o.kicks.amplitude, floor,
-                                  o.max_stall, t_stop, coll_target)
+        if _JIT:
+            status = K.run_events(*self._args, floor, o.max_stall, t_stop, coll_target)
+        else:
+            with np.errstate(over="ignore"):  # uint64 wrap-around of the generator
+                status = K.run_events(*self._args, floor, o.max_stall, t_stop, coll_target)
         if status == K.STATUS_COLLISIONS:
             return False
         if status == K.STATUS_TIME:
@@ -238,6 +260,7 @@ class MDEngine:
     def rod_positions(self, t: float | None = None) -> NDArray[np.float64]:
         """Rod left ends at time ``t`` (default: the last event), in ``[0, L)``, ring order."""
         t = self.fstate[K.F_T] if t is None else t
-        y = self.x + self.v * (t - self.tl)
-        big_l = self.free_length + self.sigma * y.size
-        return np.mod(y + self.sigma * np.arange(y.size), big_l)
+        out = np.empty(self.x.size)
+        K.rod_positions_at(float(t), self.x, self.v, self.tl, self.sigma,
+                           self.free_length + self.sigma * self.x.size, out)
+        return out

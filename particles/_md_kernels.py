@@ -50,11 +50,9 @@ Kicks: :math:`v_i \\to d\\,v_i + b\\,\\xi_i`, white noise with :math:`d = 1`,
 :math:`b = \\sqrt{2 D \\Delta t_k}`, or the exact Ornstein-Uhlenbeck update of a
 Fokker-Planck bath over the kick interval, :math:`d = e^{-\\xi \\Delta t_k}`,
 :math:`b = \\sqrt{T_b (1 - e^{-2\\xi\\Delta t_k})}`; the standard normals ``xi``
-drawn inside the kernel by the ziggurat of :mod:`particles.rng` (its
-tables and rare paths; the fast path is inlined) from an explicit-state
-xoshiro256** generator (``rng``, ``uint64[4]``, seeded by the driver
-and saved in checkpoints): about 2.5 ns per normal against 10 ns for a numpy normal
-here.  All kernels take arrays and scalars only.
+drawn inside the kernel by the branch-free, vectorised Box-Muller transform of
+:mod:`particles._md_kicks` on a counter-based splitmix64 stream (``rng``, ``uint64[1]``,
+seeded by the driver and saved in checkpoints).  All kernels take arrays and scalars only.
 """
 
 from __future__ import annotations
@@ -75,16 +73,15 @@ from ._md_calendar import (
     bucket_of,
     calendar_start,
 )
-from ._md_kicks import fill_normals, kick_sweep
-from .rng import ziggurat_tables
+from ._md_kicks import STREAM_VERSION, fill_normals, kick_sweep
 
 __all__ = ["F_T", "F_T_KICK", "F_DISS", "F_INJ", "F_BASE", "F_INV_W", "F_HORIZON", "F_SPAN",
            "I_NCOLL", "I_HSIZE", "I_STALL", "I_NKICK", "I_NELASTIC", "I_BAD_PAIR", "I_CUR",
            "I_NB", "I_EPOCH_C0", "STATUS_COLLISIONS", "STATUS_TIME",
            "STATUS_COLLAPSE_SPEED", "STATUS_COLLAPSE_STALL", "STATUS_NO_EVENTS",
-           "STATUS_LAW_RANGE", "N_FSTATE", "N_ISTATE", "HEAP_PAD", "ZIGGURAT",
+           "STATUS_LAW_RANGE", "N_FSTATE", "N_ISTATE", "HEAP_PAD", "STREAM_VERSION",
            "PREFETCH_MIN_N", "bucket_of", "build_heap", "fill_normals", "kick_sweep",
-           "run_events"]
+           "run_events", "velocity_moments", "rod_positions_at"]
 
 # slots of the float state vector (F_BASE, F_INV_W, F_HORIZON = 4, 5, 6: the calendar's)
 F_T, F_T_KICK, F_DISS, F_INJ = 0, 1, 2, 3
@@ -102,8 +99,6 @@ STATUS_COLLAPSE_STALL = 4  # too many consecutive collisions without time advanc
 STATUS_NO_EVENTS = 5  # no approaching pair and no kicks: free streaming forever
 STATUS_LAW_RANGE = 6  # a collision faster than the restitution law's range (I_BAD_PAIR)
 
-ZIGGURAT = ziggurat_tables()
-"""``(ki, wi, fi)`` of the 256-layer normal ziggurat, passed to the kernels."""
 PREFETCH_MIN_N = 1 << 14
 """From this N on (arrays beyond the 1 MiB L2 cache) :func:`run_events` prefetches."""
 
@@ -163,8 +158,59 @@ def build_heap(t, t_cut, x, v, tl, free_length, heap, hkey, where, ptime, head, 
 
 
 @jit
+def velocity_moments(v):  # pragma: no cover - compiled
+    """``(sum v, sum v^2, var v)`` of ``v`` (shape (N,)); the variance is central.
+
+    Four interleaved partial sums per pass (independent additions, about 1 ns per
+    element less than one running sum), the variance from a second pass around the
+    mean: one compiled call instead of the numpy ``mean``, ``var`` and ``sum`` calls
+    at every record and sample (about 40 us at N = 5000).
+    """
+    n = v.shape[0]
+    a0 = a1 = a2 = a3 = 0.0
+    b0 = b1 = b2 = b3 = 0.0
+    m = n - n % 4
+    for i in range(0, m, 4):
+        w0, w1, w2, w3 = v[i], v[i + 1], v[i + 2], v[i + 3]
+        a0 += w0
+        a1 += w1
+        a2 += w2
+        a3 += w3
+        b0 += w0 * w0
+        b1 += w1 * w1
+        b2 += w2 * w2
+        b3 += w3 * w3
+    for i in range(m, n):
+        a0 += v[i]
+        b0 += v[i] * v[i]
+    s1 = (a0 + a1) + (a2 + a3)
+    s2 = (b0 + b1) + (b2 + b3)
+    u = s1 / n
+    c0 = c1 = c2 = c3 = 0.0
+    for i in range(0, m, 4):
+        d0, d1, d2, d3 = v[i] - u, v[i + 1] - u, v[i + 2] - u, v[i + 3] - u
+        c0 += d0 * d0
+        c1 += d1 * d1
+        c2 += d2 * d2
+        c3 += d3 * d3
+    for i in range(m, n):
+        c0 += (v[i] - u) * (v[i] - u)
+    return s1, s2, ((c0 + c1) + (c2 + c3)) / n
+
+
+@jit
+def rod_positions_at(t, x, v, tl, sigma, big_l, out):  # pragma: no cover - compiled
+    """Rod left ends at time ``t`` in ``[0, big_l)`` into ``out`` (shape (N,)).
+
+    ``np.mod(x + v (t - tl) + sigma i, big_l)`` element by element, as numpy computes it.
+    """
+    for i in range(x.shape[0]):
+        out[i] = np.mod(x[i] + v[i] * (t - tl[i]) + sigma * i, big_l)
+
+
+@jit
 def run_events(x, v, tl, heap, hkey, where, ptime, head, nxt, prv, bkt, fstate, istate, rng,
-               ki, wi, fi, normals, free_length, law, p0, p1, max_speed, threshold, kick_dt,
+               normals, free_length, law, p0, p1, max_speed, threshold, kick_dt,
                kick_decay, kick_amp, speed_floor, max_stall, t_stop,
                coll_stop):  # pragma: no cover - compiled
     """Advance the event-driven dynamics until a stop condition; return a status code.
@@ -183,11 +229,10 @@ def run_events(x, v, tl, heap, hkey, where, ptime, head, nxt, prv, bkt, fstate, 
         Collisions, heap size, stall counter, kicks, threshold (elastic) collisions,
         pair of the last collapse, calendar bucket and buckets, collisions at the
         start of the epoch.
-    rng : ndarray of uint64, shape (4,)
-        xoshiro256** state of the kick normals (unused when ``kick_dt`` is inf).
-    ki, wi, fi : ndarray, shape (256,)
-        Ziggurat tables (:data:`ZIGGURAT`).
-    normals : ndarray, shape (N,)
+    rng : ndarray of uint64, shape (1,)
+        Counter of the kick normals (:func:`particles._md_kicks.fill_normals`; unused
+        when ``kick_dt`` is inf).
+    normals : ndarray, shape (N + N % 2,)
         Scratch space for the normals of a kick.
     free_length : float
         Length of the reduced ring :math:`L - N\\sigma`.
@@ -273,7 +318,7 @@ def run_events(x, v, tl, heap, hkey, where, ptime, head, nxt, prv, bkt, fstate, 
                 nk = istate[I_NKICK] + 1
                 t = t_kick
                 t_kick = (nk + 1) * kick_dt
-                fill_normals(normals, rng, ki, wi, fi)
+                fill_normals(normals, rng)
                 fstate[F_INJ] += kick_sweep(t, t_kick, kick_decay, kick_amp, normals, x, v, tl,
                                             free_length, heap, hkey, where, ptime, head, nxt,
                                             prv, bkt, fstate, istate)

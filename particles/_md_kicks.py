@@ -5,45 +5,171 @@ A kick moves every rod to the kick time :math:`t_k` and updates
 bath: the exact Ornstein-Uhlenbeck transition, see :class:`particles.md.Kicks`), then
 starts the event calendar's next epoch :math:`[t_k, t_k + \\Delta t_k)`
 (:func:`particles._md_calendar.calendar_start`) with the pairs that meet before the
-following kick.  The standard normals :math:`\\xi_i` come from the ziggurat of
-:mod:`particles.rng` on an explicit-state xoshiro256** generator.  Arrays and scalars
-only; called from :func:`particles._md_kernels.run_events`.
+following kick.  The standard normals :math:`\\xi_i` come from a branch-free
+Box-Muller transform on a counter-based splitmix64 stream (:func:`fill_normals`; its
+state, one ``uint64``, is saved in checkpoints with :data:`STREAM_VERSION`).  Arrays
+and scalars only; called from :func:`particles._md_kernels.run_events`.
 """
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
+from llvmlite import ir
+from numba.core import types
+from numba.extending import intrinsic, overload
 
 from ._jit import jit
 from ._md_calendar import I_HSIZE, calendar_start
-from .rng import normal_slow, xoshiro
 
-__all__ = ["fill_normals", "kick_sweep"]
+__all__ = ["STREAM_VERSION", "as_u64", "as_f64", "box_muller", "fill_normals", "kick_sweep"]
 
 
-@jit
-def fill_normals(out, rng, ki, wi, fi):  # pragma: no cover - compiled
-    """Fill ``out`` with standard normals: ziggurat on xoshiro256** from state ``rng``.
+STREAM_VERSION = 2
+"""Version of the MD's random stream and event order, saved in checkpoints.
 
-    The fast path (one 64-bit number, a table look-up, one comparison; 99 % of the
-    draws) is inlined with the generator state in registers; wedge and tail go to
-    :func:`particles.rng.normal_slow` with the state written back.
+1: kick normals from the ziggurat on xoshiro256** (state ``uint64[4]``); 2: the
+Box-Muller normals of :func:`fill_normals` on a splitmix64 counter (``uint64[1]``).
+A checkpoint of another version is refused: it could not resume bit-identically."""
+
+_ONE = 0x3FF0000000000000  # bits of 1.0
+_MANT = 0x000FFFFFFFFFFFFF
+_TWO52 = 0x4330000000000000  # bits of 2^52
+_GAMMA = 0x9E3779B97F4A7C15  # splitmix64's Weyl increment
+
+
+def as_u64(x):
+    """The bits of the float64 ``x`` as a uint64 (a bit cast; compiled: one register move)."""
+    return np.float64(x).view(np.uint64)
+
+
+def as_f64(b):
+    """The float64 whose bits are the uint64 ``b``."""
+    return np.uint64(b).view(np.float64)
+
+
+@intrinsic
+def _bits_u64(typingctx, x):  # pragma: no cover - compiled
+    def codegen(context, builder, signature, args):
+        return builder.bitcast(args[0], ir.IntType(64))
+
+    return types.uint64(types.float64), codegen
+
+
+@intrinsic
+def _bits_f64(typingctx, b):  # pragma: no cover - compiled
+    def codegen(context, builder, signature, args):
+        return builder.bitcast(args[0], ir.DoubleType())
+
+    return types.float64(types.uint64), codegen
+
+
+@overload(as_u64, jit_options={"cache": True})  # type: ignore[typeddict-unknown-key]
+def _as_u64_jit(x):  # pragma: no cover - compiled
+    return lambda x: _bits_u64(x)
+
+
+@overload(as_f64, jit_options={"cache": True})  # type: ignore[typeddict-unknown-key]
+def _as_f64_jit(b):  # pragma: no cover - compiled
+    return lambda b: _bits_f64(b)
+
+
+@jit(inline="always")
+def _splitmix(z):  # pragma: no cover - compiled
+    """The splitmix64 finaliser (Steele, Lea and Flood 2014) of the counter value ``z``."""
+    z = (z ^ (z >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
+    z = (z ^ (z >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
+    return z ^ (z >> np.uint64(31))
+
+
+@jit(inline="always", error_model="numpy")
+def box_muller(a, b):  # pragma: no cover - compiled
+    """Two independent standard normals from the 64-bit numbers ``a``, ``b``; no branch.
+
+    Radius :math:`R = \\sqrt{-2\\ln u}`, :math:`u = 1 - k/2^{52} \\in (0, 1]` from
+    the high 52 bits of ``a`` (so :math:`|z| \\le 8.49`, probability 2e-17 lost);
+    :math:`\\ln u = e\\ln 2 + 2\\,\\mathrm{atanh}\\,s`, :math:`s = (m - 1)/(m + 1)`
+    with the mantissa :math:`m \\in [\\sqrt{1/2}, \\sqrt 2)` and the atanh series
+    to :math:`s^{19}` (relative error below 4e-16).  Angle
+    :math:`\\theta = \\tfrac{\\pi}{2}(f - \\tfrac12)`, ``f`` from 52 bits of ``b``;
+    sine and cosine by their Taylor series to :math:`\\theta^{15}` and
+    :math:`\\theta^{16}` (error below 2e-16); three low bits of ``a`` pick the quadrant
+    (swap and two signs), so the angle is uniform on the circle.  The polynomials are
+    those of the shared C yardstick (``md_edmd.c``); written without branches and
+    without integer-to-float conversions (bit casts instead), a loop over these
+    vectorises.
     """
-    s0, s1, s2, s3 = rng[0], rng[1], rng[2], rng[3]
-    for i in range(out.shape[0]):
-        r, s0, s1, s2, s3 = xoshiro(s0, s1, s2, s3)
-        idx = int(r & np.uint64(0xFF))
-        r >>= np.uint64(8)
-        rabs = (r >> np.uint64(1)) & np.uint64(0x000FFFFFFFFFFFFF)
-        z = float(np.int64(rabs)) * wi[idx]  # rabs < 2^52: exact conversion
-        if r & np.uint64(1):
-            z = -z
-        if rabs >= ki[idx]:
-            rng[0], rng[1], rng[2], rng[3] = s0, s1, s2, s3
-            z = normal_slow(rng, idx, z, ki, wi, fi)
-            s0, s1, s2, s3 = rng[0], rng[1], rng[2], rng[3]
-        out[i] = z
-    rng[0], rng[1], rng[2], rng[3] = s0, s1, s2, s3
+    one = np.uint64(_ONE)
+    u = 2.0 - as_f64((a >> np.uint64(12)) | one)
+    bits = as_u64(u)
+    e = as_f64((bits >> np.uint64(52)) | np.uint64(_TWO52)) - (4503599627370496.0 + 1023.0)
+    m = as_f64((bits & np.uint64(_MANT)) | one)
+    big = m > 1.4142135623730951
+    m = 0.5 * m if big else m
+    e = e + 1.0 if big else e
+    s = (m - 1.0) / (m + 1.0)
+    z = s * s
+    p = 1.0 / 19.0
+    p = p * z + 1.0 / 17.0
+    p = p * z + 1.0 / 15.0
+    p = p * z + 1.0 / 13.0
+    p = p * z + 1.0 / 11.0
+    p = p * z + 1.0 / 9.0
+    p = p * z + 1.0 / 7.0
+    p = p * z + 1.0 / 5.0
+    p = p * z + 1.0 / 3.0
+    p = p * z
+    s2 = s + s
+    lg = e * 0.6931471805599453 + (s2 * p + s2)
+    r = math.sqrt(-2.0 * lg)
+    th = (as_f64((b >> np.uint64(12)) | one) - 1.5) * 1.5707963267948966
+    t2 = th * th
+    sp = -1.0 / 1307674368000.0
+    sp = sp * t2 + 1.0 / 6227020800.0
+    sp = sp * t2 - 1.0 / 39916800.0
+    sp = sp * t2 + 1.0 / 362880.0
+    sp = sp * t2 - 1.0 / 5040.0
+    sp = sp * t2 + 1.0 / 120.0
+    sp = sp * t2 - 1.0 / 6.0
+    sn = (sp * t2) * th + th
+    cp = 1.0 / 20922789888000.0
+    cp = cp * t2 - 1.0 / 87178291200.0
+    cp = cp * t2 + 1.0 / 479001600.0
+    cp = cp * t2 - 1.0 / 3628800.0
+    cp = cp * t2 + 1.0 / 40320.0
+    cp = cp * t2 - 1.0 / 720.0
+    cp = cp * t2 + 1.0 / 24.0
+    cp = cp * t2 - 0.5
+    cs = cp * t2 + 1.0
+    swap = (a & np.uint64(4)) != np.uint64(0)
+    z1 = r * (cs if swap else sn)
+    z2 = r * (sn if swap else cs)
+    z1 = as_f64(as_u64(z1) ^ (a << np.uint64(63)))  # sign bits of a flip the signs
+    z2 = as_f64(as_u64(z2) ^ ((a >> np.uint64(1)) << np.uint64(63)))
+    return z1, z2
+
+
+@jit(error_model="numpy")
+def fill_normals(out, counter):  # pragma: no cover - compiled
+    """Fill ``out`` (even length) with standard normals; advance ``counter`` (uint64[1]).
+
+    Pair ``k`` of Box-Muller normals (:func:`box_muller`) comes from the splitmix64
+    values of the counter steps ``2k + 1`` and ``2k + 2``: a counter-based stream with
+    no dependency between pairs, so the loop vectorises (about 1.5x faster than the
+    ziggurat on xoshiro256** it replaces, measured in one process on a loaded
+    machine: 5.1-5.3 against 7.8-7.9 ns per normal).  The first normal of pair ``k``
+    goes to ``out[k]``, the second to ``out[N/2 + k]``.
+    """
+    c = counter[0]
+    h = out.shape[0] // 2
+    g = np.uint64(_GAMMA)
+    for k in range(h):
+        w = c + np.uint64(2 * k + 1) * g
+        z1, z2 = box_muller(_splitmix(w), _splitmix(w + g))
+        out[k] = z1
+        out[h + k] = z2
+    counter[0] = c + np.uint64(2 * h) * g
 
 
 @jit

@@ -39,7 +39,7 @@ from .run import Checkpointing, ParticleRun
 from .sampling import Accumulator, load_checkpoint, save_checkpoint
 
 __all__ = ["MDRun", "Snapshot", "DensityFluctuations", "density_fluctuations",
-           "box_square_sums", "RunPlan",
+           "box_square_sums", "BoxCounts", "RunPlan",
            "Checkpointing", "run_md", "json_params", "SERIES"]
 
 logger = logging.getLogger(__name__)
@@ -173,20 +173,44 @@ def density_fluctuations(x: NDArray[np.float64], length: float,
     -------
     ndarray, shape (k, 2)
     """
-    out = np.empty((len(n_boxes), 2))
-    finest: dict[int, int] = {}
-    for m in n_boxes:
-        odd = m // (m & -m)
-        finest[odd] = max(finest.get(odd, 0), m)
-    n = x.size
-    for odd, big in finest.items():
-        ms = np.array([m for m in n_boxes if m // (m & -m) == odd], np.int64)
-        sq = box_square_sums(x, big / length, big, ms)
-        for m, s2 in zip(ms.tolist(), sq.tolist(), strict=True):
-            k = list(n_boxes).index(m)
+    return BoxCounts(n_boxes).fluctuations(x, length)
+
+
+class BoxCounts:
+    """The grouping of :func:`density_fluctuations`, worked out once for a run's samples.
+
+    Parameters
+    ----------
+    n_boxes : sequence of int
+        Numbers of boxes ``m``.
+    """
+
+    def __init__(self, n_boxes: Sequence[int]) -> None:
+        boxes = [int(m) for m in n_boxes]
+        finest: dict[int, int] = {}
+        for m in boxes:
+            odd = m // (m & -m)
+            finest[odd] = max(finest.get(odd, 0), m)
+        self.n_boxes = np.array(boxes, np.int64)
+        # per odd factor: the finest count, the numbers of boxes and their rows
+        self.groups = [(big, np.array([m for m in boxes if m // (m & -m) == odd], np.int64),
+                        np.array([k for k, m in enumerate(boxes) if m // (m & -m) == odd],
+                                 np.int64)) for odd, big in finest.items()]
+
+    def fluctuations(self, x: NDArray[np.float64], length: float) -> NDArray[np.float64]:
+        """Mean count and variance over mean per number of boxes, shape (k, 2)."""
+        sq = np.empty(self.n_boxes.size, np.int64)
+        for big, ms, rows in self.groups:
+            sq[rows] = box_square_sums(x, big / length, big, ms)
+        return self.from_square_sums(x.size, sq)
+
+    def from_square_sums(self, n: int, sq: NDArray[np.int64]) -> NDArray[np.float64]:
+        """Rows of :meth:`fluctuations` from the sums of squared counts ``sq``."""
+        out = np.empty((self.n_boxes.size, 2))
+        for k, (m, s2) in enumerate(zip(self.n_boxes.tolist(), sq.tolist(), strict=True)):
             # exact integers: mean n/m, variance/mean (m s2 - n^2)/(m n), one rounding each
             out[k] = n / m, (m * s2 - n * n) / (m * n)
-    return out
+        return out
 
 
 @jit
@@ -296,7 +320,8 @@ def run_md(params: dict[str, Any], *, seed: Any, y: NDArray, v: NDArray,
     records: list[list[float]] = []
     snaps: list[Snapshot] = []
     dens = np.zeros((len(boxes), 2))
-    first, done, e0, p0 = 0, None, float(0.5 * np.sum(v * v)), float(np.sum(v))
+    p0, e0, _ = eng.moments()
+    first, done, e0 = 0, None, 0.5 * e0
     ck.guard("md", ("params", json_params(params)))
     if ck.resume and ck.path is not None and ck.path.exists():
         current = {**eng.state(), **acc.state()}
@@ -318,12 +343,15 @@ def run_md(params: dict[str, Any], *, seed: Any, y: NDArray, v: NDArray,
     bar = tqdm(total=int(stops[-1]), initial=int(stops[first - 1]) if first else 0,
                disable=not progress, unit="coll", desc="MD")
 
+    counts = BoxCounts(boxes)
+
     def take_sample(batch: int, at: float | None) -> None:
         nonlocal dens, n_sampled
         vel = eng.v
-        u, temp = float(vel.mean()), eng.temperature()
+        s1, _, temp = eng.moments()
+        u = s1 / n
         acc.add(batch, (vel - u) / math.sqrt(temp) if plan.scaled else vel - u)
-        dens += density_fluctuations(eng.rod_positions(at), big_l, boxes)
+        dens += counts.fluctuations(eng.rod_positions(at), big_l)
         n_sampled += 1
 
     def save() -> None:
@@ -352,12 +380,13 @@ def run_md(params: dict[str, Any], *, seed: Any, y: NDArray, v: NDArray,
             eng.advance(target)
         bar.update(target - bar.n)
         vel, t = eng.v, float(eng.fstate[K.F_T])
-        u, temp = float(vel.mean()), eng.temperature()
+        s1, s2, temp = eng.moments()
+        u = s1 / n
         if target in rec_at:
             ncoll = max(eng.n_collisions, 1)
-            records.append([t, 2.0 * target / n, temp, float(0.5 * np.sum(vel * vel)),
-                            float(eng.fstate[K.F_INJ]), float(eng.fstate[K.F_DISS]),
-                            float(np.sum(vel)), eng.istate[K.I_NELASTIC] / ncoll])
+            records.append([t, 2.0 * target / n, temp, 0.5 * s2, float(eng.fstate[K.F_INJ]),
+                            float(eng.fstate[K.F_DISS]), s1,
+                            eng.istate[K.I_NELASTIC] / ncoll])
         if target in sample_at:
             take_sample(sample_at[target] * n_batches // len(sample_at), None)
         if target in snap_at:

@@ -19,7 +19,8 @@ from kinetic_fem.model import ConstantRestitution, ViscoelasticRestitution
 from kinetic_fem.sonine import a2_first_order, haff_temperature, steady_temperature
 from particles import _md_kernels as K
 from particles import md
-from particles.sampling import run_replicas, spawn_seeds
+from particles._md_kicks import box_muller
+from particles.sampling import load_checkpoint, run_replicas, save_checkpoint, spawn_seeds
 
 
 def ring_gaps(x: np.ndarray, length: float) -> np.ndarray:
@@ -216,6 +217,21 @@ def test_checkpoint_resume_is_bit_identical(tmp_path, problem):
         sim(0.8, 150, checkpoint=path, resume=True, **kw)
 
 
+def test_checkpoint_of_the_old_random_stream_is_refused(tmp_path):
+    """A checkpoint of stream version 1 (ziggurat kicks, no ``md_stream``) cannot resume."""
+    kw = {"seed": 4, "collisions_per_particle": 20.0}
+    path = tmp_path / "md.npz"
+    with pytest.raises(RuntimeError, match="resume"):
+        md.simulate_heated(0.9, 100, checkpoint=path, max_wall_time=1e-9, **kw)
+    arrays, meta = load_checkpoint(path)
+    assert int(arrays["md_stream"][0]) == K.STREAM_VERSION
+    del arrays["md_stream"]  # as written before the stream had a version
+    arrays["md_rng_state"] = np.array([1, 2, 3, 4], np.uint64)
+    save_checkpoint(path, arrays, meta)
+    with pytest.raises(ValueError, match="version 1 of the MD random stream"):
+        md.simulate_heated(0.9, 100, checkpoint=path, resume=True, **kw)
+
+
 def test_checkpoint_arguments_are_those_of_dsmc(tmp_path):
     with pytest.raises(ValueError, match="needs a checkpoint path"):
         md.simulate_cooling(0.9, 10, resume=True)
@@ -284,10 +300,10 @@ def test_kick_sweep_heap_equals_full_rebuild():
     x -= v * (tk - tl)  # lazy positions of the other rods
     a = [x.copy(), v.copy(), tl.copy(), *_calendar(n)]
     b = [arr.copy() for arr in a]
-    state = np.array([1, 2, 3, 4], np.uint64)
+    state = np.array([1], np.uint64)
     with np.errstate(over="ignore"):  # uint64 generator arithmetic without JIT
         xi = np.empty(n)
-        K.fill_normals(xi, state, *K.ZIGGURAT)
+        K.fill_normals(xi, state)
         K.kick_sweep(tk, t_cut, 1.0, 0.0, xi, a[0], a[1], a[2], free, *a[3:])
     K.build_heap(tk, t_cut, b[0], b[1], b[2], free, *b[3:])
     cal_a, cal_b = _queued(*a[3:]), _queued(*b[3:])
@@ -393,19 +409,44 @@ def test_heap_invariants_after_many_events(kick, n):
 
 
 def test_kick_normals_are_standard_normal():
-    """The normals of a kick are independent standard normals (one block of 4e5)."""
+    """The normals of a kick are independent standard normals (one block of 4e5).
+
+    Moments up to the sixth, the tails beyond 2.5 and 3.65, and the neighbours in
+    the block (consecutive entries, and the two halves of a Box-Muller pair ``k``,
+    ``N/2 + k``), within 4 standard errors.
+    """
     n = 400_000
     xi = np.empty(n)
     with np.errstate(over="ignore"):  # uint64 generator arithmetic without JIT
-        K.fill_normals(xi, np.array([11, 12, 13, 14], np.uint64), *K.ZIGGURAT)
+        K.fill_normals(xi, np.array([11], np.uint64))
     assert stats.kstest(xi, "norm").pvalue > 1e-3
     se = 1 / math.sqrt(n)
     assert abs(xi.mean()) < 4 * se and abs(xi.var() - 1) < 4 * math.sqrt(2) * se
     assert abs(np.mean(xi**4) - 3) < 4 * math.sqrt(96) * se
+    assert abs(np.mean(xi**6) - 15) < 4 * math.sqrt(10395 - 225) * se
     assert abs(np.corrcoef(xi[1:], xi[:-1])[0, 1]) < 4 * se
-    tail = np.mean(np.abs(xi) > 3.6541528853610088)  # the tail sampler's share
-    p = math.erfc(3.6541528853610088 / math.sqrt(2))
-    assert abs(tail - p) < 4 * math.sqrt(p / n)
+    h = n // 2
+    assert abs(np.corrcoef(xi[:h], xi[h:])[0, 1]) < 4 * math.sqrt(2) * se
+    assert abs(np.corrcoef(xi[:h] ** 2, xi[h:] ** 2)[0, 1]) < 4 * math.sqrt(2) * se
+    for cut in (2.5, 3.6541528853610088):
+        tail = np.mean(np.abs(xi) > cut)
+        p = math.erfc(cut / math.sqrt(2))
+        assert abs(tail - p) < 4 * math.sqrt(p / n)
+
+
+def test_box_muller_matches_libm():
+    """The polynomial log, sin and cos of the kick normals agree with libm to 1e-15."""
+    rng = np.random.default_rng(3)
+    raw = rng.integers(0, 2**64, size=(2000, 2), dtype=np.uint64, endpoint=False)
+    for a, b in raw:
+        z1, z2 = box_muller(a, b)
+        u = 1.0 - float(int(a) >> 12) * 2.0**-52
+        r = math.sqrt(-2.0 * math.log(u))
+        th = (float(int(b) >> 12) * 2.0**-52 - 0.5) * math.pi / 2
+        c, s = (math.sin(th), math.cos(th)) if int(a) & 4 else (math.cos(th), math.sin(th))
+        e1 = r * s * (-1 if int(a) & 1 else 1)  # (sin, cos) unless bit 2 swaps them
+        e2 = r * c * (-1 if int(a) & 2 else 1)
+        assert abs(z1 - e1) <= 1e-15 * max(1.0, r) and abs(z2 - e2) <= 1e-15 * max(1.0, r)
 
 
 # --------------------------------------------------------------------------- examples
