@@ -124,3 +124,51 @@ def test_unsupported_and_bad_arguments():
         mg.steady_state(Mixture((1.0, 2.0), (0.5, 0.5)))
     with pytest.raises(ValueError, match="density"):
         mg.steady_state(maxw, density=-1.0)
+
+
+@pytest.mark.parametrize("alpha", [0.0, 0.3, 0.7, 0.95])
+def test_first_order_sonine_of_identical_species_is_van_noije_ernst(alpha):
+    from kinetic_fem.solvers import mixture_sonine as ms
+
+    heated = ms.steady_state(Mixture.white_noise((1.0, 1.0), (0.3, 0.7), alpha=alpha))
+    np.testing.assert_allclose(heated.a2, sonine.a2_first_order(alpha), rtol=1e-10,
+                               atol=1e-13)
+    np.testing.assert_allclose(heated.temperatures, sonine.steady_temperature(alpha),
+                               rtol=1e-12)
+    cool = ms.cooling_state(Mixture((1.0, 1.0), (0.3, 0.7), alpha=alpha))
+    a2 = 16.0 * (1.0 - 2.0 * alpha**2) / (33.0 + 30.0 * alpha**2)  # HCS, d = 1
+    np.testing.assert_allclose(cool.a2, a2, rtol=1e-10, atol=1e-13)
+    assert cool.zeta == pytest.approx((1.0 - alpha**2) / math.sqrt(math.pi)
+                                      * (1.0 + 3.0 * a2 / 16.0), rel=1e-12)
+
+
+@settings(max_examples=8, deadline=None)
+@given(mixtures)
+def test_first_order_sonine_is_exact_for_maxwell_mixtures(params):
+    """The a2_s a2_r products multiply eighth moments, absent from the v^4 balance."""
+    from kinetic_fem.solvers import mixture_sonine as ms
+
+    m2, x1, alpha, convention = params
+    heated = Mixture.white_noise((1.0, m2), (x1, 1.0 - x1), alpha=alpha, kernel=0.0,
+                                 convention=convention)
+    exact, son = mm.steady_state(heated), ms.steady_state(heated)
+    np.testing.assert_allclose(son.temperatures, exact.temperatures, rtol=1e-10)
+    np.testing.assert_allclose(son.a2, exact.a2, rtol=1e-9, atol=1e-12)
+    cooling = Mixture((1.0, m2), (x1, 1.0 - x1), alpha=alpha, kernel=0.0)
+    exact, son = mm.cooling_state(cooling), ms.cooling_state(cooling)
+    np.testing.assert_allclose(son.temperatures, exact.temperatures, rtol=1e-10)
+    assert son.zeta == pytest.approx(exact.zeta, rel=1e-10)
+    finite = np.isfinite(exact.a2)
+    np.testing.assert_allclose(son.a2[finite], exact.a2[finite], rtol=1e-8, atol=1e-11)
+
+
+@pytest.mark.parametrize("alpha", [0.5, 0.9])
+def test_results_do_not_depend_on_the_order_of_the_species(alpha):
+    """Masses (1, m) and (1, 1/m) are one mixture in other units, species swapped."""
+    from kinetic_fem.solvers import mixture_sonine as ms
+
+    for solve in (mg.cooling_state, ms.cooling_state):
+        a, b = solve(Mixture((1.0, 10.0), (0.3, 0.7), alpha=[[alpha, 0.6], [0.6, 0.4]])), \
+            solve(Mixture((1.0, 0.1), (0.7, 0.3), alpha=[[0.4, 0.6], [0.6, alpha]]))
+        np.testing.assert_allclose(a.a2, b.a2[::-1], rtol=1e-10, atol=1e-13)
+        assert a.temperature_ratio() * b.temperature_ratio() == pytest.approx(1.0, rel=1e-12)
