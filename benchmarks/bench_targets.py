@@ -41,7 +41,7 @@ from pathlib import Path  # noqa: E402
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from bench_fem_speed import cpu_yardstick  # noqa: E402
+from yardstick import cpu_yardstick  # noqa: E402
 
 import kinetic_fem as kf  # noqa: E402
 from kinetic_fem import solvers  # noqa: E402

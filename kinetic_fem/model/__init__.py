@@ -18,6 +18,7 @@ plus its rate in the FEM pair rule and its acceptance in the DSMC
 from .kernel import HARD_RODS, MAXWELL, PowerLawKernel, as_kernel
 from .kernel_base import CollisionKernel
 from .kernel_saturating import SaturatingKernel
+from .mixture import Mixture
 from .problem import CoolingProblem, HeatedProblem, InelasticGas
 from .restitution import (
     ConstantRestitution,
@@ -38,6 +39,7 @@ from .validation import (
 )
 
 __all__ = [
+    "Mixture",
     "CollisionKernel", "PowerLawKernel", "SaturatingKernel", "HARD_RODS", "MAXWELL", "as_kernel",
     "RestitutionLaw", "ConstantRestitution", "ThresholdRestitution",
     "ViscoelasticRestitution", "as_restitution", "restitution_value",

@@ -18,7 +18,7 @@ in the same worker), which makes the figures comparable across noisy machines.
 
     python benchmarks/bench_fem_speed.py [--quick] [--before COMMIT]
 
-Writes ``benchmarks/results/fem_speed.md`` (``fem_speed_quick.md`` with ``--quick``).
+Writes ``benchmarks/archive/results/fem_speed.md`` (``fem_speed_quick.md`` with ``--quick``).
 """
 
 from __future__ import annotations
@@ -38,7 +38,10 @@ from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # benchmarks/: the yardstick
+from yardstick import cpu_yardstick, yardstick  # noqa: E402,F401
+
+ROOT = Path(__file__).resolve().parents[2]
 BEFORE = "aa5003c"
 """main before this round's issue-16 work (P2, the previous round's kernel)."""
 CURVE = [round(float(a), 6) for a in np.linspace(0.0, 0.99, 25)]
@@ -54,29 +57,6 @@ COOLING = [0.5, 0.9, 0.99, 0.999]
 
 
 # ------------------------------------------------------------------ worker (subprocess)
-def yardstick(clock=time.perf_counter) -> float:
-    """Seconds of ``clock`` for 10 LU factorisations of a 1000 x 1000 matrix (best of 3).
-
-    The machine yardstick of the speed benchmarks (issue 16); ``cpu_yardstick`` is the
-    same in CPU seconds."""
-    import scipy.linalg
-
-    a = np.random.default_rng(0).standard_normal((1000, 1000))
-    best = np.inf
-    for _ in range(3):
-        t0 = clock()
-        for _ in range(10):
-            scipy.linalg.lu_factor(a)
-        best = min(best, clock() - t0)
-    return best
-
-
-def cpu_yardstick() -> float:
-    """CPU seconds (``time.process_time``) of the yardstick, best of 3: with CPU times per
-    state, units that a loaded machine does not inflate."""
-    return yardstick(time.process_time)
-
-
 def _timed(func) -> tuple[float, object]:
     t0 = time.perf_counter()
     out = func()
@@ -480,7 +460,7 @@ def main() -> None:
         after.close()
     text = "\n".join(out)
     print(text)
-    results = ROOT / "benchmarks" / "results"
+    results = ROOT / "benchmarks" / "archive" / "results"
     results.mkdir(exist_ok=True)
     (results / ("fem_speed_quick.md" if args.quick else "fem_speed.md")).write_text(text + "\n")
 

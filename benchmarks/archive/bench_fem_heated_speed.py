@@ -15,7 +15,7 @@ per state for every kernel, in one process on one core.
    (this tree) in two worker processes asked alternately, state by state: CPU seconds and
    units, nodes, and the errors of both against P2 at half the default spacing (the
    Maxwell model also against its exact T and a2).  Appends (or replaces) its section
-   of ``benchmarks/results/fem_heated_speed_compare.md``; the second round's section
+   of ``benchmarks/archive/results/fem_heated_speed_compare.md``; the second round's section
    there came from this script at 39f99a9 (toggles in one process).
 
 Units: the yardstick (10 LU factorisations of 1000 x 1000, single-threaded BLAS) measured
@@ -24,7 +24,7 @@ in this process (in each worker) before and after each row.
     python benchmarks/bench_fem_heated_speed.py [--quick] [--repeat 2] [--points 12]
     python benchmarks/bench_fem_heated_speed.py --compare [--quick] [--before 39f99a9]
 
-Writes ``benchmarks/results/fem_heated_speed.md`` (``_quick`` with ``--quick``).
+Writes ``benchmarks/archive/results/fem_heated_speed.md`` (``_quick`` with ``--quick``).
 """
 
 from __future__ import annotations
@@ -42,7 +42,7 @@ from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]  # the repository (this file is in benchmarks/archive)
 if "--serve" not in sys.argv:  # a worker imports the package of its own tree (PYTHONPATH)
     sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -362,7 +362,7 @@ def main() -> None:
         out.append(f"load average at the end {os.getloadavg()[0]:.1f}\n")
         name = "fem_heated_speed_compare_quick.md" if args.quick else \
             "fem_heated_speed_compare.md"
-        path = ROOT / "benchmarks" / "results" / name
+        path = ROOT / "benchmarks" / "archive" / "results" / name
         old = path.read_text() if path.exists() else "# Heated FEM states: before / after\n"
         marker = "## Third round (soft kernels)"
         keep = old.split(marker)[0].rstrip() + "\n\n" if marker in old else old + "\n"
@@ -379,7 +379,7 @@ def main() -> None:
     text = "\n".join(out)
     print(text)
     name = "fem_heated_speed_quick.md" if args.quick else "fem_heated_speed.md"
-    (ROOT / "benchmarks" / "results" / name).write_text(text + "\n")
+    (ROOT / "benchmarks" / "archive" / "results" / name).write_text(text + "\n")
 
 
 if __name__ == "__main__":

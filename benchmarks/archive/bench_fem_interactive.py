@@ -14,9 +14,9 @@ the same machine load; every time is also given in yardstick units (10 LU of
     python benchmarks/bench_fem_interactive.py [--quick] [--before COMMIT]
         [--no-cooling | --no-heated]
 
-Writes ``benchmarks/results/fem_interactive.md`` (``_quick`` with ``--quick``); with
+Writes ``benchmarks/archive/results/fem_interactive.md`` (``_quick`` with ``--quick``); with
 ``--no-heated`` (section 1 only, the seventh round's cooling work, e.g. ``--before
-d8971af``) ``benchmarks/results/fem_cooling_speed_run.md``.
+d8971af``) ``benchmarks/archive/results/fem_cooling_speed_run.md``.
 """
 
 from __future__ import annotations
@@ -161,7 +161,7 @@ def main() -> None:
                f"end {os.getloadavg()[0]:.1f}\n")
     text = "\n".join(out)
     print(text)
-    results = ROOT / "benchmarks" / "results"
+    results = ROOT / "benchmarks" / "archive" / "results"
     name = "fem_interactive_quick.md" if args.quick else "fem_interactive.md"
     if args.no_cooling:
         name = name.replace(".md", "_heated.md")

@@ -26,7 +26,7 @@ benchmarks/bench_prange.py --quick`` measures the spinning default and writes
 ``prange_quick_active.md``.
 
 ``--quick`` (three sizes, two alphas; under a minute) writes
-``benchmarks/results/prange_quick.md``, else ``prange.md``.
+``benchmarks/archive/results/prange_quick.md``, else ``prange.md``.
 """
 
 from __future__ import annotations
@@ -47,7 +47,7 @@ from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]  # the repository (this file is in benchmarks/archive)
 sys.path.insert(0, str(ROOT))
 
 import numba  # noqa: E402
@@ -325,7 +325,7 @@ def main() -> None:
     name = "prange_quick" if args.quick else "prange"
     policy = os.environ["OMP_WAIT_POLICY"].lower()
     name += ".md" if policy == "passive" else f"_{policy}.md"
-    (ROOT / "benchmarks" / "results" / name).write_text("\n".join(out) + "\n")
+    (ROOT / "benchmarks" / "archive" / "results" / name).write_text("\n".join(out) + "\n")
 
 
 if __name__ == "__main__":

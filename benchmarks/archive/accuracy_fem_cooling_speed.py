@@ -9,7 +9,7 @@ Gauss degree 9).  Errors: zeta relative, a2 absolute, ln f where f_ref > 1e-30 (
 
     python benchmarks/accuracy_fem_cooling_speed.py [--eps 0.05 1e-2 1e-3]
 
-Prints a markdown table (``benchmarks/results/fem_cooling_speed.md``).
+Prints a markdown table (``benchmarks/archive/results/fem_cooling_speed.md``).
 """
 
 from __future__ import annotations

@@ -71,7 +71,7 @@ def _timed(call: str, package_dir: Path | None, quick: bool) -> tuple[int, float
     if package_dir is not None:
         env["PYTHONPATH"] = str(package_dir)
     else:
-        env["PYTHONPATH"] = str(Path(__file__).resolve().parents[1])
+        env["PYTHONPATH"] = str(Path(__file__).resolve().parents[2])
     out = subprocess.run([sys.executable, "-c", _TIMER.format(call=call, extra=extra)],
                          env=env, cwd="/", capture_output=True, text=True, check=True)
     coll, cpu, wall = out.stdout.split()[-3:]

@@ -18,7 +18,7 @@ call in the same worker is a cache hit.
     python benchmarks/bench_fem_cooling_models.py [--before COMMIT] [--repeat 2]
         [--kernels 0 2] [--alphas A ...] [--reference]
 
-Prints markdown tables (``benchmarks/results/fem_cooling_models_speed.md``).
+Prints markdown tables (``benchmarks/archive/results/fem_cooling_models_speed.md``).
 """
 
 from __future__ import annotations
@@ -36,7 +36,7 @@ import tempfile  # noqa: E402
 import time  # noqa: E402
 from pathlib import Path  # noqa: E402
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]  # the repository (this file is in benchmarks/archive)
 BEFORE = "39f99a9"
 """main at the start of the eighth round."""
 ALPHAS = [0.0, 0.3, 0.5, 0.7, 0.8, 0.9, 0.95, 0.99, 0.995, 0.999]

@@ -1,0 +1,180 @@
+"""Species temperatures of a mixture in the Gaussian (lowest Sonine) approximation.
+
+Each species is taken Gaussian with variance :math:`\\sigma_s^2 = T_s/m_s` (all
+:math:`a_{2,s} = 0`), the approximation in which first-order Sonine theory computes the
+temperature ratio of a granular mixture (Garzo and Dufty 1999, Barrat and Trizac 2002, who
+then add the small :math:`a_2` corrections).  The relative velocity :math:`g = v_s - v_r`
+of two independent Gaussians is Gaussian with variance
+:math:`\\Sigma_{sr} = \\sigma_s^2 + \\sigma_r^2`, and the part of :math:`v_s` along
+:math:`g` is :math:`(\\sigma_s^2/\\Sigma_{sr})\\,g`, so with :math:`v_s' = v_s - a g`,
+:math:`a = \\mu_{sr}(1+\\alpha_{sr})`,
+
+.. math::
+
+    \\frac{d\\sigma_s^2}{dt} = n\\sum_r x_r\\, G(\\Sigma_{sr})
+        \\Big(a^2 - 2a\\frac{\\sigma_s^2}{\\Sigma_{sr}}\\Big)
+        + 2D_s - 2\\xi_s\\sigma_s^2,
+    \\qquad G(\\Sigma) = \\langle B(|g|)\\,g^2\\rangle_{g \\sim N(0, \\Sigma)},
+
+for any kernel (:meth:`~kinetic_fem.model.CollisionKernel.gaussian_mean`).  The heated
+steady state sets every rate to zero; the cooling state asks every
+:math:`\\dot\\sigma_s^2/\\sigma_s^2` to be one common rate :math:`-2\\zeta n` at
+:math:`T = \\sum_s x_s m_s\\sigma_s^2 = 1` (free cooling of a power law
+:math:`|g|^\\gamma` then keeps the ratios: :math:`dT/dt = -2\\zeta n T^{1+\\gamma/2}`).
+
+For the Maxwell kernel the second-moment equations close and these temperatures are exact
+(:mod:`kinetic_fem.solvers.maxwell_mixture`): a check of the two modules against each other.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.optimize import root
+
+from ..exceptions import ConvergenceError
+from ..mixture_state import MixtureMoments
+from ..model.mixture import Mixture
+from ..model.validation import UnsupportedModelError, check_positive
+
+__all__ = ["variance_rates", "steady_state", "cooling_state"]
+
+#: relative step tolerance of the root finder (it may stop with 'xtol too small' at round-off)
+_ROOT_TOL = 1e-14
+#: accepted residual of the relative rates (round-off of O(1) sums is ~1e-16)
+_RESIDUAL_TOL = 1e-12
+
+
+def _check(mixture: Mixture, density: float) -> tuple[NDArray[np.float64], float]:
+    if not isinstance(mixture, Mixture):
+        raise TypeError(f"mixture must be a kinetic_fem.Mixture, got {mixture!r}")
+    density = check_positive("density", density)
+    alpha = mixture.constant_alpha()
+    return alpha, density
+
+
+def variance_rates(mixture: Mixture, variances: np.ndarray, density: float = 1.0
+                   ) -> NDArray[np.float64]:
+    """:math:`d\\sigma_s^2/dt` of Gaussian species (module notes).
+
+    Parameters
+    ----------
+    mixture : Mixture
+        Any kernel, constant restitution per pair.
+    variances : array_like, shape (k,)
+        :math:`\\sigma_s^2 > 0`.
+    density : float
+        Total number density.
+
+    Returns
+    -------
+    ndarray, shape (k,)
+    """
+    alpha, density = _check(mixture, density)
+    var = np.asarray(variances, dtype=float)
+    kernel = mixture.collision_kernel
+    masses = np.asarray(mixture.masses)
+    rates = 2.0 * mixture.diffusions() - 2.0 * mixture.frictions() * var
+    for s in range(mixture.n_species):
+        for r in range(mixture.n_species):
+            total = var[s] + var[r]
+            a = masses[r] / (masses[s] + masses[r]) * (1.0 + alpha[s, r])
+            # <B(g) g^2> over g ~ N(0, total): two Gaussians of variance total/2 each
+            g2 = kernel.gaussian_mean(0.5 * total, 2.0)
+            rates[s] += density * mixture.fractions[r] * g2 * (a * a - 2.0 * a * var[s] / total)
+    return rates
+
+
+def _solve(fun, x0: NDArray[np.float64], what: str) -> NDArray[np.float64]:
+    sol = root(fun, x0, method="hybr", tol=_ROOT_TOL)
+    residual = float(np.max(np.abs(fun(sol.x))))
+    if not np.all(np.isfinite(sol.x)) or not residual <= _RESIDUAL_TOL:
+        raise ConvergenceError(f"Gaussian approximation of the mixture's {what}: the root "
+                               f"finder stopped ({sol.message}; residual {residual:.3g})")
+    return sol.x
+
+
+def _result(mixture: Mixture, density: float, var: NDArray[np.float64],
+            zeta: float | None) -> MixtureMoments:
+    moments = np.zeros((mixture.n_species, 5))
+    moments[:, 0] = 1.0
+    moments[:, 2] = var
+    moments[:, 4] = 3.0 * var**2  # Gaussian: a2 = 0 by construction
+    return MixtureMoments(mixture, density, moments, "gaussian", zeta=zeta,
+                          info={"approximation": "Gaussian species (a2 = 0)"})
+
+
+def steady_state(mixture: Mixture, *, density: float = 1.0) -> MixtureMoments:
+    """The heated steady state's temperatures in the Gaussian approximation.
+
+    Parameters
+    ----------
+    mixture : Mixture
+        Any kernel, constant restitution per pair, every species forced.
+    density : float
+        Total number density :math:`n > 0`.
+
+    Returns
+    -------
+    MixtureMoments
+        ``a2`` is zero by construction.
+
+    Raises
+    ------
+    ConvergenceError
+        If the root finder fails.
+    """
+    alpha, density = _check(mixture, density)
+    if not mixture.heated:
+        raise ValueError("a steady state needs forced species; for free cooling use "
+                         "cooling_state")
+
+    def fun(log_var: NDArray[np.float64]) -> NDArray[np.float64]:
+        var = np.exp(log_var)
+        return variance_rates(mixture, var, density) / var
+
+    # start: each species alone with its own forcing, at the mixture's mean restitution
+    scale = float(np.mean(mixture.diffusions()) / density)
+    x0 = np.full(mixture.n_species, np.log(max(scale, 1e-300)))
+    for _ in range(3):  # a few fixed-point sweeps on the common scale make hybr robust
+        rates = fun(x0)
+        x0 = x0 + np.clip(rates / max(1.0, float(np.max(np.abs(rates)))), -5.0, 5.0)
+    log_var = _solve(fun, x0, "steady state")
+    return _result(mixture, density, np.exp(log_var), None)
+
+
+def cooling_state(mixture: Mixture, *, density: float = 1.0) -> MixtureMoments:
+    """The homogeneous cooling state's temperature ratios and cooling rate, Gaussian species.
+
+    Parameters
+    ----------
+    mixture : Mixture
+        A homogeneous kernel (power law), constant restitution per pair, no forcing.
+    density : float
+        Total number density :math:`n > 0`.
+
+    Returns
+    -------
+    MixtureMoments
+        At :math:`T = 1`; ``zeta`` from :math:`dT/dt = -2\\zeta n T^{1+\\gamma/2}`.
+    """
+    alpha, density = _check(mixture, density)
+    if mixture.heated:
+        raise ValueError("the homogeneous cooling state is for free cooling; this mixture is "
+                         "forced (use steady_state)")
+    if mixture.collision_kernel.homogeneity_degree is None:
+        raise UnsupportedModelError(
+            f"a homogeneous cooling state needs a homogeneous kernel (a power law), got "
+            f"{mixture.collision_kernel!r}")
+    weights = np.asarray(mixture.fractions) * np.asarray(mixture.masses)
+
+    def fun(log_var: NDArray[np.float64]) -> NDArray[np.float64]:
+        var = np.exp(log_var)
+        rel = variance_rates(mixture, var, density) / var
+        return np.concatenate([rel[1:] - rel[:-1], [np.log(np.dot(weights, var))]])
+
+    x0 = np.log(np.full(mixture.n_species, 1.0) / np.asarray(mixture.masses))
+    log_var = _solve(fun, x0, "cooling state")
+    var = np.exp(log_var)
+    rate = float(np.dot(weights, variance_rates(mixture, var, density)))  # dT/dt at T = 1
+    return _result(mixture, density, var, -rate / (2.0 * density))

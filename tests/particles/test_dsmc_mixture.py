@@ -1,0 +1,92 @@
+"""DSMC of mixtures against exact and deterministic results (particles.dsmc_mixture).
+
+Statistical checks at fixed seeds with |z| < 4 (z = difference over the DSMC's batch
+standard error): the exact Maxwell-mixture moments (disparate masses, both forcing
+conventions, a bath), and identical species against the one-species FEM solution (heated
+and the cooling rate of the homogeneous cooling state).
+"""
+
+import numpy as np
+import pytest
+
+import kinetic_fem as kf
+from kinetic_fem.model import FokkerPlanckBath
+from kinetic_fem.model.mixture import Mixture
+from kinetic_fem.solvers import maxwell_mixture as mm
+from particles.dsmc_mixture import MixtureDSMCOptions, simulate_mixture
+
+Z_MAX = 4.0
+
+
+def _z(value, error, reference):
+    return np.abs((np.asarray(value) - reference) / np.asarray(error))
+
+
+@pytest.mark.parametrize(("masses", "convention", "seed"), [
+    ((1.0, 4.0), "same_power", 1), ((1.0, 10.0), "same_diffusion", 2)])
+def test_heated_maxwell_mixture_matches_the_exact_moments(masses, convention, seed):
+    mix = Mixture.white_noise(masses, (0.3, 0.7), alpha=[[0.9, 0.6], [0.6, 0.4]],
+                              kernel=0.0, convention=convention)
+    exact = mm.steady_state(mix)
+    run = simulate_mixture(mix, 1000, seed=seed, collisions_per_particle=200, relax=30)
+    assert np.all(_z(run.temperatures, run.temperature_errors, exact.temperatures) < Z_MAX)
+    assert np.all(_z(run.a2, run.a2_errors, exact.a2) < Z_MAX)
+    ratio = exact.temperature_ratio()
+    assert _z(run.temperature_ratio(), run.temperature_ratio_error(), ratio) < Z_MAX
+    assert run.collision_counts[0, 1] == run.collision_counts[1, 0] > 0
+
+
+def test_maxwell_mixture_in_a_bath_matches_the_exact_moments():
+    baths = (FokkerPlanckBath(1.0, 1.0), FokkerPlanckBath(0.5, 2.0))
+    mix = Mixture((1.0, 3.0), (0.5, 0.5), alpha=0.5, kernel=0.0, thermostats=baths)
+    exact = mm.steady_state(mix)
+    run = simulate_mixture(mix, 1000, seed=5, collisions_per_particle=200, relax=30)
+    assert np.all(_z(run.temperatures, run.temperature_errors, exact.temperatures) < Z_MAX)
+
+
+def test_identical_hard_rod_species_are_the_one_species_gas():
+    fem = kf.solve_heated(0.7, diffusion=0.5)
+    mix = Mixture.white_noise((2.0, 2.0), (0.5, 0.5), alpha=0.7, kernel=1.0, diffusion=0.25)
+    run = simulate_mixture(mix, 1000, seed=3, collisions_per_particle=200, relax=30)
+    # mass 2 under D = 0.25: <v^2> of the one-species gas at D = 0.25 ... scaled: T = m <v^2>
+    # and D/n sets the scale, so T_s / 2 is the one-species <v^2> at D = 0.25
+    one = fem.temperature * 0.5 ** (2.0 / 3.0)
+    assert np.all(_z(run.temperatures / 2.0, run.temperature_errors / 2.0, one) < Z_MAX)
+    assert np.all(_z(run.a2, run.a2_errors, fem.a2) < Z_MAX)
+
+
+def test_identical_hard_rod_species_cool_at_the_one_species_rate():
+    hcs = kf.solve_cooling(0.7)
+    mix = Mixture((1.0, 1.0), (0.5, 0.5), alpha=0.7, kernel=1.0)
+    run = simulate_mixture(mix, 1000, seed=4, collisions_per_particle=200, relax=30)
+    assert _z(run.zeta, run.zeta_error, hcs.info.extra["zeta"]) < Z_MAX
+    assert np.all(_z(run.a2, run.a2_errors, hcs.a2) < Z_MAX)
+    assert run.temperature == pytest.approx(1.0, rel=1e-12)
+
+
+def test_same_seed_same_run():
+    mix = Mixture.white_noise((1.0, 2.0), (0.5, 0.5), alpha=0.8)
+    a = simulate_mixture(mix, 100, seed=7, collisions_per_particle=20, relax=2)
+    b = simulate_mixture(mix, 100, seed=7, collisions_per_particle=20, relax=2)
+    np.testing.assert_array_equal(a.batch_temperatures, b.batch_temperatures)
+
+
+@pytest.mark.parametrize(("kwargs", "match"), [
+    ({"n_particles": 101}, "whole numbers"),
+    ({"n_particles": 2}, "at least 2 rods"),
+    ({"n_particles": 100.0}, "integer"),
+    ({"n_particles": 100, "density": 0.0}, "density"),
+    ({"n_particles": 100, "relax": float("nan")}, "relax"),
+    ({"n_particles": 100, "collisions_per_particle": 1e300}, "1e8 steps"),
+])
+def test_bad_arguments_are_refused(kwargs, match):
+    mix = Mixture.white_noise((1.0, 2.0), (0.5, 0.5))
+    with pytest.raises((TypeError, ValueError), match=match):
+        simulate_mixture(mix, **kwargs)
+
+
+def test_bad_options_are_refused():
+    with pytest.raises(ValueError, match="collisions_per_step"):
+        MixtureDSMCOptions(collisions_per_step=2.0)
+    with pytest.raises(ValueError, match="n_batches"):
+        MixtureDSMCOptions(n_batches=1)
