@@ -3,7 +3,7 @@
 Every figure is the CPU time of a child process (``getrusage(RUSAGE_CHILDREN)``), or of
 a call in this process, divided by the machine yardstick measured in this process (CPU
 seconds of 10 LU factorisations of a 1000 x 1000 matrix with single-threaded BLAS,
-``bench_fem_speed.cpu_yardstick``; about 0.15 s on this machine when idle).  Children
+``yardstick.cpu_yardstick``; about 0.15 s on this machine when idle).  Children
 run single-threaded (BLAS and numba), like the yardstick.
 
 Figures:
@@ -52,7 +52,7 @@ import time  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from bench_fem_speed import cpu_yardstick  # noqa: E402
+from yardstick import cpu_yardstick  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 FIGURES = ("import", "help", "first-solve", "features", "reproduce")

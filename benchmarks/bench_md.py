@@ -18,7 +18,7 @@
    departs from the Boltzmann equation where the rods correlate and cluster).
 
 Run ``python benchmarks/bench_md.py [--quick] [--part speed|kicks|a2|threshold|invariants]``.
-Before/after speed comparisons: ``benchmarks/bench_md_before_after.py``.
+Before/after speed comparisons: ``benchmarks/archive/bench_md_before_after.py``.
 The machine may be shared: part 1 reports CPU time of the process (the event loop is
 single-threaded), which does not count time spent descheduled but still feels the
 other jobs in the caches; whole-run timings are wall-clock.

@@ -13,7 +13,7 @@ The two calls of the issue, at their default tolerance, as a user pays them:
 For each: CPU seconds (``time.process_time``), accepted steps, Jacobian assemblies and
 LU factorisations of the step Newton, nodes, the ratio to a steady solve measured in
 the same process (best of 3), and yardstick units (10 LU of 1000 x 1000,
-single-threaded BLAS, ``bench_fem_speed.cpu_yardstick``).  Target: ratio <= 20.
+single-threaded BLAS, ``yardstick.cpu_yardstick``).  Target: ratio <= 20.
 
     python benchmarks/bench_transient_speed.py [--rtol R ...] [--only heated|maxwell]
 
@@ -37,7 +37,7 @@ import numpy as np  # noqa: E402
 import scipy.linalg  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from bench_fem_speed import cpu_yardstick  # noqa: E402
+from yardstick import cpu_yardstick  # noqa: E402
 
 import kinetic_fem as kf  # noqa: E402
 from kinetic_fem.solvers.maxwell import evolve_moments  # noqa: E402

@@ -11,7 +11,7 @@ orders ``log(e1/e2)/log(s1/s2)``.
     python benchmarks/convergence_fem_cooling_band.py [--eps 0.07 0.05 0.035]
         [--scales 2 1.41 1 0.71 0.5]
 
-Prints markdown tables (``benchmarks/results/fem_cooling_band_speed.md``).
+Prints markdown tables (``benchmarks/archive/results/fem_cooling_band_speed.md``).
 """
 
 from __future__ import annotations

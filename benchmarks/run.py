@@ -35,6 +35,9 @@ BENCHMARKS: dict[str, tuple[str, bool]] = {
     "bench_dsmc": ("speed", True),
     "bench_md": ("speed", True),
     "bench_sweep": ("speed", True),
+    "bench_md_yardstick": ("speed", False),
+    "bench_transient_speed": ("speed", False),
+    "bench_first_hour": ("speed", True),
     # convergence: one per solver
     "convergence_heated": ("convergence", True),
     "convergence_fem_cooling": ("convergence", True),
@@ -58,6 +61,8 @@ BENCHMARKS: dict[str, tuple[str, bool]] = {
     "relaxation_spectrum": ("validation", False),
     "relaxation_dsmc": ("validation", False),
     "cooling_transient": ("validation", False),
+    "calibrate_error_estimates": ("validation", True),
+    "regime_bitwise": ("validation", False),
     # studies
     "effective_exponent_peak": ("study", False),
     "memory_effects": ("study", False),

@@ -33,13 +33,14 @@ __all__ = [
     "PowerLawKernel", "SaturatingKernel", "ThresholdRestitution", "ViscoelasticRestitution",
     "WhiteNoise", "FokkerPlanckBath", "sonine", "scaling", "grid", "gas", "model",
     "evolve_heated", "evolve_cooling", "relaxation_spectrum", "sweep", "load_solvers",
+    "Mixture",
 ]
 
 _NAMES = {
     "distribution": ("RunInfo", "VelocityDistribution"),
     "evolve": ("evolve_cooling", "evolve_heated"),
     "model": ("CoolingProblem", "FokkerPlanckBath", "HeatedProblem", "InelasticGas",
-              "PowerLawKernel", "SaturatingKernel", "ThresholdRestitution",
+              "Mixture", "PowerLawKernel", "SaturatingKernel", "ThresholdRestitution",
               "ViscoelasticRestitution", "WhiteNoise"),
     "solve": ("COOLING_SOLVERS", "HEATED_SOLVERS", "register_solver", "solve_cooling",
               "solve_heated"),

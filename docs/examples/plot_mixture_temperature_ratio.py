@@ -33,6 +33,9 @@ from kinetic_fem.model import Mixture
 from kinetic_fem.solvers import maxwell_mixture, mixture_gaussian
 from particles.dsmc_mixture import simulate_mixture
 
+MASS_RATIOS = tuple(float(m) for m in np.geomspace(0.1, 10.0, 21))
+"""The default mass ratios m2/m1 of the curves."""
+
 TEST_KWARGS = {"mass_ratios": (0.2, 5.0), "dsmc_ratios": (5.0,), "n_particles": 400,
                "collisions_per_particle": 40.0}
 
@@ -57,7 +60,7 @@ def _mixture(mass_ratio: float, alpha: float, kernel: float, convention: str) ->
 
 
 def main(alphas=(0.5, 0.9), conventions=("same_diffusion", "same_power"),
-         mass_ratios=tuple(np.geomspace(0.1, 10.0, 21)), dsmc_ratios=(0.1, 1.0, 10.0),
+         mass_ratios=MASS_RATIOS, dsmc_ratios=(0.1, 1.0, 10.0),
          n_particles: int = 2000, collisions_per_particle: float = 400.0,
          seed: int = 27) -> RatioCurves:
     """Compute the three methods' temperature ratios (DSMC at ``dsmc_ratios`` only)."""

@@ -23,7 +23,7 @@ of the next, so that the threads meet once per chunk):
    Jacobian with them); the first thread sums the moments.
 
 With one thread the serial kernel runs (the two passes would only add work; see
-``benchmarks/results/prange_quick.md``).  Off by default: set the environment variable
+``benchmarks/archive/results/prange_quick.md``).  Off by default: set the environment variable
 ``KINETIC_FEM_PARALLEL=1`` (read at each call, :func:`parallel_enabled`); numba's
 thread count (``NUMBA_NUM_THREADS`` or ``numba.set_num_threads``) sets the threads, and
 ``OMP_WAIT_POLICY=passive`` (or ``NUMBA_THREADING_LAYER=workqueue``) keeps OpenMP's

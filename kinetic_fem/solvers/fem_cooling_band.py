@@ -17,7 +17,7 @@ start):
    where it has fallen :data:`BAND_DECADES` decades; from the link state (mesh
    sequencing: two Jacobians).
 
-Issue 16, ninth round (``benchmarks/results/fem_cooling_band_speed.md``): the former band
+Issue 16, ninth round (``benchmarks/archive/results/fem_cooling_band_speed.md``): the former band
 path (P2 on the moderate mesh at three times the P2 spacing from the rescaled eps = 0.1
 state, then P3 on the moderate mesh
 :func:`~kinetic_fem.solvers.fem_cooling_mesh.hcs_vertices` at 1.5 times it, Gauss degree

@@ -6,7 +6,7 @@ cooling state is reached by continuation in :math:`\\varepsilon` from 0.1
 from its neighbour (the ``initial`` warm start of
 :func:`~kinetic_fem.solvers.fem_cooling.solve_fem_cooling`): one link on a coarse mesh
 and the solve on the default mesh.  The states are those of pointwise solves to the
-Newton tolerance (same meshes; ``benchmarks/results/fem_cooling_speed.md``).  Elsewhere
+Newton tolerance (same meshes; ``benchmarks/archive/results/fem_cooling_speed.md``).  Elsewhere
 (:math:`\\varepsilon \\ge 0.1`, other kernels) the pointwise solve is used.
 """
 

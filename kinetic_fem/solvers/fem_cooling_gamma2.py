@@ -43,7 +43,7 @@ the start is :data:`ANCHORED_CUTOFF_DEPTH` below its peak, which leaves zeta, a2
 ln f where f > 1e-40 unchanged to round-off), below it the mesh
 :func:`~.fem_cooling_quasi.efold_vertices` builds from the start itself
 (:data:`~.fem_cooling_quasi.QUASI_FINAL`), instead of 2 to 20 links
-of 5 to 13 Newton steps each (``benchmarks/results/fem_cooling_models_speed.md``).
+of 5 to 13 Newton steps each (``benchmarks/archive/results/fem_cooling_models_speed.md``).
 """
 
 from __future__ import annotations

@@ -41,7 +41,7 @@ HUMP_COARSE_LINK, HUMP_COARSE_EPS, HUMP_LINK_RATIO = 0.2, 1e-3, 16.0
 1.5 times faster than 0.14; the state asked for is reached on this mesh first and then
 solved on the finer one at the same eps), and their largest eps ratio toward a state asked
 for there (8: 1.2-1.3 times faster than 2; 16 on the HUMP_FAST_LINK meshes:
-benchmarks/results/fem_cooling_speed.md)."""
+benchmarks/archive/results/fem_cooling_speed.md)."""
 FULL_STEP_ITER = 8
 """Newton from the same eps on a coarser mesh takes full steps (no backtracking: every
 step was accepted at damping 1, and the trial residual came without the Jacobian, one
@@ -54,7 +54,7 @@ quarter of the mesh beyond it (36 of 154 vertices per side at eps = 1e-3).  925 
 dofs at eps = 1e-3, 811 -> 709 at 1e-2; against P3 at 0.1 hump widths unchanged errors
 (zeta 1.7e-14 / 4.1e-14, a2 4.7e-13 / 6.6e-13, ln f 3.0e-7 / 4.6e-7) and no growing
 mode of the linearised operator (largest rate 0 zeta, the scale mode:
-benchmarks/results/fem_cooling_speed.md)."""
+benchmarks/archive/results/fem_cooling_speed.md)."""
 HUMP_FAST_LINK, HUMP_LINK_DECADES = 0.3, 30.0
 """Links toward a state asked for at eps >= HUMP_COARSE_EPS (issue 16): element size in
 hump widths, and the decades the start falls to the cut-off (not HUMP_DECADES).  Eighth
@@ -77,7 +77,7 @@ HUMP_P3_EPS, HUMP_P3_RESOLUTION = 1e-4, 0.2
 """Default state at eps >= HUMP_P3_EPS: P3 at this many hump widths (Gauss degree 9), on
 fewer dofs than P2 at HUMP_RESOLUTION and 4 to 50 times more accurate (eps = 1e-4 ... 3e-2
 against P2 at 0.035: zeta 3e-14 ... 8e-13, a2 2e-12 ... 3e-11, ln f 6e-7 ... 4e-6;
-benchmarks/results/fem_cooling_speed.md); below, and with ``resolution``, P2."""
+benchmarks/archive/results/fem_cooling_speed.md); below, and with ``resolution``, P2."""
 
 
 def continued_state(prev: CoolingState, eps_prev: float, eps: float, *,

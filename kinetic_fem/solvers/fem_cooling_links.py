@@ -10,7 +10,7 @@ restitution coefficient) into the first link's start.
 
 Warm starts (issue 16, eighth round): a sweep over the inelasticity, each state from
 its neighbour, takes one link and the final solve per state instead of the links from
-:math:`\\varepsilon = 0.1` (``benchmarks/results/fem_cooling_speed.md``).  Ninth round:
+:math:`\\varepsilon = 0.1` (``benchmarks/archive/results/fem_cooling_speed.md``).  Ninth round:
 the cold path toward :math:`\\varepsilon \\ge 10^{-3}` starts from a stored state
 (:mod:`~kinetic_fem.solvers.fem_cooling_seeds`), the links' trial residuals bring their
 Jacobians, and the final P3 solve is measured where :math:`f > 10^{-30}` and stops on

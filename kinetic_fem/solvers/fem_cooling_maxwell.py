@@ -18,7 +18,8 @@ The result carries :math:`f` recovered from the superconvergent points on the me
 (:func:`kinetic_fem.solvers.fem_cooling_tail.recovered_distribution`) and the tail
 closure on the nodes of :func:`~kinetic_fem.operators.maxwell_tail.tail_quadrature`
 beyond :math:`V` (exact for the tail's mass and energy), so its temperature is one to
-the Newton tolerance.  Accuracy and speed: ``benchmarks/results/fem_cooling_models_speed.md``.
+the Newton tolerance.  Accuracy and speed:
+``benchmarks/archive/results/fem_cooling_models_speed.md``.
 """
 
 from __future__ import annotations
@@ -78,7 +79,7 @@ NEAR_FACTOR = 1.0
 FAR_FACTOR = 0.625
 """Geometric ratio :math:`1 +` this :math:`\\times h_0` beyond :math:`c = 30` (P3 at
 :math:`h_0 = 0.04`: 1.025; at 1.04 and 1.05 the f error at alpha = 0 was 5e-7 and 1.4e-7
-against 4e-8; benchmarks/results/fem_cooling_models_speed.md)."""
+against 4e-8; benchmarks/archive/results/fem_cooling_models_speed.md)."""
 
 
 def maxwell_tail_vertices(spacing: float, cutoff: float = MAXWELL_TAIL_CUTOFF

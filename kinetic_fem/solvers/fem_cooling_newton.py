@@ -55,7 +55,8 @@ STALL_RATIO, MIN_GROWTH = 0.9, 1.3
 STALL_RATIO.  With the switched evolution relaxation alone the step stayed at 1.6 for
 20 of the 40 steps from the Gaussian start at alpha = 0.9 (the tail relaxing 0.71 in ln f
 per step): alpha = 0.9 1.71 -> 1.34 units, 0.95 4.8 -> 4.1; alpha 0 ... 0.8 and other
-kernels unchanged in time, states equal to 1e-15 (benchmarks/results/fem_cooling_speed.md)."""
+kernels unchanged in time, states equal to 1e-15
+(benchmarks/archive/results/fem_cooling_speed.md)."""
 INCREASE_LIMIT = 2.0
 """Largest increase of ln f in one Newton step (unbounded increases of the tail, where
 the starting guess is many decades off, make the iteration diverge)."""
@@ -326,7 +327,7 @@ zeta at eps = 0.03, 4e-14 at 1e-3 (P3) and ~1e-14 at 1e-5 and 1e-6, at or above 
 zeta`` with the default tol; the steps that tried to go below took a Jacobian and up to
 ten residuals on the finest mesh (up to a third of the solve) and moved ln f by < 1e-10.
 Measured against the floor 0 (eps = 1e-3 ... 1): the states move by <= 1.5e-14 in zeta,
-2e-14 in a2, 8e-11 in ln f (benchmarks/results/fem_cooling_speed.md)."""
+2e-14 in a2, 8e-11 in ln f (benchmarks/archive/results/fem_cooling_speed.md)."""
 
 
 def _residual_size(r: NDArray, x: NDArray, monitor: float = MONITOR_LOG_F) -> float:

@@ -5,7 +5,7 @@ elements at :data:`P3_SPACING` times the P2 bulk spacing of
 :func:`kinetic_fem.solvers.fem_cooling_mesh.hcs_spacing` (0.1 instead of 0.05) give a
 cooling rate and :math:`a_2` about ten thousand times more accurate than the P2 default,
 and :math:`f` 2 to 50 times more accurate where :math:`f > 10^{-30}`, with 0.75 times
-its dofs.  Measured against P3 at spacing 0.025 (``benchmarks/results/fem_speed.md``,
+its dofs.  Measured against P3 at spacing 0.025 (``benchmarks/archive/results/fem_speed.md``,
 section "cooling"; relative error of zeta, absolute of a2, max relative of f):
 
 ====== ========================= =========================
@@ -53,7 +53,7 @@ reached by continuation in alpha from here, in steps of at most STRONG_STEP."""
 STRONG_STEP = 0.5
 """Largest step in alpha of that continuation: one step from 0.5 (0.125 before: alpha = 0
 and 0.25 1.17 and 1.06 times faster, gamma = 0.5 / 1.5 / 2 at alpha 0 ... 0.3 1.1-1.6
-times, the states equal to 1e-15: benchmarks/results/fem_cooling_speed.md)."""
+times, the states equal to 1e-15: benchmarks/archive/results/fem_cooling_speed.md)."""
 COARSE_FACTOR = 4.0
 """Mesh sequencing: the default mesh's state is started from the state on a mesh this
 many times coarser (same cut-off), reached by the globalised (pseudo-transient) Newton

@@ -16,7 +16,7 @@ rounded to 8 digits, and its :math:`\\zeta`, stored in ``data/hard_rod_seeds.jso
 recomputes them (a slow test checks the stored table against it).  The seed only
 starts Newton's method: the state returned solves the discrete equations on the default
 mesh to the Newton tolerance, as before (the mesh is built from the link state, so the
-states move within their discretisation error: ``benchmarks/results/fem_cooling_speed.md``).
+states move within their discretisation error: ``benchmarks/archive/results/fem_cooling_speed.md``).
 """
 
 from __future__ import annotations

@@ -1,7 +1,7 @@
 """Cheaper Newton steps for the FEM cooling state (issue 16, ninth round).
 
 Two pieces of :func:`~kinetic_fem.solvers.fem_cooling_newton.newton_cooling` from a close
-start, both with the same iterates as before (``benchmarks/results/fem_cooling_speed.md``):
+start, both with the same iterates as before (``benchmarks/archive/results/fem_cooling_speed.md``):
 
 * :class:`SpeculativeSystem`: the line search's trial residual comes with its Jacobian,
   kept for the next call at the same point.  In the continuation links the first trial

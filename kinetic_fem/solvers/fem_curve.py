@@ -11,7 +11,7 @@ mesh from the coarse state), so each state ends on the mesh the pointwise solve 
 to the same tolerance: the curve equals the pointwise solutions to the Newton
 tolerance.  A start that fails is retried from the default start.
 
-Measured (``benchmarks/results/fem_heated_speed.md``): 4 % less collision work than
+Measured (``benchmarks/archive/results/fem_heated_speed.md``): 4 % less collision work than
 pointwise solves on the 25- and 100-point curves over [0, 0.99].  The pointwise solve is
 already near its floor (one fine Jacobian and one residual after the coarse solve), and
 the far tail of :math:`\\ln f` changes too fast with :math:`\\alpha` for a prediction to

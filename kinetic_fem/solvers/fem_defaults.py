@@ -86,7 +86,7 @@ def default_spacing(alpha: float, order: int = 2) -> float:
     elements for f (spacing 0.05 gives 1e-4 at alpha = 0.99, 0.032 at 0.999).
     P3: :data:`P3_SPACING` times the P2 size (2.5 times for alpha <= 0.3), where T, a2
     and f(c) are each at least as accurate as with P2 on every alpha of
-    ``benchmarks/bench_fem_speed.py`` (T and a2 10 to 1000 times more).  Other degrees:
+    ``benchmarks/archive/bench_fem_speed.py`` (T and a2 10 to 1000 times more).  Other degrees:
     the P2 size.
 
     Parameters

@@ -384,7 +384,7 @@ class HumpChain(Regime):
     """Mesh of :func:`link_start` (one solve, tolerance HUMP_STEP_TOL, no mesh sequencing;
     ln f = -77 at c = 9): 0.05 to 0.09 CPU s less per state at eps = 1e-3 ... 0.03 than
     :func:`hump_start`'s, the final states equal to 1.3e-14
-    (benchmarks/results/fem_cooling_speed.md)."""
+    (benchmarks/archive/results/fem_cooling_speed.md)."""
     link_cutoff: ClassVar[float] = 9.0
 
     def applies(self, problem: CoolingProblem, options: CoolingOptions) -> bool:  # noqa: D102

@@ -52,7 +52,7 @@ but not below ``NOISE_FLOOR`` Newton tolerances.  Local errors per unit time bel
 ``rtol`` relax over a few collision times, so the global error of T and a2 is
 proportional to ``rtol`` (``benchmarks/convergence_transient.py``: 0.3-0.9 rtol; after
 a quench of the protocol 4-12 rtol, the estimate there misses part of the local error:
-``benchmarks/results/transient_integrator.md``).  A failed Newton iteration halves the
+``benchmarks/archive/results/transient_integrator.md``).  A failed Newton iteration halves the
 step; steps stay below 0.7 times a failed one and below the retried step after a
 rejection (a cap growing by ``CAP_GROWTH`` per accepted step), below ``MAX_RATIO``
 times the step before, and a further rejection of the same step uses the exponent

@@ -191,7 +191,7 @@ def test_maxwell_transient_follows_the_exact_moments_to_1e6():
 @pytest.mark.slow
 def test_maxwell_transient_follows_the_exact_moments_through_a_step_of_d():
     """D 1 -> 0.5 at t = 0.5, to t = 2 (spacing 0.25, cut-off 10, rtol 1e-6; measured in
-    benchmarks/results/transient_integrator.md: T 2.5e-6 and <v^4> 1.0e-6 at rtol 1e-5).
+    benchmarks/archive/results/transient_integrator.md: T 2.5e-6 and <v^4> 1.0e-6 at rtol 1e-5).
     With a bath friction step as well the time error is larger (T 2.7e-6, <v^4> 1.1e-5
     at rtol 1e-6): the global error is rtol times the relaxation time in collision
     times, and the Maxwell model relaxes slowly."""

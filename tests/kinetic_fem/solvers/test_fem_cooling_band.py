@@ -1,6 +1,7 @@
 """The faster near-elastic defaults of the FEM cooling state (issue 16, seventh round).
 
-Reference values: ``benchmarks/accuracy_fem_cooling_speed.py``, ``fem_cooling_band_speed.md``
+Reference values: ``benchmarks/archive/accuracy_fem_cooling_speed.py``,
+``fem_cooling_band_speed.md``
 and the convergence study of ``benchmarks/results/fem_cooling.md`` (P2 at 0.035 hump widths,
 Gauss degree 9)."""
 
@@ -31,7 +32,7 @@ def test_band_default_is_p3_on_the_graded_band_mesh():
     1.0023372652626432, a2 = -0.4572880278635882; the default measured 6.4e-15 and
     2.4e-14 from it, ln f 5.9e-7 where f > 1e-30 (613 dofs; the former band default on
     the moderate mesh, 1219 dofs: 1.9e-14, 6.3e-14, 3.6e-6)
-    (benchmarks/results/fem_cooling_band_speed.md).  Tolerances: ten times the former
+    (benchmarks/archive/results/fem_cooling_band_speed.md).  Tolerances: ten times the former
     default's errors."""
     dist = kf.solve_cooling(0.95)
     extra = dist.info.extra

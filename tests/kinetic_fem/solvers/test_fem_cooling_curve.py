@@ -13,7 +13,7 @@ from kinetic_fem.solvers.fem_cooling_links import link_chain, start_state
 
 # Two converged solves of the same discrete equations differ by the Newton tolerance
 # (tol = 1e-11 on ln f and the relative zeta; measured: zeta 1.1e-14, a2 1.9e-14 over
-# a 10-point curve eps = 0.099 ... 1e-3, benchmarks/results/fem_cooling_speed.md)
+# a 10-point curve eps = 0.099 ... 1e-3, benchmarks/archive/results/fem_cooling_speed.md)
 NEWTON_TOL = 1e-11
 
 

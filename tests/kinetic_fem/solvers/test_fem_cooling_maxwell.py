@@ -2,7 +2,7 @@
 
 Measured with the defaults (P3, h0 = 0.04, mesh to c = 200, 1171 dofs), against the
 closed form f = 2/(pi (1+c^2)^2), zeta = (1 - alpha^2)/4 (relative zeta error, largest
-relative f error over |c| <= 10; benchmarks/results/fem_cooling_models_speed.md):
+relative f error over |c| <= 10; benchmarks/archive/results/fem_cooling_models_speed.md):
 alpha 0: 9.7e-12, 4.0e-8; 0.3: 2.2e-11, 1.6e-8; 0.5: 4.5e-11, 1.6e-8; 0.9: 1.4e-10,
 2.0e-8; 0.99: 7.0e-11, 7.0e-8; 0.999: 9.7e-12, 9.9e-7; T - 1 of the returned
 distribution <= 5.1e-10.  The bounds are twice these.

@@ -74,7 +74,7 @@ def test_gamma2_alpha0999():
     """The bug: kf.solve_cooling(0.999, kernel=2.0) raised ConvergenceError (alpha 0.99794).
     The chain's state was 3.8e-8 from the reference, the identity 3.6e-8 from zeta; the
     default is now one Newton solve from the anchors (.fem_cooling_gamma2): 1.1e-9 and
-    9.2e-10 (benchmarks/results/fem_cooling_models_speed.md)."""
+    9.2e-10 (benchmarks/archive/results/fem_cooling_models_speed.md)."""
     dist = kf.solve_cooling(0.999, kernel=2.0)
     extra = dist.info.extra
     assert extra["zeta"] / 1e-3 == pytest.approx(ZETA_REF[0.999], rel=1e-7)

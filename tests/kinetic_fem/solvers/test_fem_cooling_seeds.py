@@ -53,7 +53,7 @@ def default_0999():
 def test_near_elastic_default_agrees_with_a_finer_reference(default_0999):
     """eps = 1e-3 against P3 at 0.1 hump widths (solved from it).
 
-    Measured (benchmarks/results/fem_cooling_speed.md, ninth round): zeta 2.3e-14
+    Measured (benchmarks/archive/results/fem_cooling_speed.md, ninth round): zeta 2.3e-14
     relative, a2 4.3e-13, ln f 3.0e-7 where f > 1e-30; the P3 0.1 and P2 0.035
     references differ by 1.1e-14, 7.4e-12, 4.6e-7.  Bounds: 4 times the measured error."""
     state = default_0999

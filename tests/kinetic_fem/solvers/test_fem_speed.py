@@ -57,7 +57,7 @@ def test_chord_predicted_stop_saves_the_confirming_residual():
 @pytest.mark.parametrize("alpha", [0.0, 0.6, 0.9])
 def test_p3_default_is_at_least_as_accurate_as_p2(alpha):
     """The P3 default against P3 at 0.8 times the P2 spacing: T and a2 errors below the
-    P2 default's (measured 10-1000 times below: benchmarks/results/fem_speed.md)."""
+    P2 default's (measured 10-1000 times below: benchmarks/archive/results/fem_speed.md)."""
     p3 = fem.steady_state(alpha)
     assert p3.disc.order == 3
     p2 = fem.steady_state(alpha, order=2)
