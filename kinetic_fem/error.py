@@ -37,14 +37,15 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.ndimage import maximum_filter1d
 
-if TYPE_CHECKING:
-    from .distribution import VelocityDistribution
+VelocityDistribution = Any
+"""A :class:`kinetic_fem.VelocityDistribution` in annotations (not imported: the
+distribution module imports this one, and the import graph stays acyclic)."""
 
 __all__ = ["ErrorEstimate", "ErrorRecipe", "F_FLOOR", "ENVELOPE_NODES", "richardson_factor",
            "geometric_tail", "comparison_recipe"]
