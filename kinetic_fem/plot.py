@@ -250,7 +250,7 @@ def _distribution_curve(dist: Any, errors: bool | None, label: str | None) -> _C
     """(label, c, f, one standard error or error-estimate band of f or None)."""
     c, f = np.asarray(dist.c, dtype=float), np.asarray(dist.f_values, dtype=float)
     err = None if errors is False else dist.f_errors
-    if err is None and errors is not False and hasattr(dist, "error") \
+    if err is None and errors is not False and hasattr(type(dist), "error") \
             and (errors or "error" in vars(dist)):
         estimate = dist.error  # computed here only with errors=True
         err = np.abs(f) * np.nan_to_num(np.asarray(estimate.f(c), dtype=float))

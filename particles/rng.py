@@ -332,7 +332,17 @@ def _xoshiro_lanes_jit(st, out, n_steps):  # pragma: no cover - compiled
 
 
 def bits_to_double(x):
-    """The float64 whose bits are the uint64 ``x`` (a register move when compiled)."""
+    """The float64 whose bits are the uint64 ``x`` (a register move when compiled).
+
+    Parameters
+    ----------
+    x : numpy.uint64
+        The bits.
+
+    Returns
+    -------
+    float
+    """
     return float(np.array(x, dtype=np.uint64).view(np.float64))
 
 

@@ -200,7 +200,14 @@ def to_json(table: dict[str, Any]) -> str:
 
 
 def main(argv: Sequence[str] | None = None) -> None:
-    """Command line: regenerate one table (module notes)."""
+    """Command line: regenerate one table (module notes).
+
+    Parameters
+    ----------
+    argv : sequence of str, optional
+        The arguments (default: ``sys.argv[1:]``): ``gamma2`` or ``seeds``, and for
+        ``gamma2`` ``--count``, ``--points``, ``--eps-max``, ``--eps-min``; ``--out FILE``.
+    """
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("table", choices=("gamma2", "seeds"))
     parser.add_argument("--count", type=int, default=36)

@@ -701,6 +701,18 @@ def select(problem: CoolingProblem, options: CoolingOptions) -> Regime:
 
 
 def solve_state(problem: CoolingProblem, options: CoolingOptions) -> CoolingState:
-    """The cooling state by the regime that applies, in a new :class:`Run` (parameters,
-    returns and errors as :meth:`Run.solve`)."""
+    """The cooling state by the regime that applies, in a new :class:`Run`.
+
+    Parameters
+    ----------
+    problem : CoolingProblem
+        The problem (constant restitution).
+    options : CoolingOptions
+        The solver's options.
+
+    Returns
+    -------
+    CoolingState
+        As :meth:`Run.solve` (which also says what it raises).
+    """
     return Run().solve(problem, options)

@@ -27,7 +27,15 @@ __all__ = ["TailModel", "start_exponent"]
 
 class TailModel(Protocol):
     """What :func:`start_exponent` reads of a heated model
-    (:class:`~kinetic_fem.solvers.fem_defaults.ScaledModel` is one)."""
+    (:class:`~kinetic_fem.solvers.fem_defaults.ScaledModel` is one).
+
+    Parameters
+    ----------
+    friction : float
+        Friction of the bath (0: white noise), a property.
+    kernel : CollisionKernel
+        The collision kernel, a property.
+    """
 
     @property
     def friction(self) -> float:

@@ -223,11 +223,11 @@ def test_checkpoint_of_the_old_random_stream_is_refused(tmp_path):
     path = tmp_path / "md.npz"
     with pytest.raises(RuntimeError, match="resume"):
         md.simulate_heated(0.9, 100, checkpoint=path, max_wall_time=1e-9, **kw)
-    arrays, meta = load_checkpoint(path)
+    arrays, meta = load_checkpoint(path, engine="md")
     assert int(arrays["md_stream"][0]) == K.STREAM_VERSION
     del arrays["md_stream"]  # as written before the stream had a version
     arrays["md_rng_state"] = np.array([1, 2, 3, 4], np.uint64)
-    save_checkpoint(path, arrays, meta)
+    save_checkpoint(path, arrays, meta, engine="md")
     with pytest.raises(ValueError, match="version 1 of the MD random stream"):
         md.simulate_heated(0.9, 100, checkpoint=path, resume=True, **kw)
 
