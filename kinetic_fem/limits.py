@@ -156,14 +156,14 @@ def _tail_c4(c: np.ndarray, f: np.ndarray) -> float:
     return big_l**4 * f1 / k if k > 1.0 / big_l else big_l**5 * f1
 
 
-def check_result(dist: VelocityDistribution, *, tail: bool = True) -> VelocityDistribution:
+def check_result(dist: VelocityDistribution, *, check_tail: bool = True) -> VelocityDistribution:
     """Raise if a result that says ``converged`` is not a physical state.
 
     Parameters
     ----------
     dist : VelocityDistribution
         A solver's result.
-    tail : bool
+    check_tail : bool
         Check that the mesh holds :math:`\\langle c^4\\rangle` (False for a state
         without a finite fourth moment: the Maxwell model's cooling state).
 
@@ -192,7 +192,7 @@ def check_result(dist: VelocityDistribution, *, tail: bool = True) -> VelocityDi
     # (a2 = +inf is physical: the Maxwell model's cooling state has a c^-4 tail)
     if not (math.isfinite(t) and t > 0 and not math.isnan(a2)):
         raise ConvergenceError(f"{problem} has T = {t!r}, a2 = {a2!r}: not a physical state")
-    if tail and dist.errors is None and dist.v.size > 1 and math.isfinite(a2):
+    if check_tail and dist.errors is None and dist.v.size > 1 and math.isfinite(a2):
         tail = max(_tail_c4(dist.c, dist.f_values), _tail_c4(-dist.c[::-1],
                                                               dist.f_values[::-1]))
         if not tail <= _TAIL_SHARE * 3.0 * (1.0 + a2):

@@ -200,4 +200,4 @@ def solve_cooling(alpha: float | RestitutionLaw, *, density: float = 1.0,
     limits.check_frontier(problem, method, options)
     # the Maxwell model's cooling state has a c^-4 tail: no finite <c^4> to resolve
     return limits.check_result(solver(problem, **options),
-                               tail=not problem.gas.kernel.is_maxwell)
+                               check_tail=not problem.gas.kernel.is_maxwell)
