@@ -28,6 +28,8 @@ For the Maxwell kernel the second-moment equations close and these temperatures 
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 from numpy.typing import NDArray
 from scipy.optimize import root
@@ -37,7 +39,7 @@ from ..mixture_state import MixtureMoments
 from ..model.mixture import Mixture
 from ..model.validation import UnsupportedModelError, check_positive
 
-__all__ = ["variance_rates", "steady_state", "cooling_state"]
+__all__ = ["variance_rates", "steady_state", "cooling_state", "solve_root", "relaxed"]
 
 #: relative step tolerance of the root finder (it may stop with 'xtol too small' at round-off)
 _ROOT_TOL = 1e-14
@@ -85,12 +87,66 @@ def variance_rates(mixture: Mixture, variances: np.ndarray, density: float = 1.0
     return rates
 
 
-def _solve(fun, x0: NDArray[np.float64], what: str) -> NDArray[np.float64]:
+def relaxed(drift: Callable[[NDArray[np.float64]], NDArray[np.float64]],
+            x0: NDArray[np.float64], steps: int = 400) -> NDArray[np.float64]:
+    """A start for :func:`solve_root`: ``x`` moved along ``dx/dt = drift(x)`` (explicit
+    steps of at most 0.2 of the fastest rate) towards the steady state it relaxes to.
+
+    Parameters
+    ----------
+    drift : callable
+        The relaxation rates (zero at the state sought).
+    x0 : ndarray
+        The start.
+    steps : int
+        Steps at most (stops early once the rates are below 1e-6 of their start).
+
+    Returns
+    -------
+    ndarray
+    """
+    x = np.asarray(x0, dtype=float).copy()
+    rate = drift(x)
+    first = float(np.max(np.abs(rate)))
+    step = np.inf
+    for _ in range(steps):
+        size = float(np.max(np.abs(rate)))
+        if not np.isfinite(size) or size <= 1e-6 * first:
+            break
+        step = min(step, 0.2 / size)  # never longer: the rates shrink near the state
+        x += np.clip(rate * step, -0.5, 0.5)
+        rate = drift(x)
+    return x
+
+
+def solve_root(fun: Callable[[NDArray[np.float64]], NDArray[np.float64]],
+               x0: NDArray[np.float64], what: str) -> NDArray[np.float64]:
+    """The root of ``fun`` from ``x0`` (MINPACK's hybrid method), checked.
+
+    Parameters
+    ----------
+    fun : callable
+        The scaled balances; O(1) values, so the residual is compared with round-off.
+    x0 : ndarray
+        The start.
+    what : str
+        The theory and state, for the error message.
+
+    Returns
+    -------
+    ndarray
+
+    Raises
+    ------
+    ConvergenceError
+        If the root is not finite or its residual exceeds 1e-12 (the finder may stop
+        with "xtol too small" at round-off: that is accepted).
+    """
     sol = root(fun, x0, method="hybr", tol=_ROOT_TOL)
     residual = float(np.max(np.abs(fun(sol.x))))
     if not np.all(np.isfinite(sol.x)) or not residual <= _RESIDUAL_TOL:
-        raise ConvergenceError(f"Gaussian approximation of the mixture's {what}: the root "
-                               f"finder stopped ({sol.message}; residual {residual:.3g})")
+        raise ConvergenceError(f"{what}: the root finder stopped ({sol.message}; residual "
+                               f"{residual:.3g})")
     return sol.x
 
 
@@ -135,11 +191,8 @@ def steady_state(mixture: Mixture, *, density: float = 1.0) -> MixtureMoments:
 
     # start: each species alone with its own forcing, at the mixture's mean restitution
     scale = float(np.mean(mixture.diffusions()) / density)
-    x0 = np.full(mixture.n_species, np.log(max(scale, 1e-300)))
-    for _ in range(3):  # a few fixed-point sweeps on the common scale make hybr robust
-        rates = fun(x0)
-        x0 = x0 + np.clip(rates / max(1.0, float(np.max(np.abs(rates)))), -5.0, 5.0)
-    log_var = _solve(fun, x0, "steady state")
+    x0 = relaxed(fun, np.full(mixture.n_species, np.log(max(scale, 1e-300))))
+    log_var = solve_root(fun, x0, "Gaussian approximation of the mixture's steady state")
     return _result(mixture, density, np.exp(log_var), None)
 
 
@@ -173,8 +226,15 @@ def cooling_state(mixture: Mixture, *, density: float = 1.0) -> MixtureMoments:
         rel = variance_rates(mixture, var, density) / var
         return np.concatenate([rel[1:] - rel[:-1], [np.log(np.dot(weights, var))]])
 
-    x0 = np.log(np.full(mixture.n_species, 1.0) / np.asarray(mixture.masses))
-    log_var = _solve(fun, x0, "cooling state")
+    def drift(log_var: NDArray[np.float64]) -> NDArray[np.float64]:
+        # the scaled dynamics: every ln sigma_s^2 relative to the mixture's mean rate
+        var = np.exp(log_var)
+        rel = variance_rates(mixture, var, density) / var
+        return rel - np.dot(weights * var, rel) / np.dot(weights, var)
+
+    x0 = relaxed(drift, np.log(np.full(mixture.n_species, 1.0) / np.asarray(mixture.masses)))
+    x0 -= np.log(np.dot(weights, np.exp(x0)))  # T = 1
+    log_var = solve_root(fun, x0, "Gaussian approximation of the mixture's cooling state")
     var = np.exp(log_var)
     rate = float(np.dot(weights, variance_rates(mixture, var, density)))  # dT/dt at T = 1
     return _result(mixture, density, var, -rate / (2.0 * density))

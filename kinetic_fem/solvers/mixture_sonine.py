@@ -53,21 +53,17 @@ from math import comb, prod
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.optimize import root
 
-from ..exceptions import ConvergenceError
 from ..mixture_state import MixtureMoments
 from ..model.kernel_base import CollisionKernel
 from ..model.mixture import Mixture
 from ..model.validation import UnsupportedModelError, check_positive
+from .mixture_gaussian import solve_root
 
 __all__ = ["collision_rates", "steady_state", "cooling_state"]
 
 Poly = dict[tuple[int, int], float]
 """A polynomial in two variables: ``{(i, j): c}`` is :math:`\\sum c\\,x^i y^j`."""
-
-#: accepted residual of the scaled balances (round-off of O(1) sums is ~1e-15)
-_RESIDUAL_TOL = 1e-11
 
 
 def _mul(p: Poly, q: Poly) -> Poly:
@@ -173,15 +169,6 @@ def _forcing(mixture: Mixture, var: NDArray[np.float64], a2: NDArray[np.float64]
     return 2.0 * d - 2.0 * xi * var, 12.0 * d * var - 4.0 * xi * m4
 
 
-def _solve(fun, x0: NDArray[np.float64], what: str) -> NDArray[np.float64]:
-    sol = root(fun, x0, method="hybr", tol=1e-14)
-    residual = float(np.max(np.abs(fun(sol.x))))
-    if not np.all(np.isfinite(sol.x)) or not residual <= _RESIDUAL_TOL:
-        raise ConvergenceError(f"first-order Sonine theory of the mixture's {what}: the root "
-                               f"finder stopped ({sol.message}; residual {residual:.3g})")
-    return sol.x
-
-
 def _result(mixture: Mixture, density: float, var: NDArray[np.float64],
             a2: NDArray[np.float64], zeta: float | None) -> MixtureMoments:
     moments = np.zeros((mixture.n_species, 5))
@@ -233,8 +220,8 @@ def steady_state(mixture: Mixture, *, density: float = 1.0) -> MixtureMoments:
         force2, force4 = _forcing(mixture, var, a2)
         return np.concatenate([(rate2 + force2) / var, (rate4 + force4) / var**2])
 
-    x = _solve(fun, np.concatenate([np.log(start.moments[:, 2]), np.zeros(k)]),
-               "steady state")
+    x = solve_root(fun, np.concatenate([np.log(start.moments[:, 2]), np.zeros(k)]),
+                   "first-order Sonine theory of the mixture's steady state")
     return _result(mixture, density, np.exp(x[:k]), x[k:], None)
 
 
@@ -279,8 +266,8 @@ def cooling_state(mixture: Mixture, *, density: float = 1.0) -> MixtureMoments:
         rel4 = (rate4 - 6.0 * var**2 * (common + common0 * a2)) / var**2
         return np.concatenate([rel2[1:] - common, rel4, [np.log(np.dot(weights, var))]])
 
-    x = _solve(fun, np.concatenate([np.log(start.moments[:, 2]), np.zeros(k)]),
-               "cooling state")
+    x = solve_root(fun, np.concatenate([np.log(start.moments[:, 2]), np.zeros(k)]),
+                   "first-order Sonine theory of the mixture's cooling state")
     var, a2 = np.exp(x[:k]), x[k:]
     rate2, _ = collision_rates(mixture, var, a2, density)
     return _result(mixture, density, var, a2, -float(np.dot(weights, rate2)) / (2.0 * density))
