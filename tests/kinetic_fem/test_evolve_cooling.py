@@ -67,6 +67,7 @@ def test_hcs_start_follows_haff_with_the_hcs_zeta(hcs_state):
 HAFF_TOL, A2_TOL, ZETA_TOL = 1e-4, 2e-4, 5e-5
 
 
+@pytest.mark.slow  # 31 s; remaps stay in the default run through the Haff test above
 def test_temperature_falls_over_decades_with_remaps():
     """Hard rods from a Gaussian at T0 = 3: T falls by nearly five decades."""
     times = np.array([1.0, 10.0, 100.0, 300.0])

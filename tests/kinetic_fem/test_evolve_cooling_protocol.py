@@ -67,6 +67,7 @@ def test_initial_cooling_rate_is_the_gaussian_loss(law, kernel, t0):
     assert ev.series["cooling_rate"][0] * t0 == pytest.approx(loss, rel=1e-7, abs=0.0)
 
 
+@pytest.mark.slow  # 54-63 s; the law's fast check: test_initial_cooling_rate_is_the_gaussian_loss
 def test_viscoelastic_velocity_scaling():
     """v -> lambda v maps delta to delta lambda^(1/5) and t to t / lambda (hard rods):
     the run from T0 = lambda^2 equals lambda^2 times the run from T0 = 1 with the
