@@ -77,10 +77,13 @@ def public_modules(package: str) -> list[ModuleType]:
         if any(part.startswith("_") for part in info.name.split(".")):
             continue
         try:
-            mods.append(importlib.import_module(info.name))
+            mod = importlib.import_module(info.name)
         except Exception as exc:  # noqa: BLE001 - a half-written module must not break docs
             LOG.warning("API reference: %s left out (%s: %s)", info.name,
                         type(exc).__name__, exc)
+            continue
+        if mod.__name__ == info.name:  # an alias module (kinetic_fem.scaling) is its target
+            mods.append(mod)
     return sorted(mods, key=lambda m: m.__name__)
 
 
