@@ -38,8 +38,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..model import UnsupportedModelError
+from .continuation import StepRule, continuation, geometric_path
 from .fem import FEMDiscretisation
-from .fem_cooling_mesh import log_chain
 from .fem_cooling_newton import CoolingState, newton_cooling
 
 __all__ = ["QUASI_EPS", "QUASI_FRONTIER", "QUASI_RATIO", "QUASI_EFOLDS", "QUASI_DEPTH",
@@ -209,11 +209,9 @@ def quasi_elastic_chain(start: CoolingState, eps_start: float, alpha: float, *,
     """
     eps = 1.0 - alpha
     check_frontier(alpha, start.disc.kernel.gamma)
-    pending = log_chain(eps, eps_start, QUASI_RATIO)[::-1]  # a stack
-    prev, eps_prev = start, eps_start
     disc0 = start.disc
-    while pending:
-        step = pending[-1]
+
+    def solve(prev: CoolingState, eps_prev: float, step: float) -> CoolingState:
         efolds, depth, cutoff_depth = QUASI_FINAL if step == eps else QUASI_LINK
         verts = efold_vertices(prev, step, efolds=efolds, depth=depth,
                                cutoff_depth=cutoff_depth)
@@ -226,11 +224,7 @@ def quasi_elastic_chain(start: CoolingState, eps_start: float, alpha: float, *,
                     "in %d Newton steps", eps_prev, step, disc.dof_locations.size,
                     verts[-1], "converged" if state.info.converged else "failed",
                     state.info.iterations)
-        if state.info.converged:
-            pending.pop()
-            prev, eps_prev = state, step
-        elif eps_prev / step > QUASI_MIN_RATIO:
-            pending.append(math.sqrt(eps_prev * step))
-        else:
-            return state
-    return prev
+        return state
+
+    return continuation(start, eps_start, geometric_path(eps_start, eps, QUASI_RATIO), solve,
+                        rule=StepRule(min_ratio=QUASI_MIN_RATIO)).last
