@@ -37,6 +37,7 @@ from .fem_cooling_hump import (
     HUMP_LINK_RESOLUTION,
     P3_FAR_EFOLDS,
     P3_MONITOR_LOG_F,
+    HumpStepOptions,
     continued_state,
 )
 from .fem_cooling_mesh import step_intorder
@@ -176,17 +177,15 @@ def start_state(initial: CoolingState | VelocityDistribution) -> tuple[CoolingSt
                      f"kf.solve_cooling, got {type(initial).__name__}")
 
 
-def chain_state(alpha: float, start: CoolingState, eps_start: float, *, order: int,
-                intorder: int | None, tol: float, max_iter: int, resolution: float,
-                final_order: int) -> CoolingState:
+def chain_state(alpha: float, start: CoolingState, eps_start: float, final: HumpStepOptions,
+                *, order: int) -> CoolingState:
     """The hard-rod HCS at ``alpha`` by continuation in eps from ``start``.
 
     Toward eps >= :data:`~kinetic_fem.solvers.fem_cooling_hump.HUMP_COARSE_EPS` from a
     start at or above it: links of ratio at most ``HUMP_LINK_RATIO`` on the fast link
     meshes; else steps of at most :data:`HUMP_RATIO` (module notes of
     :mod:`~kinetic_fem.solvers.fem_cooling`).  A failed step is retried through the
-    geometric mean; the state asked for is of degree ``final_order`` at ``resolution``
-    hump widths.
+    geometric mean; the state asked for is the one ``final`` describes.
 
     Parameters
     ----------
@@ -196,14 +195,12 @@ def chain_state(alpha: float, start: CoolingState, eps_start: float, *, order: i
         A converged state at ``eps_start``.
     eps_start : float
         Its inelasticity.
-    order, intorder : int, int or None
-        Lagrange and Gauss degree of the links.
-    tol, max_iter : float, int
-        Newton tolerance and iteration limit of the state asked for.
-    resolution : float
-        Its element size in the humps (hump widths).
-    final_order : int
-        Its Lagrange degree.
+    final : HumpStepOptions
+        The state asked for: its element size in the humps (``resolution``, hump
+        widths), Lagrange degree, Newton tolerance and iteration limit; its Gauss degree
+        (``intorder``, None: by step) is that of the links too.
+    order : int
+        Lagrange degree of the links.
 
     Returns
     -------
@@ -214,6 +211,8 @@ def chain_state(alpha: float, start: CoolingState, eps_start: float, *, order: i
     ConvergenceError
         If a step fails at a ratio below :data:`HUMP_MIN_RATIO`.
     """
+    resolution, final_order, intorder = final.resolution, final.order, final.intorder
+    tol, max_iter = final.tol, final.max_iter
     eps = 1.0 - alpha
     fast = min(eps, eps_start) >= HUMP_COARSE_EPS * (1 - 1e-9)  # HUMP_FAST_LINK meshes
     if eps_start == HUMP_EPS and not fast:

@@ -19,6 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..model import CoolingProblem
+from .continuation import geometric_path
 from .fem_cooling_tail import POWER_TAIL_CUTOFF, POWER_TAIL_SPACING, power_tail_vertices
 
 __all__ = ["hcs_bulk", "BULK_EPS", "hcs_cutoff", "hcs_spacing", "hcs_vertices", "initial_log_f",
@@ -94,8 +95,7 @@ def log_chain(eps: float, start: float, ratio: float) -> list[float]:
     >>> [round(e, 6) for e in log_chain(1e-3, 0.1, 8.0)]
     [0.021544, 0.004642, 0.001]
     """
-    n = max(1, math.ceil(math.log(start / eps) / math.log(ratio) - 1e-9))
-    return [start * (eps / start) ** (k / n) for k in range(1, n)] + [eps]
+    return geometric_path(start, eps, ratio)
 
 
 def hcs_cutoff(problem: CoolingProblem) -> float:

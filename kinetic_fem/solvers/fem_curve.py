@@ -27,7 +27,7 @@ import math
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import cast
+from typing import Any, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -175,9 +175,7 @@ def predict_log_density(states: Sequence[SteadyState], alphas: Sequence[float], 
 
 def heated_curve(alphas: ArrayLike, *, density: float = 1.0, diffusion: float = 1.0,
                  friction: float = 0.0, kernel: float | PowerLawKernel = 1.0,
-                 warm_start: bool = True, order: int | None = None, spacing: float | None = None,
-                 cutoff: float | None = None, tol: float = 1e-11,
-                 max_iter: int = 40) -> HeatedCurve:
+                 warm_start: bool = True, **options: Any) -> HeatedCurve:
     """FEM heated steady states along ``alphas``, each started from a prediction.
 
     Parameters
@@ -194,8 +192,10 @@ def heated_curve(alphas: ArrayLike, *, density: float = 1.0, diffusion: float = 
         (:func:`predict_log_density`, module docstring); ``False``:
         every state from the solver's default start, as :func:`kinetic_fem.solve_heated`
         does.
-    order, spacing, cutoff, tol, max_iter
-        As for :func:`kinetic_fem.solvers.fem.solve_fem_heated`.
+    **options
+        The options of :func:`kinetic_fem.solvers.fem.steady_state` (``mesh``,
+        ``symmetric``, ``tol``, ``max_iter`` and the mesh's by keyword: ``order``,
+        ``spacing``, ``cutoff`` ...); an unknown one raises :class:`TypeError`.
 
     Returns
     -------
@@ -222,8 +222,7 @@ def heated_curve(alphas: ArrayLike, *, density: float = 1.0, diffusion: float = 
 
     def solve(problem: HeatedProblem,
               initial: Callable[[NDArray], NDArray] | None) -> SteadyState:
-        return steady_state(problem, order=order, spacing=spacing, cutoff=cutoff, tol=tol,
-                            max_iter=max_iter, initial=initial)
+        return steady_state(problem, initial=initial, **options)
 
     points: list[_Point] = []
     dists = []
