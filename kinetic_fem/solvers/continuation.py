@@ -44,13 +44,13 @@ from typing import Generic, Literal, Protocol, TypeVar
 
 from ..run_info import RunInfo
 
-__all__ = ["Converging", "StepRule", "NO_RETRY", "ContinuationResult", "continuation",
+__all__ = ["StepRule", "NO_RETRY", "ContinuationResult", "continuation",
            "geometric_path", "ratio_path"]
 
 logger = logging.getLogger(__name__)
 
 
-class Converging(Protocol):
+class _Converging(Protocol):
     """A state with a convergence report (``info.converged``, ``info.iterations``)."""
 
     @property
@@ -58,7 +58,7 @@ class Converging(Protocol):
         ...
 
 
-S = TypeVar("S", bound=Converging)
+S = TypeVar("S", bound=_Converging)
 P = TypeVar("P")
 
 

@@ -41,6 +41,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..model import CoolingProblem
+from ..operators.mesher import log_drop_size, march
 from .continuation import NO_RETRY, continuation, geometric_path
 from .fem import FEMDiscretisation
 from .fem_cooling_hump import (
@@ -136,17 +137,15 @@ def band_vertices(eps: float, log_f: Callable[[NDArray], NDArray], *,
     cutoff = float(probe[np.argmax(low)]) if low.any() else float(probe[-1])
     slope = np.maximum(-np.gradient(start, probe), 1e-300)
     c1 = 1.0 + edge * w
-    nodes = [0.0]
-    c = 0.0
-    while c < cutoff:
-        h = h0
-        if c > c1:
-            h = max(h0, min(h0 * (1.0 + growth * (c - c1) / w),
-                            efolds / float(np.interp(c, probe, slope))))
-        c += h
-        nodes.append(c)
-    half = np.array(nodes)
-    return np.concatenate([-half[:0:-1], half])
+
+    def size(c: float) -> float:
+        if c <= c1:
+            return h0
+        # the tail: at most ``efolds`` e-folds of the start per element
+        return log_drop_size(float(np.interp(c, probe, slope)), efolds,
+                             largest=h0 * (1.0 + growth * (c - c1) / w), smallest=h0)
+
+    return march(size, cutoff)
 
 
 def in_band(eps: float, hump_eps: float) -> bool:

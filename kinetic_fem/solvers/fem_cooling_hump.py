@@ -84,7 +84,12 @@ benchmarks/archive/results/fem_cooling_speed.md); below, and with ``resolution``
 
 @dataclass(frozen=True)
 class HumpStepOptions:
-    """The options of :func:`continued_state` that travel together (parameters as there).
+    """The options of :func:`continued_state` that travel together.
+
+    Parameters
+    ----------
+    resolution, order, intorder, tol, max_iter, decades, far_efolds, monitor, predict_iter
+        As in :func:`continued_state`.
 
     Examples
     --------

@@ -19,6 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..model import CoolingProblem
+from ..operators.mesher import march
 from .continuation import geometric_path
 from .fem_cooling_tail import POWER_TAIL_CUTOFF, POWER_TAIL_SPACING, power_tail_vertices
 
@@ -208,18 +209,9 @@ def hcs_vertices(c_max: float, spacing: float, *, gamma: float,
     if gamma == 0.0:
         # --- the Maxwell model's c^-4 tail: kinetic_fem.solvers.fem_cooling_tail ---
         return power_tail_vertices(c_max, spacing)
-    nodes = [0.0]
-    c = 0.0
     kappa = (3.0 - gamma) / 3.0
-    while c < c_max:
-        h = spacing * max(1.0, c / bulk) ** kappa
-        c = c + h
-        nodes.append(c)
-    half = np.array(nodes)
-    if half[-1] - c_max > 0.5 * (half[-1] - half[-2]):
-        half = half[:-1]
-    half[-1] = c_max
-    return np.concatenate([-half[:0:-1], half])
+    # the drop of ln f ~ -c^gamma spread evenly: h^3 (ln f)''' constant in the tail
+    return march(lambda c: spacing * max(1.0, c / bulk) ** kappa, c_max, end="snap")
 
 
 def initial_log_f(c: NDArray, gamma: float, zeta: float) -> NDArray:

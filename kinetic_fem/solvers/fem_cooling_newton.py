@@ -350,7 +350,13 @@ def _step_size(delta: NDArray, x: NDArray, monitor: float = MONITOR_LOG_F) -> fl
 
 @dataclass(frozen=True)
 class CoolingNewtonOptions:
-    """The options of :func:`newton_cooling` that travel together (parameters as there).
+    """The options of :func:`newton_cooling` that travel together.
+
+    Parameters
+    ----------
+    tol, max_iter, step_limit, pseudo_time, log_steps, settle_steps, min_damping, \
+line_search, monitor, speculative, predict_iter
+        As in :func:`newton_cooling`.
 
     Examples
     --------

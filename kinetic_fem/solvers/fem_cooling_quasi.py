@@ -38,6 +38,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..model import UnsupportedModelError
+from ..operators.mesher import march
 from .continuation import StepRule, continuation, geometric_path
 from .fem import FEMDiscretisation
 from .fem_cooling_newton import CoolingState, newton_cooling
@@ -132,23 +133,26 @@ def efold_vertices(prev: LogDensity, eps: float, *, efolds: float = QUASI_EFOLDS
     peak = float(log_f.max())
     slope = np.abs(np.gradient(log_f, grid))
     width = math.sqrt(eps)
-    verts = [0.0]
-    while True:
-        c = verts[-1]
+
+    def stop(c: float) -> bool:
         lf = float(np.interp(c, grid, log_f))
         if c > 1.0 and peak - lf > cutoff_depth:
-            break
+            return True
         if c >= grid[-1]:
             raise ValueError(f"the state has not fallen {cutoff_depth:g} below its peak by "
                              f"c = {grid[-1]:g}: not a near-elastic state")
+        return False
+
+    def size(c: float) -> float:
+        lf = float(np.interp(c, grid, log_f))
         h = max_size
         if min(peak - lf, peak - float(np.interp(c + h, grid, log_f))) < depth:
             h = min(h, efolds / max(float(np.interp(c, grid, slope)), 1e-12))
         if abs(c - 1.0) < 3.0 * width:
             h = min(h, width / core)
-        verts.append(c + h)
-    half = np.asarray(verts)
-    return np.concatenate([-half[:0:-1], half])
+        return h
+
+    return march(size, stop)
 
 
 def check_frontier(alpha: float, gamma: float) -> None:

@@ -246,7 +246,14 @@ class PseudoTransient:
 
 @dataclass(frozen=True)
 class NewtonOptions:
-    """The options of :func:`newton` that travel together (parameters as there).
+    """The options of :func:`newton` that travel together.
+
+    Parameters
+    ----------
+    tol, max_iter, criterion, norm, step_norm, update, linear_solver, row_scale, \
+column_scale, line_search, armijo, min_damping, on_failure, stall_level, factorize, \
+chord, chord_rate, predict, pseudo_time, name
+        As in :func:`newton` (``tol`` required).
 
     Examples
     --------
