@@ -20,9 +20,13 @@ solution at :math:`p_0`, through the solutions at the values of a *path*
   value of the path.  Newton's iteration count measures its contraction from the
   predicted start (a start inside the quadratic basin converges in a few steps; a
   contraction near 1 takes many), so the step grows where the solutions move slowly and
-  shrinks where they move fast.  Without it the path is walked as given (the planned
-  chains of the FEM cooling state, whose intermediate states also set the next meshes:
-  results bit-identical to the loops this driver replaced).
+  shrinks where they move fast, never below ``min_ratio``.  The iteration count has a
+  floor (Newton from the nearest start still takes a few steps to its tolerance): a
+  target at or below it only shrinks the step.  Without it the path is walked as given
+  (the planned chains of the FEM cooling state, whose intermediate states also set the
+  next meshes: results bit-identical to the loops this driver replaced; on the alpha
+  chain of gamma = 2 and 1.5 the planned ratio 1.6 took fewer Newton steps than the
+  controlled step, ``benchmarks/results/continuation_step.md``).
 
 Used by the FEM cooling state (the continuation in alpha of hard kernels
 :func:`~.fem_cooling_alpha.alpha_chain`, the near-elastic chain
@@ -189,13 +193,16 @@ class StepRule:
         Returns
         -------
         float
+            At least ``min_ratio``.
         """
         assert self.target_iterations is not None
         factor = min(self.growth, max(1.0 / self.growth,
                                       self.target_iterations / max(iterations, 1)))
+        # never below the smallest step the retry rule splits (a failure there would
+        # stop the continuation)
         if self.scale == "log":
-            return float(step ** factor)  # the log of the ratio scales
-        return step * factor
+            return max(float(step ** factor), self.min_ratio)  # the log of the ratio scales
+        return max(step * factor, self.min_ratio)
 
 
 @dataclass(frozen=True)
