@@ -21,6 +21,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, Callable, Sequence
 
 from ..files import output_path
+from ..options import option_names
 
 if TYPE_CHECKING:
     from ..distribution import VelocityDistribution
@@ -297,14 +298,10 @@ def check_options(function: Callable[..., Any], options: dict[str, Any], what: s
     ValueError
         Naming the unknown options and the valid ones.
     """
-    try:
-        params = inspect.signature(function).parameters
-    except (TypeError, ValueError):
+    names = option_names(function)  # its parameters and its option objects' fields
+    if names is None:
         return
-    if any(p.kind is p.VAR_KEYWORD for p in params.values()):
-        return
-    valid = sorted(n for n, p in params.items()
-                   if p.kind in (p.KEYWORD_ONLY, p.POSITIONAL_OR_KEYWORD) and n not in exclude)
+    valid = sorted(n for n in names if n not in exclude)
     unknown = sorted(set(options) - set(valid))
     if unknown:
         raise ValueError(f"unknown option(s) {unknown} for {what}; valid -o names: {valid}")

@@ -39,6 +39,8 @@ from typing import Callable
 import numpy as np
 from numpy.typing import NDArray
 
+from .mesher import log_drop_size, march
+
 __all__ = ["hump_vertices", "element_indicator", "refined_vertices", "HUMP_DECADES",
            "PSI_Y2", "EDGE_EFOLDS"]
 
@@ -138,20 +140,16 @@ def hump_vertices(eps: float, zeta: float, *, resolution: float = 0.1,
 
     def size(c: float) -> float:
         if c > 1.0:  # the outer edge: at most ``efolds`` e-folds per element
-            return min(h0, max_size, efolds / max(float(edge_slope(c)), 1e-300))
+            return log_drop_size(float(edge_slope(c)), efolds, largest=min(h0, max_size))
         if c >= lo_core:  # the hump
             return min(h0, max_size)
         dist = min(c, lo_core - c)  # the inner tail: geometric grading
         return min(h0 * (1.0 + growth * dist / w), max_size)
 
-    half = [0.0]
-    while half[-1] < cutoff:
-        half.append(half[-1] + size(half[-1]))
     # the mesh ends at the first vertex beyond the cut-off: a last element stretched to
     # end exactly there falls 3 to 4 e-folds and is unstable (a growing mode of the
     # linearised discrete operator at the cut-off, +3.7 eps at eps = 2.4e-5)
-    arr = np.array(half)
-    return np.concatenate([-arr[:0:-1], arr])
+    return march(size, cutoff)
 
 
 def _second_derivatives(vertices: NDArray[np.float64], u_vertices: NDArray[np.float64],

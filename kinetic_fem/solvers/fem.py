@@ -57,6 +57,7 @@ import math
 import warnings
 from collections.abc import Callable
 from dataclasses import replace
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -77,6 +78,7 @@ from ..operators.fem_discretisation import (
     weighted_mass,
 )
 from ..operators.grid import symmetric_grid, uniform_grid
+from ..options import gather
 from ..solve import register_solver
 from .fem_defaults import (
     ScaledModel,
@@ -101,6 +103,7 @@ from .fem_newton import (
     newton_steady,
     stalled,
 )
+from .fem_options import MeshOptions
 from .fem_state import (
     SEQUENCE_BAND,
     LazyExtra,
@@ -211,12 +214,10 @@ def discretisation(model: ScaledModel, vertices: NDArray, order: int = 2,
                              speed_scale=model.speed_scale)
 
 
-def steady_state(model: float | HeatedProblem, *, order: int | None = None,
-                 spacing: float | None = None, cutoff: float | None = None, vertices=None,
-                 intorder: int | None = None, symmetric: bool = False, tol: float = 1e-11,
-                 max_iter: int = 40,
-                 initial: SteadyState | Callable[[NDArray], NDArray] | None = None
-                 ) -> SteadyState:
+def steady_state(model: float | HeatedProblem, *, mesh: MeshOptions | None = None,
+                 symmetric: bool = False, tol: float = 1e-11, max_iter: int = 40,
+                 initial: SteadyState | Callable[[NDArray], NDArray] | None = None,
+                 **mesh_keywords: Any) -> SteadyState:
     """Newton steady state at ``n = D = 1`` (see :func:`solve_fem_heated` for the options).
 
     ``model`` is a heated problem (solved at ``n = D = 1``, see
@@ -232,7 +233,7 @@ def steady_state(model: float | HeatedProblem, *, order: int | None = None,
     ----------
     model : float or HeatedProblem
         The problem, or a restitution coefficient of the paper's model.
-    order, spacing, cutoff, vertices, intorder, symmetric, tol, max_iter
+    mesh, symmetric, tol, max_iter, **mesh_keywords
         As in :func:`solve_fem_heated`.
     initial : SteadyState or callable, optional
         A state of a nearby model to start from, or ``v -> ln P(v)`` (``n = D = 1``).
@@ -246,10 +247,11 @@ def steady_state(model: float | HeatedProblem, *, order: int | None = None,
     ConvergenceError
         If Newton's method does not converge.
     """
+    m = gather(MeshOptions, mesh, mesh_keywords, "steady_state")
     problem = model if isinstance(model, HeatedProblem) else \
         HeatedProblem.from_parameters(model)
-    return _steady_state(problem, scaled_model(problem), order=order, spacing=spacing,
-                         cutoff=cutoff, vertices=vertices, intorder=intorder,
+    return _steady_state(problem, scaled_model(problem), order=m.order, spacing=m.spacing,
+                         cutoff=m.cutoff, vertices=m.vertices, intorder=m.intorder,
                          symmetric=symmetric, tol=tol, max_iter=max_iter, initial=initial)
 
 
@@ -402,15 +404,18 @@ def _widened_solve(alpha: float, scaled: ScaledModel, paper: bool, order: int,
 
 
 @register_solver("fem", problem="heated")
-def solve_fem_heated(problem: HeatedProblem, *, order: int | None = None,
-                     spacing: float | None = None, cutoff: float | None = None, vertices=None,
-                     intorder: int | None = None, symmetric: bool = False, tol: float = 1e-11,
-                     max_iter: int = 40, accuracy: float | None = None) -> VelocityDistribution:
+def solve_fem_heated(problem: HeatedProblem, *, mesh: MeshOptions | None = None,
+                     symmetric: bool = False, tol: float = 1e-11, max_iter: int = 40,
+                     accuracy: float | None = None,
+                     **mesh_keywords: Any) -> VelocityDistribution:
     """Steady state of the heated gas by Galerkin FEM and Newton's method.
 
     Parameters
     ----------
     problem : HeatedProblem
+    mesh : MeshOptions, optional
+        The mesh's options below as one object (each may also be passed by keyword, over
+        ``mesh``; an unknown keyword raises :class:`TypeError`).
     order : int, optional
         Lagrange degree, 1, 2 or 3; default
         :func:`kinetic_fem.solvers.fem_defaults.default_order` on the default mesh (3 for
@@ -471,6 +476,9 @@ def solve_fem_heated(problem: HeatedProblem, *, order: int | None = None,
     ResolutionWarning
         If the cut-off truncates f(c) above 1e-30 or the spacing is too coarse.
     """
+    m = gather(MeshOptions, mesh, mesh_keywords, "solve_fem_heated")
+    order, spacing, cutoff, vertices, intorder = (m.order, m.spacing, m.cutoff, m.vertices,
+                                                  m.intorder)
     problem.require("fem")
     if accuracy is not None:
         check_positive("accuracy", accuracy)

@@ -92,6 +92,7 @@ from __future__ import annotations
 import logging
 from collections.abc import Callable
 from dataclasses import replace
+from typing import Any
 
 from numpy.typing import NDArray
 
@@ -99,6 +100,7 @@ from ..distribution import VelocityDistribution
 from ..exceptions import ConvergenceError
 from ..model import CoolingProblem, UnsupportedModelError
 from ..operators.fem_discretisation import FEMDiscretisation
+from ..options import gather
 from ..solve import register_solver
 from .fem_cooling_hump import (
     HUMP_LINK_RESOLUTION,
@@ -129,6 +131,7 @@ from .fem_cooling_mesh import (
 from .fem_cooling_newton import CoolingState, newton_cooling
 from .fem_cooling_tail import maxwell_hcs, recovered_distribution
 from .fem_error import cooling_recipe
+from .fem_options import MeshOptions
 from .fem_regimes import CoolingOptions, hump_start, link_start, solve_state, uses_hump_mesh
 
 __all__ = ["solve_fem_cooling", "cooling_state", "CoolingState", "CoolingOptions",
@@ -143,12 +146,11 @@ __all__ = ["solve_fem_cooling", "cooling_state", "CoolingState", "CoolingOptions
 logger = logging.getLogger(__name__)
 
 
-def cooling_state(problem: CoolingProblem, *, order: int | None = None,
-                  spacing: float | None = None, cutoff: float | None = None, vertices=None,
-                  intorder: int | None = None,
+def cooling_state(problem: CoolingProblem, *, mesh: MeshOptions | None = None,
                   tol: float = 1e-11, max_iter: int = 100,
                   resolution: float | None = None, sequence: bool = True,
-                  initial: CoolingState | VelocityDistribution | None = None) -> CoolingState:
+                  initial: CoolingState | VelocityDistribution | None = None,
+                  **mesh_keywords: Any) -> CoolingState:
     """The HCS by Newton's method (see :func:`solve_fem_cooling` for the options).
 
     The keywords make one :class:`~kinetic_fem.solvers.fem_regimes.CoolingOptions`; the
@@ -161,7 +163,7 @@ def cooling_state(problem: CoolingProblem, *, order: int | None = None,
     ----------
     problem : CoolingProblem
         Constant restitution, any kernel.
-    order, spacing, cutoff, vertices, intorder, tol, max_iter, resolution
+    mesh, tol, max_iter, resolution, **mesh_keywords
         As in :func:`solve_fem_cooling`.
     sequence : bool
         Mesh sequencing (see above).
@@ -185,25 +187,28 @@ def cooling_state(problem: CoolingProblem, *, order: int | None = None,
             f"{problem.gas.restitution!r}: a velocity-dependent law has its own speed scale, "
             "so no scaling state exists (the gas approaches elastic collisions as it cools); "
             "use particles.dsmc.simulate_cooling for the transient")
+    m = gather(MeshOptions, mesh, mesh_keywords, "cooling_state")
     return solve_state(problem, CoolingOptions(
-        order=order, spacing=spacing, cutoff=cutoff, vertices=vertices, intorder=intorder,
-        tol=tol, max_iter=max_iter, resolution=resolution, sequence=sequence,
-        initial=initial))
+        order=m.order, spacing=m.spacing, cutoff=m.cutoff, vertices=m.vertices,
+        intorder=m.intorder, tol=tol, max_iter=max_iter, resolution=resolution,
+        sequence=sequence, initial=initial))
 
 
 @register_solver("fem", problem="cooling")
-def solve_fem_cooling(problem: CoolingProblem, *, order: int | None = None,
-                      spacing: float | None = None, cutoff: float | None = None,
-                      vertices=None, intorder: int | None = None, tol: float = 1e-11,
-                      max_iter: int = 100, resolution: float | None = None,
-                      initial: CoolingState | VelocityDistribution | None = None
-                      ) -> VelocityDistribution:
+def solve_fem_cooling(problem: CoolingProblem, *, mesh: MeshOptions | None = None,
+                      tol: float = 1e-11, max_iter: int = 100,
+                      resolution: float | None = None,
+                      initial: CoolingState | VelocityDistribution | None = None,
+                      **mesh_keywords: Any) -> VelocityDistribution:
     """Homogeneous cooling state by Galerkin FEM and Newton's method.
 
     Parameters
     ----------
     problem : CoolingProblem
         Constant restitution, any kernel :math:`|g|^\\gamma`.
+    mesh : MeshOptions, optional
+        The mesh's options below as one object (each may also be passed by keyword, over
+        ``mesh``; an unknown keyword raises :class:`TypeError`).
     order : int, optional
         Lagrange degree, 1, 2 or 3; default 3 for hard rods on the default mesh at
         :math:`\\varepsilon \\ge` :data:`HUMP_EPS` (:mod:`.fem_cooling_order`), else 2.
@@ -248,8 +253,8 @@ def solve_fem_cooling(problem: CoolingProblem, *, order: int | None = None,
     ConvergenceError
         If Newton's method does not converge.
     """
-    state = cooling_state(problem, order=order, spacing=spacing, cutoff=cutoff,
-                          vertices=vertices, intorder=intorder, tol=tol, max_iter=max_iter,
+    m = gather(MeshOptions, mesh, mesh_keywords, "solve_fem_cooling")
+    state = cooling_state(problem, mesh=m, tol=tol, max_iter=max_iter,
                           resolution=resolution, initial=initial)
     return cooling_distribution(problem, state)
 

@@ -31,8 +31,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..model import CoolingProblem
+from .continuation import StepRule, continuation, geometric_path
 from .fem import FEMDiscretisation
-from .fem_cooling_mesh import hcs_bulk, hcs_cutoff, hcs_spacing, hcs_vertices, log_chain
+from .fem_cooling_mesh import hcs_bulk, hcs_cutoff, hcs_spacing, hcs_vertices
 from .fem_cooling_newton import CoolingState, newton_cooling
 from .fem_cooling_order import STRONG_ALPHA, order_spacing
 from .fem_cooling_quasi import QUASI_EPS, check_frontier, quasi_elastic_chain
@@ -169,23 +170,14 @@ def alpha_chain(disc: FEMDiscretisation, start: CoolingState, alpha_start: float
         if state.info.converged and memo is not None:
             memo[key] = state
         return state
-    pending = log_chain(eps, eps_prev, ALPHA_CHAIN_RATIO)[::-1]  # a stack
-    prev = start
-    while pending:
-        step = pending[-1]
+
+    def solve(prev: CoolingState, eps_prev: float, step: float) -> CoolingState:
         final = step == eps
         step_disc = disc if final else FEMDiscretisation(
             1.0 - step, disc.vertices, disc.order, disc.intorder, gamma=disc.gamma)
         zeta0 = prev.zeta * (1.0 - (1.0 - step) ** 2) / (1.0 - (1.0 - eps_prev) ** 2)
-        state = newton_cooling(step_disc, prev.u, zeta0, tol=tol if final else ALPHA_CHAIN_TOL,
-                               max_iter=max_iter, pseudo_time=math.inf)
-        if state.info.converged:
-            pending.pop()
-            prev, eps_prev = state, step
-        elif eps_prev / step > MIN_RATIO:
-            pending.append(math.sqrt(eps_prev * step))
-            logger.info("HCS alpha continuation: step eps %.3g -> %.3g failed; halving it",
-                        eps_prev, step)
-        else:
-            return state
-    return prev
+        return newton_cooling(step_disc, prev.u, zeta0, tol=tol if final else ALPHA_CHAIN_TOL,
+                              max_iter=max_iter, pseudo_time=math.inf)
+
+    return continuation(start, eps_prev, geometric_path(eps_prev, eps, ALPHA_CHAIN_RATIO),
+                        solve, rule=StepRule(min_ratio=MIN_RATIO)).last

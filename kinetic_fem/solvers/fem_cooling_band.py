@@ -41,6 +41,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..model import CoolingProblem
+from ..operators.mesher import log_drop_size, march
+from .continuation import NO_RETRY, continuation, geometric_path
 from .fem import FEMDiscretisation
 from .fem_cooling_hump import (
     FULL_STEP_ITER,
@@ -49,7 +51,7 @@ from .fem_cooling_hump import (
     HUMP_LINK_RATIO,
     continued_state,
 )
-from .fem_cooling_links import HUMP_STEP_ITER, HUMP_STEP_TOL, link_chain
+from .fem_cooling_links import HUMP_STEP_ITER, HUMP_STEP_TOL
 from .fem_cooling_newton import CLOSE_DAMPING, CoolingState, newton_cooling
 
 __all__ = ["BAND_EPS", "BAND_RESOLUTION", "BAND_EDGE", "BAND_GROWTH", "BAND_EFOLDS",
@@ -135,17 +137,15 @@ def band_vertices(eps: float, log_f: Callable[[NDArray], NDArray], *,
     cutoff = float(probe[np.argmax(low)]) if low.any() else float(probe[-1])
     slope = np.maximum(-np.gradient(start, probe), 1e-300)
     c1 = 1.0 + edge * w
-    nodes = [0.0]
-    c = 0.0
-    while c < cutoff:
-        h = h0
-        if c > c1:
-            h = max(h0, min(h0 * (1.0 + growth * (c - c1) / w),
-                            efolds / float(np.interp(c, probe, slope))))
-        c += h
-        nodes.append(c)
-    half = np.array(nodes)
-    return np.concatenate([-half[:0:-1], half])
+
+    def size(c: float) -> float:
+        if c <= c1:
+            return h0
+        # the tail: at most ``efolds`` e-folds of the start per element
+        return log_drop_size(float(np.interp(c, probe, slope)), efolds,
+                             largest=h0 * (1.0 + growth * (c - c1) / w), smallest=h0)
+
+    return march(size, cutoff)
 
 
 def in_band(eps: float, hump_eps: float) -> bool:
@@ -203,18 +203,19 @@ def band_state(problem: CoolingProblem, start: CoolingState, eps_start: float, *
     eps = problem.gas.epsilon
     # one link from the eps = 0.1 state; from a far warm start (e.g. eps = 1e-3) a link
     # chain of ratio <= HUMP_LINK_RATIO on the same meshes
-    link, eps_prev = start, eps_start
-    for step in link_chain(eps, eps_start, HUMP_LINK_RATIO):
-        link = continued_state(link, eps_prev, step, resolution=HUMP_FAST_LINK, order=2,
+    def solve(prev: CoolingState, eps_prev: float, step: float) -> CoolingState:
+        return continued_state(prev, eps_prev, step, resolution=HUMP_FAST_LINK, order=2,
                                intorder=5, tol=HUMP_STEP_TOL, decades=HUMP_LINK_DECADES,
                                max_iter=min(max_iter, HUMP_STEP_ITER))
-        eps_prev = step
-        if not link.info.converged:
-            break
-    if not link.info.converged:
+
+    walk = continuation(start, eps_start, geometric_path(eps_start, eps, HUMP_LINK_RATIO),
+                        solve, rule=NO_RETRY)
+    if not walk.converged:
+        assert walk.failed is not None
         logger.info("HCS band eps = %.3g: the link from %.3g to %.3g failed (%s)", eps,
-                    eps_start, eps_prev, link.info.message)
+                    eps_start, walk.failed_value, walk.failed.info.message)
         return None
+    link = walk.state
     disc = FEMDiscretisation(problem.gas.alpha, band_vertices(eps, link.log_f), 3,
                              intorder or BAND_INTORDER, gamma=problem.gas.gamma)
     u0 = link.log_f(disc.dof_locations)

@@ -17,10 +17,10 @@ in the log, so a figure shows what the solver reaches.
 from __future__ import annotations
 
 import logging
-import math
 from collections.abc import Iterable
 
 from . import fem_cooling as fc
+from .continuation import StepRule, continuation
 from .fem_cooling_mesh import step_intorder
 from .fem_cooling_newton import CoolingState
 
@@ -76,37 +76,31 @@ def hump_states(eps_values: Iterable[float], *, resolution: float = fc.HUMP_STEP
         return out
     step_res = max(resolution, fc.HUMP_STEP_RESOLUTION)
     chain = sorted(set(fc.hump_chain(wanted[-1])) | set(wanted), reverse=True)
-    prev, eps_prev = fc.hump_start(order, None), fc.HUMP_EPS
-    pending = chain[::-1]  # a stack: the next target last
-    while pending:
-        step = pending[-1]
-        last = step == wanted[-1]
-        state = fc.continued_state(prev, eps_prev, step, resolution=step_res, order=order,
-                                   intorder=step_intorder(step, order, step in wanted),
-                                   tol=tol if step in wanted else fc.HUMP_STEP_TOL,
-                                   max_iter=fc.HUMP_STEP_ITER
-                                   if eps_prev / step > fc.HUMP_MIN_RATIO else 100)
-        if not state.info.converged:
-            if eps_prev / step > fc.HUMP_MIN_RATIO:
-                pending.append(math.sqrt(eps_prev * step))
-                continue
-            logger.warning("hump_states: the continuation stops at eps = %.3g (from %.3g: "
-                           "%s); the states below are left out", step, eps_prev,
-                           state.info.message)
-            break
-        pending.pop()
-        prev, eps_prev = state, step
-        if step in wanted:
-            if step_res > resolution:
-                fine = fc.continued_state(state, step, step, resolution=resolution,
-                                          order=order, tol=tol)
-                if fine.info.converged:
-                    state = fine
-                else:
-                    logger.warning("hump_states: the state at eps = %.3g did not converge "
-                                   "at %g hump widths (%s); kept at %g", step, resolution,
-                                   fine.info.message, step_res)
-            out[step] = state
-        if last:
-            break
+    def solve(prev: CoolingState, eps_prev: float, step: float) -> CoolingState:
+        return fc.continued_state(prev, eps_prev, step, resolution=step_res, order=order,
+                                  intorder=step_intorder(step, order, step in wanted),
+                                  tol=tol if step in wanted else fc.HUMP_STEP_TOL,
+                                  max_iter=fc.HUMP_STEP_ITER
+                                  if eps_prev / step > fc.HUMP_MIN_RATIO else 100)
+
+    def keep(state: CoolingState, step: float) -> None:
+        if step not in wanted:
+            return
+        if step_res > resolution:  # the continuation goes on from the coarser state
+            fine = fc.continued_state(state, step, step, resolution=resolution,
+                                      order=order, tol=tol)
+            if fine.info.converged:
+                state = fine
+            else:
+                logger.warning("hump_states: the state at eps = %.3g did not converge "
+                               "at %g hump widths (%s); kept at %g", step, resolution,
+                               fine.info.message, step_res)
+        out[step] = state
+
+    walk = continuation(fc.hump_start(order, None), fc.HUMP_EPS, chain, solve,
+                        rule=StepRule(min_ratio=fc.HUMP_MIN_RATIO), on_converged=keep)
+    if walk.failed is not None:
+        logger.warning("hump_states: the continuation stops at eps = %.3g (from %.3g: "
+                       "%s); the states below are left out", walk.failed_value, walk.value,
+                       walk.failed.info.message)
     return out

@@ -12,6 +12,7 @@ Newton tolerance (same meshes; ``benchmarks/archive/results/fem_cooling_speed.md
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass
 
@@ -20,6 +21,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..distribution import VelocityDistribution
 from ..model import CollisionKernel, CoolingProblem
+from ..run_info import RunInfo
+from .continuation import NO_RETRY, continuation
 from .fem_cooling import (
     cooling_distribution,
     cooling_state,
@@ -101,18 +104,38 @@ def cooling_curve(alphas: ArrayLike, *, kernel: float | CollisionKernel = 1.0,
         raise ValueError(f"alphas must be a non-empty 1-D list of restitution coefficients, "
                          f"got shape {values.shape}")
     start = time.perf_counter()
-    prev: CoolingState | None = None
-    dists = []
-    for alpha in values:
+
+    def solve(prev: _Point, alpha_prev: float, alpha: float) -> _Point:
         problem = CoolingProblem.from_parameters(float(alpha), kernel=kernel)
         if not (warm_start and uses_hump_mesh(problem)):
-            dists.append(solve_fem_cooling(problem, tol=tol, max_iter=max_iter))
-            prev = None
-            continue
-        near = prev if prev is not None and uses_hump_mesh(
-            CoolingProblem.from_parameters(prev.disc.alpha)) else None
+            return _Point(None, solve_fem_cooling(problem, tol=tol, max_iter=max_iter))
+        near = prev.state if prev.state is not None and uses_hump_mesh(
+            CoolingProblem.from_parameters(prev.state.disc.alpha)) else None
         state = cooling_state(problem, tol=tol, max_iter=max_iter, initial=near)
-        dists.append(cooling_distribution(problem, state))
-        prev = state
+        return _Point(state, cooling_distribution(problem, state))
+
+    dists: list[VelocityDistribution] = []
+
+    def keep(point: _Point, alpha: float) -> None:
+        assert point.dist is not None
+        dists.append(point.dist)
+
+    continuation(_Point(None, None), math.nan, [float(a) for a in values], solve,
+                 rule=NO_RETRY, on_converged=keep)
     return CoolingCurve(values, tuple(dists), time.perf_counter() - start)
 
+
+@dataclass(frozen=True)
+class _Point:
+    """A point of the curve: the state (None if not a warm start) and its distribution
+    (a solve that fails raises :class:`~kinetic_fem.exceptions.ConvergenceError`)."""
+
+    state: CoolingState | None
+    dist: VelocityDistribution | None
+
+    @property
+    def info(self) -> RunInfo:
+        return _SOLVED
+
+
+_SOLVED = RunInfo()

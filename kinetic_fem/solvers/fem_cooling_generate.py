@@ -38,7 +38,7 @@ from ..model import CoolingProblem
 from .fem_cooling import cooling_state
 from .fem_cooling_alpha import DIRECT_EPS, quasi_seed_vertices
 from .fem_cooling_gamma2 import anchor_samples
-from .fem_cooling_hump import HUMP_FAST_LINK
+from .fem_cooling_hump import HUMP_FAST_LINK, HumpStepOptions
 from .fem_cooling_links import HUMP_EPS, HUMP_STEP_TOL, chain_state
 from .fem_cooling_mesh import hcs_bulk, hcs_cutoff, hcs_spacing, hcs_vertices
 from .fem_cooling_newton import CoolingState
@@ -129,9 +129,9 @@ def seed_state(eps: float) -> CoolingState:
         cut off where its start fell 45 decades, Newton tolerance
         :data:`~kinetic_fem.solvers.fem_cooling_links.HUMP_STEP_TOL`.
     """
-    return chain_state(1.0 - eps, link_start(2, None), HUMP_EPS, order=2, intorder=None,
-                       tol=HUMP_STEP_TOL, max_iter=100, resolution=HUMP_FAST_LINK,
-                       final_order=2)
+    final = HumpStepOptions(resolution=HUMP_FAST_LINK, order=2, tol=HUMP_STEP_TOL,
+                            max_iter=100)
+    return chain_state(1.0 - eps, link_start(2, None), HUMP_EPS, final, order=2)
 
 
 def seed_nodes(state: CoolingState) -> tuple[np.ndarray, np.ndarray]:

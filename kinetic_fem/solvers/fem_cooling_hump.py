@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import logging
 import math
+from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
 
@@ -20,7 +22,7 @@ from .fem import FEMDiscretisation
 from .fem_cooling_mesh import HUMP_INTORDER
 from .fem_cooling_newton import CLOSE_DAMPING, MONITOR_LOG_F, CoolingState, newton_cooling
 
-__all__ = ["continued_state", "HUMP_RESOLUTION", "HUMP_STEP_RESOLUTION",
+__all__ = ["continued_state", "HumpStepOptions", "HUMP_RESOLUTION", "HUMP_STEP_RESOLUTION",
            "HUMP_LINK_RESOLUTION", "HUMP_COARSE_LINK", "HUMP_COARSE_EPS", "HUMP_LINK_RATIO",
            "HUMP_P3_EPS", "HUMP_P3_RESOLUTION", "HUMP_FAST_LINK",
            "HUMP_LINK_DECADES", "FULL_STEP_ITER", "FAR_DECADES", "P3_FAR_EFOLDS",
@@ -80,12 +82,34 @@ against P2 at 0.035: zeta 3e-14 ... 8e-13, a2 2e-12 ... 3e-11, ln f 6e-7 ... 4e-
 benchmarks/archive/results/fem_cooling_speed.md); below, and with ``resolution``, P2."""
 
 
-def continued_state(prev: CoolingState, eps_prev: float, eps: float, *,
-                    resolution: float = HUMP_RESOLUTION, order: int = 2,
-                    intorder: int | None = None, tol: float = 1e-11,
-                    max_iter: int = 100, decades: float = HUMP_DECADES,
-                    far_efolds: float = 1.0, monitor: float = MONITOR_LOG_F,
-                    predict_iter: int = 0) -> CoolingState:
+@dataclass(frozen=True)
+class HumpStepOptions:
+    """The options of :func:`continued_state` that travel together.
+
+    Parameters
+    ----------
+    resolution, order, intorder, tol, max_iter, decades, far_efolds, monitor, predict_iter
+        As in :func:`continued_state`.
+
+    Examples
+    --------
+    >>> HumpStepOptions(order=3).resolution == HUMP_RESOLUTION
+    True
+    """
+
+    resolution: float = HUMP_RESOLUTION
+    order: int = 2
+    intorder: int | None = None
+    tol: float = 1e-11
+    max_iter: int = 100
+    decades: float = HUMP_DECADES
+    far_efolds: float = 1.0
+    monitor: float = MONITOR_LOG_F
+    predict_iter: int = 0
+
+
+def continued_state(prev: CoolingState, eps_prev: float, eps: float,
+                    options: HumpStepOptions | None = None, **overrides: Any) -> CoolingState:
     """One continuation step: the hard-rod HCS at ``eps`` from ``prev`` at ``eps_prev``.
 
     Parameters
@@ -94,6 +118,11 @@ def continued_state(prev: CoolingState, eps_prev: float, eps: float, *,
         A converged state at ``eps_prev``.
     eps_prev, eps : float
         Inelasticities :math:`1 - \\alpha` of ``prev`` and of the new state.
+    options : HumpStepOptions, optional
+        The options below as one object.
+    **overrides
+        Any option below by keyword, over ``options`` (an unknown name raises
+        :class:`TypeError`).
     resolution : float
         Element size in the humps, in hump widths :math:`\\varepsilon^{1/3}`.
     order : int
@@ -125,6 +154,10 @@ def continued_state(prev: CoolingState, eps_prev: float, eps: float, *,
     CoolingState
         Converged or not (``info.converged``); the caller decides.
     """
+    o = HumpStepOptions(**overrides) if options is None else replace(options, **overrides)
+    resolution, order, intorder, tol = o.resolution, o.order, o.intorder, o.tol
+    max_iter, decades, far_efolds = o.max_iter, o.decades, o.far_efolds
+    monitor, predict_iter = o.monitor, o.predict_iter
     alpha = 1.0 - eps
     zeta0 = prev.zeta * (1.0 - alpha**2) / (1.0 - (1.0 - eps_prev) ** 2)
     # the cut-off where the rescaled start has fallen HUMP_DECADES decades (at eps ~ 1e-2

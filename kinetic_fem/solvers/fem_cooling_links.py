@@ -20,13 +20,13 @@ the Newton step (2 Jacobians and 1 residual on the finest mesh instead of 3 and 
 from __future__ import annotations
 
 import logging
-import math
 
 import numpy as np
 from numpy.typing import NDArray
 
 from ..distribution import VelocityDistribution
 from ..operators.adaptive import HUMP_DECADES
+from .continuation import StepRule, continuation, geometric_path, ratio_path
 from .fem import ConvergenceError
 from .fem_cooling_hump import (
     HUMP_COARSE_EPS,
@@ -37,6 +37,7 @@ from .fem_cooling_hump import (
     HUMP_LINK_RESOLUTION,
     P3_FAR_EFOLDS,
     P3_MONITOR_LOG_F,
+    HumpStepOptions,
     continued_state,
 )
 from .fem_cooling_mesh import step_intorder
@@ -84,9 +85,7 @@ def hump_chain(eps: float) -> list[float]:
     >>> [round(e, 6) for e in hump_chain(1e-3)]
     [0.05, 0.025, 0.0125, 0.00625, 0.003125, 0.001563, 0.001]
     """
-    n = max(1, math.ceil(math.log(HUMP_EPS / eps) / math.log(HUMP_RATIO) - 1e-9))
-    chain = [HUMP_EPS / HUMP_RATIO**k for k in range(1, n)]
-    return [*chain, eps]
+    return ratio_path(HUMP_EPS, eps, HUMP_RATIO)
 
 
 def link_chain(eps: float, start: float, ratio: float) -> list[float]:
@@ -111,8 +110,7 @@ def link_chain(eps: float, start: float, ratio: float) -> list[float]:
     >>> [round(e, 6) for e in link_chain(0.04, 0.01, 2.0)]
     [0.02, 0.04]
     """
-    n = max(1, math.ceil(abs(math.log(start / eps)) / math.log(ratio) - 1e-9))
-    return [start * (eps / start) ** (k / n) for k in range(1, n)] + [eps]
+    return geometric_path(start, eps, ratio)
 
 
 class DistributionStart(CoolingState):
@@ -179,17 +177,15 @@ def start_state(initial: CoolingState | VelocityDistribution) -> tuple[CoolingSt
                      f"kf.solve_cooling, got {type(initial).__name__}")
 
 
-def chain_state(alpha: float, start: CoolingState, eps_start: float, *, order: int,
-                intorder: int | None, tol: float, max_iter: int, resolution: float,
-                final_order: int) -> CoolingState:
+def chain_state(alpha: float, start: CoolingState, eps_start: float, final: HumpStepOptions,
+                *, order: int) -> CoolingState:
     """The hard-rod HCS at ``alpha`` by continuation in eps from ``start``.
 
     Toward eps >= :data:`~kinetic_fem.solvers.fem_cooling_hump.HUMP_COARSE_EPS` from a
     start at or above it: links of ratio at most ``HUMP_LINK_RATIO`` on the fast link
     meshes; else steps of at most :data:`HUMP_RATIO` (module notes of
     :mod:`~kinetic_fem.solvers.fem_cooling`).  A failed step is retried through the
-    geometric mean; the state asked for is of degree ``final_order`` at ``resolution``
-    hump widths.
+    geometric mean; the state asked for is the one ``final`` describes.
 
     Parameters
     ----------
@@ -199,14 +195,12 @@ def chain_state(alpha: float, start: CoolingState, eps_start: float, *, order: i
         A converged state at ``eps_start``.
     eps_start : float
         Its inelasticity.
-    order, intorder : int, int or None
-        Lagrange and Gauss degree of the links.
-    tol, max_iter : float, int
-        Newton tolerance and iteration limit of the state asked for.
-    resolution : float
-        Its element size in the humps (hump widths).
-    final_order : int
-        Its Lagrange degree.
+    final : HumpStepOptions
+        The state asked for: its element size in the humps (``resolution``, hump
+        widths), Lagrange degree, Newton tolerance and iteration limit; its Gauss degree
+        (``intorder``, None: by step) is that of the links too.
+    order : int
+        Lagrange degree of the links.
 
     Returns
     -------
@@ -217,59 +211,65 @@ def chain_state(alpha: float, start: CoolingState, eps_start: float, *, order: i
     ConvergenceError
         If a step fails at a ratio below :data:`HUMP_MIN_RATIO`.
     """
+    resolution, final_order, intorder = final.resolution, final.order, final.intorder
+    tol, max_iter = final.tol, final.max_iter
     eps = 1.0 - alpha
     fast = min(eps, eps_start) >= HUMP_COARSE_EPS * (1 - 1e-9)  # HUMP_FAST_LINK meshes
     if eps_start == HUMP_EPS and not fast:
         chain = hump_chain(eps)
     else:
         chain = link_chain(eps, eps_start, HUMP_LINK_RATIO if fast else HUMP_RATIO)
-    prev, eps_prev = start, eps_start
-    pending = chain[::-1]  # a stack: the next target last
-    while pending:
-        step = pending[-1]
-        # the target is reached on the coarser step mesh first, then refined at the same
-        # eps (mesh sequencing: the many Newton steps of a continuation step are taken
-        # on the coarse mesh, the fine one needs three or four)
-        link = max(resolution, HUMP_FAST_LINK if fast else HUMP_COARSE_LINK
-                   if step >= HUMP_COARSE_EPS else HUMP_LINK_RESOLUTION)
+    # the target is reached on the coarser step mesh first, then refined at the same eps
+    # (mesh sequencing: the many Newton steps of a continuation step are taken on the
+    # coarse mesh, the fine one needs three or four): eps twice in the path
+    if eps_start != eps and not (resolution >= _link(eps, resolution, fast)
+                                 and final_order == order):
+        chain = [*chain, eps]
+
+    def solve(prev: CoolingState, eps_prev: float, step: float) -> CoolingState:
+        link = _link(step, resolution, fast)
         final = step == eps and (eps_prev == eps or resolution >= link
                                  and final_order == order)
         res = resolution if final else link
         ratio = max(eps_prev / step, step / eps_prev)
         p3 = final and final_order == 3
-        state = continued_state(prev, eps_prev, step, resolution=res,
-                                order=final_order if final else order,
-                                intorder=intorder or step_intorder(step, order, final),
-                                tol=tol if final else HUMP_STEP_TOL,
-                                decades=HUMP_LINK_DECADES if fast and not final
-                                else HUMP_DECADES,
-                                far_efolds=P3_FAR_EFOLDS if p3 else 1.0,
-                                monitor=P3_MONITOR_LOG_F if p3 else MONITOR_LOG_F,
-                                predict_iter=PREDICT_ITER if p3 else 0,
-                                max_iter=min(max_iter, HUMP_STEP_ITER)
-                                if ratio > HUMP_MIN_RATIO else max_iter)
-        if state.info.converged:
-            if final or step != eps:
-                pending.pop()
-            prev, eps_prev = state, step
-        elif ratio > HUMP_MIN_RATIO:
-            # step control: retry through the geometric mean
-            pending.append(math.sqrt(eps_prev * step))
-            logger.info("HCS continuation: step %.3g -> %.3g failed; halving it (log scale)",
-                        eps_prev, step)
-        else:
-            where = (f"FEM cooling Newton did not converge at eps = {step:.3g} on the way "
-                     f"to alpha = {alpha} (hump mesh of "
-                     f"{state.disc.vertices.size - 1} elements, {res:g} hump widths "
-                     f"eps^(1/3) = {step ** (1 / 3):.3g}, step from eps = {eps_prev:.3g}; "
-                     f"{state.info.message})")
-            if step < HUMP_FRONTIER:
-                raise ConvergenceError(
-                    f"{where}: below eps = {HUMP_FRONTIER:g} the continuation is not "
-                    "measured (there zeta/eps - 1 ~ 0.18 eps^(4/3) nears the round-off of "
-                    "the collision balance), a known limit of this solver; for the "
-                    "leading-order state use kf.scaling.solve_psi().humps(c, eps)")
+        return continued_state(prev, eps_prev, step, resolution=res,
+                               order=final_order if final else order,
+                               intorder=intorder or step_intorder(step, order, final),
+                               tol=tol if final else HUMP_STEP_TOL,
+                               decades=HUMP_LINK_DECADES if fast and not final
+                               else HUMP_DECADES,
+                               far_efolds=P3_FAR_EFOLDS if p3 else 1.0,
+                               monitor=P3_MONITOR_LOG_F if p3 else MONITOR_LOG_F,
+                               predict_iter=PREDICT_ITER if p3 else 0,
+                               max_iter=min(max_iter, HUMP_STEP_ITER)
+                               if ratio > HUMP_MIN_RATIO else max_iter)
+
+    walk = continuation(start, eps_start, chain, solve, rule=StepRule(min_ratio=HUMP_MIN_RATIO))
+    if not walk.converged:
+        assert walk.failed is not None and walk.failed_value is not None
+        step, eps_prev, state = walk.failed_value, walk.value, walk.failed
+        link = _link(step, resolution, fast)
+        res = resolution if step == eps and (eps_prev == eps or resolution >= link
+                                             and final_order == order) else link
+        where = (f"FEM cooling Newton did not converge at eps = {step:.3g} on the way "
+                 f"to alpha = {alpha} (hump mesh of "
+                 f"{state.disc.vertices.size - 1} elements, {res:g} hump widths "
+                 f"eps^(1/3) = {step ** (1 / 3):.3g}, step from eps = {eps_prev:.3g}; "
+                 f"{state.info.message})")
+        if step < HUMP_FRONTIER:
             raise ConvergenceError(
-                f"{where}: the mesh does not resolve the humps; pass a smaller "
-                f"resolution (e.g. resolution={res / 2:g})")
-    return prev
+                f"{where}: below eps = {HUMP_FRONTIER:g} the continuation is not "
+                "measured (there zeta/eps - 1 ~ 0.18 eps^(4/3) nears the round-off of "
+                "the collision balance), a known limit of this solver; for the "
+                "leading-order state use kf.scaling.solve_psi().humps(c, eps)")
+        raise ConvergenceError(
+            f"{where}: the mesh does not resolve the humps; pass a smaller "
+            f"resolution (e.g. resolution={res / 2:g})")
+    return walk.state
+
+
+def _link(step: float, resolution: float, fast: bool) -> float:
+    """Element size (hump widths) of a link state at ``step`` of a chain."""
+    return max(resolution, HUMP_FAST_LINK if fast else HUMP_COARSE_LINK
+               if step >= HUMP_COARSE_EPS else HUMP_LINK_RESOLUTION)

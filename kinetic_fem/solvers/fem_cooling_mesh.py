@@ -19,6 +19,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..model import CoolingProblem
+from ..operators.mesher import march
+from .continuation import geometric_path
 from .fem_cooling_tail import POWER_TAIL_CUTOFF, POWER_TAIL_SPACING, power_tail_vertices
 
 __all__ = ["hcs_bulk", "BULK_EPS", "hcs_cutoff", "hcs_spacing", "hcs_vertices", "initial_log_f",
@@ -94,8 +96,7 @@ def log_chain(eps: float, start: float, ratio: float) -> list[float]:
     >>> [round(e, 6) for e in log_chain(1e-3, 0.1, 8.0)]
     [0.021544, 0.004642, 0.001]
     """
-    n = max(1, math.ceil(math.log(start / eps) / math.log(ratio) - 1e-9))
-    return [start * (eps / start) ** (k / n) for k in range(1, n)] + [eps]
+    return geometric_path(start, eps, ratio)
 
 
 def hcs_cutoff(problem: CoolingProblem) -> float:
@@ -208,18 +209,9 @@ def hcs_vertices(c_max: float, spacing: float, *, gamma: float,
     if gamma == 0.0:
         # --- the Maxwell model's c^-4 tail: kinetic_fem.solvers.fem_cooling_tail ---
         return power_tail_vertices(c_max, spacing)
-    nodes = [0.0]
-    c = 0.0
     kappa = (3.0 - gamma) / 3.0
-    while c < c_max:
-        h = spacing * max(1.0, c / bulk) ** kappa
-        c = c + h
-        nodes.append(c)
-    half = np.array(nodes)
-    if half[-1] - c_max > 0.5 * (half[-1] - half[-2]):
-        half = half[:-1]
-    half[-1] = c_max
-    return np.concatenate([-half[:0:-1], half])
+    # the drop of ln f ~ -c^gamma spread evenly: h^3 (ln f)''' constant in the tail
+    return march(lambda c: spacing * max(1.0, c / bulk) ** kappa, c_max, end="snap")
 
 
 def initial_log_f(c: NDArray, gamma: float, zeta: float) -> NDArray:

@@ -21,6 +21,8 @@ import functools
 import logging
 import math
 import time
+from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -41,9 +43,10 @@ from .fem import (
 from .fem_cooling_forms import cooling_forms
 from .fem_cooling_steps import SpeculativeSystem, newton_on_step
 from .fem_newton import CHORD_LEVEL
+from .newton import PseudoTransient, newton
 
-__all__ = ["CoolingState", "newton_cooling", "second_moment", "PSEUDO_TIME_STEP",
-           "INCREASE_LIMIT", "MONITOR_LOG_F", "RESIDUAL_STALL", "LOG_STEP_ZETA",
+__all__ = ["CoolingState", "CoolingNewtonOptions", "newton_cooling", "second_moment",
+           "PSEUDO_TIME_STEP", "INCREASE_LIMIT", "MONITOR_LOG_F", "RESIDUAL_STALL", "LOG_STEP_ZETA",
            "CLOSE_DAMPING", "RESIDUAL_FLOOR", "RESIDUAL_FLOOR_REL"]
 
 logger = logging.getLogger(__name__)
@@ -345,13 +348,38 @@ def _step_size(delta: NDArray, x: NDArray, monitor: float = MONITOR_LOG_F) -> fl
     return max(du, abs(delta[-1]) / max(abs(x[-1]), 1e-3))
 
 
-def newton_cooling(disc: FEMDiscretisation, u0: NDArray, zeta0: float, *, tol: float = 1e-11,
-                   max_iter: int = 40, step_limit: float = 10.0,
-                   pseudo_time: float = PSEUDO_TIME_STEP,
-                   log_steps: bool | None = None, settle_steps: bool = True,
-                   min_damping: float = 1e-3, line_search: bool = True,
-                   monitor: float = MONITOR_LOG_F, speculative: bool = False,
-                   predict_iter: int = 0) -> CoolingState:
+@dataclass(frozen=True)
+class CoolingNewtonOptions:
+    """The options of :func:`newton_cooling` that travel together.
+
+    Parameters
+    ----------
+    tol, max_iter, step_limit, pseudo_time, log_steps, settle_steps, min_damping, \
+line_search, monitor, speculative, predict_iter
+        As in :func:`newton_cooling`.
+
+    Examples
+    --------
+    >>> CoolingNewtonOptions(tol=1e-9).max_iter
+    40
+    """
+
+    tol: float = 1e-11
+    max_iter: int = 40
+    step_limit: float = 10.0
+    pseudo_time: float = PSEUDO_TIME_STEP
+    log_steps: bool | None = None
+    settle_steps: bool = True
+    min_damping: float = 1e-3
+    line_search: bool = True
+    monitor: float = MONITOR_LOG_F
+    speculative: bool = False
+    predict_iter: int = 0
+
+
+def newton_cooling(disc: FEMDiscretisation, u0: NDArray, zeta0: float,
+                   options: CoolingNewtonOptions | None = None,
+                   **overrides: Any) -> CoolingState:
     """Newton's method for :math:`(u_h, \\zeta)` with unit mass and temperature.
 
     Parameters
@@ -362,6 +390,11 @@ def newton_cooling(disc: FEMDiscretisation, u0: NDArray, zeta0: float, *, tol: f
         Starting :math:`\\ln f_h`.
     zeta0 : float
         Starting cooling rate.
+    options : CoolingNewtonOptions, optional
+        The options below as one object.
+    **overrides
+        Any option below by keyword, over ``options`` (an unknown name raises
+        :class:`TypeError`).
     tol : float
         Stop when the update of :math:`\\ln f` and the relative update of
         :math:`\\zeta` are below ``tol`` (or stall at round-off: reported converged).
@@ -403,6 +436,11 @@ def newton_cooling(disc: FEMDiscretisation, u0: NDArray, zeta0: float, *, tol: f
     -------
     CoolingState
     """
+    o = CoolingNewtonOptions(**overrides) if options is None else replace(options, **overrides)
+    tol, max_iter, step_limit, pseudo_time = o.tol, o.max_iter, o.step_limit, o.pseudo_time
+    log_steps, settle_steps, min_damping = o.log_steps, o.settle_steps, o.min_damping
+    line_search, monitor, speculative = o.line_search, o.monitor, o.speculative
+    predict_iter = o.predict_iter
     start = time.perf_counter()
     system = _CoolingSystem(disc, u0)
     n_red, row0, sym = system.n_red, system.row0, system.sym
@@ -451,33 +489,18 @@ def newton_cooling(disc: FEMDiscretisation, u0: NDArray, zeta0: float, *, tol: f
                        message=f"{message} (residual / zeta {res.residual / scale:.1e}, "
                                f"last step {res.step:.1e})")
         return CoolingState(disc, sym @ res.x[:n_red], float(res.x[n_red]), info)
-    history: list[float] = []
-    dtau = pseudo_time
-    for it in range(1, max_iter + 1):
-        r, j = system(x)
-        assert j is not None
+    def mass(x: NDArray) -> NDArray:
         # pseudo-transient continuation: implicit Euler in the scaled time of
-        # d f/d tau = Q[f] - zeta (c f)', whose attractor is the HCS; the step grows
-        # geometrically and becomes Newton's method near the solution
-        if dtau < np.inf:
-            weight = asm(weighted_mass, disc.basis, u=disc.field(sym @ x[:n_red])).toarray()
-            damp = sym.T @ (sym.T @ weight.T).T / dtau
-            damp[row0] = 0.0
-            j[:n_red, :n_red] -= damp
-        delta = EquilibratedLU(j).solve(-r)
-        step = _step_size(delta, x, monitor)
-        history.append(step)
-        logger.debug("HCS newton %d: max|du| = %.3e, zeta = %.15g, dtau = %.3g", it, step,
-                     x[n_red], dtau)
-        if not np.isfinite(step):
-            break
-        x = update(x, delta)
-        if dtau == np.inf and (step < tol or stalled(history)):
-            break
-        # switched evolution relaxation: grow the step while the updates shrink
-        ratio = history[-2] / step if len(history) > 1 else 2.0
-        if ratio > STALL_RATIO:  # not growing: the step creeps (a tail relaxing)
-            ratio = max(ratio, MIN_GROWTH)
-        dtau = np.inf if step < 1e-2 else dtau * min(max(ratio, 0.5), 3.0)
-    return CoolingState(disc, sym @ x[:n_red], float(x[n_red]),
-                        newton_info(history, tol, it, start))
+        # d f/d tau = Q[f] - zeta (c f)', whose attractor is the HCS
+        weight = asm(weighted_mass, disc.basis, u=disc.field(sym @ x[:n_red])).toarray()
+        m = sym.T @ (sym.T @ weight.T).T
+        m[row0] = 0.0
+        return np.asarray(m)
+
+    res = newton(system, x, tol=tol, max_iter=max_iter,
+                 step_norm=lambda delta, at: _step_size(delta, at, monitor), update=update,
+                 factorize=lambda j: EquilibratedLU(j).solve, name="HCS newton",
+                 pseudo_time=PseudoTransient(pseudo_time, mass, stall_ratio=STALL_RATIO,
+                                             min_growth=MIN_GROWTH, stalled=stalled))
+    return CoolingState(disc, sym @ res.x[:n_red], float(res.x[n_red]),
+                        newton_info(list(res.history), tol, res.iterations, start))

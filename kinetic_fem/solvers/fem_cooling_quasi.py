@@ -38,8 +38,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..model import UnsupportedModelError
+from ..operators.mesher import march
+from .continuation import StepRule, continuation, geometric_path
 from .fem import FEMDiscretisation
-from .fem_cooling_mesh import log_chain
 from .fem_cooling_newton import CoolingState, newton_cooling
 
 __all__ = ["QUASI_EPS", "QUASI_FRONTIER", "QUASI_RATIO", "QUASI_EFOLDS", "QUASI_DEPTH",
@@ -132,23 +133,26 @@ def efold_vertices(prev: LogDensity, eps: float, *, efolds: float = QUASI_EFOLDS
     peak = float(log_f.max())
     slope = np.abs(np.gradient(log_f, grid))
     width = math.sqrt(eps)
-    verts = [0.0]
-    while True:
-        c = verts[-1]
+
+    def stop(c: float) -> bool:
         lf = float(np.interp(c, grid, log_f))
         if c > 1.0 and peak - lf > cutoff_depth:
-            break
+            return True
         if c >= grid[-1]:
             raise ValueError(f"the state has not fallen {cutoff_depth:g} below its peak by "
                              f"c = {grid[-1]:g}: not a near-elastic state")
+        return False
+
+    def size(c: float) -> float:
+        lf = float(np.interp(c, grid, log_f))
         h = max_size
         if min(peak - lf, peak - float(np.interp(c + h, grid, log_f))) < depth:
             h = min(h, efolds / max(float(np.interp(c, grid, slope)), 1e-12))
         if abs(c - 1.0) < 3.0 * width:
             h = min(h, width / core)
-        verts.append(c + h)
-    half = np.asarray(verts)
-    return np.concatenate([-half[:0:-1], half])
+        return h
+
+    return march(size, stop)
 
 
 def check_frontier(alpha: float, gamma: float) -> None:
@@ -209,11 +213,9 @@ def quasi_elastic_chain(start: CoolingState, eps_start: float, alpha: float, *,
     """
     eps = 1.0 - alpha
     check_frontier(alpha, start.disc.kernel.gamma)
-    pending = log_chain(eps, eps_start, QUASI_RATIO)[::-1]  # a stack
-    prev, eps_prev = start, eps_start
     disc0 = start.disc
-    while pending:
-        step = pending[-1]
+
+    def solve(prev: CoolingState, eps_prev: float, step: float) -> CoolingState:
         efolds, depth, cutoff_depth = QUASI_FINAL if step == eps else QUASI_LINK
         verts = efold_vertices(prev, step, efolds=efolds, depth=depth,
                                cutoff_depth=cutoff_depth)
@@ -226,11 +228,7 @@ def quasi_elastic_chain(start: CoolingState, eps_start: float, alpha: float, *,
                     "in %d Newton steps", eps_prev, step, disc.dof_locations.size,
                     verts[-1], "converged" if state.info.converged else "failed",
                     state.info.iterations)
-        if state.info.converged:
-            pending.pop()
-            prev, eps_prev = state, step
-        elif eps_prev / step > QUASI_MIN_RATIO:
-            pending.append(math.sqrt(eps_prev * step))
-        else:
-            return state
-    return prev
+        return state
+
+    return continuation(start, eps_start, geometric_path(eps_start, eps, QUASI_RATIO), solve,
+                        rule=StepRule(min_ratio=QUASI_MIN_RATIO)).last

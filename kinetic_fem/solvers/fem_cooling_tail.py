@@ -51,6 +51,7 @@ from numpy.typing import NDArray
 from scipy.interpolate import CubicSpline
 
 from ..distribution import VelocityDistribution
+from ..operators.mesher import march
 
 __all__ = ["maxwell_hcs", "POWER_TAIL_CUTOFF", "POWER_TAIL_SPACING", "FAR_RATIO_FACTOR",
            "FAR_RATIO_MAX", "power_tail_vertices", "superconvergent_points", "recovered_log_f",
@@ -105,17 +106,12 @@ def power_tail_vertices(c_max: float, spacing: float, *, near_factor: float = 0.
         raise ValueError(f"spacing={spacing!r} and c_max={c_max!r} must be > 0")
     near = near_factor * spacing
     far = min(far_factor * spacing, FAR_RATIO_MAX)
-    nodes = [0.0]
-    c = 0.0
-    while c < c_max:
-        h = spacing if c < _BULK_END else (near if c < _NEAR_END else far) * c
-        c = c + max(h, spacing)
-        nodes.append(c)
-    half = np.array(nodes)
-    if half.size > 2 and half[-1] - c_max > 0.5 * (half[-1] - half[-2]):
-        half = half[:-1]
-    half[-1] = c_max
-    return np.concatenate([-half[:0:-1], half])
+
+    def size(c: float) -> float:
+        return max(spacing if c < _BULK_END else (near if c < _NEAR_END else far) * c,
+                   spacing)
+
+    return march(size, c_max, end="snap")
 
 
 def superconvergent_points(vertices: NDArray, order: int = 2) -> NDArray[np.float64]:

@@ -27,6 +27,7 @@ import math
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from typing import Any, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -34,6 +35,8 @@ from numpy.typing import ArrayLike, NDArray
 from ..distribution import VelocityDistribution
 from ..gas import HeatedProblem
 from ..model import PowerLawKernel
+from ..run_info import RunInfo
+from .continuation import NO_RETRY, continuation
 from .fem import ConvergenceError, SteadyState, state_distribution, steady_state
 from .fem_defaults import scaled_model
 
@@ -87,6 +90,14 @@ class _Point:
     state: SteadyState
     temperature: float
     estimate: float
+
+    @property
+    def info(self) -> RunInfo:
+        """Converged (a state that fails from both starts raises)."""
+        return _SOLVED
+
+
+_SOLVED = RunInfo()
 
 
 def _temperature(state: SteadyState) -> float:
@@ -164,9 +175,7 @@ def predict_log_density(states: Sequence[SteadyState], alphas: Sequence[float], 
 
 def heated_curve(alphas: ArrayLike, *, density: float = 1.0, diffusion: float = 1.0,
                  friction: float = 0.0, kernel: float | PowerLawKernel = 1.0,
-                 warm_start: bool = True, order: int | None = None, spacing: float | None = None,
-                 cutoff: float | None = None, tol: float = 1e-11,
-                 max_iter: int = 40) -> HeatedCurve:
+                 warm_start: bool = True, **options: Any) -> HeatedCurve:
     """FEM heated steady states along ``alphas``, each started from a prediction.
 
     Parameters
@@ -183,8 +192,10 @@ def heated_curve(alphas: ArrayLike, *, density: float = 1.0, diffusion: float = 
         (:func:`predict_log_density`, module docstring); ``False``:
         every state from the solver's default start, as :func:`kinetic_fem.solve_heated`
         does.
-    order, spacing, cutoff, tol, max_iter
-        As for :func:`kinetic_fem.solvers.fem.solve_fem_heated`.
+    **options
+        The options of :func:`kinetic_fem.solvers.fem.steady_state` (``mesh``,
+        ``symmetric``, ``tol``, ``max_iter`` and the mesh's by keyword: ``order``,
+        ``spacing``, ``cutoff`` ...); an unknown one raises :class:`TypeError`.
 
     Returns
     -------
@@ -211,13 +222,13 @@ def heated_curve(alphas: ArrayLike, *, density: float = 1.0, diffusion: float = 
 
     def solve(problem: HeatedProblem,
               initial: Callable[[NDArray], NDArray] | None) -> SteadyState:
-        return steady_state(problem, order=order, spacing=spacing, cutoff=cutoff, tol=tol,
-                            max_iter=max_iter, initial=initial)
+        return steady_state(problem, initial=initial, **options)
 
     points: list[_Point] = []
     dists = []
-    for alpha in values:
-        problem = HeatedProblem.from_parameters(float(alpha), density=density,
+
+    def point(prev: _Point, alpha_prev: float, alpha: float) -> _Point:
+        problem = HeatedProblem.from_parameters(alpha, density=density,
                                                 diffusion=diffusion, friction=friction,
                                                 kernel=kernel)
         problem.require("fem")
@@ -226,7 +237,7 @@ def heated_curve(alphas: ArrayLike, *, density: float = 1.0, diffusion: float = 
         if warm_start and points:
             near = points[-2:]
             guess = predict_log_density([p.state for p in near], [p.alpha for p in near],
-                                        float(alpha), [p.estimate for p in near],
+                                        alpha, [p.estimate for p in near],
                                         scaled.temperature,
                                         linear_tail=not scaled.is_paper_model,
                                         temperatures=[p.temperature for p in near])
@@ -238,6 +249,12 @@ def heated_curve(alphas: ArrayLike, *, density: float = 1.0, diffusion: float = 
             state = solve(problem, None)
         dist = state_distribution(problem, state, state.disc.order)
         temperature = dist.temperature / problem.velocity_scale**2  # at n = D = 1
-        points.append(_Point(float(alpha), state, temperature, scaled.temperature))
+        points.append(_Point(alpha, state, temperature, scaled.temperature))
         dists.append(dist)
+        return points[-1]
+
+    # the curve is a continuation along the alphas asked for, each step from the
+    # prediction of the last two (a failed prediction falls back inside the step; no
+    # start: the first state from the default start)
+    continuation(cast(_Point, None), math.nan, [float(a) for a in values], point, rule=NO_RETRY)
     return HeatedCurve(values, tuple(dists), time.perf_counter() - start)

@@ -174,8 +174,7 @@ PREDICT_MARGIN = 0.01
 
 def newton_steady(disc: FEMDiscretisation, u0: NDArray[np.float64], *, tol: float = 1e-11,
                   max_iter: int = 40, step_limit: float = 10.0,
-                  chord: bool = True, chord_level: float = CHORD_LEVEL,
-                  row_scales: bool | None = None, p_chord: bool | None = None
+                  chord: bool = True, chord_level: float = CHORD_LEVEL
                   ) -> tuple[NDArray, RunInfo]:
     """Newton iteration for the even steady state with :math:`\\int P_h = 1`.
 
@@ -204,24 +203,26 @@ def newton_steady(disc: FEMDiscretisation, u0: NDArray[np.float64], *, tol: floa
     chord_level : float
         The update below which chord steps start (default :data:`CHORD_LEVEL`; larger
         from a start already near the state, e.g. a coarse mesh's solution).
-    row_scales : bool, optional
-        Measure the residual of the chord test row by row relative to the row's largest
-        Jacobian entry (a power of two, so the Newton steps are unchanged bit for bit):
-        the max-norm of the plain residual reaches round-off while the far tail's update
-        is still 1e-9, and its chord steps then failed the decrease test and refreshed
-        the Jacobian.  Default :data:`CHORD_ROW_SCALES`.
-    p_chord : bool, optional
-        Chord steps with the factorised Jacobian as one in :math:`P`: the step of the
-        factorisation point's :math:`\\delta P / P_J` times :math:`P_J / P =
-        e^{u_J - u}` (exact for the equations linear in :math:`P`, the far tail; the
-        contraction of a chord step from a coarse mesh's state goes from about 1e-2 to
-        1e-4).  Default :data:`CHORD_IN_P`.
+
+    Returns
+    -------
+    ndarray, RunInfo
+        :math:`\\ln P_h` and the run info.
+
+    Notes
+    -----
+    With :data:`CHORD_ROW_SCALES` the residual of the chord test is measured row by row
+    relative to the row's largest Jacobian entry (a power of two, so the Newton steps are
+    unchanged bit for bit): the max-norm of the plain residual reaches round-off while
+    the far tail's update is still 1e-9, and its chord steps then failed the decrease
+    test and refreshed the Jacobian.  With :data:`CHORD_IN_P` chord steps use the
+    factorised Jacobian as one in :math:`P`: the step of the factorisation point's
+    :math:`\\delta P / P_J` times :math:`P_J / P = e^{u_J - u}` (exact for the
+    equations linear in :math:`P`, the far tail; the contraction of a chord step from a
+    coarse mesh's state goes from about 1e-2 to 1e-4).
     """
     start = time.perf_counter()
-    if row_scales is None:
-        row_scales = CHORD_ROW_SCALES
-    if p_chord is None:
-        p_chord = CHORD_IN_P
+    row_scales, p_chord = CHORD_ROW_SCALES, CHORD_IN_P
     sym = disc.symmetry
     fold = EvenFold(sym)
     # the dof at v = 0 carries the normalisation instead of its (redundant) equation

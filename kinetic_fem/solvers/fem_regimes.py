@@ -55,7 +55,13 @@ from .fem_cooling_alpha import (
 )
 from .fem_cooling_band import BAND_EPS, band_state, in_band
 from .fem_cooling_gamma2 import ANCHORED_GAMMA, anchored_state, uses_anchors
-from .fem_cooling_hump import HUMP_COARSE_EPS, HUMP_P3_EPS, HUMP_P3_RESOLUTION, HUMP_RESOLUTION
+from .fem_cooling_hump import (
+    HUMP_COARSE_EPS,
+    HUMP_P3_EPS,
+    HUMP_P3_RESOLUTION,
+    HUMP_RESOLUTION,
+    HumpStepOptions,
+)
 from .fem_cooling_links import HUMP_EPS, HUMP_STEP_TOL, chain_state, start_state
 from .fem_cooling_maxwell import maxwell_cooling_state
 from .fem_cooling_mesh import hcs_bulk, hcs_cutoff, hcs_spacing, hcs_vertices, initial_log_f
@@ -405,11 +411,11 @@ class HumpChain(Regime):
             start, eps_start = seed_start(max(problem.gas.epsilon, HUMP_COARSE_EPS))
         else:
             start, eps_start = link_start(2, None), HUMP_EPS
-        return chain_state(problem.gas.alpha, start, eps_start, order=order,
-                           intorder=options.intorder, tol=options.tol,
-                           max_iter=options.max_iter, final_order=3 if p3 else order,
-                           resolution=self.p3_resolution if p3 else resolution
-                           or self.resolution)
+        final = HumpStepOptions(resolution=self.p3_resolution if p3 else resolution
+                                or self.resolution, order=3 if p3 else order,
+                                intorder=options.intorder, tol=options.tol,
+                                max_iter=options.max_iter)
+        return chain_state(problem.gas.alpha, start, eps_start, final, order=order)
 
 
 class HumpBand(Regime):

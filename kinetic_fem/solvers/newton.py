@@ -43,7 +43,7 @@ import logging
 import math
 import time
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, Callable, Literal, Mapping, Union
 
 import numpy as np
@@ -54,7 +54,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..run_info import RunInfo
 
-__all__ = ["NewtonResult", "NewtonReport", "newton", "run_info", "Jacobian"]
+__all__ = ["NewtonResult", "NewtonReport", "NewtonOptions", "PseudoTransient", "newton",
+           "run_info", "Jacobian"]
 
 logger = logging.getLogger(__name__)
 
@@ -201,19 +202,90 @@ def _check_options(tol: float, max_iter: int, criterion: str, armijo: float,
         raise ValueError(f"stall_level={stall_level!r} is not allowed; it must be >= 0")
 
 
-def newton(fun: System, x0: ArrayLike, *, tol: float, max_iter: int = 50,
-           criterion: Literal["residual", "step"] = "residual",
-           norm: Callable[[Array, Array], float] | None = None,
-           step_norm: Callable[[Array, Array], float] | None = None,
-           update: Callable[[Array, Array], Array] | None = None,
-           linear_solver: Callable[[Any, Array], Array] | None = None,
-           row_scale: Callable[[Array], Array] | None = None,
-           column_scale: Callable[[Array], Array] | None = None,
-           line_search: bool = True, armijo: float = 1e-4, min_damping: float = 1e-3,
-           on_failure: Literal["accept", "stop"] = "accept", stall_level: float = 0.0,
-           factorize: Callable[[Any], Callable[[Array], Array]] | None = None,
-           chord: float = 0.0, chord_rate: float = 0.1, predict: float = 0.0,
-           name: str = "Newton") -> NewtonResult:
+@dataclass(frozen=True)
+class PseudoTransient:
+    """Pseudo-transient globalisation of :func:`newton` (option ``pseudo_time``).
+
+    Implicit Euler steps in a pseudo-time :math:`\\tau` of :math:`M\\,dx/d\\tau = r(x)`,
+    whose attractor is the root: each iteration solves
+    :math:`(J - M/\\Delta\\tau)\\,\\delta = -r` and takes the full step; the pseudo-time
+    step grows by switched evolution relaxation (by the ratio of the last two step sizes,
+    at least ``min_growth`` once that ratio exceeds ``stall_ratio``, clipped to
+    ``growth_range``) and becomes infinite, Newton's method, once a step is below
+    ``newton_below``.  The iteration stops when a Newton step (infinite
+    :math:`\\Delta\\tau`) is below ``tol`` or ``stalled(history)`` says round-off is
+    reached; converged if the last step is below ``tol`` or stalled.  ``step_norm``,
+    ``update``, ``factorize`` (or ``linear_solver``), ``tol`` and ``max_iter`` of the
+    :class:`NewtonOptions` apply; no line search.
+
+    Parameters
+    ----------
+    first_step : float
+        The first :math:`\\Delta\\tau` (> 0; ``inf``: Newton's method, full steps).
+    mass : callable
+        ``mass(x) -> M``, a dense (k, k) array: the leading k x k block of the Jacobian
+        is shifted by :math:`-M/\\Delta\\tau`.
+    stall_ratio, min_growth : float
+        The growth floor of the switched evolution relaxation.
+    newton_below : float
+        Step size below which :math:`\\Delta\\tau = \\infty`.
+    growth_range : tuple of float
+        Smallest and largest growth factor of :math:`\\Delta\\tau` per step.
+    stalled : callable, optional
+        ``stalled(history) -> bool`` over the step sizes so far.
+    """
+
+    first_step: float
+    mass: Callable[[Array], Array]
+    stall_ratio: float = 0.9
+    min_growth: float = 1.3
+    newton_below: float = 1e-2
+    growth_range: tuple[float, float] = (0.5, 3.0)
+    stalled: Callable[[list[float]], bool] | None = None
+
+
+@dataclass(frozen=True)
+class NewtonOptions:
+    """The options of :func:`newton` that travel together.
+
+    Parameters
+    ----------
+    tol, max_iter, criterion, norm, step_norm, update, linear_solver, row_scale, \
+column_scale, line_search, armijo, min_damping, on_failure, stall_level, factorize, \
+chord, chord_rate, predict, pseudo_time, name
+        As in :func:`newton` (``tol`` required).
+
+    Examples
+    --------
+    >>> opts = NewtonOptions(tol=1e-12, max_iter=20, criterion="step")
+    >>> replace(opts, max_iter=5).max_iter
+    5
+    """
+
+    tol: float
+    max_iter: int = 50
+    criterion: Literal["residual", "step"] = "residual"
+    norm: Callable[[Array, Array], float] | None = None
+    step_norm: Callable[[Array, Array], float] | None = None
+    update: Callable[[Array, Array], Array] | None = None
+    linear_solver: Callable[[Any, Array], Array] | None = None
+    row_scale: Callable[[Array], Array] | None = None
+    column_scale: Callable[[Array], Array] | None = None
+    line_search: bool = True
+    armijo: float = 1e-4
+    min_damping: float = 1e-3
+    on_failure: Literal["accept", "stop"] = "accept"
+    stall_level: float = 0.0
+    factorize: Callable[[Any], Callable[[Array], Array]] | None = None
+    chord: float = 0.0
+    chord_rate: float = 0.1
+    predict: float = 0.0
+    pseudo_time: PseudoTransient | None = None
+    name: str = "Newton"
+
+
+def newton(fun: System, x0: ArrayLike, options: NewtonOptions | None = None,
+           **overrides: Any) -> NewtonResult:
     """Solve ``r(x) = 0`` by Newton's method with Armijo backtracking.
 
     Parameters
@@ -229,6 +301,11 @@ def newton(fun: System, x0: ArrayLike, *, tol: float, max_iter: int = 50,
         ``x`` again, so a ``fun`` that caches its last residual evaluates it once).
     x0 : array_like, shape (m,)
         Initial iterate.
+    options : NewtonOptions, optional
+        The options below as one object (``tol`` required, here or in ``overrides``).
+    **overrides
+        Any option below by keyword, over ``options`` (an unknown name raises
+        :class:`TypeError`).
     tol : float
         Tolerance on the stopping measure named by ``criterion``.
     max_iter : int
@@ -280,6 +357,10 @@ def newton(fun: System, x0: ArrayLike, *, tol: float, max_iter: int = 50,
         stop, converged, without the residual that would confirm it (the result's
         ``residual`` is then the previous iterate's); likewise a final Newton step below
         ``tol`` without a line search.  0 (the default): off.
+    pseudo_time : PseudoTransient, optional
+        Pseudo-transient globalisation in place of the line search (its docstring); the
+        other options but ``step_norm``, ``update``, ``factorize``/``linear_solver``,
+        ``tol``, ``max_iter`` and ``name`` are then not used.
     name : str
         Prefix of log messages and of the result message.
 
@@ -302,6 +383,15 @@ def newton(fun: System, x0: ArrayLike, *, tol: float, max_iter: int = 50,
     >>> ["%.0e" % h for h in res.history]
     ['1e+00', '2e-01', '7e-03', '6e-06', '5e-12', '0e+00']
     """
+    o = NewtonOptions(**overrides) if options is None else replace(options, **overrides)
+    tol, max_iter, criterion, name = o.tol, o.max_iter, o.criterion, o.name
+    norm, step_norm, update, linear_solver = o.norm, o.step_norm, o.update, o.linear_solver
+    row_scale, column_scale, line_search = o.row_scale, o.column_scale, o.line_search
+    armijo, min_damping, on_failure = o.armijo, o.min_damping, o.on_failure
+    stall_level, factorize, chord = o.stall_level, o.factorize, o.chord
+    chord_rate, predict = o.chord_rate, o.predict
+    if o.pseudo_time is not None:
+        return _pseudo_transient(fun, x0, o)
     _check_options(tol, max_iter, criterion, armijo, min_damping, on_failure, stall_level)
     if chord < 0.0 or not 0.0 < chord_rate < 1.0 or (chord > 0.0 and factorize is None):
         raise ValueError(f"chord steps need chord >= 0, 0 < chord_rate < 1 and a factorize "
@@ -461,6 +551,48 @@ def newton(fun: System, x0: ArrayLike, *, tol: float, max_iter: int = 50,
     if not converged:
         logger.info("%s", message)
     return NewtonResult(x, converged, it, res, step_size, tuple(history), message)
+
+
+def _pseudo_transient(fun: System, x0: ArrayLike, o: NewtonOptions) -> NewtonResult:
+    """:func:`newton` with the :class:`PseudoTransient` option (its docstring)."""
+    pt = o.pseudo_time
+    assert pt is not None
+    step_norm = o.step_norm or _step_max
+    update = o.update or _add
+    x = np.array(x0, dtype=float, ndmin=1)
+    history: list[float] = []
+    dtau = pt.first_step
+    it = 0
+    for it in range(1, o.max_iter + 1):
+        r, j = fun(x, True)
+        assert isinstance(j, np.ndarray)
+        if dtau < np.inf:
+            shift = pt.mass(x) / dtau
+            k = shift.shape[0]
+            j[:k, :k] -= shift
+        delta = (o.factorize(j)(-r) if o.factorize is not None
+                 else (o.linear_solver or _solve_default)(j, -r))
+        step = step_norm(delta, x)
+        history.append(step)
+        logger.debug("%s %d: step %.3e, dtau = %.3g", o.name, it, step, dtau)
+        if not np.isfinite(step):
+            break
+        x = update(x, delta)
+        if dtau == np.inf and (step < o.tol or (pt.stalled is not None
+                                                and pt.stalled(history))):
+            break
+        # switched evolution relaxation: grow the step while the updates shrink
+        ratio = history[-2] / step if len(history) > 1 else 2.0
+        if ratio > pt.stall_ratio:  # not growing: the step creeps (a tail relaxing)
+            ratio = max(ratio, pt.min_growth)
+        low, high = pt.growth_range
+        dtau = np.inf if step < pt.newton_below else dtau * min(max(ratio, low), high)
+    last = history[-1] if history else math.nan
+    stall = pt.stalled is not None and pt.stalled(history)
+    converged = last < o.tol or stall
+    message = (f"{o.name} {'converged' if converged else 'not converged'}: last step "
+               f"{last:.1e} (tol {o.tol:.1e}){', stalled at round-off' if stall else ''}")
+    return NewtonResult(x, converged, it, math.nan, last, tuple(history), message)
 
 
 def run_info(result: NewtonResult, *, start: float | None = None,

@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import scipy.linalg
@@ -33,9 +34,11 @@ from skfem import asm
 
 from ..model import CollisionKernel, HeatedProblem
 from ..operators.fem_thermostat import weighted_mass
+from ..options import gather
 from . import maxwell
 from .fem import steady_state
 from .fem_defaults import scaled_model
+from .fem_options import MeshOptions
 
 __all__ = ["RelaxationSpectrum", "relaxation_spectrum", "maxwell_rates"]
 
@@ -85,9 +88,8 @@ class RelaxationSpectrum:
 
 def relaxation_spectrum(alpha: float, *, density: float = 1.0, diffusion: float = 1.0,
                         friction: float = 0.0, kernel: float | CollisionKernel = 1.0,
-                        n_rates: int = 6,
-                        spacing: float | None = None, cutoff: float | None = None,
-                        zero_tol: float = 1e-8) -> RelaxationSpectrum:
+                        n_rates: int = 6, zero_tol: float = 1e-8,
+                        **mesh_keywords: Any) -> RelaxationSpectrum:
     """Relaxation rates of the heated gas by the linearised FEM system (module notes).
 
     Parameters
@@ -102,10 +104,12 @@ def relaxation_spectrum(alpha: float, *, density: float = 1.0, diffusion: float 
         :attr:`~kinetic_fem.model.HeatedProblem.time_scale`).
     n_rates : int
         Number of non-conserved rates returned (the slowest).
-    spacing, cutoff : float, optional
-        Mesh of the steady state (thermal velocities); defaults of the FEM solver.
     zero_tol : float
         Rates below ``zero_tol`` times the collision rate count as conserved modes.
+    **mesh_keywords
+        The mesh of the steady state: ``mesh`` (a
+        :class:`~kinetic_fem.solvers.fem_options.MeshOptions`) or its fields by keyword
+        (``spacing``, ``cutoff``, ... in thermal velocities); defaults of the FEM solver.
 
     Returns
     -------
@@ -131,7 +135,9 @@ def relaxation_spectrum(alpha: float, *, density: float = 1.0, diffusion: float 
     problem = HeatedProblem.from_parameters(alpha, density=density, diffusion=diffusion,
                                             friction=friction, kernel=kernel)
     scaled = scaled_model(problem)
-    state = steady_state(problem, spacing=spacing, cutoff=cutoff)
+    mesh = gather(MeshOptions, mesh_keywords.pop("mesh", None), mesh_keywords,
+                  "relaxation_spectrum")
+    state = steady_state(problem, mesh=mesh)
     disc, u = state.disc, state.u
     _, jac = disc.residual(u, jacobian=True)  # full space: even and odd perturbations
     assert jac is not None

@@ -32,6 +32,7 @@ from numpy.typing import NDArray
 from tqdm import tqdm
 
 from ..distribution import MAX_SONINE, VelocityDistribution
+from ..options import option_names
 from .grid import canonical_value, grid_points, point_key, point_seed
 from .store import PointStore
 
@@ -173,14 +174,9 @@ def _takes(function: Callable[..., Any], name: str) -> bool:
 
 def _check_call(function: Callable[..., Any], names: list[str]) -> None:
     """Raise TypeError now if ``function`` cannot take these keyword arguments."""
-    try:
-        sig = inspect.signature(function)
-    except (TypeError, ValueError):
+    valid = option_names(function)  # its parameters and its option objects' fields
+    if valid is None:
         return
-    if any(p.kind is p.VAR_KEYWORD for p in sig.parameters.values()):
-        return
-    valid = [n for n, p in sig.parameters.items()
-             if p.kind in (p.KEYWORD_ONLY, p.POSITIONAL_OR_KEYWORD)]
     unknown = [n for n in names if n not in valid]
     if unknown:
         raise TypeError(f"{_name(function)} takes no argument(s) {unknown}; valid names: "

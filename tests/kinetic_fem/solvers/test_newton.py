@@ -11,7 +11,13 @@ import scipy.sparse
 from scipy.sparse.linalg import LinearOperator
 
 from kinetic_fem.run_info import RunInfo
-from kinetic_fem.solvers.newton import NewtonResult, newton, run_info
+from kinetic_fem.solvers.newton import (
+    NewtonOptions,
+    NewtonResult,
+    PseudoTransient,
+    newton,
+    run_info,
+)
 
 
 def rosenbrock_system(x, jacobian):
@@ -227,3 +233,38 @@ def test_chord_steps_reuse_the_factorisation():
 def test_bad_chord_options_raise(kw):
     with pytest.raises(ValueError, match="chord"):
         newton(rosenbrock_system, [0.0, 0.0], tol=1e-10, **kw)
+
+
+def test_options_object_and_keywords_give_the_same_iterates():
+    opts = NewtonOptions(tol=1e-12, criterion="step", line_search=False)
+    by_object = newton(rosenbrock_system, [0.0, 0.0], opts)
+    by_keywords = newton(rosenbrock_system, [0.0, 0.0], tol=1e-12, criterion="step",
+                         line_search=False)
+    assert by_object.history == by_keywords.history and by_object.converged
+    np.testing.assert_array_equal(by_object.x, by_keywords.x)
+    # a keyword overrides the object
+    short = newton(rosenbrock_system, [0.0, 0.0], opts, max_iter=1)
+    assert short.iterations == 1 and not short.converged
+
+
+def test_unknown_option_raises_type_error():
+    with pytest.raises(TypeError, match="tolerance"):
+        newton(rosenbrock_system, [0.0, 0.0], tol=1e-10, tolerance=1e-3)
+
+
+def test_pseudo_transient_reaches_the_root_of_a_stiff_system():
+    """``r(x) = 8 - x^3`` from x = 0.1 (Jacobian -0.03: the plain full step jumps to
+    x = 89): implicit Euler in the pseudo-time of dx/dtau = r(x), whose attractor is the
+    root x = 2, walks up to it, and ends as Newton."""
+
+    def fun(x, jacobian):
+        return 8.0 - x**3, np.diag(-3.0 * x**2) if jacobian else None
+
+    pt = PseudoTransient(first_step=0.05, mass=lambda x: np.eye(1))
+    res = newton(fun, [0.1], tol=1e-13, max_iter=200, pseudo_time=pt)
+    assert res.converged and abs(res.x[0] - 2.0) < 1e-13
+    steps = np.array(res.history)
+    assert steps[0] < 0.5  # the first step, damped by the pseudo-time term: 8 / 20.03
+    assert len(steps) > 3 and steps[-1] < 1e-13
+    plain = newton(fun, [0.1], tol=1e-13, max_iter=1, line_search=False)
+    assert plain.x[0] > 50.0  # the undamped Newton step overshoots
