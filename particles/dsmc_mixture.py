@@ -49,7 +49,7 @@ from kinetic_fem.model.mixture import Mixture
 
 from ._dsmc_mixture_kernels import collide_block
 
-__all__ = ["MixtureRun", "simulate_mixture"]
+__all__ = ["MixtureRun", "simulate_mixture", "species_counts", "MixtureDSMCOptions"]
 
 logger = logging.getLogger(__name__)
 
@@ -129,7 +129,8 @@ def _standard_error(batches: NDArray[np.float64]) -> NDArray[np.float64] | float
     return batches.std(axis=0, ddof=1) / math.sqrt(n)
 
 
-def _species_counts(mixture: Mixture, n_particles: object) -> NDArray[np.int64]:
+def species_counts(mixture: Mixture, n_particles: object) -> NDArray[np.int64]:
+    """Rods per species, ``n_particles * x_s``, checked to be whole numbers >= 2."""
     if isinstance(n_particles, bool) or not isinstance(n_particles, (int, np.integer)):
         raise TypeError(f"n_particles must be an integer, got {n_particles!r}")
     n = int(n_particles)
@@ -189,7 +190,7 @@ def simulate_mixture(mixture: Mixture, n_particles: int, *, density: float = 1.0
     if not isinstance(mixture, Mixture):
         raise TypeError(f"mixture must be a kinetic_fem.Mixture, got {mixture!r}")
     opts = options or MixtureDSMCOptions()
-    counts = _species_counts(mixture, n_particles)
+    counts = species_counts(mixture, n_particles)
     density = check_positive("density", density)
     collisions_per_particle = check_positive("collisions_per_particle", collisions_per_particle)
     relax = float(relax)
