@@ -147,7 +147,7 @@ def evolve_mixture(mixture: Mixture, *, times: ArrayLike, density: float = 1.0,
     Examples
     --------
     >>> mix = Mixture.white_noise((1.0, 4.0), (0.5, 0.5), alpha=0.8, kernel=0.0)
-    >>> ev = evolve_mixture(mix, times=[0.0, 50.0])
+    >>> ev = evolve_mixture(mix, times=[0.0, 200.0])
     >>> from kinetic_fem.solvers import maxwell_mixture
     >>> steady = maxwell_mixture.steady_state(mix).temperature_ratio()
     >>> bool(abs(ev.temperature_ratio()[-1] - steady) < 1e-8)
