@@ -51,7 +51,7 @@ from kinetic_fem.model.mixture import Mixture
 
 from ._dsmc_mixture_kernels import collide_block
 
-__all__ = ["MixtureRun", "simulate_mixture", "evolve_mixture", "species_counts",
+__all__ = ["MixtureRun", "simulate_mixture", "simulate_binary", "evolve_mixture", "species_counts",
            "MixtureDSMCOptions"]
 
 logger = logging.getLogger(__name__)
@@ -462,3 +462,40 @@ def evolve_mixture(mixture: Mixture, n_particles: int, *, times: Any, density: f
         info={"n_particles": int(n_particles), "n_runs": n_runs, "density": density,
               "seed": None if seed is None else str(seed),
               "collision_counts": pair_counts.tolist()})
+
+
+def simulate_binary(mass_ratio: float, n_particles: int, *, fraction: float = 0.5,
+                    alpha: float = 0.9, alpha_11: float | None = None,
+                    alpha_12: float | None = None, alpha_22: float | None = None,
+                    kernel: Any = 1.0, forcing: str = "same_diffusion",
+                    diffusion: float = 1.0, method: str = "dsmc", **options: Any
+                    ) -> MixtureRun:
+    """A particle run of :func:`kinetic_fem.mixture_solve.binary_mixture`: a sweep function.
+
+    Parameters
+    ----------
+    mass_ratio, fraction, alpha, alpha_11, alpha_12, alpha_22, kernel, forcing, diffusion
+        As in :func:`kinetic_fem.mixture_solve.binary_mixture`.
+    n_particles : int
+        Rods in all.
+    method : {"dsmc", "md"}
+        :func:`simulate_mixture` or :func:`particles.md_mixture.simulate_mixture`.
+    **options
+        Passed on (``seed``, ``collisions_per_particle``, ``density``, ...).
+
+    Returns
+    -------
+    MixtureRun
+    """
+    from kinetic_fem.mixture_solve import binary_mixture
+
+    mix = binary_mixture(mass_ratio, fraction=fraction, alpha=alpha, alpha_11=alpha_11,
+                         alpha_12=alpha_12, alpha_22=alpha_22, kernel=kernel, forcing=forcing,
+                         diffusion=diffusion)
+    if method == "dsmc":
+        return simulate_mixture(mix, n_particles, **options)
+    if method == "md":
+        from .md_mixture import simulate_mixture as simulate_md
+
+        return simulate_md(mix, n_particles, **options)
+    raise ValueError(f"method must be 'dsmc' or 'md', got {method!r}")
