@@ -57,7 +57,7 @@ MIXTURE_SPECIES = ("T_species", "T_species_error", "a2_species", "a2_species_err
 
 
 def _is_mixture(result: Any) -> bool:
-    """A mixture result (MixtureMoments, a particle MixtureRun): ``mixture`` and ``temperatures``."""
+    """A mixture result (MixtureMoments, a particle MixtureRun): ``mixture``, ``temperatures``."""
     return hasattr(result, "mixture") and hasattr(result, "temperatures")
 
 
@@ -195,8 +195,7 @@ def evaluate_point(function: Callable[..., Any], kwargs: Mapping[str, Any],
     if _is_mixture(result):
         dists = getattr(result, "distributions", None)
         method = dists[0].method if dists else getattr(result, "method", "")
-        info = getattr(result, "info", None)
-        message = info.message if hasattr(info, "message") else ""
+        message = getattr(getattr(result, "info", None), "message", "")
         return rec, {"method": str(method), "message": str(message)}
     dist = getattr(result, "distribution", result)
     attrs = {"method": str(dist.method), "message": str(dist.info.message)}
