@@ -110,7 +110,8 @@ def simulate_mixture(mixture: Mixture, n_particles: int, *, density: float = 1.0
         (1e-2) times the largest estimated thermal speed :math:`\\sqrt{T_s/m_s}`; free
         cooling default None (plain dynamics: inelastic collapse is raised).
     sample_interval : float
-        Heated: time between samples, in estimated mean free times.
+        Heated: time between samples, in mean free times (measured over the warm-up;
+        without one, the Gaussian estimate).
     n_samples : int
         Free cooling: samples (evenly spaced in collisions from ``warmup`` to the end).
     n_batches, n_bins, c_max : int, int, float
@@ -200,53 +201,61 @@ def simulate_mixture(mixture: Mixture, n_particles: int, *, density: float = 1.0
                 kicks.interval)
     total = int(round(cpp * n / 2))
     engine.advance(int(round(warm * n / 2)))
-    accs: list[Accumulator] = []
+    sel = [species == s for s in range(mixture.n_species)]
+    start = engine.n_collisions
+    # every sample's velocities (relative to u; scaled in free cooling) and, in free
+    # cooling, the (time, temperature) of each; batches are consecutive equal runs of
+    # samples, formed at the end (collisions come in bursts: batches by collision count
+    # can miss every sample time)
+    kept: list[NDArray[np.float64]] = []
+    clock: list[tuple[float, float]] = []
+
+    def sample() -> None:
+        u = float(np.sum(mass * engine.v) / np.sum(mass))
+        w = engine.v - u
+        if not heated:
+            temp = float(np.sum(mass * w * w) / n)
+            clock.append((float(engine.fstate[F_T]), temp))
+            w = w / math.sqrt(temp)
+        kept.append(w)
+
+    if heated:
+        # the mean free time measured in the warm-up (the Gaussian estimate can be far
+        # off: light rods caged between heavy ones recollide)
+        warm_cpp = 2.0 * engine.n_collisions / n
+        if warm_cpp > 0.0:
+            tau = float(engine.fstate[F_T]) / warm_cpp
+        sample_dt = check_positive("sample_interval", sample_interval) * tau
+        t_next = float(engine.fstate[F_T]) + sample_dt
+        while engine.advance(total, t_next):
+            sample()
+            t_next += sample_dt
+    else:
+        for target in np.linspace(start, total, n_samples).round().astype(np.int64):
+            engine.advance(int(target))
+            sample()
+    if len(kept) < n_batches:
+        raise ValueError(f"{len(kept)} samples for n_batches={n_batches}: "
+                         f"collisions_per_particle={cpp:g} with warmup={warm:g} is too short "
+                         f"at sample_interval={sample_interval:g}")
+    accs = []
+    for s in range(mixture.n_species):
+        width = c_max * math.sqrt(float(np.mean(kept[0][sel[s]]**2)))
+        accs.append(Accumulator(-width, width, n_bins, n_batches))
     batch_temps = np.zeros((n_batches, mixture.n_species))
     batch_rows = np.zeros(n_batches)
     zeta_sum = np.zeros(n_batches)
     zeta_time = np.zeros(n_batches)
-    sel = [species == s for s in range(mixture.n_species)]
-    start = engine.n_collisions
-    previous: tuple[float, float] | None = None
-
-    def sample(batch: int) -> None:
-        nonlocal previous
-        u = float(np.sum(mass * engine.v) / np.sum(mass))
-        w = engine.v - u
-        temp = float(np.sum(mass * w * w) / n)
-        if not heated:
-            t_now = float(engine.fstate[F_T])
-            if previous is not None:
-                zeta_sum[batch] += (temp**-0.5 - previous[1]**-0.5) / n_f
-                zeta_time[batch] += t_now - previous[0]
-            previous = (t_now, temp)
-            w = w / math.sqrt(temp)
-        if not accs:
-            for s in range(mixture.n_species):
-                width = c_max * math.sqrt(float(np.mean(w[sel[s]]**2)))
-                accs.append(Accumulator(-width, width, n_bins, n_batches))
+    for i, w in enumerate(kept):
+        batch = i * n_batches // len(kept)
         for s in range(mixture.n_species):
             ws = w[sel[s]]
             accs[s].add(batch, ws)
             batch_temps[batch, s] += masses[s] * float(np.mean(ws * ws))
         batch_rows[batch] += 1
-
-    if heated:
-        sample_dt = check_positive("sample_interval", sample_interval) * tau
-        t_next = float(engine.fstate[F_T]) + sample_dt
-        while engine.advance(total, t_next):
-            done = (engine.n_collisions - start) / max(total - start, 1)
-            sample(min(int(done * n_batches), n_batches - 1))
-            t_next += sample_dt
-    else:
-        targets = np.linspace(start, total, n_samples).round().astype(np.int64)
-        for k, target in enumerate(targets):
-            engine.advance(int(target))
-            sample(min(k * n_batches // n_samples, n_batches - 1))
-    if np.any(batch_rows == 0):
-        raise ValueError(f"a batch holds no sample: collisions_per_particle={cpp:g} with "
-                         f"warmup={warm:g} is too short for n_batches={n_batches} at "
-                         f"sample_interval={sample_interval:g}")
+        if clock and i > 0:
+            zeta_sum[batch] += (clock[i][1]**-0.5 - clock[i - 1][1]**-0.5) / n_f
+            zeta_time[batch] += clock[i][0] - clock[i - 1][0]
     pc = engine.pair_counts
     pair_counts = pc + pc.T - np.diag(np.diag(pc))
     n_coll = engine.n_collisions
