@@ -125,15 +125,9 @@ def read_mixture(path: str | Path) -> tuple[Mixture, float]:
     ValueError
         An unreadable file, invalid TOML, no ``[mixture]`` table, or a bad key (named).
     """
-    import tomllib
+    from .files import read_toml
 
-    try:
-        with open(path, "rb") as fh:
-            config = tomllib.load(fh)
-    except OSError as exc:
-        raise ValueError(f"cannot read the mixture file {str(path)!r}: {exc}") from exc
-    except tomllib.TOMLDecodeError as exc:
-        raise ValueError(f"the mixture file {str(path)!r} is not valid TOML: {exc}") from exc
+    config = read_toml(path, f"the mixture file {str(path)!r}")
     if set(config) != {"mixture"}:
         raise ValueError(f"{str(path)!r} must hold exactly one [mixture] table, got tables "
                          f"{sorted(config)}")
