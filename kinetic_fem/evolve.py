@@ -26,7 +26,9 @@ from numpy.typing import ArrayLike
 from .distribution import VelocityDistribution
 from .evolution import Evolution
 from .limits import check_cooling_span
+from .mixture_evolution import MixtureEvolution, evolve_mixture
 from .model import CollisionKernel, HeatedProblem, InelasticGas, RestitutionLaw, check_positive
+from .model.mixture import Mixture
 from .model.protocol import Protocol
 from .solve import lookup_solver
 from .solvers import fem_cooling_transient, fem_evolution  # noqa: F401  (registers "fem")
@@ -72,6 +74,29 @@ def check_times(times: ArrayLike) -> np.ndarray:
     return t
 
 
+def _evolve_mixture(mixture: Mixture, *, heated: bool, density: float, times: ArrayLike,
+                    initial_temperature: Any, method: str, defaults: dict[str, tuple[Any, Any]],
+                    options: dict[str, Any]) -> MixtureEvolution:
+    """A :class:`Mixture` given as ``alpha``: :func:`.mixture_evolution.evolve_mixture`."""
+    if mixture.heated != heated:
+        kind, entry = (("heated", "evolve_heated") if mixture.heated
+                       else ("free-cooling", "evolve_cooling"))
+        raise ValueError(f"alpha is a {kind} mixture; use kf.{entry}")
+    for name, (value, default) in defaults.items():
+        if value is not default and value != default:
+            raise ValueError(f"{name}={value!r} cannot be given with a Mixture (it carries its "
+                             "kernel and a thermostat per species; Gaussian starts only)")
+    if method == "fem":
+        raise ValueError("method='fem' has no mixture transient; use method='maxwell' (exact "
+                         "moments, kernel 0) or 'gaussian' (any kernel), or "
+                         "particles.dsmc_mixture.evolve_mixture")
+    unknown = set(options) - {"rtol"}
+    if unknown:
+        raise TypeError(f"unknown option(s) {sorted(unknown)} for a mixture (allowed: rtol)")
+    return evolve_mixture(mixture, times=times, density=density,
+                          initial_temperature=initial_temperature, method=method, **options)
+
+
 def _initial(initial: Any, initial_temperature: Any) -> tuple[Any, float | None]:
     if initial is not None and initial_temperature is not None:
         raise ValueError("give either initial (a VelocityDistribution) or "
@@ -94,8 +119,13 @@ def evolve_heated(alpha: float | RestitutionLaw, *, density: float = 1.0,
 
     Parameters
     ----------
-    alpha : float or RestitutionLaw
-        Restitution at ``t = 0`` (changes are given by ``protocol.restitution``).
+    alpha : float, RestitutionLaw or Mixture
+        Restitution at ``t = 0`` (changes are given by ``protocol.restitution``).  A
+        heated :class:`~kinetic_fem.Mixture` returns a
+        :class:`~kinetic_fem.mixture_evolution.MixtureEvolution` of the species
+        temperatures from Gaussians at ``initial_temperature`` (a number or one per
+        species; default 1) with ``method="maxwell"`` (exact, kernel 0) or
+        ``"gaussian"`` (:func:`kinetic_fem.mixture_evolution.evolve_mixture`).
     density, diffusion, friction : float
         :math:`n`, :math:`D` and :math:`\\xi` (values at ``t = 0``, or throughout if the
         protocol leaves them alone).
@@ -134,6 +164,13 @@ def evolve_heated(alpha: float | RestitutionLaw, *, density: float = 1.0,
     >>> bool(ev.temperature[1] > ev.temperature[0])
     True
     """
+    if isinstance(alpha, Mixture):
+        return _evolve_mixture(  # type: ignore[return-value]
+            alpha, heated=True, density=density, times=times,
+            initial_temperature=initial_temperature, method=method,
+            defaults={"diffusion": (diffusion, 1.0), "friction": (friction, 0.0),
+                      "kernel": (kernel, 1.0), "initial": (initial, None),
+                      "protocol": (protocol, None)}, options=options)
     problem = HeatedProblem.from_parameters(alpha, density=density, diffusion=diffusion,
                                             friction=friction, kernel=kernel)
     if protocol is None:
@@ -173,8 +210,9 @@ def evolve_cooling(alpha: float | RestitutionLaw, *, density: float = 1.0,
 
     Parameters
     ----------
-    alpha : float or RestitutionLaw
-        Restitution at ``t = 0``: a coefficient ``0 <= alpha <= 1`` or a law.
+    alpha : float, RestitutionLaw or Mixture
+        Restitution at ``t = 0``: a coefficient ``0 <= alpha <= 1`` or a law.  A
+        free-cooling :class:`~kinetic_fem.Mixture`: as in :func:`evolve_heated`.
     density : float
         Number density ``n``.
     kernel : float or CollisionKernel
@@ -223,6 +261,12 @@ def evolve_cooling(alpha: float | RestitutionLaw, *, density: float = 1.0,
     >>> bool(3.5 < z[1] / z[0] < 4.5)     # Gaussian estimate (1 - 0.25)/(1 - 0.81) = 3.9
     True
     """
+    if isinstance(alpha, Mixture):
+        return _evolve_mixture(  # type: ignore[return-value]
+            alpha, heated=False, density=density, times=times,
+            initial_temperature=initial_temperature, method=method,
+            defaults={"kernel": (kernel, 1.0), "initial": (initial, None),
+                      "protocol": (protocol, None)}, options=options)
     gas = InelasticGas(alpha, density, kernel)
     if protocol is None:
         protocol = Protocol()

@@ -24,7 +24,7 @@ from numpy.typing import NDArray
 
 from .exceptions import FileFormatError
 
-__all__ = ["FileFormatError", "npz_path", "output_path", "read_npz", "reading",
+__all__ = ["FileFormatError", "npz_path", "output_path", "read_npz", "reading", "read_toml",
            "json_entry", "check_loaded_values"]
 
 
@@ -83,6 +83,41 @@ def output_path(path: str | Path, *, name: str = "path") -> Path:
                                                     not os.access(path, os.W_OK)):
         raise PermissionError(f"{name}={str(path)!r} cannot be written (no permission)")
     return path
+
+
+def read_toml(path: str | Path, what: str) -> dict[str, Any]:
+    """The tables of a TOML file (``tomllib``; ``tomli`` on Python 3.10).
+
+    Parameters
+    ----------
+    path : str or Path
+    what : str
+        How messages name the file, e.g. ``"--config 'grid.toml'"``.
+
+    Returns
+    -------
+    dict
+
+    Raises
+    ------
+    ValueError
+        If the file cannot be read or is not valid TOML (naming ``what``).
+    """
+    try:
+        import tomllib
+    except ModuleNotFoundError:  # Python 3.10
+        try:
+            import tomli as tomllib  # type: ignore[no-redef]
+        except ModuleNotFoundError:
+            raise ValueError(f"reading {what} on Python 3.10 needs tomli (pip install "
+                             "tomli)") from None
+    try:
+        with open(path, "rb") as fh:
+            return tomllib.load(fh)
+    except OSError as exc:
+        raise ValueError(f"cannot read {what}: {exc}") from exc
+    except tomllib.TOMLDecodeError as exc:
+        raise ValueError(f"{what} is not valid TOML: {exc}") from exc
 
 
 @contextmanager

@@ -23,7 +23,7 @@ from kinetic_fem.model import RestitutionLaw, Thermostat, ThresholdRestitution
 
 from . import _md_kernels as K
 
-__all__ = ["InelasticCollapseError", "Kicks", "EngineOptions", "MDEngine"]
+__all__ = ["InelasticCollapseError", "Kicks", "EngineOptions", "MDEngine", "MixtureRods"]
 
 logger = logging.getLogger(__name__)
 
@@ -82,6 +82,31 @@ class Kicks:
         return cls(interval, 1.0, math.sqrt(2.0 * d * interval))
 
 
+@dataclass(frozen=True, eq=False)
+class MixtureRods:
+    """The species of the rods of a mixture run, as the kernel takes them.
+
+    Attributes
+    ----------
+    species : ndarray of int64, shape (N,)
+        The species of each rod (in ring order).
+    masses : ndarray, shape (k,)
+    alphas : ndarray, shape (k, k)
+        Constant restitution coefficient of each pair (symmetric).
+    kick_scale : ndarray, shape (N,)
+        Each rod's kick amplitude over :attr:`Kicks.amplitude`
+        (:math:`\\sqrt{D_s/D}`).
+    """
+
+    species: NDArray[np.int64]
+    masses: NDArray[np.float64]
+    alphas: NDArray[np.float64]
+    kick_scale: NDArray[np.float64]
+
+
+_NO_SPECIES = MixtureRods(np.zeros(0, np.int64), np.zeros(0), np.zeros((0, 0)), np.zeros(0))
+
+
 @dataclass(frozen=True)
 class EngineOptions:
     """Everything the event loop needs besides the state (validated by the callers).
@@ -104,6 +129,8 @@ class EngineOptions:
         ``collapse_tol * sqrt(T)``.
     max_stall : int
         ... or after this many consecutive collisions without time advancing.
+    species : MixtureRods, optional
+        A mixture (:mod:`particles.md_mixture`); None: one species.
     """
 
     free_length: float
@@ -113,6 +140,7 @@ class EngineOptions:
     kicks: Kicks = field(default_factory=Kicks)
     collapse_tol: float = 1e-12
     max_stall: int = 10**6
+    species: MixtureRods | None = None
 
     @property
     def elastic_below(self) -> float:
@@ -159,6 +187,11 @@ class MDEngine:
         self.kick_dt = kick_dt
         law = o.restitution
         self._law = (law.code, *law.parameters, law.max_speed, o.elastic_below)
+        mix = o.species or _NO_SPECIES
+        k = mix.masses.size
+        #: collisions per ordered pair of species (the kernel counts the left rod first)
+        self.pair_counts = np.zeros((k, k), np.int64)
+        self._species = (mix.species, mix.masses, mix.alphas, mix.kick_scale)
         self._temp_key: tuple[int, int] | None = None
         self._moments = (math.nan, math.nan, math.nan)
         # free cooling: calendar epochs of about N collisions, the first from T
@@ -200,7 +233,7 @@ class MDEngine:
         return (self.x, self.v, self.tl, self.heap, self.hkey, self.where, self.ptime,
                 self.head, self.nxt, self.prv, self.bkt, self.fstate, self.istate,
                 self.rng_state, self.xi, self.free_length, *self._law, self.kick_dt,
-                o.kicks.decay, o.kicks.amplitude)
+                o.kicks.decay, o.kicks.amplitude, *self._species, self.pair_counts)
 
     @property
     def n_collisions(self) -> int:

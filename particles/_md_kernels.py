@@ -46,6 +46,12 @@ regularisation of inelastic collapse), else :math:`a = \\alpha(g)` of the restit
 law, evaluated by :func:`kinetic_fem.model.restitution_value` (its integer code and two
 parameters; a collision faster than the law's range stops the run with
 ``STATUS_LAW_RANGE``).  Elastic collisions exchange the two velocities exactly.
+A mixture (:mod:`particles.md_mixture`: rod ``i`` of species :math:`s_i`, mass
+:math:`m_{s_i}`, a constant :math:`\\alpha_{s_i s_j}` per pair) takes
+:math:`v_i' = v_i - \\mu_{ij}(1+a)g`, :math:`v_j' = v_j + \\mu_{ji}(1+a)g` with
+:math:`\\mu_{ij} = m_j/(m_i + m_j)` and :math:`\\Delta E = -\\tfrac12 m_{ij}(1-a^2)g^2`
+(:math:`m_{ij}` the reduced mass), and scales each rod's kick normal by its species'
+factor; with no species arrays (size 0) the one-species rule above runs unchanged.
 Kicks: :math:`v_i \\to d\\,v_i + b\\,\\xi_i`, white noise with :math:`d = 1`,
 :math:`b = \\sqrt{2 D \\Delta t_k}`, or the exact Ornstein-Uhlenbeck update of a
 Fokker-Planck bath over the kick interval, :math:`d = e^{-\\xi \\Delta t_k}`,
@@ -211,8 +217,8 @@ def rod_positions_at(t, x, v, tl, sigma, big_l, out):  # pragma: no cover - comp
 @jit
 def run_events(x, v, tl, heap, hkey, where, ptime, head, nxt, prv, bkt, fstate, istate, rng,
                normals, free_length, law, p0, p1, max_speed, threshold, kick_dt,
-               kick_decay, kick_amp, speed_floor, max_stall, t_stop,
-               coll_stop):  # pragma: no cover - compiled
+               kick_decay, kick_amp, species, masses, alphas, kick_scale, pair_counts,
+               speed_floor, max_stall, t_stop, coll_stop):  # pragma: no cover - compiled
     """Advance the event-driven dynamics until a stop condition; return a status code.
 
     Parameters
@@ -245,6 +251,12 @@ def run_events(x, v, tl, heap, hkey, where, ptime, head, nxt, prv, bkt, fstate, 
     kick_dt, kick_decay, kick_amp : float
         Interval between kicks (inf: free cooling) and the kick
         ``v -> kick_decay * v + kick_amp * xi``.
+    species, masses, alphas, kick_scale, pair_counts : ndarray
+        A mixture (:mod:`particles.md_mixture`): the species of each rod (int64, shape
+        (N,)), the species' masses (shape (k,)), constant restitution per pair (shape
+        (k, k), replacing ``law``), the factor of each rod's kick normal (shape (N,)) and
+        the collisions per pair of species (int64, shape (k, k), incremented).  One
+        species: all of size 0, and the one-species rule below runs unchanged.
     speed_floor : float
         An inelastic collision slower than this signals inelastic collapse.
     max_stall : int
@@ -280,6 +292,7 @@ def run_events(x, v, tl, heap, hkey, where, ptime, head, nxt, prv, bkt, fstate, 
     horizon = fstate[F_HORIZON]
     status = STATUS_COLLISIONS
     use_prefetch = n >= PREFETCH_MIN_N
+    mixture = species.shape[0] > 0
     while True:
         if n_coll >= coll_stop:
             status = STATUS_COLLISIONS
@@ -319,6 +332,8 @@ def run_events(x, v, tl, heap, hkey, where, ptime, head, nxt, prv, bkt, fstate, 
                 t = t_kick
                 t_kick = (nk + 1) * kick_dt
                 fill_normals(normals, rng)
+                for k in range(kick_scale.shape[0]):  # a mixture: D_s per species
+                    normals[k] *= kick_scale[k]
                 fstate[F_INJ] += kick_sweep(t, t_kick, kick_decay, kick_amp, normals, x, v, tl,
                                             free_length, heap, hkey, where, ptime, head, nxt,
                                             prv, bkt, fstate, istate)
@@ -386,6 +401,8 @@ def run_events(x, v, tl, heap, hkey, where, ptime, head, nxt, prv, bkt, fstate, 
             istate[I_BAD_PAIR] = p
             status = STATUS_LAW_RANGE
             break
+        elif mixture:
+            a = alphas[species[i], species[j]]
         else:
             a = restitution_value(law, p0, p1, g)
         if tc - t <= 1e-13 * abs(tc):
@@ -403,7 +420,17 @@ def run_events(x, v, tl, heap, hkey, where, ptime, head, nxt, prv, bkt, fstate, 
         x[j] = m - shift
         tl[i] = tc
         tl[j] = tc
-        if a == 1.0:  # elastic: exchange exactly, energy and P(v) unchanged
+        if mixture:  # v_i' = v_i - mu_ij (1 + a) g, mu_ij = m_j/(m_i + m_j)
+            si = species[i]
+            sj = species[j]
+            mi = masses[si]
+            mj = masses[sj]
+            share = (1.0 + a) * g / (mi + mj)
+            v[i] -= mj * share
+            v[j] += mi * share
+            diss += 0.5 * mi * mj / (mi + mj) * (1.0 - a * a) * g * g
+            pair_counts[si, sj] += 1
+        elif a == 1.0:  # elastic: exchange exactly, energy and P(v) unchanged
             vi = v[i]
             v[i] = v[j]
             v[j] = vi

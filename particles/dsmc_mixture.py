@@ -43,13 +43,16 @@ import numpy as np
 from numpy.typing import NDArray
 
 from kinetic_fem.distribution import MAX_MOMENT, RunInfo, VelocityDistribution
+from kinetic_fem.evolve import check_times
+from kinetic_fem.mixture_evolution import MixtureEvolution, initial_temperatures_of
 from kinetic_fem.mixture_state import SpeciesTemperatures
 from kinetic_fem.model import check_positive
 from kinetic_fem.model.mixture import Mixture
 
 from ._dsmc_mixture_kernels import collide_block
 
-__all__ = ["MixtureRun", "simulate_mixture"]
+__all__ = ["MixtureRun", "simulate_mixture", "simulate_binary", "evolve_mixture", "species_counts",
+           "MixtureDSMCOptions"]
 
 logger = logging.getLogger(__name__)
 
@@ -129,7 +132,8 @@ def _standard_error(batches: NDArray[np.float64]) -> NDArray[np.float64] | float
     return batches.std(axis=0, ddof=1) / math.sqrt(n)
 
 
-def _species_counts(mixture: Mixture, n_particles: object) -> NDArray[np.int64]:
+def species_counts(mixture: Mixture, n_particles: object) -> NDArray[np.int64]:
+    """Rods per species, ``n_particles * x_s``, checked to be whole numbers >= 2."""
     if isinstance(n_particles, bool) or not isinstance(n_particles, (int, np.integer)):
         raise TypeError(f"n_particles must be an integer, got {n_particles!r}")
     n = int(n_particles)
@@ -189,7 +193,7 @@ def simulate_mixture(mixture: Mixture, n_particles: int, *, density: float = 1.0
     if not isinstance(mixture, Mixture):
         raise TypeError(f"mixture must be a kinetic_fem.Mixture, got {mixture!r}")
     opts = options or MixtureDSMCOptions()
-    counts = _species_counts(mixture, n_particles)
+    counts = species_counts(mixture, n_particles)
     density = check_positive("density", density)
     collisions_per_particle = check_positive("collisions_per_particle", collisions_per_particle)
     relax = float(relax)
@@ -210,7 +214,8 @@ def simulate_mixture(mixture: Mixture, n_particles: int, *, density: float = 1.0
     diffusion = mixture.diffusions()[species]
     friction = mixture.frictions()[species]
     heated = mixture.heated
-    bath = bool(np.any(friction > 0.0))
+    rods = _Rods(species, masses, mass, alpha, float(gamma), diffusion, friction, heated,
+                 density)
     # initial Gaussians: the Gaussian-approximation temperatures would be closer; unit
     # variance per species is enough, the relaxation does the rest
     v = rng.standard_normal(n)
@@ -234,25 +239,8 @@ def simulate_mixture(mixture: Mixture, n_particles: int, *, density: float = 1.0
     bar = tqdm(total=total, disable=not progress, unit="coll/rod", leave=False)
     while done < total:
         dt = opts.collisions_per_step / (density * _mean_rate(v, species, mixture, gamma))
-        if heated:
-            _force(v, diffusion, friction, 0.5 * dt, rng)
-        g_max = float(v.max() - v.min())
-        expected = 0.5 * n * density * dt * (g_max**gamma if gamma > 0.0 else 1.0) + carry
-        m = int(expected)
-        carry = expected - m
-        first = rng.integers(0, n, size=m)
-        second = rng.integers(0, n - 1, size=m)
-        second += second >= first
-        accept = rng.random(m)
-        before = pair_counts.sum()
-        loss, _ = collide_block(v, species, masses, alpha, float(gamma), g_max, first, second,
-                                accept, pair_counts)
-        new = int(pair_counts.sum() - before)
+        loss, new, carry = rods.step(v, dt, carry, pair_counts, rng)
         n_collisions += new
-        if heated:
-            _force(v, diffusion, friction, 0.5 * dt, rng)
-        if not bath:
-            v -= np.sum(mass * v) / np.sum(mass)
         if not heated:
             v /= math.sqrt(np.sum(mass * v * v) / n)
         step = 2.0 * new / n
@@ -294,6 +282,53 @@ def simulate_mixture(mixture: Mixture, n_particles: int, *, density: float = 1.0
                    message=f"{n_collisions} collisions, {opts.n_batches} batches")
     return MixtureRun(mixture, dists, batch_temps, batch_zeta, n, n_collisions, pair_counts,
                       info)
+
+
+@dataclass(frozen=True, eq=False)
+class _Rods:
+    """The rods of a mixture DSMC and one Strang step of forcing and collisions."""
+
+    species: NDArray[np.int64]
+    masses: NDArray[np.float64]
+    mass: NDArray[np.float64]
+    alpha: NDArray[np.float64]
+    gamma: float
+    diffusion: NDArray[np.float64]
+    friction: NDArray[np.float64]
+    heated: bool
+    density: float
+
+    def step(self, v: NDArray[np.float64], dt: float, carry: float,
+             pair_counts: NDArray[np.int64], rng: np.random.Generator
+             ) -> tuple[float, int, float]:
+        """Half a step of forcing, the collisions of ``dt``, half a step of forcing.
+
+        The centre-of-mass velocity is removed (unless a bath holds it).  Returns the
+        energy lost in collisions, the number of collisions and the carried fraction of
+        a candidate pair.
+        """
+        n = v.size
+        gamma = self.gamma
+        if self.heated:
+            _force(v, self.diffusion, self.friction, 0.5 * dt, rng)
+        g_max = float(v.max() - v.min())
+        expected = 0.5 * n * self.density * dt * (g_max**gamma if gamma > 0.0 else 1.0) \
+            + carry
+        m = int(expected)
+        carry = expected - m
+        first = rng.integers(0, n, size=m)
+        second = rng.integers(0, n - 1, size=m)
+        second += second >= first
+        accept = rng.random(m)
+        before = pair_counts.sum()
+        loss, _ = collide_block(v, self.species, self.masses, self.alpha, gamma, g_max, first,
+                                second, accept, pair_counts)
+        new = int(pair_counts.sum() - before)
+        if self.heated:
+            _force(v, self.diffusion, self.friction, 0.5 * dt, rng)
+        if not np.any(self.friction > 0.0):
+            v -= np.sum(self.mass * v) / np.sum(self.mass)
+        return loss, new, carry
 
 
 def _force(v: NDArray[np.float64], diffusion: NDArray[np.float64],
@@ -346,3 +381,121 @@ class MixtureDSMCOptions:
                     or value < (2 if name == "n_batches" else 1):
                 raise ValueError(f"{name} must be an integer >= "
                                  f"{2 if name == 'n_batches' else 1}, got {value!r}")
+
+
+def evolve_mixture(mixture: Mixture, n_particles: int, *, times: Any, density: float = 1.0,
+                   initial_temperature: float | Any = None,
+                   seed: int | np.random.SeedSequence | None = None, n_runs: int = 4,
+                   collisions_per_step: float = 0.05) -> MixtureEvolution:
+    """DSMC time series of the species temperatures, from Gaussian species.
+
+    The step of :func:`simulate_mixture` in physical time (free cooling is not rescaled),
+    landing on every output time; ``n_runs`` independent runs (seeds spawned from
+    ``seed``) give the mean and its standard error.  The deterministic counterpart is
+    :func:`kinetic_fem.mixture_evolution.evolve_mixture` (exact for the Maxwell mixture).
+
+    Parameters
+    ----------
+    mixture : Mixture
+        Power-law kernel, constant restitution per pair.
+    n_particles : int
+        Rods per run; ``n_particles * x_s`` whole numbers, at least 2 each.
+    times : array_like, shape (n_t,)
+        Output times, >= 0, strictly increasing.
+    density : float
+        Total number density.
+    initial_temperature : float or sequence of float, optional
+        :math:`T_s(0)` (default 1 for every species).
+    seed : int or SeedSequence, optional
+    n_runs : int
+        Independent runs, >= 2 (for the error bars).
+    collisions_per_step : float
+        At most this many collisions per rod per time step, in (0, 0.5].
+
+    Returns
+    -------
+    MixtureEvolution
+        ``method="dsmc-mixture"``, with ``temperature_errors`` and ``a2_errors``.
+    """
+    if not isinstance(mixture, Mixture):
+        raise TypeError(f"mixture must be a kinetic_fem.Mixture, got {mixture!r}")
+    counts = species_counts(mixture, n_particles)
+    t_out = check_times(times)
+    density = check_positive("density", density)
+    MixtureDSMCOptions(collisions_per_step=collisions_per_step)  # validates it
+    if isinstance(n_runs, bool) or not isinstance(n_runs, (int, np.integer)) or n_runs < 2:
+        raise ValueError(f"n_runs must be an integer >= 2 (for the error bars), got "
+                         f"{n_runs!r}")
+    temps0 = initial_temperatures_of(mixture, initial_temperature)
+    gamma = float(mixture.collision_kernel.gamma)
+    masses = np.asarray(mixture.masses, dtype=float)
+    species = np.repeat(np.arange(mixture.n_species, dtype=np.int64), counts)
+    mass = masses[species]
+    rods = _Rods(species, masses, mass, mixture.constant_alpha(), gamma,
+                 mixture.diffusions()[species], mixture.frictions()[species], mixture.heated,
+                 density)
+    k = mixture.n_species
+    temps = np.zeros((n_runs, t_out.size, k))
+    a2 = np.zeros((n_runs, t_out.size, k))
+    sel = [species == s for s in range(k)]
+    pair_counts = np.zeros((k, k), dtype=np.int64)
+    ss = seed if isinstance(seed, np.random.SeedSequence) else np.random.SeedSequence(seed)
+    for run, child in enumerate(ss.spawn(n_runs)):
+        rng = np.random.default_rng(child)
+        v = rng.standard_normal(n_particles) * np.sqrt(temps0 / masses)[species]
+        v -= np.sum(mass * v) / np.sum(mass)
+        t, carry = 0.0, 0.0
+        for i, t_next in enumerate(t_out):
+            while t < t_next:
+                dt = collisions_per_step / (density * _mean_rate(v, species, mixture, gamma))
+                dt = min(dt, t_next - t)
+                _, _, carry = rods.step(v, dt, carry, pair_counts, rng)
+                t = t_next if dt == t_next - t else t + dt
+            for s in range(k):
+                m2, m4 = np.mean(v[sel[s]]**2), np.mean(v[sel[s]]**4)
+                temps[run, i, s] = masses[s] * m2
+                a2[run, i, s] = m4 / (3.0 * m2 * m2) - 1.0
+    return MixtureEvolution(
+        mixture, t_out, temps.mean(axis=0), a2.mean(axis=0), "dsmc-mixture",
+        temperature_errors=temps.std(axis=0, ddof=1) / math.sqrt(n_runs),
+        a2_errors=a2.std(axis=0, ddof=1) / math.sqrt(n_runs),
+        info={"n_particles": int(n_particles), "n_runs": n_runs, "density": density,
+              "seed": None if seed is None else str(seed),
+              "collision_counts": pair_counts.tolist()})
+
+
+def simulate_binary(mass_ratio: float, n_particles: int, *, fraction: float = 0.5,
+                    alpha: float = 0.9, alpha_11: float | None = None,
+                    alpha_12: float | None = None, alpha_22: float | None = None,
+                    kernel: Any = 1.0, forcing: str = "same_diffusion",
+                    diffusion: float = 1.0, method: str = "dsmc", **options: Any
+                    ) -> MixtureRun:
+    """A particle run of :func:`kinetic_fem.mixture_solve.binary_mixture`: a sweep function.
+
+    Parameters
+    ----------
+    mass_ratio, fraction, alpha, alpha_11, alpha_12, alpha_22, kernel, forcing, diffusion
+        As in :func:`kinetic_fem.mixture_solve.binary_mixture`.
+    n_particles : int
+        Rods in all.
+    method : {"dsmc", "md"}
+        :func:`simulate_mixture` or :func:`particles.md_mixture.simulate_mixture`.
+    **options
+        Passed on (``seed``, ``collisions_per_particle``, ``density``, ...).
+
+    Returns
+    -------
+    MixtureRun
+    """
+    from kinetic_fem.mixture_solve import binary_mixture
+
+    mix = binary_mixture(mass_ratio, fraction=fraction, alpha=alpha, alpha_11=alpha_11,
+                         alpha_12=alpha_12, alpha_22=alpha_22, kernel=kernel, forcing=forcing,
+                         diffusion=diffusion)
+    if method == "dsmc":
+        return simulate_mixture(mix, n_particles, **options)
+    if method == "md":
+        from .md_mixture import simulate_mixture as simulate_md
+
+        return simulate_md(mix, n_particles, **options)
+    raise ValueError(f"method must be 'dsmc' or 'md', got {method!r}")

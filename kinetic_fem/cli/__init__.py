@@ -14,6 +14,9 @@ Sub-commands:
 ``dsmc``, ``md``
     One particle simulation (N, run length, seed, checkpoint and resume, progress),
     a one-line summary and an optional saved distribution.
+``mixture``
+    A granular mixture read from a TOML file: species temperatures, their ratio, the
+    kurtosis of each species (Sonine, Gaussian, exact Maxwell, DSMC or MD).
 ``sweep``
     A parameter sweep (:func:`kinetic_fem.sweep.sweep`) from options or a TOML file,
     persisted point by point, on local processes or a dask scheduler.
@@ -69,6 +72,8 @@ COMMANDS = {
     "md": ("cmd_particles", "event-driven molecular dynamics of inelastic rods on a ring"),
     "sweep": ("cmd_sweep", "a parameter sweep (grid of alpha, kernel, ...) persisted point "
                            "by point"),
+    "mixture": ("cmd_mixture", "a granular mixture from a TOML file: species temperatures "
+                               "and their ratio"),
 }
 """Sub-command -> (module of ``kinetic_fem.cli`` that defines and runs it, one-line help).
 
@@ -76,9 +81,10 @@ Only the module of the command being run is imported, so ``kinetic-fem --help`` 
 mistyped command answer without loading the solvers."""
 
 _ADD = {"cmd_reproduce": "add_parser", "cmd_solve": "add_parsers",
-        "cmd_particles": "add_parsers", "cmd_sweep": "add_parser"}
+        "cmd_particles": "add_parsers", "cmd_sweep": "add_parser",
+        "cmd_mixture": "add_parser"}
 _RUN = {"reproduce": "run", "solve-heated": "run_heated", "solve-cooling": "run_cooling",
-        "dsmc": "run", "md": "run", "sweep": "run"}
+        "dsmc": "run", "md": "run", "sweep": "run", "mixture": "run"}
 
 
 def _module(name: str) -> Any:

@@ -118,21 +118,9 @@ def read_config(path: Path) -> dict[str, Any]:
     dict
         Its settings.
     """
-    try:
-        import tomllib
-    except ModuleNotFoundError:  # Python 3.10
-        try:
-            import tomli as tomllib  # type: ignore[no-redef]
-        except ModuleNotFoundError:
-            raise ValueError("reading a TOML grid file on Python 3.10 needs tomli "
-                             "(pip install tomli); or give the grid as options") from None
-    try:
-        with open(path, "rb") as fh:
-            config = tomllib.load(fh)
-    except OSError as exc:
-        raise ValueError(f"cannot read --config {str(path)!r}: {exc}") from exc
-    except tomllib.TOMLDecodeError as exc:
-        raise ValueError(f"--config {str(path)!r} is not valid TOML: {exc}") from exc
+    from ..files import read_toml
+
+    config = read_toml(path, f"--config {str(path)!r}")
     allowed = {"method", "problem", "store", "workers", "scheduler", "seed", "out", "grid",
                "options"}
     unknown = sorted(set(config) - allowed)

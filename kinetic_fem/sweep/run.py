@@ -36,7 +36,8 @@ from ..options import option_names
 from .grid import canonical_value, grid_points, point_key, point_seed
 from .store import PointStore
 
-__all__ = ["sweep", "evaluate_point", "summarize", "SerialExecutor", "C_GRID", "SCALARS"]
+__all__ = ["sweep", "evaluate_point", "summarize", "summarize_mixture", "SerialExecutor",
+           "C_GRID", "SCALARS", "MIXTURE_SCALARS", "MIXTURE_SPECIES"]
 
 logger = logging.getLogger(__name__)
 
@@ -48,6 +49,50 @@ SCALARS = ("T", "T_error", "a2", "a2_error", "zeta", "wall_time", "converged",
 """Scalar data variables of a sweep (NaN where a method does not provide them)."""
 
 SONINE_ORDERS = np.arange(2, MAX_SONINE + 1)
+
+MIXTURE_SCALARS = ("T_ratio", "T_ratio_error")
+"""Scalar data variables of a sweep of mixtures: :math:`T_1/T_2` and its standard error."""
+
+MIXTURE_SPECIES = ("T_species", "T_species_error", "a2_species", "a2_species_error")
+"""Data variables of a sweep of mixtures over the dim ``species``."""
+
+
+def _is_mixture(result: Any) -> bool:
+    """A mixture result (MixtureMoments, a particle MixtureRun): ``mixture``, ``temperatures``."""
+    return hasattr(result, "mixture") and hasattr(result, "temperatures")
+
+
+def summarize_mixture(result: Any, c: NDArray[np.float64] = C_GRID
+                      ) -> dict[str, NDArray[np.float64]]:
+    """The record of a mixture result (duck typing: ``mixture``, ``temperatures``, ...).
+
+    ``T`` is the mixture temperature :math:`\\sum_s x_s T_s`, ``a2``, ``sonine``, ``f``
+    NaN; the species' :math:`T_s`, :math:`a_{2,s}` and the ratio :math:`T_1/T_2` with
+    the standard errors of a sampled run (``temperature_errors``, ``a2_errors``,
+    ``temperature_ratio_error()``; NaN for a deterministic one).
+    """
+    k = result.mixture.n_species
+    nan_k = np.full(k, np.nan)
+    temps = np.asarray(result.temperatures, dtype=float)
+    t_err = np.asarray(getattr(result, "temperature_errors", nan_k), dtype=float)
+    a2_err = np.asarray(getattr(result, "a2_errors", nan_k), dtype=float)
+    ratio_error = getattr(result, "temperature_ratio_error", None)
+    batches = getattr(result, "batch_temperatures", None)
+    t_mix_err = (float(np.std(batches @ np.asarray(result.mixture.fractions), ddof=1)
+                       / math.sqrt(batches.shape[0])) if batches is not None else math.nan)
+    zeta = getattr(result, "zeta", None)
+    out = {"T": float(result.temperature), "T_error": t_mix_err, "a2": math.nan,
+           "a2_error": math.nan, "zeta": math.nan if zeta is None else float(zeta),
+           "wall_time": math.nan, "converged": 1.0,
+           "n_collisions": float(getattr(result, "n_collisions", math.nan)),
+           "T_ratio": float(result.temperature_ratio()),
+           "T_ratio_error": math.nan if ratio_error is None else float(ratio_error())}
+    rec = {key: np.asarray(v, dtype=float) for key, v in out.items()}
+    rec.update({"T_species": temps, "T_species_error": t_err,
+                "a2_species": np.asarray(result.a2, dtype=float), "a2_species_error": a2_err,
+                "sonine": np.full(SONINE_ORDERS.size, np.nan), "f": np.full(c.size, np.nan),
+                "f_error": np.full(c.size, np.nan)})
+    return rec
 
 
 class SerialExecutor(Executor):
@@ -86,6 +131,8 @@ def summarize(result: Any, c: NDArray[np.float64] = C_GRID) -> dict[str, NDArray
     TypeError
         If ``result`` is neither a distribution nor a run.
     """
+    if _is_mixture(result):
+        return summarize_mixture(result, c)
     if isinstance(result, VelocityDistribution):
         dist, run = result, None
     elif isinstance(getattr(result, "distribution", None), VelocityDistribution):
@@ -146,6 +193,11 @@ def evaluate_point(function: Callable[..., Any], kwargs: Mapping[str, Any],
     wall = time.perf_counter() - start
     rec = summarize(result, np.asarray(c, dtype=float))
     rec["wall_time"] = np.asarray(wall)
+    if _is_mixture(result):
+        dists = getattr(result, "distributions", None)
+        method = dists[0].method if dists else getattr(result, "method", "")
+        message = getattr(getattr(result, "info", None), "message", "")
+        return rec, {"method": str(method), "message": str(message)}
     dist = getattr(result, "distribution", result)
     attrs = {"method": str(dist.method), "message": str(dist.info.message)}
     return rec, attrs
@@ -235,7 +287,13 @@ def sweep(function: Callable[..., Any], grid: Mapping[str, Any], *,
         NaN where the method gives none), ``converged`` (bool), ``sonine`` (dim ``p`` =
         2..6, the Sonine coefficients :math:`a_p`), ``f`` and ``f_error`` (dim ``c``,
         :data:`C_GRID`) and ``seed`` (derived seeds), all over the grid dims; attributes
-        ``function``, ``method`` and the fixed options.
+        ``function``, ``method`` and the fixed options.  A function returning a mixture
+        result (:class:`~kinetic_fem.mixture_state.MixtureMoments`, a particle
+        ``MixtureRun``; e.g. :func:`kinetic_fem.mixture_solve.solve_binary`) adds
+        ``T_ratio`` and ``T_ratio_error`` (:math:`T_1/T_2`) and, over the dim
+        ``species``, ``T_species``, ``T_species_error``, ``a2_species`` and
+        ``a2_species_error`` (:func:`summarize_mixture`); ``T`` is then the mixture
+        temperature and ``a2`` NaN.
 
     Raises
     ------
@@ -358,20 +416,32 @@ def _dataset(coords, points, records, seeds, manifest, store, derive):
     arrays["sonine"] = np.full((*shape, SONINE_ORDERS.size), np.nan)
     arrays["f"] = np.full((*shape, n_c), np.nan)
     arrays["f_error"] = np.full((*shape, n_c), np.nan)
+    n_species = max((rec["T_species"].size for rec, _ in records.values()
+                     if "T_species" in rec), default=0)
+    if n_species:  # a sweep of mixtures: the ratio and the species' values
+        arrays.update({name: np.full(shape, np.nan) for name in MIXTURE_SCALARS})
+        arrays.update({name: np.full((*shape, n_species), np.nan) for name in MIXTURE_SPECIES})
     methods = set()
     for i, (rec, attrs) in records.items():
         idx = np.unravel_index(i, shape)
         for name, a in arrays.items():
-            a[idx] = rec[name]
+            if name in rec:
+                a[idx] = rec[name]
         methods.add(attrs.get("method", ""))
     data = {name: (dims, a) for name, a in arrays.items() if a.ndim == len(dims)}
+    for name in MIXTURE_SPECIES if n_species else ():
+        data[name] = ([*dims, "species"], arrays[name])
     data["converged"] = (dims, arrays["converged"] == 1.0)
     data["sonine"] = ([*dims, "p"], arrays["sonine"])
     data["f"] = ([*dims, "c"], arrays["f"])
     data["f_error"] = ([*dims, "c"], arrays["f_error"])
     if derive:
         data["seed"] = (dims, np.array(seeds, dtype=np.int64).reshape(shape))
-    ds = xr.Dataset(data, coords={**coords, "p": SONINE_ORDERS, "c": C_GRID})
+    extra = {"species": np.arange(1, n_species + 1)} if n_species else {}
+    ds = xr.Dataset(data, coords={**coords, "p": SONINE_ORDERS, "c": C_GRID, **extra})
+    if n_species:
+        ds["T_ratio"].attrs["long_name"] = "temperature ratio T_1/T_2"
+        ds["T"].attrs["long_name"] = "mixture temperature sum_s x_s T_s"
     ds.attrs.update({"function": manifest["function"],
                      "method": ",".join(sorted(m for m in methods if m)),
                      "fixed": json.dumps(manifest["fixed"], sort_keys=True),
@@ -381,5 +451,6 @@ def _dataset(coords, points, records, seeds, manifest, store, derive):
         ds.attrs["store"] = str(store)
     ds["f"].attrs["long_name"] = "f(c) = sqrt(T) P(u + c sqrt(T))"
     ds["sonine"].attrs["long_name"] = "Sonine coefficient a_p"
-    ds["T"].attrs["long_name"] = "temperature <(v-u)^2>"
+    if not n_species:
+        ds["T"].attrs["long_name"] = "temperature <(v-u)^2>"
     return ds

@@ -134,7 +134,9 @@ class PointStore:
         """Write one point atomically; ``data`` holds float arrays, ``attrs`` strings."""
         import xarray as xr
 
-        dims = {"f": ("c",), "f_error": ("c",), "sonine": ("p",)}
+        dims = {"f": ("c",), "f_error": ("c",), "sonine": ("p",),
+                **{name: ("species",) for name in ("T_species", "T_species_error",
+                                                   "a2_species", "a2_species_error")}}
         ds = xr.Dataset({name: (dims.get(name, ()), np.asarray(a, dtype=float))
                          for name, a in data.items()})
         ds.attrs.update({**attrs, "point": key, "sha256": record_checksum(key, data)})

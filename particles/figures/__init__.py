@@ -1,3 +1,3 @@
 """Figures and claims of the paper that need particle simulations (DSMC, MD)."""
 
-from . import dsmc, md  # noqa: F401
+from . import dsmc, md, mixture  # noqa: F401

@@ -1,0 +1,73 @@
+"""A mixture from a TOML file (kinetic_fem.mixture_file) and ``kinetic-fem mixture``."""
+
+import pytest
+
+from kinetic_fem.cli import main
+from kinetic_fem.mixture_file import mixture_from_table, read_mixture
+from kinetic_fem.mixture_solve import solve_mixture
+
+GOOD = """[mixture]
+masses = [1.0, 4.0]
+fractions = [0.5, 0.5]
+alpha = [[0.9, 0.8], [0.8, 0.7]]
+forcing = "same_power"
+diffusion = 2.0
+density = 0.5
+"""
+
+
+def test_read_mixture_and_the_command(tmp_path, capsys):
+    path = tmp_path / "mix.toml"
+    path.write_text(GOOD)
+    mix, density = read_mixture(path)
+    assert mix.masses == (1.0, 4.0) and density == 0.5
+    assert mix.diffusions().tolist() == [2.0, 0.5]
+    assert mix.constant_alpha().tolist() == [[0.9, 0.8], [0.8, 0.7]]
+    assert main(["mixture", str(path), "--method", "gaussian", "--quiet"]) == 0
+    ratio = solve_mixture(mix, density=density, method="gaussian").temperature_ratio()
+    assert f"T_1/T_2 = {ratio:.8g}" in capsys.readouterr().out
+
+
+def test_baths_and_cooling_tables():
+    mix, _ = mixture_from_table({"masses": [1, 2], "fractions": [0.25, 0.75],
+                                 "forcing": "baths",
+                                 "baths": [{"friction": 1.0, "diffusion": 1.0},
+                                           {"friction": 2.0, "diffusion": 0.5}]})
+    assert mix.frictions().tolist() == [1.0, 2.0]
+    mix, _ = mixture_from_table({"masses": [1, 2], "fractions": [0.25, 0.75],
+                                 "forcing": "cooling"})
+    assert not mix.heated
+
+
+@pytest.mark.parametrize(("table", "named"), [
+    ({"masses": [1.0, 2.0], "fractions": [0.5, 0.6]}, "sum to 1"),
+    ({"masses": [1.0, 0.0], "fractions": [0.5, 0.5]}, r"masses\[1\]"),
+    ({"masses": [1.0, 2.0], "fractions": [1.5, -0.5]}, r"fractions\[1\]"),
+    ({"masses": [1.0, 2.0], "fractions": [0.5, 0.5], "alpha": [[0.9, 0.8], [0.7, 0.9]]},
+     "symmetric"),
+    ({"masses": [1.0, 2.0], "fractions": [0.5, 0.5], "mass": 3}, r"unknown key\(s\) \['mass'\]"),
+    ({"masses": [1.0, 2.0]}, r"missing key\(s\) \['fractions'\]"),
+    ({"masses": [1.0, 2.0], "fractions": [0.5, 0.5], "forcing": "hot"}, "forcing"),
+    ({"masses": [1.0, 2.0], "fractions": [0.5, 0.5], "diffusion": -1.0}, "diffusion"),
+    ({"masses": [1.0, 2.0], "fractions": [0.5, 0.5], "density": "x"}, "density"),
+    ({"masses": [1.0, 2.0], "fractions": [0.5, 0.5], "forcing": "baths",
+      "baths": [{"friction": 1.0}]}, r"baths\[0\]"),
+])
+def test_bad_tables_name_the_key(table, named):
+    with pytest.raises(ValueError, match=named) as info:
+        mixture_from_table(table)
+    assert str(info.value).startswith("[mixture]")
+
+
+def test_a_method_that_cannot_do_the_mixture_is_a_clear_cli_error(tmp_path, capsys):
+    path = tmp_path / "mix.toml"
+    path.write_text(GOOD)
+    with pytest.raises(SystemExit) as info:
+        main(["mixture", str(path), "--method", "maxwell", "--quiet"])
+    assert info.value.code == 2
+    assert "Maxwell kernel" in capsys.readouterr().err
+    bad = tmp_path / "bad.toml"
+    bad.write_text("[mix]\nmasses = [1, 2]\n")
+    with pytest.raises(SystemExit):
+        main(["mixture", str(bad)])
+    assert "[mixture]" in capsys.readouterr().err
