@@ -28,6 +28,7 @@ from kinetic_fem.solvers.maxwell import evolve_moments
 STEP = Protocol(restitution=[(1.0, 0.5)])
 
 
+@pytest.mark.slow  # 28 s idle (rtol 1e-8); the step's fast check: the DSMC alpha-step test
 def test_maxwell_alpha_step_follows_the_exact_moment_equations():
     """Maxwell model, alpha 0.9 -> 0.5 at t = 1: T and <v^4> of the closed moment
     equations to 1e-6.  Measured (spacing 0.5, newton_tol 1e-11): rtol 1e-6 T 7.2e-6,
