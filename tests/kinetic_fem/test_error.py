@@ -22,7 +22,7 @@ import pytest
 import kinetic_fem as kf
 from kinetic_fem.distribution import VelocityDistribution
 from kinetic_fem.error import ErrorEstimate, geometric_tail
-from kinetic_fem.exceptions import ConvergenceError, ResolutionWarning
+from kinetic_fem.exceptions import AsymptoticSeriesWarning, ConvergenceError, ResolutionWarning
 from kinetic_fem.solvers import maxwell
 
 # FEM at the default mesh, paper model, alpha = 0.6 (its own estimate: T 4e-13, a2 8e-12)
@@ -99,9 +99,28 @@ def test_spectral_estimate_from_neighbouring_orders():
 
 
 def test_spectral_asymptotic_series_is_flagged():
-    d = kf.solve_cooling(0.8, method="spectral")
+    # hard rods at alpha = 0.8 converge (a2 changes 3.6e-3, 8.6e-4, 1.8e-4, 3e-5 from
+    # order 6 up); at 0.9 the changes stop decreasing before order 14
+    with pytest.warns(AsymptoticSeriesWarning):
+        d = kf.solve_cooling(0.9, method="spectral")
     assert d.error.asymptotic and "asymptotic" in d.error.note
     assert d.error.zeta is not None and d.error.zeta > 0
+
+
+def test_spectral_asymptotic_series_warns_at_solve_and_says_so_in_info():
+    """The issue's example: orders 6..12 change a2 by 2.1e-5, 5.2e-6, 8.3e-7 but T stops
+    converging; order 8 is 1.4e-5 from the FEM a2 (twice the estimate)."""
+    with pytest.warns(AsymptoticSeriesWarning, match="stop converging"):
+        d = kf.solve_heated(0.6, kernel=0.5, method="spectral")
+    assert d.info.converged and d.info.extra["asymptotic_series"]
+    assert "WARNING" in d.info.message and d.info.extra["series_orders"][:2] == [6, 8]
+    assert d.error.asymptotic and "asymptotic" in d.error.note
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", AsymptoticSeriesWarning)
+        quiet = kf.solve_heated(0.6, kernel=0.5, method="spectral", check_series=False)
+        ok = kf.solve_heated(0.6, method="spectral")   # hard rods: orders 6..14 converge
+    assert quiet.a2 == d.a2 and "asymptotic_series" not in quiet.info.extra
+    assert not ok.info.extra["asymptotic_series"] and not ok.error.asymptotic
 
 
 def test_spectral_accuracy_raises_with_what_it_reached():
