@@ -207,3 +207,18 @@ def test_calibration_over_the_benchmark_problems():
                 assert lo <= r[key] <= hi, (key, r)
         if r["ref_f_ok"] and math.isfinite(r["r_f"]):
             assert mod.TARGET_F[0] <= r["r_f"] <= mod.TARGET_F[1], r
+
+
+def test_fem_cooling_accuracy_refines_until_the_estimate_meets_it():
+    """P2 at spacing 0.3 estimates a2/zeta errors of 2.7e-6; one refinement meets 1e-6,
+    and the result agrees with the default state (its estimate 1e-11) within it."""
+    d = kf.solve_cooling(0.6, order=2, spacing=0.3, accuracy=1e-6)
+    e = d.error
+    assert max(e.a2, e.zeta) <= 1e-6 and d.info.extra["n_dofs"] > 200
+    ref = kf.solve_cooling(0.6)
+    assert abs(d.a2 - ref.a2) <= 3e-6
+    assert abs(d.info.extra["zeta"] / ref.info.extra["zeta"] - 1) <= 3e-6
+    with pytest.raises(ValueError, match="accuracy"):
+        kf.solve_cooling(0.6, kernel=0.0, accuracy=1e-8)
+    with pytest.raises(ValueError, match="vertices"):
+        kf.solve_cooling(0.6, vertices=np.linspace(-8, 8, 41), accuracy=1e-8)
