@@ -40,7 +40,7 @@ def main() -> None:
             ("evolve_cooling 0.8, t=0.1,0.2, spacing 0.5, rtol 1e-2", lambda: kf.evolve_cooling(
                 0.8, times=[0.1, 0.2], spacing=0.5, rtol=1e-2))):
         res, t_solve = _cpu(solve)
-        _, t_est = _cpu(lambda: res.error)
+        _, t_est = _cpu(lambda res=res: res.error)
         size = res.grid.shape[1] if hasattr(res, "grid") else res.v.size
         rows.append((label, size, t_solve, t_est))
     print(f"{'problem':58s} {'nodes':>6s} {'solve s':>8s} {'estimate s':>10s} {'ratio':>6s}")
