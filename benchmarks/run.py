@@ -38,6 +38,7 @@ BENCHMARKS: dict[str, tuple[str, bool]] = {
     "bench_md_yardstick": ("speed", False),
     "bench_transient_speed": ("speed", False),
     "bench_first_hour": ("speed", True),
+    "error_estimate_cost": ("speed", False),
     # convergence: one per solver
     "convergence_heated": ("convergence", True),
     "convergence_fem_cooling": ("convergence", True),

@@ -18,7 +18,9 @@ with :math:`c = v/\\sqrt T` (see :mod:`kinetic_fem.distribution`).  ``ev[i]`` is
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass, field
+from collections.abc import Callable
+from dataclasses import dataclass, field, replace
+from functools import cached_property
 from pathlib import Path
 from typing import Any, Mapping
 
@@ -54,6 +56,10 @@ class Evolution:
     series : dict of str to ndarray, shape (n_t,)
         Further quantities at the output times (``"zeta"`` of a cooling run,
         ``"diffusion"``, ``"friction"``, ``"mass"``).
+    error_recipe : callable, optional
+        ``ev -> EvolutionError``: how :attr:`error` is computed when first read (set by
+        :func:`kinetic_fem.evolve_heated` and :func:`kinetic_fem.evolve_cooling`; not
+        saved).
     """
 
     times: NDArray[np.float64]
@@ -64,6 +70,7 @@ class Evolution:
     params: Mapping[str, Any] = field(default_factory=dict)
     info: RunInfo = field(default_factory=RunInfo)
     series: Mapping[str, NDArray[np.float64]] = field(default_factory=dict)
+    error_recipe: Callable[[Any], Any] | None = field(default=None, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         times = np.asarray(self.times, dtype=float)
@@ -132,6 +139,37 @@ class Evolution:
     def sonine(self) -> NDArray[np.float64]:
         """:math:`a_2 \\dots a_6` over time, shape (n_t, 5)."""
         return np.stack([self.sonine_coefficient(p) for p in range(2, MAX_SONINE + 1)], axis=1)
+
+    # ------------------------------------------------------------------ error estimate
+    @cached_property
+    def error(self) -> Any:
+        """Estimated errors at the output times (an
+        :class:`~kinetic_fem.evolution_error.EvolutionError`).
+
+        ``ev.error.temperature`` (relative), ``ev.error.a2``, ``ev.error.zeta`` (cooling)
+        are arrays over :attr:`times`; ``ev.error.at[i]`` is the
+        :class:`~kinetic_fem.error.ErrorEstimate` at ``times[i]`` (with f).  Computed
+        when first read by rerunning at a tighter tolerance
+        (:mod:`kinetic_fem.evolution_error`) and cached; NaNs with a note for an
+        evolution without a recipe (loaded or built by hand).
+        """
+        from .evolution_error import EvolutionError
+
+        if self.error_recipe is None:
+            return EvolutionError.unavailable(
+                len(self), "no error estimate for this evolution: only the results of "
+                "kinetic_fem.evolve_heated / evolve_cooling carry one (not saved)")
+        return self.error_recipe(self)
+
+    def with_error(self, recipe: Callable[[Any], Any] | None) -> Evolution:
+        """A copy whose :attr:`error` is computed by ``recipe`` (the entry points call this).
+
+        Parameters
+        ----------
+        recipe : callable or None
+            ``ev -> EvolutionError``.
+        """
+        return replace(self, error_recipe=recipe)
 
     # ------------------------------------------------------------------ io, plot
     def save(self, path: str | Path) -> Path:

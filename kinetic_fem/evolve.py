@@ -18,6 +18,8 @@ Parameters are validated here; methods are registered in the one solver registry
 
 from __future__ import annotations
 
+import inspect
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -25,6 +27,7 @@ from numpy.typing import ArrayLike
 
 from .distribution import VelocityDistribution
 from .evolution import Evolution
+from .evolution_error import rerun_recipe
 from .limits import check_cooling_span
 from .mixture_evolution import MixtureEvolution, evolve_mixture
 from .model import CollisionKernel, HeatedProblem, InelasticGas, RestitutionLaw, check_positive
@@ -179,8 +182,13 @@ def evolve_heated(alpha: float | RestitutionLaw, *, density: float = 1.0,
         raise TypeError(f"protocol must be a Protocol, got {type(protocol).__name__}")
     initial, initial_temperature = _initial(initial, initial_temperature)
     solver = lookup_solver("transient-heated", method)
-    return solver(problem, times=check_times(times), protocol=protocol, initial=initial,
-                  initial_temperature=initial_temperature, **options)
+    times = check_times(times)
+
+    def run(**opts: Any) -> Evolution:
+        return solver(problem, times=times, protocol=protocol, initial=initial,
+                      initial_temperature=initial_temperature, **opts)
+
+    return _with_error(run(**options), run, solver, options)
 
 
 def evolve_cooling(alpha: float | RestitutionLaw, *, density: float = 1.0,
@@ -277,5 +285,17 @@ def evolve_cooling(alpha: float | RestitutionLaw, *, density: float = 1.0,
     check_cooling_span(gas, float(times[-1]), initial_temperature or (
         1.0 if initial is None else initial.temperature))
     solver = lookup_solver("transient-cooling", method)
-    return solver(gas, times=times, initial=initial,
-                  initial_temperature=initial_temperature, protocol=protocol, **options)
+
+    def run(**opts: Any) -> Evolution:
+        return solver(gas, times=times, initial=initial,
+                      initial_temperature=initial_temperature, protocol=protocol, **opts)
+
+    return _with_error(run(**options), run, solver, options)
+
+
+def _with_error(ev: Evolution, run: Callable[..., Evolution], solver: Callable[..., Any],
+                options: dict[str, Any]) -> Evolution:
+    """``ev`` with its lazy error estimate (:mod:`kinetic_fem.evolution_error`)."""
+    if "rtol" not in options and "rtol" not in inspect.signature(solver).parameters:
+        return ev   # a method without a tolerance: no estimate from it
+    return ev.with_error(rerun_recipe(run, solver, dict(options)))

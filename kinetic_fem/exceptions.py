@@ -8,7 +8,8 @@ stays with the model it validates.
 
 from __future__ import annotations
 
-__all__ = ["ResolutionWarning", "ConvergenceWarning", "ConvergenceError", "FileFormatError"]
+__all__ = ["ResolutionWarning", "ConvergenceWarning", "AsymptoticSeriesWarning",
+           "ConvergenceError", "FileFormatError"]
 
 
 class ResolutionWarning(UserWarning):
@@ -25,6 +26,16 @@ class ConvergenceWarning(UserWarning):
 
     The result is returned (with ``info.converged = False``) instead of raising, so that
     a sweep can continue; the message gives the residual reached.
+    """
+
+
+class AsymptoticSeriesWarning(UserWarning):
+    """A sequence of approximations stopped converging: the result is returned, but
+    its error may be larger than the changes between approximations suggest.
+
+    Warned by the Sonine solver when successive orders stop converging (the series is
+    asymptotic there); the result's ``info.extra['asymptotic_series']`` is True and
+    ``dist.error.asymptotic`` says so.
     """
 
 

@@ -115,6 +115,7 @@ from .fem_state import (
 
 __all__ = ["FEMDiscretisation", "SteadyState", "ResolutionWarning", "ConvergenceError",
            "default_cutoff", "default_spacing", "steady_state", "solve_fem_heated", "ELEMENTS",
+           "refinement_factor", "ACCURACY_REFINEMENTS",
            "newton_steady", "discretisation", "state_distribution", "STALL_LEVEL",
            "CHORD_LEVEL", "CHORD_RATE", "EquilibratedLU", "log_update",
            "newton_info", "stalled", "bath_drift", "bath_drift_jacobian", "mass", "weighted_mass",
@@ -403,6 +404,35 @@ def _widened_solve(alpha: float, scaled: ScaledModel, paper: bool, order: int,
     return SteadyState(disc, u, info), c_max
 
 
+def refinement_factor(history: list[tuple[float, float]], accuracy: float,
+                      order: int) -> float:
+    r"""The factor of the element size that should meet ``accuracy`` (``accuracy=``).
+
+    The error is taken as :math:`\propto h^r`: :math:`r = k + 1` at first, then the rate
+    observed between the last two meshes (T and a2 often converge faster than
+    :math:`\ln P`), within [1, 2(k + 1)]; the factor is kept in [0.25, 0.8].
+
+    Parameters
+    ----------
+    history : list of (float, float)
+        ``(element size, estimated error)`` of the meshes solved, the last one last.
+    accuracy : float
+        The target.
+    order : int
+        Lagrange degree :math:`k`.
+
+    Returns
+    -------
+    float
+    """
+    h1, err = history[-1]
+    rate = order + 1.0
+    if len(history) > 1 and err > 0:
+        h0, e0 = history[-2]
+        rate = min(max(math.log(e0 / err) / math.log(h0 / h1), 1.0), 2.0 * (order + 1))
+    return min(0.8, max(0.25, 0.8 * (accuracy / err) ** (1.0 / rate)))
+
+
 @register_solver("fem", problem="heated")
 def solve_fem_heated(problem: HeatedProblem, *, mesh: MeshOptions | None = None,
                      symmetric: bool = False, tol: float = 1e-11, max_iter: int = 40,
@@ -508,14 +538,7 @@ def solve_fem_heated(problem: HeatedProblem, *, mesh: MeshOptions | None = None,
         stalled = len(history) > 1 and err > 0.5 * history[-2][1]
         if refinement == ACCURACY_REFINEMENTS or stalled:
             break
-        # error ~ h^rate: k + 1 at first, then the rate observed (T and a2 often
-        # converge faster than ln P)
-        rate = order + 1.0
-        if len(history) > 1 and err > 0:
-            (h0, e0), (h1, e1) = history[-2:]
-            rate = min(max(math.log(e0 / e1) / math.log(h0 / h1), 1.0), 2.0 * (order + 1))
-        factor = min(0.8, max(0.25, 0.8 * (accuracy / err) ** (1.0 / rate)))
-        spacing *= factor
+        spacing *= refinement_factor(history, accuracy, order)
         state = steady_state(problem, order=order, spacing=spacing, cutoff=cutoff,
                              intorder=intorder, symmetric=symmetric, tol=tol,
                              max_iter=max_iter)

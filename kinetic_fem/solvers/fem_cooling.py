@@ -90,18 +90,22 @@ restitution coefficient and set of options (:class:`.fem_regimes.CoolingOptions`
 from __future__ import annotations
 
 import logging
+import math
 from collections.abc import Callable
 from dataclasses import replace
 from typing import Any
 
+import numpy as np
 from numpy.typing import NDArray
 
 from ..distribution import VelocityDistribution
 from ..exceptions import ConvergenceError
+from ..gas import check_positive
 from ..model import CoolingProblem, UnsupportedModelError
 from ..operators.fem_discretisation import FEMDiscretisation
 from ..options import gather
 from ..solve import register_solver
+from .fem import ACCURACY_REFINEMENTS, refinement_factor
 from .fem_cooling_hump import (
     HUMP_LINK_RESOLUTION,
     HUMP_P3_EPS,
@@ -199,6 +203,7 @@ def solve_fem_cooling(problem: CoolingProblem, *, mesh: MeshOptions | None = Non
                       tol: float = 1e-11, max_iter: int = 100,
                       resolution: float | None = None,
                       initial: CoolingState | VelocityDistribution | None = None,
+                      accuracy: float | None = None,
                       **mesh_keywords: Any) -> VelocityDistribution:
     """Homogeneous cooling state by Galerkin FEM and Newton's method.
 
@@ -237,6 +242,14 @@ def solve_fem_cooling(problem: CoolingProblem, *, mesh: MeshOptions | None = Non
         continuation starts from it instead of from :data:`HUMP_EPS` (one link for a
         neighbour within a ratio of 16 in :math:`\\varepsilon`); the state is solved on
         the same mesh as without it.  Ignored elsewhere.
+    accuracy : float, optional
+        Target accuracy of T (relative, one by construction), a2 (absolute) and
+        :math:`\\zeta` (relative), in place of a mesh: the state's bulk element size (on
+        the near-elastic hump mesh its ``resolution``) is refined at the same degree, at
+        most :data:`ACCURACY_REFINEMENTS` times at the observed rate, until the bisected
+        mesh estimate (``dist.error``) meets it; ``ConvergenceError`` says what was
+        reached.  Not with ``vertices``, nor for the Maxwell kernel (its recovered
+        :math:`c^{-4}` tail has no estimate).
 
     Returns
     -------
@@ -251,12 +264,57 @@ def solve_fem_cooling(problem: CoolingProblem, *, mesh: MeshOptions | None = Non
     UnsupportedModelError
         For a velocity-dependent restitution law.
     ConvergenceError
-        If Newton's method does not converge.
+        If Newton's method does not converge, or ``accuracy`` cannot be met.
     """
     m = gather(MeshOptions, mesh, mesh_keywords, "solve_fem_cooling")
+    if accuracy is not None:
+        check_positive("accuracy", accuracy)
+        if m.vertices is not None:
+            raise ValueError("accuracy= refines the mesh: it cannot be combined with "
+                             "explicit vertices; give spacing (or neither)")
+        if problem.gas.gamma == 0.0:
+            raise ValueError("accuracy= needs the bisected-mesh estimate, which the Maxwell "
+                             "model's cooling state (kernel=0, its recovered c^-4 tail) has "
+                             "not: compare with kinetic_fem.solvers.maxwell.hcs_pdf")
     state = cooling_state(problem, mesh=m, tol=tol, max_iter=max_iter,
                           resolution=resolution, initial=initial)
-    return cooling_distribution(problem, state)
+    dist = cooling_distribution(problem, state)
+    if accuracy is None:
+        return dist
+    hump = uses_hump_mesh(problem) and m.spacing is None and m.cutoff is None
+    if hump:   # the hump mesh: refine its resolution (the regime's default first)
+        size = resolution if resolution is not None else (
+            HUMP_P3_RESOLUTION if m.order is None and problem.gas.epsilon >= HUMP_P3_EPS
+            else HUMP_RESOLUTION)
+    else:      # the bulk element size of the mesh solved
+        size = float(np.min(np.diff(state.disc.vertices)))
+    order = state.disc.order
+    history: list[tuple[float, float]] = []
+    for refinement in range(ACCURACY_REFINEMENTS + 1):
+        est = dist.error
+        err = max(est.temperature, est.a2, est.zeta or 0.0)
+        history.append((size, err))
+        logger.info("accuracy=%g: %s %.4g, P%d, estimated error %.2e", accuracy,
+                    "resolution" if hump else "spacing", size, order, err)
+        if err <= accuracy:
+            return dist
+        stalled = len(history) > 1 and err > 0.5 * history[-2][1]
+        if refinement == ACCURACY_REFINEMENTS or stalled or not math.isfinite(err):
+            break
+        size *= refinement_factor(history, accuracy, order)
+        state = cooling_state(problem, mesh=replace(m, order=order,
+                                                    spacing=None if hump else size),
+                              tol=tol, max_iter=max_iter,
+                              resolution=size if hump else None)
+        dist = cooling_distribution(problem, state)
+    raise ConvergenceError(
+        f"FEM did not reach accuracy={accuracy:g} (T, a2 and zeta) for the cooling state: "
+        "estimated errors " + ", ".join(
+            f"{e:.2g} at {'resolution' if hump else 'spacing'} {h:.3g}" for h, e in history)
+        + f" (P{order}); "
+        + ("the estimate stopped decreasing (round-off or the cut-off); "
+           if len(history) > 1 and history[-1][1] > 0.5 * history[-2][1] else "")
+        + "ask for less, or give a smaller spacing")
 
 
 def cooling_distribution(problem: CoolingProblem, state: CoolingState) -> VelocityDistribution:

@@ -35,6 +35,7 @@ from __future__ import annotations
 import logging
 import math
 import time
+import warnings
 from dataclasses import dataclass, replace
 from typing import Any, Callable
 
@@ -43,7 +44,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..distribution import RunInfo, VelocityDistribution
 from ..error import ErrorEstimate, ErrorRecipe, geometric_tail
-from ..exceptions import ConvergenceError
+from ..exceptions import AsymptoticSeriesWarning, ConvergenceError
 from ..gas import check_positive
 from ..model import (
     CoolingProblem,
@@ -63,7 +64,8 @@ from ..solve import register_solver
 from .newton import newton
 
 __all__ = ["SonineSolution", "solve_sonine", "solve_spectral_heated", "solve_sonine_cooling",
-           "solve_spectral_cooling", "MAX_ORDER", "order_estimate", "ORDER_METHOD"]
+           "solve_spectral_cooling", "MAX_ORDER", "order_estimate", "ORDER_METHOD",
+           "SeriesCheck", "series_check", "SERIES_AHEAD"]
 
 logger = logging.getLogger(__name__)
 
@@ -413,7 +415,8 @@ def _solve_cooling_problem(problem: CoolingProblem, order: int, linearized: bool
 def _output(sol: SonineSolution, problem: HeatedProblem | CoolingProblem,
             cutoff: float | None, n_v: int | None, start: float, kind: str,
             solve_at: Callable[[int], SonineSolution] | None = None,
-            accuracy: float | None = None) -> VelocityDistribution:
+            accuracy: float | None = None,
+            check: SeriesCheck | None = None) -> VelocityDistribution:
     if cutoff is None:
         cutoff = max(12.0, math.sqrt(4.0 * sol.order + 8.0) + 8.0)
     if n_v is None:
@@ -424,17 +427,23 @@ def _output(sol: SonineSolution, problem: HeatedProblem | CoolingProblem,
              "condition_number": sol.condition_number}
     if kind == "cooling":
         extra["zeta"] = sol.zeta
+    message = f"Sonine Galerkin ({kind}), order {sol.order}"
+    if check is not None:
+        extra["asymptotic_series"] = check.asymptotic
+        extra["series_orders"] = list(check.orders)
+        extra["series_a2"] = list(check.a2)
+        if check.asymptotic:
+            message += f"; WARNING: {check.message}"
     info = RunInfo(converged=True, iterations=sol.iterations, residual=sol.residual,
-                   wall_time=time.perf_counter() - start,
-                   message=f"Sonine Galerkin ({kind}), order {sol.order}", extra=extra)
+                   wall_time=time.perf_counter() - start, message=message, extra=extra)
     dist = _grid_distribution(sol, cutoff, n_v, method="spectral", params=problem.as_dict(),
                               info=info)
     if solve_at is None:
         return dist
     grid = (float(cutoff), int(n_v))
-    recipe = ErrorRecipe(lambda d: order_estimate(sol, solve_at, grid), ORDER_METHOD)
+    recipe = ErrorRecipe(lambda d: order_estimate(sol, solve_at, grid, check), ORDER_METHOD)
     return dist.with_error(recipe, None if accuracy is None else
-                           order_estimate(sol, solve_at, grid))
+                           order_estimate(sol, solve_at, grid, check))
 
 
 def _grid_distribution(sol: SonineSolution, cutoff: float, n_v: int,
@@ -450,7 +459,8 @@ ORDER_METHOD = "Sonine order P + 2 (and P - 2 for the rate)"
 
 
 def order_estimate(sol: SonineSolution, solve_at: Callable[[int], SonineSolution],
-                   grid: tuple[float, int]) -> ErrorEstimate:
+                   grid: tuple[float, int], check: SeriesCheck | None = None
+                   ) -> ErrorEstimate:
     """Error estimate of a Sonine solution of order ``P`` from the orders ``P -+ 2``.
 
     The change to order :math:`P + 2`, :math:`d_+`, and from order :math:`P - 2`,
@@ -472,6 +482,9 @@ def order_estimate(sol: SonineSolution, solve_at: Callable[[int], SonineSolution
         truncated system has no solution).
     grid : (float, int)
         The result's output grid (cut-off in thermal speeds, nodes).
+    check : SeriesCheck, optional
+        The solve's scan of the orders beyond ``P`` (:func:`series_check`): if it found
+        the series asymptotic there, so is the estimate (with its message).
 
     Returns
     -------
@@ -516,9 +529,15 @@ def order_estimate(sol: SonineSolution, solve_at: Callable[[int], SonineSolution
     if last.zeta is not None and prev.zeta is not None:
         zeta, z_asym = geometric_tail([prev.zeta, last.zeta])
     ratios = [e / d for e, d in ((t, last.temperature), (a2, last.a2)) if d > 0]
-    asymptotic = t_asym or a2_asym or z_asym
+    # changes at round-off (T of a cooling state is 1 by construction) are no trend
+    asymptotic = any(flag and max(d_last, d_prev) > SERIES_FLOOR for flag, d_last, d_prev in
+                     ((t_asym, last.temperature, prev.temperature), (a2_asym, last.a2, prev.a2),
+                      (z_asym, last.zeta or 0.0, prev.zeta or 0.0)))
     note = ""
-    if asymptotic:
+    if check is not None and check.asymptotic and not asymptotic:
+        asymptotic, note = True, check.message + " (the estimate is the rate of orders " \
+            f"{sol.order - 2}..{sol.order + 2}; the error may be larger)"
+    elif asymptotic:
         note = (f"successive Sonine orders {sol.order - 2}, {sol.order}, {sol.order + 2} "
                 "stop converging: the series is asymptotic here and the error may be "
                 "larger than estimated; use method='fem'")
@@ -547,6 +566,118 @@ def _resolved_core(f_rel: NDArray[np.float64]) -> NDArray[np.float64]:
             part[(idx >= bad[0]) & np.isfinite(part)] = np.inf
             out[side] = part
     return out
+
+
+SERIES_AHEAD = 6
+"""How far beyond the order ``P`` (in orders) the solve looks for the series to stop
+converging (:func:`series_check`)."""
+SERIES_FLOOR = 1e-12
+"""Changes of a2 (absolute) and T (relative) below this are round-off, not a trend."""
+
+
+@dataclass(frozen=True)
+class SeriesCheck:
+    """Whether successive Sonine orders around ``P`` converge (``info.extra``).
+
+    Attributes
+    ----------
+    orders : tuple of int
+        The orders solved, from ``P - 2`` up (a failed order ends the list).
+    a2, temperature : tuple of float
+        Their :math:`a_2` and :math:`T`.
+    asymptotic : bool
+        The changes between successive orders stop decreasing (above
+        :data:`SERIES_FLOOR`), or an order has no solution.
+    message : str
+        What was found (empty when the series converges).
+    """
+
+    orders: tuple[int, ...]
+    a2: tuple[float, ...]
+    temperature: tuple[float, ...]
+    asymptotic: bool
+    message: str
+
+
+def series_check(order: int, solve_at: Callable[[int], SonineSolution]) -> SeriesCheck:
+    r"""Solve orders ``P - 2 .. P + SERIES_AHEAD`` and find whether the series converges.
+
+    The series of the Sonine approximations is asymptotic in general: its successive
+    changes decrease, then grow (hard rods' heated state at ``alpha = 0.6``,
+    ``gamma = 0.5``: :math:`|\Delta a_2|` = 2.1e-5, 5.2e-6, 8.3e-7, then 2.0e-6 from
+    order 12 to 14, and order 20 has no solution), and the error of order ``P`` is then
+    not bounded by the changes next to it (there 1.4e-5 at order 8, against changes of
+    5e-6).  The scan stops at the first change that does not decrease or the first order
+    without solution.
+
+    Parameters
+    ----------
+    order : int
+        ``P``.
+    solve_at : callable
+        ``order -> SonineSolution`` (memoised by the caller: the estimate reuses them).
+
+    Returns
+    -------
+    SeriesCheck
+    """
+    orders: list[int] = []
+    a2: list[float] = []
+    temp: list[float] = []
+    message = ""
+    d_prev: tuple[float, float] | None = None
+    for p in range(max(2, order - 2), min(MAX_ORDER, order + SERIES_AHEAD) + 1, 2):
+        try:
+            sol = solve_at(p)
+        except (RuntimeError, ValueError):
+            message = (f"Sonine order {p} has no solution: the series is asymptotic "
+                       f"beyond order {orders[-1] if orders else order}")
+            break
+        orders.append(p)
+        a2.append(float(sol.coefficients[2]))
+        temp.append(float(sol.temperature))
+        if len(orders) < 2:
+            continue
+        d = (abs(a2[-1] - a2[-2]), abs(temp[-1] / temp[-2] - 1.0))
+        if d_prev is not None and any(now > SERIES_FLOOR and now >= before
+                                      for now, before in zip(d, d_prev, strict=True)):
+            message = (f"successive Sonine orders stop converging: the change of a2 (T) "
+                       f"from order {orders[-2]} to {p} is {d[0]:.2g} ({d[1]:.2g}), after "
+                       f"{d_prev[0]:.2g} ({d_prev[1]:.2g}); the series is asymptotic here")
+            break
+        d_prev = d
+    return SeriesCheck(tuple(orders), tuple(a2), tuple(temp), bool(message), message)
+
+
+def _memoised(solve_at: Callable[[int], SonineSolution]) -> Callable[[int], SonineSolution]:
+    """``solve_at`` that solves each order once (failures are raised again)."""
+    done: dict[int, SonineSolution | Exception] = {}
+
+    def at(p: int) -> SonineSolution:
+        if p not in done:
+            try:
+                done[p] = solve_at(p)
+            except (RuntimeError, ValueError) as err:
+                done[p] = err
+        out = done[p]
+        if isinstance(out, Exception):
+            raise out
+        return out
+
+    return at
+
+
+def _checked(sol: SonineSolution, solve_at: Callable[[int], SonineSolution],
+             check_series: bool) -> SeriesCheck | None:
+    """:func:`series_check` of ``sol`` if asked, warning when the series is asymptotic."""
+    if not check_series:
+        return None
+    check = series_check(sol.order, solve_at)
+    if check.asymptotic:
+        warnings.warn(f"Sonine order {sol.order}: {check.message}; its error may exceed "
+                      "the estimate (dist.error); use method='fem'",
+                      AsymptoticSeriesWarning, stacklevel=4)
+    return check
 
 
 def _refine_order(solve_at: Callable[[int], SonineSolution], order: int, accuracy: float,
@@ -579,7 +710,8 @@ def _refine_order(solve_at: Callable[[int], SonineSolution], order: int, accurac
 def solve_spectral_heated(problem: HeatedProblem, *, order: int = 8,
                           cutoff: float | None = None, n_v: int | None = None,
                           linearized: bool = False,
-                          accuracy: float | None = None) -> VelocityDistribution:
+                          accuracy: float | None = None,
+                          check_series: bool = True) -> VelocityDistribution:
     """Heated steady state by the Sonine Galerkin method (registry key ``"spectral"``).
 
     Kernels :math:`|g|^\\gamma`, ``0 <= gamma <= 2``, constant restitution, white noise or
@@ -602,14 +734,21 @@ def solve_spectral_heated(problem: HeatedProblem, *, order: int = 8,
         ``order`` in steps of 2 until the error estimate (:func:`order_estimate`) meets
         it; ``ConvergenceError`` says what was reached if it cannot be (the series is
         asymptotic).  Default: the given order.
+    check_series : bool
+        Solve orders ``P - 2 .. P + 6`` to find whether the series still converges there
+        (:func:`series_check`; its solutions serve ``dist.error``).  When it does not,
+        the result is returned with an :class:`~kinetic_fem.exceptions.AsymptoticSeriesWarning`,
+        ``info.extra['asymptotic_series'] = True`` and the message in ``info.message``,
+        and ``dist.error.asymptotic`` is True.  Ignored with ``linearized``.
 
     Returns
     -------
     VelocityDistribution
         The truncated series on the grid; ``info.extra['sonine']`` holds
-        :math:`a_0 .. a_P`, ``info.extra['condition_number']`` the Jacobian's;
-        ``dist.error`` the estimate from orders ``P -+ 2`` (:func:`order_estimate`,
-        computed when first read).
+        :math:`a_0 .. a_P`, ``info.extra['condition_number']`` the Jacobian's,
+        ``info.extra['asymptotic_series']``, ``'series_orders'`` and ``'series_a2'`` the
+        check of the series; ``dist.error`` the estimate from orders ``P -+ 2``
+        (:func:`order_estimate`, computed when first read).
 
     Raises
     ------
@@ -621,21 +760,24 @@ def solve_spectral_heated(problem: HeatedProblem, *, order: int = 8,
     start = time.perf_counter()
     order = _check_order(order)
 
-    def solve_at(p: int) -> SonineSolution:
+    def solve(p: int) -> SonineSolution:
         return _solve_problem(problem, p, linearized)
 
+    solve_at = _memoised(solve)
     if accuracy is None:
         sol = solve_at(order)
     else:
         sol = _refine_order(solve_at, order, check_positive("accuracy", accuracy), cutoff, n_v)
-    return _output(sol, problem, cutoff, n_v, start, "heated", solve_at, accuracy)
+    return _output(sol, problem, cutoff, n_v, start, "heated", solve_at, accuracy,
+                   _checked(sol, solve_at, check_series and not linearized))
 
 
 @register_solver("spectral", problem="cooling")
 def solve_spectral_cooling(problem: CoolingProblem, *, order: int = 8,
                            cutoff: float | None = None, n_v: int | None = None,
                            linearized: bool = False,
-                           accuracy: float | None = None) -> VelocityDistribution:
+                           accuracy: float | None = None,
+                          check_series: bool = True) -> VelocityDistribution:
     """Homogeneous cooling state by the Sonine Galerkin method (key ``"spectral"``).
 
     Kernels ``0 < gamma <= 2`` with constant restitution (the Maxwell cooling state has
@@ -657,6 +799,8 @@ def solve_spectral_cooling(problem: CoolingProblem, *, order: int = 8,
         First-order (linearised) Sonine theory.
     accuracy : float, optional
         Target accuracy of a2 (and T, exact here) as in :func:`solve_spectral_heated`.
+    check_series : bool
+        As in :func:`solve_spectral_heated`.
 
     Returns
     -------
@@ -673,11 +817,13 @@ def solve_spectral_cooling(problem: CoolingProblem, *, order: int = 8,
     start = time.perf_counter()
     order = _check_order(order)
 
-    def solve_at(p: int) -> SonineSolution:
+    def solve(p: int) -> SonineSolution:
         return _solve_cooling_problem(problem, p, linearized)[0]
 
+    solve_at = _memoised(solve)
     if accuracy is None:
         sol = solve_at(order)
     else:
         sol = _refine_order(solve_at, order, check_positive("accuracy", accuracy), cutoff, n_v)
-    return _output(sol, problem, cutoff, n_v, start, "cooling", solve_at, accuracy)
+    return _output(sol, problem, cutoff, n_v, start, "cooling", solve_at, accuracy,
+                   _checked(sol, solve_at, check_series and not linearized))
