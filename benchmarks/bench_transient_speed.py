@@ -15,10 +15,18 @@ LU factorisations of the step Newton, nodes, the ratio to a steady solve measure
 the same process (best of 3), and yardstick units (10 LU of 1000 x 1000,
 single-threaded BLAS, ``yardstick.cpu_yardstick``).  Target: ratio <= 20.
 
-    python benchmarks/bench_transient_speed.py [--rtol R ...] [--only heated|maxwell]
+* free cooling of the Maxwell model, ``kf.evolve_cooling(0.5, kernel=0.0,
+  initial_temperature=1.0, times=[0.1, 0.3, 0.6], spacing=0.5, cutoff=10.0)`` (the
+  registry test's call, default rtol 1e-6), against ``kf.solve_cooling(0.5, kernel=0.0)``,
+  with the same errors.
+
+    python benchmarks/bench_transient_speed.py [--rtol R ...] [--only heated|maxwell|cooling]
+        [--compare TREE]
 
 ``--rtol`` runs the calls at these tolerances as well (the table of global error
-against CPU time); run it with ``PYTHONPATH`` at another tree to measure that tree.
+against CPU time).  ``--compare TREE`` first runs the same table in a subprocess with
+``PYTHONPATH`` at another tree (before/after in one run); or run it with ``PYTHONPATH``
+at another tree to measure that tree.
 """
 
 from __future__ import annotations
@@ -29,6 +37,7 @@ for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMB
     os.environ[_var] = "1"
 
 import argparse  # noqa: E402
+import subprocess  # noqa: E402
 import sys  # noqa: E402
 import time  # noqa: E402
 from pathlib import Path  # noqa: E402
@@ -46,7 +55,11 @@ CASES = {
     "heated": (dict(alpha=0.6), dict(times=np.linspace(0.0, 5.0, 11), initial_temperature=0.5)),
     "maxwell": (dict(alpha=0.5, kernel=0.0, friction=0.5),
                 dict(times=[0.25, 0.5, 1.0, 2.0, 5.0], initial_temperature=1.0)),
+    "cooling": (dict(alpha=0.5, kernel=0.0),
+                dict(times=[0.1, 0.3, 0.6], initial_temperature=1.0, spacing=0.5,
+                     cutoff=10.0)),
 }
+COOLING = {"cooling"}
 TARGET = 20.0
 
 _FACTORS = [0]
@@ -61,12 +74,14 @@ def _counting_lu_factor(*args, **kwargs):
 scipy.linalg.lu_factor = _counting_lu_factor   # counts every dense LU of the step Newton
 
 
-def steady_cpu(model: dict) -> float:
-    """Best of three CPU seconds of ``kf.solve_heated`` of ``model``."""
+def steady_cpu(name: str) -> float:
+    """Best of three CPU seconds of the steady solve of case ``name``'s model."""
+    model = CASES[name][0]
+    solve = kf.solve_cooling if name in COOLING else kf.solve_heated
     best = np.inf
     for _ in range(3):
         t0 = time.process_time()
-        kf.solve_heated(model["alpha"], **{k: v for k, v in model.items() if k != "alpha"})
+        solve(model["alpha"], **{k: v for k, v in model.items() if k != "alpha"})
         best = min(best, time.process_time() - t0)
     return best
 
@@ -74,7 +89,8 @@ def steady_cpu(model: dict) -> float:
 def maxwell_errors(model: dict, call: dict, ev) -> tuple[float, float]:
     """Largest relative error of T and absolute error of a2 against the exact moments."""
     times = np.concatenate([[0.0], np.asarray(call["times"], dtype=float)])
-    exact = evolve_moments(model["alpha"], times, friction=model["friction"],
+    bath = {"friction": model["friction"]} if "friction" in model else {"diffusion": 0.0}
+    exact = evolve_moments(model["alpha"], times, **bath,
                            initial_temperature=call["initial_temperature"], order=4)
     err_t = np.max(np.abs(np.asarray(ev.temperature) / exact.temperature[1:] - 1.0))
     err_a2 = np.max(np.abs(np.asarray(ev.a2) - exact.a2[1:]))
@@ -88,7 +104,8 @@ def run(name: str, rtol: float | None, unit: float) -> dict:
     kwargs = {k: v for k, v in model.items() if k != "alpha"}
     _FACTORS[0] = 0
     t0 = time.process_time()
-    ev = kf.evolve_heated(model["alpha"], **kwargs, **call, **options)
+    evolve = kf.evolve_cooling if name in COOLING else kf.evolve_heated
+    ev = evolve(model["alpha"], **kwargs, **call, **options)
     cpu = time.process_time() - t0
     extra = ev.info.extra
     row = {"case": name, "rtol": extra.get("rtol", rtol), "cpu": cpu,
@@ -96,7 +113,7 @@ def run(name: str, rtol: float | None, unit: float) -> dict:
            "jacobians": extra.get("jacobians"), "factorisations": _FACTORS[0],
            "nodes": extra.get("n_dofs"), "units": cpu / unit,
            "T_end": float(ev.temperature[-1]), "a2_end": float(ev.a2[-1])}
-    if name == "maxwell":
+    if name != "heated":
         row["err_T"], row["err_a2"] = maxwell_errors(model, call, ev)
     return row
 
@@ -105,9 +122,19 @@ def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--rtol", type=float, nargs="*", default=[])
     parser.add_argument("--only", choices=sorted(CASES), default=None)
+    parser.add_argument("--compare", default=None, metavar="TREE",
+                        help="first run the same table with PYTHONPATH at TREE")
     args = parser.parse_args(argv)
+    if args.compare:
+        rest = list(argv if argv is not None else sys.argv[1:])
+        i = rest.index("--compare")
+        del rest[i:i + 2]
+        env = {**os.environ, "PYTHONPATH": args.compare}
+        subprocess.run([sys.executable, __file__, *rest], env=env, check=True)
     kf.solve_heated(0.6)    # compile outside the timings (steady and transient kernels)
     kf.evolve_heated(0.6, times=[0.01], initial_temperature=0.5, spacing=0.5, rtol=1e-2)
+    kf.solve_cooling(0.5, kernel=0.0)
+    kf.evolve_cooling(0.5, kernel=0.0, times=[0.01], spacing=0.5, cutoff=10.0, rtol=1e-2)
     names = [args.only] if args.only else list(CASES)
     print(f"tree: {Path(kf.__file__).resolve().parents[1]}")
     header = ("| case | rtol | CPU s | steps (rej.) | Jacobians | LU | nodes | steady CPU s | "
@@ -117,7 +144,7 @@ def main(argv: list[str] | None = None) -> None:
     for name in names:
         for rtol in [None, *args.rtol]:
             unit = cpu_yardstick()
-            steady = steady_cpu(CASES[name][0])
+            steady = steady_cpu(name)
             row = run(name, rtol, unit)
             unit = 0.5 * (unit + cpu_yardstick())
             errs = (f"{row['err_T']:.2e} | {row['err_a2']:.2e}" if "err_T" in row
