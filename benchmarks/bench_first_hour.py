@@ -20,6 +20,10 @@ Figures:
 ``reproduce``
     ``kinetic-fem reproduce --quick`` (every item) with an empty numba cache and again
     warm; long (tens of CPU minutes on a loaded machine): run it niced, alone.
+``reproduce-items``
+    ``reproduce --quick`` item by item in one child process with an empty numba cache
+    (``NUMBA_CACHE_DIR`` a new temporary folder): CPU seconds per item and the part
+    spent compiling (numba's ``numba:compile`` events), to see which items dominate.
 ``features``
     The one-line results (``dist.plot()``, ``plot_f`` of a distribution / list /
     Dataset, ``to_xarray``, ``_repr_html_``), the CLI defaults against the API's, the
@@ -55,7 +59,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from yardstick import cpu_yardstick  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
-FIGURES = ("import", "help", "first-solve", "features", "reproduce")
+FIGURES = ("import", "help", "first-solve", "features", "reproduce", "reproduce-items")
 
 
 def child_cpu(cmd: list[str], source: Path, *, cwd: Path | None = None,
@@ -161,6 +165,51 @@ def measure_reproduce(source: Path, unit: float) -> list[tuple[str, float]]:
     return rows
 
 
+ITEMS = textwrap.dedent("""
+    import sys, time
+    from pathlib import Path
+    from numba.core import event
+    from kinetic_fem import reproduce
+    reproduce.load_plugins()
+    class Compiling(event.Listener):
+        depth, t0, total = 0, 0.0, 0.0
+        def on_start(self, ev):
+            if self.depth == 0:
+                self.t0 = time.process_time()
+            self.depth += 1
+        def on_end(self, ev):
+            self.depth -= 1
+            if self.depth == 0:
+                self.total += time.process_time() - self.t0
+    comp = Compiling()
+    event.register("numba:compile", comp)
+    ctx = reproduce.Context(out=Path(sys.argv[1]), quick=True)
+    for key in sorted(reproduce.ITEMS, key=reproduce.item_order):
+        c0, k0 = time.process_time(), comp.total
+        rows = reproduce.run_items(ctx, [key], progress=False)
+        print(key, time.process_time() - c0, comp.total - k0, len(rows), flush=True)
+""")
+
+
+def measure_reproduce_items(source: Path, unit: float) -> list[tuple[str, float]]:
+    """Per-item CPU seconds (and compiling seconds) of ``reproduce --quick``, empty cache."""
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        env = {**os.environ, "PYTHONPATH": str(source), "NUMBA_CACHE_DIR": str(Path(tmp) / "nb")}
+        proc = subprocess.run([sys.executable, "-c", ITEMS, str(Path(tmp) / "out")], env=env,
+                              capture_output=True, text=True, check=False,
+                              cwd=tempfile.gettempdir())
+    total = compiling = 0.0
+    for line in proc.stdout.splitlines():
+        key, cpu, comp, n = line.split()
+        total, compiling = total + float(cpu), compiling + float(comp)
+        rows.append((f"item {key} ({n} rows): CPU s, of which compiling {float(comp):.1f}",
+                     float(cpu)))
+    rows.append(("all items, empty cache (units)", total / unit))
+    rows.append(("all items, compiling excluded (units)", (total - compiling) / unit))
+    return rows
+
+
 FEATURES = textwrap.dedent("""
     import warnings
     import numpy as np
@@ -254,9 +303,10 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--source", type=Path, default=ROOT,
                         help="tree holding kinetic_fem/ and particles/ (default: this one)")
-    parser.add_argument("--only", default=",".join(f for f in FIGURES if f != "reproduce"),
+    parser.add_argument("--only", default=",".join(f for f in FIGURES
+                                                   if not f.startswith("reproduce")),
                         help=f"comma-separated figures among {', '.join(FIGURES)} "
-                             "(default: all but reproduce)")
+                             "(default: all but the reproduce ones)")
     args = parser.parse_args()
     source = args.source.resolve()
     only = [s.strip() for s in args.only.split(",") if s.strip()]
@@ -273,6 +323,8 @@ def main() -> None:
         rows += measure_first_solve(source, unit)
     if "reproduce" in only:
         rows += measure_reproduce(source, unit)
+    if "reproduce-items" in only:
+        rows += measure_reproduce_items(source, unit)
     if "features" in only:
         rows += measure_features(source)
     for label, value in rows:

@@ -100,6 +100,20 @@ def _evolve_mixture(mixture: Mixture, *, heated: bool, density: float, times: Ar
                           initial_temperature=initial_temperature, method=method, **options)
 
 
+def _with_progress(solver: Any, progress: bool | None,
+                   options: dict[str, Any]) -> dict[str, Any]:
+    """``options`` with ``progress`` resolved (None: when interactive), if the method takes it."""
+    from .progress import resolve_progress
+
+    show = resolve_progress(progress)
+    if "progress" in inspect.signature(solver).parameters:
+        return {**options, "progress": show}
+    if progress:
+        raise TypeError(f"method {getattr(solver, '__name__', solver)!r} has no progress "
+                        f"bar; call it with progress=False or None")
+    return options
+
+
 def _initial(initial: Any, initial_temperature: Any) -> tuple[Any, float | None]:
     if initial is not None and initial_temperature is not None:
         raise ValueError("give either initial (a VelocityDistribution) or "
@@ -117,7 +131,7 @@ def evolve_heated(alpha: float | RestitutionLaw, *, density: float = 1.0,
                   initial_temperature: float | None = None,
                   initial: VelocityDistribution | None = None, times: ArrayLike,
                   protocol: Protocol | None = None, method: str = "fem",
-                  **options: Any) -> Evolution:
+                  progress: bool | None = None, **options: Any) -> Evolution:
     """Time-dependent heated gas under a protocol.
 
     Parameters
@@ -145,6 +159,10 @@ def evolve_heated(alpha: float | RestitutionLaw, *, density: float = 1.0,
         Time dependence of :math:`D`, :math:`\\xi` and the restitution.
     method : str
         Registry key (``"fem"``).
+    progress : bool, optional
+        A bar over the simulated time (tqdm, on stderr); default (None): shown when
+        the session is interactive (a terminal or a notebook), quiet otherwise
+        (:func:`kinetic_fem.progress.resolve_progress`).
     **options
         Passed to the method, e.g. ``rtol`` (tolerance on the local error per collision
         time, relative on T and absolute on a2, so that the global errors of T and a2 are
@@ -188,7 +206,8 @@ def evolve_heated(alpha: float | RestitutionLaw, *, density: float = 1.0,
         return solver(problem, times=times, protocol=protocol, initial=initial,
                       initial_temperature=initial_temperature, **opts)
 
-    return _with_error(run(**options), run, solver, options)
+    return _with_error(run(**_with_progress(solver, progress, options)), run, solver,
+                       options)
 
 
 def evolve_cooling(alpha: float | RestitutionLaw, *, density: float = 1.0,
@@ -196,7 +215,7 @@ def evolve_cooling(alpha: float | RestitutionLaw, *, density: float = 1.0,
                    initial_temperature: float | None = None,
                    initial: VelocityDistribution | None = None, times: ArrayLike,
                    protocol: Protocol | None = None, method: str = "fem",
-                   **options: Any) -> Evolution:
+                   progress: bool | None = None, **options: Any) -> Evolution:
     """Free cooling from an initial state, :math:`T(t)` in physical units.
 
     :math:`\\partial_t P = n\\,Q_{\\alpha(t)}[P]` is integrated in physical velocities by
@@ -237,6 +256,10 @@ def evolve_cooling(alpha: float | RestitutionLaw, *, density: float = 1.0,
         use :func:`evolve_heated`).
     method : str
         Registry key (``"fem"``).
+    progress : bool, optional
+        A bar over the simulated time (tqdm, on stderr); default (None): shown when
+        the session is interactive (a terminal or a notebook), quiet otherwise
+        (:func:`kinetic_fem.progress.resolve_progress`).
     **options
         Passed to the method: ``rtol`` (default 1e-6), ``spacing`` (element size in
         thermal velocities, default 0.25), ``cutoff``, ``rescale``, ``order``, step and
@@ -290,7 +313,8 @@ def evolve_cooling(alpha: float | RestitutionLaw, *, density: float = 1.0,
         return solver(gas, times=times, initial=initial,
                       initial_temperature=initial_temperature, protocol=protocol, **opts)
 
-    return _with_error(run(**options), run, solver, options)
+    return _with_error(run(**_with_progress(solver, progress, options)), run, solver,
+                       options)
 
 
 def _with_error(ev: Evolution, run: Callable[..., Evolution], solver: Callable[..., Any],

@@ -29,10 +29,10 @@ from typing import Any, Callable, Mapping
 
 import numpy as np
 from numpy.typing import NDArray
-from tqdm import tqdm
 
 from ..distribution import MAX_SONINE, VelocityDistribution
 from ..options import option_names
+from ..progress import progress_bar
 from .grid import canonical_value, grid_points, point_key, point_seed
 from .store import PointStore
 
@@ -250,7 +250,7 @@ def _open_executor(executor: Any, n_todo: int) -> tuple[Executor, bool]:
 
 
 def sweep(function: Callable[..., Any], grid: Mapping[str, Any], *,
-          store: str | Path | None = None, executor: Any = None, progress: bool = False,
+          store: str | Path | None = None, executor: Any = None, progress: bool | None = None,
           **fixed: Any) -> Any:
     """Evaluate ``function(**point, **fixed)`` on the outer product of ``grid``.
 
@@ -270,8 +270,9 @@ def sweep(function: Callable[..., Any], grid: Mapping[str, Any], *,
     executor : None, "serial", Executor or dask.distributed.Client
         None: a local process pool of ``min(points, cores)`` workers; "serial": in this
         process; any ``concurrent.futures.Executor``; a dask Client (``executor=client``).
-    progress : bool
-        tqdm progress bar over the points (stderr).
+    progress : bool, optional
+        tqdm progress bar over the points (stderr); default (None): shown when the
+        session is interactive (a terminal or a notebook), quiet otherwise.
     **fixed
         Keyword arguments passed to every call.  If ``function`` takes ``seed`` and the
         grid has none, each point gets ``seed = point_seed(point, root=fixed["seed"])``
@@ -365,8 +366,8 @@ def _compute(function, points, calls, seeds, fixed, todo, keys, records, db, exe
                 pool.shutdown()
             raise TypeError(f"{_name(function)} cannot be sent to a process pool ({exc}); "
                             "use a module-level function or executor='serial'") from exc
-    bar = tqdm(total=len(points), initial=len(points) - len(todo), disable=not progress,
-               desc="sweep", unit="point")
+    bar = progress_bar(total=len(points), initial=len(points) - len(todo),
+                       progress=progress, desc="sweep", unit="point")
     pending: dict[Future, int] = {}
     queue = list(todo)
     window = 1 if isinstance(pool, SerialExecutor) else len(todo)  # serial: one at a time

@@ -176,6 +176,12 @@ def test_progress_bar_goes_to_stderr(capsys):
     assert "sweep: 100%" in err and "2/2" in err
 
 
+def test_progress_default_is_quiet_when_not_interactive(capsys):
+    """progress=None (the default): no bar when stderr is not a terminal (pytest captures it)."""
+    sweep(sampled_gauss, {"alpha": [0.5, 1.0]}, executor="serial")
+    assert "sweep" not in capsys.readouterr().err
+
+
 def test_failure_keeps_finished_points(tmp_path):
     store = tmp_path / "s"
     with pytest.raises(RuntimeError, match="no convergence") as info:
