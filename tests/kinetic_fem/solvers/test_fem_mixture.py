@@ -69,3 +69,29 @@ def test_bad_input_is_named():
         kf.solve_heated(heated, method="fd")
     with pytest.raises(ValueError, match="one per species"):
         fem_mixture.solve_mixture_heated(heated, vertices=[np.linspace(-5, 5, 11)] * 3)
+
+
+@pytest.mark.slow
+def test_identical_species_cool_as_one_species():
+    """Free cooling of identical species (hard rods, alpha 0.5): zeta and a2 of the
+    one-species HCS (0.43556748, 0.1610182; measured at spacing 0.5: 1e-8, 3e-7).
+    Slow: 5.6 s here, most of it the one-species cooling solves."""
+    mix = kf.Mixture((1.0, 1.0), (0.3, 0.7), alpha=0.5)
+    state = kf.solve_cooling(mix, spacing=0.5)
+    one = kf.solve_cooling(0.5)
+    assert state.zeta == pytest.approx(one.info.extra["zeta"], rel=5e-8)
+    np.testing.assert_allclose(state.temperatures, 1.0, rtol=1e-12)
+    np.testing.assert_allclose(state.a2, one.a2, rtol=0, atol=1e-6)
+
+
+@pytest.mark.slow
+def test_maxwell_mixture_cooling_matches_the_exact_ratio():
+    """Kernel 0: the temperature ratio and the cooling rate against the largest
+    eigenvalue of the exact second-moment equations (the c^-4 tails are truncated at
+    the cut-off: measured 7e-8 and 1e-6 at spacing 0.5)."""
+    mix = kf.Mixture((1.0, 3.0), (0.3, 0.7), alpha=[[0.5, 0.7], [0.7, 0.9]], kernel=0.0)
+    exact = maxwell_mixture.cooling_state(mix)
+    with pytest.warns(ResolutionWarning):
+        state = kf.solve_cooling(mix, spacing=0.5)
+    assert state.temperature_ratio() == pytest.approx(exact.temperature_ratio(), rel=2e-7)
+    assert state.zeta == pytest.approx(exact.zeta, rel=3e-6)
