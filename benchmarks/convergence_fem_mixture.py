@@ -9,7 +9,8 @@
    (hard rods, alpha = 0.7, P3, the same spacing in thermal velocities: equal masses and
    alphas, so the accuracy is the one-species one), and for a real mixture (m 1:3).
 3. FEM against first-order Sonine (kinetic_fem.solvers.mixture_sonine), hard rods, equal
-   fractions, alpha 0.5 and 0.9, mass ratios 0.1 ... 10: where Sonine is off by > 1 %.
+   fractions, alpha 0.5 and 0.9, mass ratios 0.1 ... 10, both forcing conventions: where
+   Sonine is off by > 1 % (the ratio, or a2 by more than 0.01 absolute).
 
 Run with one BLAS thread (``OMP_NUM_THREADS=1``: threaded BLAS spins on a loaded machine
 and its LU of a 152 x 152 matrix measured 60 ms CPU instead of 0.4 ms).
@@ -49,7 +50,11 @@ def convergence() -> None:
         last = None
         for spacing in (1.0, 0.5, 0.25, 0.125):
             cpu = time.process_time()
-            state = kf.solve_heated(mix, order=order, spacing=spacing)
+            try:
+                state = kf.solve_heated(mix, order=order, spacing=spacing)
+            except kf.exceptions.ConvergenceError as err:
+                print(f"| {order} | {spacing} | - | Newton failed: {str(err)[-60:]} | | | | |")
+                continue
             cpu = time.process_time() - cpu
             e_t = float(np.max(np.abs(state.temperatures / exact.temperatures - 1.0)))
             e_a = float(np.max(np.abs(state.a2 - exact.a2)))
@@ -66,7 +71,7 @@ def convergence() -> None:
     print(f"exact: T1/T2 = {exact.temperature_ratio():.12f}, zeta = {exact.zeta:.12f}\n")
     print("| P | spacing | dofs | T1/T2 rel. error | zeta rel. error | CPU s |")
     print("|---|---|---|---|---|---|")
-    for spacing in (1.0, 0.5, 0.25):
+    for spacing in (1.0, 0.5):
         cpu = time.process_time()
         try:
             state = kf.solve_cooling(mix, spacing=spacing)
@@ -88,15 +93,17 @@ def cost(repeats: int = 3) -> None:
           "one species |")
     print("|---|---|---|---|---|---|")
     for spacing in (0.5, 0.25):
-        one_t, one = best(lambda: kf.solve_heated(0.7, order=3, spacing=spacing), repeats)
+        one_t, one = best(lambda h=spacing: kf.solve_heated(0.7, order=3, spacing=h), repeats)
         print(f"| one species | {spacing} | {one.info.extra['n_dofs']} | {one_t:.3f} | 1 | |")
         same = kf.Mixture.white_noise((1.0, 1.0), (0.5, 0.5), alpha=0.7)
-        mix_t, state = best(lambda: kf.solve_heated(same, order=3, spacing=spacing), repeats)
+        mix_t, state = best(lambda m=same, h=spacing: kf.solve_heated(m, order=3, spacing=h),
+                              repeats)
         err = float(np.max(np.abs(state.temperatures / one.temperature - 1.0)))
         print(f"| binary, identical species | {spacing} | {state.info.extra['n_dofs']} | "
               f"{mix_t:.3f} | {mix_t / one_t:.2f} | {err:.1e} |")
         real = kf.Mixture.white_noise((1.0, 3.0), (0.5, 0.5), alpha=0.7)
-        mix_t, state = best(lambda: kf.solve_heated(real, order=3, spacing=spacing), repeats)
+        mix_t, state = best(lambda m=real, h=spacing: kf.solve_heated(m, order=3, spacing=h),
+                              repeats)
         print(f"| binary, m 1:3 | {spacing} | {state.info.extra['n_dofs']} | {mix_t:.3f} | "
               f"{mix_t / one_t:.2f} | |", flush=True)
     cool = kf.Mixture((1.0, 1.0), (0.5, 0.5), alpha=0.7)
@@ -125,7 +132,7 @@ def sonine() -> None:
     print("| thermostat | alpha | m2/m1 | T1/T2 FEM | T1/T2 Sonine | Sonine/FEM - 1 | "
           "a2_1, a2_2 FEM | a2_1, a2_2 Sonine | off > 1 % |")
     print("|---|---|---|---|---|---|---|---|---|")
-    for convention in ("same_diffusion", "same_power", None):
+    for convention in ("same_diffusion", "same_power"):
         for alpha in (0.5, 0.9):
             for ratio in (0.1, 1.0 / 3.0, 3.0, 10.0):
                 masses = (1.0, ratio)
