@@ -734,14 +734,19 @@ def solve_mixture_heated(mixture: Mixture, *, density: float = 1.0,
     """
     mixture = _check_model(mixture, "the heated steady state", cooling=False)
     density = check_positive("density", density)
-    try:  # from Gaussians with WKB tails, else from the one-species states
+    # first from the one-species states for kernels growing at least linearly (hard rods:
+    # the gain lifts the tail far above the WKB one), from Gaussians with WKB tails for
+    # softer kernels (the Maxwell model's exponential tail does not stretch with sigma);
+    # then the other
+    first = mixture.collision_kernel.tail_growth[1] >= 1.0
+    try:
         return _solve_state(mixture, density, False, order=order, spacing=spacing,
                             cutoff=cutoff, vertices=vertices, tol=tol, max_iter=max_iter,
-                            one_species=False)
+                            one_species=first)
     except ConvergenceError as err:
-        logger.info("heated mixture from Gaussian starts failed (%s); one-species starts", err)
+        logger.info("heated mixture from the first start failed (%s); the other", err)
     return _solve_state(mixture, density, False, order=order, spacing=spacing, cutoff=cutoff,
-                        vertices=vertices, tol=tol, max_iter=max_iter)
+                        vertices=vertices, tol=tol, max_iter=max_iter, one_species=not first)
 
 
 @register_solver("fem", problem="mixture-cooling")
