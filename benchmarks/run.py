@@ -51,6 +51,7 @@ BENCHMARKS: dict[str, tuple[str, bool]] = {
     "convergence_scaling": ("convergence", False),
     "convergence_transient": ("convergence", True),
     "convergence_dsmc": ("convergence", True),
+    "convergence_fem_mixture": ("convergence", False),
     # validation
     "cross_validation": ("validation", True),
     "validate_dsmc": ("validation", True),
@@ -64,6 +65,7 @@ BENCHMARKS: dict[str, tuple[str, bool]] = {
     "cooling_transient": ("validation", False),
     "calibrate_error_estimates": ("validation", True),
     "regime_bitwise": ("validation", False),
+    "fem_mixture_dsmc": ("validation", False),
     # studies
     "effective_exponent_peak": ("study", False),
     "memory_effects": ("study", False),

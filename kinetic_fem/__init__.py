@@ -50,8 +50,8 @@ _NAMES = {
 _HOME = {name: module for module, names in _NAMES.items() for name in names}
 """Public name -> the module (relative to the package) that defines it."""
 
-_SOLVER_MODULES = ("fd_cooling", "fem", "fem_cooling", "finite_difference", "scaling",
-                   "spectral")
+_SOLVER_MODULES = ("fd_cooling", "fem", "fem_cooling", "fem_mixture", "finite_difference",
+                   "scaling", "spectral")
 """Modules of :mod:`kinetic_fem.solvers` that register solvers; public as ``kf.<name>``."""
 
 _MODULES = {**{name: f"solvers.{name}" for name in _SOLVER_MODULES}, "grid": "operators.grid"}

@@ -16,9 +16,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from .distribution import VelocityDistribution
 from .model.mixture import Mixture
 
-__all__ = ["MixtureMoments", "SpeciesTemperatures"]
+__all__ = ["MixtureMoments", "MixtureState", "SpeciesTemperatures"]
 
 
 class SpeciesTemperatures:
@@ -94,4 +95,62 @@ class MixtureMoments(SpeciesTemperatures):
         ratio = ", ".join(f"{t:.6g}" for t in self.temperatures)
         zeta = "" if self.zeta is None else f", zeta={self.zeta:.6g}"
         return (f"MixtureMoments(method={self.method!r}, T_s=[{ratio}], "
+                f"a2={np.array2string(self.a2, precision=6)}{zeta})")
+
+
+@dataclass(frozen=True, eq=False)
+class MixtureState(SpeciesTemperatures):
+    """A steady or scaling state of a mixture with one velocity distribution per species.
+
+    Parameters
+    ----------
+    mixture : Mixture
+        The model solved.
+    density : float
+        Total number density :math:`n`.
+    distributions : tuple of VelocityDistribution, shape (k,)
+        :math:`P_s(v)` of each species (physical velocities; scaled to the mixture
+        temperature :math:`T = 1` in free cooling).
+    method : str
+        How the state was computed (``"fem"``).
+    zeta : float or None
+        The common cooling rate in free cooling, else None.
+    info : RunInfo or None
+        Convergence and cost of the solve.
+    """
+
+    mixture: Mixture
+    density: float
+    distributions: tuple[VelocityDistribution, ...]
+    method: str
+    zeta: float | None = None
+    info: Any = None
+
+    @property
+    def temperatures(self) -> NDArray[np.float64]:
+        """:math:`T_s = m_s \\langle v^2\\rangle_s`, shape (k,)."""
+        return np.asarray(self.mixture.masses) * np.array(
+            [d.moment(2, central=False) for d in self.distributions])
+
+    @property
+    def a2(self) -> NDArray[np.float64]:
+        """The kurtosis coefficients :math:`a_{2,s}`, shape (k,)."""
+        return np.array([d.a2 for d in self.distributions])
+
+    def moments(self, order: int = 4) -> MixtureMoments:
+        """The :class:`MixtureMoments` of the state up to ``order``.
+
+        Parameters
+        ----------
+        order : int
+            Highest moment :math:`\\langle v^j\\rangle_s`, ``j = 0 .. order``.
+        """
+        values = np.array([[d.moment(j, central=False) for j in range(order + 1)]
+                           for d in self.distributions])
+        return MixtureMoments(self.mixture, self.density, values, self.method, zeta=self.zeta)
+
+    def __repr__(self) -> str:
+        temps = ", ".join(f"{t:.6g}" for t in self.temperatures)
+        zeta = "" if self.zeta is None else f", zeta={self.zeta:.6g}"
+        return (f"MixtureState(method={self.method!r}, T_s=[{temps}], "
                 f"a2={np.array2string(self.a2, precision=6)}{zeta})")

@@ -16,18 +16,21 @@ import importlib
 from typing import Any, Callable
 
 from . import limits
-from .distribution import VelocityDistribution
 from .model import CollisionKernel, CoolingProblem, HeatedProblem, RestitutionLaw
+from .model.mixture import Mixture
 
 __all__ = ["SOLVERS", "PROBLEM_KINDS", "HEATED_SOLVERS", "COOLING_SOLVERS",
            "TRANSIENT_HEATED_SOLVERS", "TRANSIENT_COOLING_SOLVERS", "register_solver",
            "lookup_solver", "solve_heated", "solve_cooling"]
 
 Solver = Callable[..., Any]
-PROBLEM_KINDS = ("heated", "cooling", "transient-heated", "transient-cooling")
+PROBLEM_KINDS = ("heated", "cooling", "transient-heated", "transient-cooling",
+                 "mixture-heated", "mixture-cooling")
 """The problem kinds of the registry: steady states (``solver(problem, **options) ->
-VelocityDistribution``) and transients (``solver(problem_or_gas, *, times, ...) ->
-Evolution``, see :mod:`kinetic_fem.evolve`)."""
+VelocityDistribution``), transients (``solver(problem_or_gas, *, times, ...) ->
+Evolution``, see :mod:`kinetic_fem.evolve`) and the states of a mixture
+(``solver(mixture, *, density, **options) -> MixtureState``, reached by passing a
+:class:`~kinetic_fem.model.Mixture` as ``alpha``)."""
 SOLVERS: dict[str, dict[str, Solver]] = {kind: {} for kind in PROBLEM_KINDS}
 """The one registry: solvers by problem kind and method key."""
 HEATED_SOLVERS: dict[str, Solver] = SOLVERS["heated"]
@@ -98,17 +101,33 @@ def _lookup(table: dict[str, Solver], method: str, problem: str) -> Solver:
     return table[method]
 
 
-def solve_heated(alpha: float | RestitutionLaw, *, density: float = 1.0,
+def _solve_mixture(kind: str, mixture: Mixture, method: str, density: float,
+                   defaults: dict[str, tuple[Any, Any]], options: dict[str, Any]) -> Any:
+    """Dispatch a mixture to the solver registered for ``mixture-<kind>``; the model's
+    parameters other than the density belong to the :class:`Mixture`."""
+    for name, (given, default) in defaults.items():
+        if given != default:
+            raise ValueError(f"{name}={given!r} does not apply to a Mixture: give the "
+                             f"{name} of each species in the Mixture (its kernel and "
+                             "thermostats, e.g. Mixture.white_noise)")
+    solver = _lookup(SOLVERS[f"mixture-{kind}"], method, f"mixture-{kind}")
+    return solver(mixture, density=density, **options)
+
+
+def solve_heated(alpha: float | RestitutionLaw | Mixture, *, density: float = 1.0,
                  diffusion: float = 1.0, friction: float = 0.0,
                  kernel: float | CollisionKernel = 1.0, method: str = "fem",
-                 **options: Any) -> VelocityDistribution:
+                 **options: Any) -> Any:
     """Steady state of the heated inelastic gas.
 
     Parameters
     ----------
-    alpha : float or RestitutionLaw
+    alpha : float, RestitutionLaw or Mixture
         Restitution coefficient, ``0 <= alpha < 1`` (``alpha = 1`` with ``friction > 0``),
-        or a law :math:`\\alpha(g)` (:mod:`kinetic_fem.model`).
+        or a law :math:`\\alpha(g)` (:mod:`kinetic_fem.model`); or a heated
+        :class:`~kinetic_fem.model.Mixture` (its species carry the kernel and the
+        thermostats; ``method="fem"``; the result is a
+        :class:`~kinetic_fem.mixture_state.MixtureState`).
     density, diffusion : float
         Number density :math:`n > 0` and noise strength :math:`D > 0`.
     friction : float
@@ -154,6 +173,10 @@ def solve_heated(alpha: float | RestitutionLaw, *, density: float = 1.0,
     >>> round(kf.sonine.a2_first_order(0.6), 4)
     0.032
     """
+    if isinstance(alpha, Mixture):
+        return _solve_mixture("heated", alpha, method, density,
+                              {"diffusion": (diffusion, 1.0), "friction": (friction, 0.0),
+                               "kernel": (kernel, 1.0)}, options)
     problem = HeatedProblem.from_parameters(alpha, density=density, diffusion=diffusion,
                                             friction=friction, kernel=kernel)
     solver = _lookup(HEATED_SOLVERS, method, "heated")
@@ -162,9 +185,9 @@ def solve_heated(alpha: float | RestitutionLaw, *, density: float = 1.0,
     return limits.check_result(solver(problem, **options))
 
 
-def solve_cooling(alpha: float | RestitutionLaw, *, density: float = 1.0,
+def solve_cooling(alpha: float | RestitutionLaw | Mixture, *, density: float = 1.0,
                   kernel: float | CollisionKernel = 1.0, method: str = "fem",
-                  **options: Any) -> VelocityDistribution:
+                  **options: Any) -> Any:
     """Homogeneous cooling state in scaled variables (see :func:`solve_heated`).
 
     The result has unit temperature; its cooling rate :math:`\\zeta`, defined by
@@ -172,8 +195,11 @@ def solve_cooling(alpha: float | RestitutionLaw, *, density: float = 1.0,
 
     Parameters
     ----------
-    alpha : float or RestitutionLaw
-        Constant coefficient of restitution, ``0 <= alpha < 1``.
+    alpha : float, RestitutionLaw or Mixture
+        Constant coefficient of restitution, ``0 <= alpha < 1``; or a
+        :class:`~kinetic_fem.model.Mixture` without forcing (``method="fem"``: the
+        scaled state of every species with one cooling rate, a
+        :class:`~kinetic_fem.mixture_state.MixtureState` with ``zeta``).
     density : float
         Number density ``n`` (the scaled state does not depend on it).
     kernel : float or CollisionKernel
@@ -195,6 +221,9 @@ def solve_cooling(alpha: float | RestitutionLaw, *, density: float = 1.0,
     >>> round(hcs.temperature, 10), round(hcs.info.extra["zeta"], 8), round(hcs.a2, 7)
     (1.0, 0.43556748, 0.1610182)
     """
+    if isinstance(alpha, Mixture):
+        return _solve_mixture("cooling", alpha, method, density, {"kernel": (kernel, 1.0)},
+                              options)
     problem = CoolingProblem.from_parameters(alpha, density=density, kernel=kernel)
     solver = _lookup(COOLING_SOLVERS, method, "cooling")
     limits.check_frontier(problem, method, options)

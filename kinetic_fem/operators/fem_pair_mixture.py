@@ -1,0 +1,257 @@
+"""The FEM pair rule between two species of a mixture (numba kernel).
+
+For species :math:`s` (outer, velocity :math:`x`, its own mesh and density
+:math:`P_s = e^{u_s}`) colliding with species :math:`r` (inner, :math:`y`, mesh and
+:math:`P_r = e^{u_r}`), the post-collision velocity of :math:`s` is linear,
+
+.. math::
+
+    x' = a x + b y, \\qquad b = \\mu_{sr}(1 + \\alpha_{sr}),\\ a = 1 - b,
+    \\qquad \\mu_{sr} = \\frac{m_r}{m_s + m_r}
+
+(:mod:`kinetic_fem.model.mixture`), and :func:`cross_collision` sums, on the pairs
+:math:`(x_q, y)` of the one-species pair rule (:mod:`kinetic_fem.operators.fem_kernels`:
+outer Gauss points of the mesh of :math:`s`, inner pieces split at the vertices of the
+mesh of :math:`r`, at :math:`y = x` and at the pre-images :math:`(v_k - a x)/b` of the
+vertices of the mesh of :math:`s`), with :math:`c = W\\,B(|x - y|) P_s(x) P_r(y)`,
+
+.. math::
+
+    R^s_i \\mathrel{+}= w_g \\sum c\\, \\varphi^s_i(x') - w_x \\sum c\\, \\varphi^s_i(x),
+    \\qquad R^r_j \\mathrel{-}= w_y \\sum c\\, \\varphi^r_j(y),
+
+and the four Jacobian blocks :math:`\\partial R^{s,r}/\\partial u_{s,r}`.  With
+:math:`w_g = n x_r`, :math:`w_x = n x_r / 2` and :math:`w_y = n x_s/2` the loss of each
+species is taken half from the pairs where it is the outer point and half from those
+where it is the inner one, so that for one mesh and :math:`a = b = 1/2` (equal masses)
+the sums over the species are the one-species reduced bracket
+:math:`\\tfrac n2\\sum c\\,[2\\varphi(x') - \\varphi(x) - \\varphi(y)]` term for term (a
+mixture of identical species is the one-species discretisation, to round-off).
+
+A heavier partner gives :math:`b > 1`: :math:`x'` then leaves the interval between
+:math:`x` and :math:`y` and may leave the mesh of :math:`s`; it is clamped to the mesh's
+end (mass is conserved exactly; the pieces where that happens start at the pre-images
+of the end vertices, so the rule stays exact on each piece, and they carry only the
+product of two far tails).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._jit import jit
+from .fem_kernels import shape_values
+from .fem_pair_breaks import GRADING_LEVELS, kernel_graded, kernel_rate, pieces
+from .fem_pair_sums import locate
+
+__all__ = ["cross_breaks", "cross_collision"]
+
+
+@jit
+def cross_breaks(verts_i: np.ndarray, verts_o: np.ndarray, x: float, a: float, b: float,
+                 buf: np.ndarray) -> int:
+    """Sorted breakpoints of the inner integrand in the inner mesh; returns their count.
+
+    The inner mesh's vertices, the pre-images :math:`(v_k - a x)/b` of the outer mesh's
+    vertices under :math:`y \\mapsto x'`, and :math:`y = x` (the merge of
+    :func:`~kinetic_fem.operators.fem_pair_breaks.merge_breaks` with two meshes).
+    """
+    lo = verts_i[0]
+    hi = verts_i[-1]
+    ni = verts_i.size
+    no = verts_o.size
+    i1 = 0
+    i2 = 0
+    done = False
+    n = 0
+    inf = np.inf
+    while True:
+        c1 = verts_i[i1] if i1 < ni else inf
+        c2 = (verts_o[i2] - a * x) / b if i2 < no else inf
+        c4 = inf if done else x
+        m = min(min(c1, c2), c4)
+        if m == inf:
+            break
+        if m == c1:
+            i1 += 1
+        elif m == c2:
+            i2 += 1
+        else:
+            done = True
+        if m >= lo and m <= hi:
+            buf[n] = m
+            n += 1
+    return n
+
+
+@jit
+def cross_collision(verts_o: np.ndarray, dofs_o: np.ndarray, coef_o: np.ndarray,
+                    xq: np.ndarray, wq: np.ndarray, eq: np.ndarray, verts_i: np.ndarray,
+                    dofs_i: np.ndarray, coef_i: np.ndarray, order: int, ref_x: np.ndarray,
+                    ref_w: np.ndarray, a: float, b: float, kernel: float | tuple[int, float],
+                    w_gain: float, w_lossx: float, w_lossy: float, with_jacobian: bool,
+                    even: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray,
+                                         np.ndarray, np.ndarray, float]:
+    """The pair sums of the module text for an outer and an inner species.
+
+    Parameters
+    ----------
+    verts_o, dofs_o, coef_o : ndarray
+        Outer species: mesh vertices, element dofs (shape (E, k)), coefficients of
+        :math:`\\ln P_s`.
+    xq, wq, eq : ndarray, shape (Q,)
+        Outer quadrature points, weights and elements (mesh of the outer species).
+    verts_i, dofs_i, coef_i : ndarray
+        Inner species, the same for its mesh (same element degree).
+    order : int
+        Lagrange degree, 1, 2 or 3.
+    ref_x, ref_w : ndarray
+        Reference rule on [0, 1] for the inner pieces.
+    a, b : float
+        :math:`x' = a x + b y`, ``b > 0``.
+    kernel : float or tuple of (int, float)
+        As for :func:`~kinetic_fem.operators.fem_kernels.collision_operator`.
+    w_gain, w_lossx, w_lossy : float
+        Weights of the gain, the outer loss and the inner loss.
+    with_jacobian : bool
+        Also the Jacobian blocks (else (1, 1) placeholders).
+    even : bool
+        Both states even on meshes symmetric about 0: only the outer points at
+        :math:`x > 0` are visited (the caller adds the mirror images).
+
+    Returns
+    -------
+    res_o, res_i : ndarray, shapes (N_o,), (N_i,)
+    jac_oo, jac_oi, jac_io, jac_ii : ndarray
+        :math:`\\partial R^o/\\partial u_o` (stored transposed), :math:`\\partial R^o/
+        \\partial u_i`, :math:`\\partial R^i/\\partial u_o` (stored transposed, shape
+        (N_o, N_i)), :math:`\\partial R^i/\\partial u_i`.
+    loss : float
+        :math:`\\sum c\\,g^2`, the pair moment of the energy balance.
+    """
+    n_o = coef_o.size
+    n_i = coef_i.size
+    k = dofs_o.shape[1]
+    graded = kernel_graded(kernel)
+    res_o = np.zeros(n_o)
+    res_i = np.zeros(n_i)
+    if with_jacobian:
+        jxo = np.zeros((n_o, n_o))
+        jac_oi = np.zeros((n_o, n_i))
+        jxi = np.zeros((n_o, n_i))
+        jac_ii = np.zeros((n_i, n_i))
+        bqo = np.zeros(n_o)
+        bqi = np.zeros(n_i)
+        cy = np.zeros(n_i)
+    else:
+        jxo = np.zeros((1, 1))
+        jac_oi = np.zeros((1, 1))
+        jxi = np.zeros((1, 1))
+        jac_ii = np.zeros((1, 1))
+        bqo = np.zeros(1)
+        bqi = np.zeros(1)
+        cy = np.zeros(1)
+    buf = np.empty(verts_i.size + verts_o.size + 3)
+    n_max = buf.size + 2 * (GRADING_LEVELS + 1)
+    starts = np.empty(n_max)
+    lengths = np.empty(n_max)
+    phx = np.empty(k)
+    phy = np.empty(k)
+    ph1 = np.empty(k)
+    v1 = np.empty(k)
+    vy = np.empty(k)
+    m1 = np.empty((k, k))
+    my = np.empty((k, k))
+    n_ref = ref_x.size
+    scale = verts_i[-1] - verts_i[0]
+    lo_o = verts_o[0]
+    hi_o = verts_o[-1]
+    loss = 0.0
+    for q in range(xq.size):
+        x = xq[q]
+        if even and x <= 0.0:
+            if x == 0.0:
+                raise ValueError("even needs outer points off v = 0 (a vertex at 0)")
+            continue
+        ex = eq[q]
+        shape_values(order, (x - verts_o[ex]) / (verts_o[ex + 1] - verts_o[ex]), phx)
+        ux = 0.0
+        for j in range(k):
+            ux += coef_o[dofs_o[ex, j]] * phx[j]
+        px = np.exp(ux)
+        n_br = cross_breaks(verts_i, verts_o, x, a, b, buf)
+        n_p = pieces(buf, n_br, x, scale, graded, starts, lengths)
+        ey = 0
+        e1 = 0
+        c_total = 0.0
+        for s in range(n_p):
+            y0 = starts[s]
+            length = lengths[s]
+            mid = y0 + 0.5 * length
+            ey = locate(verts_i, ey, mid)
+            e1 = locate(verts_o, e1, min(max(a * x + b * mid, lo_o), hi_o))
+            hy = 1.0 / (verts_i[ey + 1] - verts_i[ey])
+            h1 = 1.0 / (verts_o[e1 + 1] - verts_o[e1])
+            wm = wq[q] * length * px
+            c_piece = 0.0
+            for j in range(k):
+                v1[j] = 0.0
+                vy[j] = 0.0
+                if with_jacobian:
+                    for i in range(k):
+                        m1[j, i] = 0.0
+                        my[j, i] = 0.0
+            for r in range(n_ref):
+                y = y0 + length * ref_x[r]
+                shape_values(order, (y - verts_i[ey]) * hy, phy)
+                uy = 0.0
+                for j in range(k):
+                    uy += coef_i[dofs_i[ey, j]] * phy[j]
+                g = abs(x - y)
+                x1 = min(max(a * x + b * y, lo_o), hi_o)
+                shape_values(order, (x1 - verts_o[e1]) * h1, ph1)
+                c = wm * ref_w[r] * np.exp(uy) * kernel_rate(kernel, g)
+                loss += c * g * g
+                c_piece += c
+                for j in range(k):
+                    v1[j] += c * ph1[j]
+                    vy[j] += c * phy[j]
+                if with_jacobian:
+                    for j in range(k):
+                        cph = c * phy[j]
+                        for i in range(k):
+                            m1[i, j] += ph1[i] * cph
+                            my[i, j] += phy[i] * cph
+            c_total += c_piece
+            for i in range(k):
+                di1 = dofs_o[e1, i]
+                diy = dofs_i[ey, i]
+                res_o[di1] += w_gain * v1[i]
+                res_i[diy] -= w_lossy * vy[i]
+                if with_jacobian:
+                    bqo[di1] += w_gain * v1[i]
+                    bqi[diy] -= w_lossy * vy[i]
+                    cy[diy] += vy[i]
+                    for j in range(k):
+                        djy = dofs_i[ey, j]
+                        jac_oi[di1, djy] += w_gain * m1[i, j]
+                        jac_ii[diy, djy] -= w_lossy * my[i, j]
+        for i in range(k):
+            res_o[dofs_o[ex, i]] -= w_lossx * c_total * phx[i]
+        if with_jacobian:
+            for i in range(k):
+                dix = dofs_o[ex, i]
+                bqo[dix] -= w_lossx * c_total * phx[i]
+                for col in range(n_i):
+                    jac_oi[dix, col] -= w_lossx * phx[i] * cy[col]
+            # every entry depends on u_o through P(x): the columns of x's element
+            for j in range(k):
+                djx = dofs_o[ex, j]
+                for row in range(n_o):
+                    jxo[djx, row] += bqo[row] * phx[j]
+                for row in range(n_i):
+                    jxi[djx, row] += bqi[row] * phx[j]
+            bqo[:] = 0.0
+            bqi[:] = 0.0
+            cy[:] = 0.0
+    return res_o, res_i, jxo, jac_oi, jxi, jac_ii, loss
