@@ -45,7 +45,7 @@ from yardstick import cpu_yardstick  # noqa: E402
 
 import kinetic_fem as kf  # noqa: E402
 from kinetic_fem import solvers  # noqa: E402
-from kinetic_fem.solvers import fem_curve  # noqa: E402
+from kinetic_fem.solvers.fem import curve as fem_curve  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 HEATED_MODELS = {"gamma 0 (Maxwell)": dict(kernel=0.0), "gamma 0.5": dict(kernel=0.5),

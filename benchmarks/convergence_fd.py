@@ -174,7 +174,7 @@ def main() -> None:
     global ORDER
     ORDER = args.order
     if args.fem:
-        import kinetic_fem.solvers.fem  # noqa: F401
+        import kinetic_fem.solvers.fem.heated  # noqa: F401
     if args.defaults:
         for alpha in args.alphas:
             defaults(alpha)

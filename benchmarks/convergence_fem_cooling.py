@@ -1,7 +1,7 @@
 """Mesh convergence of the FEM homogeneous cooling state (issue 10, parts 2 and 3).
 
 Near elastic collisions (``--eps``): the continuation states of
-:func:`kinetic_fem.solvers.fem_cooling.cooling_state` are computed once (0.07 hump
+:func:`kinetic_fem.solvers.fem.cooling.cooling_state` are computed once (0.07 hump
 widths), then each state of the table is solved from the previous continuation state on
 hump meshes of decreasing ``resolution`` (element size in hump widths eps^(1/3)); zeta,
 a2 and ln f (where f > 1e-30) are compared with the finest mesh, with observed orders
@@ -29,7 +29,7 @@ import time  # noqa: E402
 import numpy as np  # noqa: E402
 
 import kinetic_fem as kf  # noqa: E402
-from kinetic_fem.solvers import fem_cooling as fc  # noqa: E402
+from kinetic_fem.solvers.fem import cooling as fc  # noqa: E402
 
 FLOOR = math.log(1e-30)
 INTORDER: int | None = None

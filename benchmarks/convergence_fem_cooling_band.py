@@ -1,8 +1,8 @@
 """Mesh convergence of the hard-rod cooling state in the band eps in [0.035, 0.1) (issue 16).
 
-For each eps the link state of :func:`kinetic_fem.solvers.fem_cooling_band.band_state`
+For each eps the link state of :func:`kinetic_fem.solvers.fem.cooling_band.band_state`
 is computed once; the P3 state (Gauss degree ``BAND_INTORDER``) is then solved from it on
-:func:`~kinetic_fem.solvers.fem_cooling_band.band_vertices` with the element size in the
+:func:`~kinetic_fem.solvers.fem.cooling_band.band_vertices` with the element size in the
 humps and the e-folds per tail element both scaled by ``s`` (``s = 1``: the default), and
 compared with P3 at 0.05 hump widths on the near-elastic hump mesh (Gauss degree 9,
 ``continued_state``): zeta relative, a2 absolute, ln f where f_ref > 1e-30, with observed
@@ -27,10 +27,10 @@ import time  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from kinetic_fem.solvers import fem_cooling as fc  # noqa: E402
-from kinetic_fem.solvers import fem_cooling_band as fb  # noqa: E402
-from kinetic_fem.solvers.fem import FEMDiscretisation  # noqa: E402
-from kinetic_fem.solvers.fem_cooling_newton import CLOSE_DAMPING, newton_cooling  # noqa: E402
+from kinetic_fem.solvers.fem import cooling as fc  # noqa: E402
+from kinetic_fem.solvers.fem import cooling_band as fb  # noqa: E402
+from kinetic_fem.solvers.fem.cooling_newton import CLOSE_DAMPING, newton_cooling  # noqa: E402
+from kinetic_fem.solvers.fem.heated import FEMDiscretisation  # noqa: E402
 
 FLOOR = math.log(1e-30)
 

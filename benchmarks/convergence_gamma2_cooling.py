@@ -1,6 +1,6 @@
 """Convergence of the gamma = 2 cooling state from the anchored start (issue 16).
 
-For each alpha, :func:`kinetic_fem.solvers.fem_cooling_gamma2.anchored_state` on the
+For each alpha, :func:`kinetic_fem.solvers.fem.cooling_gamma2.anchored_state` on the
 default mesh (``refine`` 1) and on meshes ``refine`` = 2, 4, ... times finer (the default
 HCS mesh's spacing at eps >= 3e-3; below, the e-folds per element, the core and the
 largest element of the near-elastic mesh), P2: zeta, a2 and the energy identity,
@@ -23,16 +23,16 @@ import math  # noqa: E402
 import time  # noqa: E402
 
 from kinetic_fem.model import CoolingProblem  # noqa: E402
-from kinetic_fem.solvers.fem import FEMDiscretisation  # noqa: E402
-from kinetic_fem.solvers.fem_cooling import cooling_distribution  # noqa: E402
-from kinetic_fem.solvers.fem_cooling_gamma2 import AnchoredStart, anchored_state  # noqa: E402
-from kinetic_fem.solvers.fem_cooling_newton import CoolingState, newton_cooling  # noqa: E402
-from kinetic_fem.solvers.fem_cooling_quasi import (  # noqa: E402
+from kinetic_fem.solvers.fem.cooling import cooling_distribution  # noqa: E402
+from kinetic_fem.solvers.fem.cooling_gamma2 import AnchoredStart, anchored_state  # noqa: E402
+from kinetic_fem.solvers.fem.cooling_newton import CoolingState, newton_cooling  # noqa: E402
+from kinetic_fem.solvers.fem.cooling_quasi import (  # noqa: E402
     QUASI_CORE,
     QUASI_FINAL,
     QUASI_MAX_SIZE,
     efold_vertices,
 )
+from kinetic_fem.solvers.fem.heated import FEMDiscretisation  # noqa: E402
 
 
 def from_coarser(problem: CoolingProblem, coarse: CoolingState, refine: float):

@@ -27,7 +27,7 @@ import numpy as np  # noqa: E402
 
 from kinetic_fem import sonine  # noqa: E402
 from kinetic_fem.operators.collision import energy_balance  # noqa: E402
-from kinetic_fem.solvers import fem  # noqa: E402
+from kinetic_fem.solvers.fem import heated as fem  # noqa: E402
 
 ALPHAS = (0.0, 0.1, 0.6, 0.9, 0.99, 0.999)
 

@@ -8,9 +8,9 @@ values (the distribution ``kf.solve_cooling`` returns) and for the raw Galerkin 
 at the element nodes, and the observed orders.
 
 ``--mesh tail`` (the default since issue 16): P3 (``--order``) on the mesh of
-:func:`kinetic_fem.solvers.fem_cooling_maxwell.maxwell_tail_vertices` to c = 200 with the
+:func:`kinetic_fem.solvers.fem.cooling_maxwell.maxwell_tail_vertices` to c = 200 with the
 analytic tail beyond; ``--mesh truncated``: P2 on
-:func:`kinetic_fem.solvers.fem_cooling_tail.power_tail_vertices` to c = 1e8 (the former
+:func:`kinetic_fem.solvers.fem.cooling_tail.power_tail_vertices` to c = 1e8 (the former
 default, reached with ``cutoff=1e8``).
 
 Usage::
@@ -28,7 +28,9 @@ import time
 import numpy as np
 
 import kinetic_fem as kf
-from kinetic_fem.solvers import fem_cooling, fem_cooling_maxwell, fem_cooling_tail
+from kinetic_fem.solvers.fem import cooling as fem_cooling
+from kinetic_fem.solvers.fem import cooling_maxwell as fem_cooling_maxwell
+from kinetic_fem.solvers.fem import cooling_tail as fem_cooling_tail
 
 
 def errors(alpha: float, spacing: float, mesh: str = "tail",

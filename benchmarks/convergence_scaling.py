@@ -131,7 +131,7 @@ def psi_report():
 
 
 def fem_report(phi):
-    import kinetic_fem.solvers.fem  # noqa: F401  (registers "fem")
+    import kinetic_fem.solvers.fem.heated  # noqa: F401  (registers "fem")
 
     print("\n## heated FEM solution rescaled by x = (n eps/D)^(1/3) v vs phi, |x| <= 4")
     x = np.linspace(-4.0, 4.0, 801)

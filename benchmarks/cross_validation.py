@@ -33,7 +33,8 @@ import warnings
 
 import kinetic_fem as kf
 from kinetic_fem.model import ThresholdRestitution, UnsupportedModelError, ViscoelasticRestitution
-from kinetic_fem.solvers import fem_defaults, maxwell
+from kinetic_fem.solvers import maxwell
+from kinetic_fem.solvers.fem import defaults as fem_defaults
 
 GAMMAS = (0.0, 0.5, 1.0, 2.0)
 ALPHAS = (0.3, 0.6, 0.9, 0.99)

@@ -45,7 +45,7 @@ from kinetic_fem.analysis.peak_study import (
     combine_sweeps,
     peak_sweep,
 )
-from kinetic_fem.solvers import fem
+from kinetic_fem.solvers.fem import heated as fem
 
 FEM_EPS = (0.1, 0.03, 0.01, 3e-3, 1e-3)
 TAIL_EPS = (1e-3, 3e-4, 1e-4, 3e-5, 1e-5, 3e-6, 1e-6)

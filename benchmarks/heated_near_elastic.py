@@ -34,8 +34,8 @@ import time
 
 import numpy as np
 
-from kinetic_fem.solvers import fem
-from kinetic_fem.solvers.fem_defaults import default_spacing
+from kinetic_fem.solvers.fem import heated as fem
+from kinetic_fem.solvers.fem.defaults import default_spacing
 from kinetic_fem.solvers.scaling import solve_phi
 
 EPS = (1e-1, 3e-2, 1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 3e-5, 1e-5, 3e-6, 1e-6)

@@ -1,6 +1,6 @@
 """The FEM cooling states against the quasi-elastic limit (issue 10, part 3).
 
-Along the continuation of :func:`kinetic_fem.solvers.fem_cooling.cooling_state`
+Along the continuation of :func:`kinetic_fem.solvers.fem.cooling.cooling_state`
 (eps = 0.1 / 2^k, 0.07 hump widths, which gives zeta to ~1e-10), print (CPU seconds)
 
 * ``zeta/eps - 1`` and ``(zeta/eps - 1)/eps``: the energy identity
@@ -35,7 +35,7 @@ import numpy as np  # noqa: E402
 
 import kinetic_fem as kf  # noqa: E402
 from kinetic_fem.analysis.humps import psi_profile  # noqa: E402
-from kinetic_fem.solvers import fem_cooling as fc  # noqa: E402
+from kinetic_fem.solvers.fem import cooling as fc  # noqa: E402
 
 
 def hump_moments(state: fc.CoolingState, eps: float) -> tuple[dict[str, float], float]:

@@ -1,7 +1,7 @@
 """Bit-for-bit check of the FEM cooling state over every path of its dispatch (issue 26).
 
 Solves 19 problems that together take every regime of
-:data:`kinetic_fem.solvers.fem_regimes.REGIMES` and the fallbacks inside them (the
+:data:`kinetic_fem.solvers.fem.regimes.REGIMES` and the fallbacks inside them (the
 Maxwell short mesh, the gamma = 2 anchors on both of their meshes and their failure, the
 near-elastic hard-kernel chain, the hump band and chain with and without ``initial``,
 ``resolution``, ``order``, ``spacing``, ``cutoff``, ``vertices``, the strong-alpha
@@ -26,7 +26,7 @@ import time  # noqa: E402
 import numpy as np  # noqa: E402
 
 from kinetic_fem.model import CoolingProblem  # noqa: E402
-from kinetic_fem.solvers import fem_cooling as fc  # noqa: E402
+from kinetic_fem.solvers.fem import cooling as fc  # noqa: E402
 
 
 def _vertices(c_max: float, h: float) -> np.ndarray:

@@ -20,7 +20,7 @@ import numpy as np
 
 import kinetic_fem as kf
 from kinetic_fem import sonine
-from kinetic_fem.solvers.fem_defaults import default_spacing
+from kinetic_fem.solvers.fem.defaults import default_spacing
 from kinetic_fem.solvers.relaxation import maxwell_rates
 
 

@@ -50,11 +50,15 @@ _NAMES = {
 _HOME = {name: module for module, names in _NAMES.items() for name in names}
 """Public name -> the module (relative to the package) that defines it."""
 
-_SOLVER_MODULES = ("fd_cooling", "fem", "fem_cooling", "fem_mixture", "finite_difference",
-                   "scaling", "spectral")
-"""Modules of :mod:`kinetic_fem.solvers` that register solvers; public as ``kf.<name>``."""
+_SOLVER_MODULES = {"fd_cooling": "fd_cooling", "fem": "fem.heated", "fem_cooling": "fem.cooling",
+                   "fem_mixture": "fem.mixture", "finite_difference": "finite_difference",
+                   "scaling": "scaling", "spectral": "spectral"}
+"""Modules of :mod:`kinetic_fem.solvers` that register solvers; public as ``kf.<name>``
+(``kf.fem`` is :mod:`kinetic_fem.solvers.fem.heated`, ``kf.fem_cooling``
+:mod:`kinetic_fem.solvers.fem.cooling`)."""
 
-_MODULES = {**{name: f"solvers.{name}" for name in _SOLVER_MODULES}, "grid": "operators.grid"}
+_MODULES = {**{name: f"solvers.{path}" for name, path in _SOLVER_MODULES.items()},
+            "grid": "operators.grid"}
 """Public module names that live elsewhere (``kf.scaling`` is kinetic_fem.solvers.scaling)."""
 
 _SUBMODULES = ("analysis", "distribution", "evolution", "evolve", "exceptions", "gas", "io",
@@ -71,8 +75,8 @@ def load_solvers() -> None:
     if _LOADED:
         return
     _LOADED.append(True)
-    for name in _SOLVER_MODULES:
-        _importlib.import_module(f"{__name__}.solvers.{name}")
+    for path in _SOLVER_MODULES.values():
+        _importlib.import_module(f"{__name__}.solvers.{path}")
 
 
 _LOADED: list[bool] = []

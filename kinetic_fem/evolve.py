@@ -12,8 +12,8 @@ from an initial distribution (any normalised
 Parameters are validated here; methods are registered in the one solver registry
 (:data:`kinetic_fem.solve.SOLVERS`, problem kinds ``"transient-heated"`` and
 ``"transient-cooling"``; ``"fem"``: adaptive BDF2 on the Galerkin system,
-:mod:`kinetic_fem.solvers.fem_evolution` and
-:mod:`kinetic_fem.solvers.fem_cooling_transient`).
+:mod:`kinetic_fem.solvers.fem.evolution` and
+:mod:`kinetic_fem.solvers.fem.cooling_transient`).
 """
 
 from __future__ import annotations
@@ -34,7 +34,7 @@ from .model import CollisionKernel, HeatedProblem, InelasticGas, RestitutionLaw,
 from .model.mixture import Mixture
 from .model.protocol import Protocol
 from .solve import lookup_solver
-from .solvers import fem_cooling_transient, fem_evolution  # noqa: F401  (registers "fem")
+from .solvers.fem import cooling_transient, evolution  # noqa: F401  (register "fem")
 
 __all__ = ["evolve_heated", "evolve_cooling", "check_times"]
 
@@ -223,7 +223,7 @@ def evolve_cooling(alpha: float | RestitutionLaw, *, density: float = 1.0,
     :math:`a_2`), on segments of fixed velocity scale that are remapped to the current
     thermal speed each time :math:`T` has fallen by ``rescale`` (default 4), so that
     :math:`T(t)` is followed over many decades
-    (:mod:`kinetic_fem.solvers.fem_cooling_transient`).  Mass is conserved to round-off
+    (:mod:`kinetic_fem.solvers.fem.cooling_transient`).  Mass is conserved to round-off
     and :math:`P = e^{u_h} > 0`.  Any restitution law (constant, viscoelastic,
     threshold) and any kernel (also one that is not homogeneous, e.g. the saturating
     kernel) is allowed, and ``protocol`` may change the restitution at given times (the
@@ -263,7 +263,7 @@ def evolve_cooling(alpha: float | RestitutionLaw, *, density: float = 1.0,
     **options
         Passed to the method: ``rtol`` (default 1e-6), ``spacing`` (element size in
         thermal velocities, default 0.25), ``cutoff``, ``rescale``, ``order``, step and
-        Newton options (:func:`kinetic_fem.solvers.fem_cooling_transient.evolve_cooling_fem`).
+        Newton options (:func:`kinetic_fem.solvers.fem.cooling_transient.evolve_cooling_fem`).
 
     Returns
     -------

@@ -41,7 +41,7 @@ FRONTIER: dict[tuple[str, str], float] = {
 """Smallest ``eps = 1 - alpha`` per (problem, method) with the default discretisation.
 
 The measured capability of the defaults: the FEM cooling state's continuation reaches
-1 - alpha = 1e-6 (``solvers.fem_cooling_links.HUMP_FRONTIER``; the slow test
+1 - alpha = 1e-6 (``solvers.fem.cooling_links.HUMP_FRONTIER``; the slow test
 ``test_near_elastic_frontier_alpha_0999999`` checks zeta and a2 there to 2e-10, 38 CPU s
 idle, 107 at load 13), the heated state 1e-7 (a2 within 1e-8 of the quasi-elastic
 expansion, ``benchmarks/results/heated_near_elastic.md``; at 1e-8 round-off in the O(eps)

@@ -124,8 +124,8 @@ def test_cycle_finder_finds_a_cycle():
 
 def test_graph_sees_relative_and_type_checking_imports():
     graph = import_graph()
-    assert "kinetic_fem.solvers.fem_cooling_newton" in graph["kinetic_fem.solvers.fem_regimes"]
-    assert "kinetic_fem.model" in graph["kinetic_fem.solvers.fem_start"]
+    assert "kinetic_fem.solvers.fem.cooling_newton" in graph["kinetic_fem.solvers.fem.regimes"]
+    assert "kinetic_fem.model" in graph["kinetic_fem.solvers.fem.start"]
     assert len(graph) > 100
 
 

@@ -21,10 +21,10 @@ state is reached by continuation in :math:`\varepsilon` from 0.1 (measured down 
 Two error estimates of :math:`\ln f_h` are plotted per element:
 
 * the local recovery indicator :math:`\eta_K = h_K^3 |u'''|/(72\sqrt3)`
-  (:meth:`~kinetic_fem.solvers.fem_cooling.CoolingState.indicator`), which misses the
+  (:meth:`~kinetic_fem.solvers.fem.cooling.CoolingState.indicator`), which misses the
   error the cooling drift carries outward (it underestimates the true error by 10^3 at
   :math:`\varepsilon = 10^{-4}`);
-* the two-level estimate (:meth:`~kinetic_fem.solvers.fem_cooling.CoolingState.error_estimate`):
+* the two-level estimate (:meth:`~kinetic_fem.solvers.fem.cooling.CoolingState.error_estimate`):
   one Newton step of the equations on the mesh with every element bisected, a solve of
   the global linearised problem, so transported error is included
   (``benchmarks/results/fem_cooling.md`` compares both with the true error).
@@ -37,7 +37,7 @@ from dataclasses import replace
 import numpy as np
 
 import kinetic_fem as kf
-from kinetic_fem.solvers import fem_cooling
+from kinetic_fem.solvers.fem import cooling as fem_cooling
 
 TEST_KWARGS = {"eps": 0.07, "resolution": 0.14}
 

@@ -12,7 +12,7 @@ Puglisi, Europhys. Lett. 58, 14 (2002)):
 
 at unit temperature, with :math:`dT/dt = -2\zeta n T`.  Its :math:`c^{-4}` tail has
 an infinite fourth moment, and :math:`c^2 f` carries :math:`4/(\pi V)` of the energy
-beyond :math:`|c| = V`: the FEM mesh (:mod:`kinetic_fem.solvers.fem_cooling_maxwell`) is
+beyond :math:`|c| = V`: the FEM mesh (:mod:`kinetic_fem.solvers.fem.cooling_maxwell`) is
 uniform in the bulk and geometric out to :math:`V = 200`, and the state beyond is its
 asymptotic series :math:`A c^{-4}(1 - 2c^{-2} + 3c^{-4})` with :math:`A` matched to the
 mesh.  This example solves the state with
@@ -25,7 +25,7 @@ from __future__ import annotations
 import numpy as np
 
 import kinetic_fem as kf
-from kinetic_fem.solvers.fem_cooling import maxwell_hcs
+from kinetic_fem.solvers.fem.cooling import maxwell_hcs
 
 TEST_KWARGS = {"alpha": 0.5, "spacing": 0.2}
 

@@ -56,7 +56,7 @@ def main(n_v: int = 1401, cutoff: float = 7.0,
     phi = solve_phi(n_v=n_v, cutoff=cutoff)
     sup = {}
     if alphas:
-        from kinetic_fem.solvers import fem  # noqa: F401  (registers method="fem")
+        from kinetic_fem.solvers.fem import heated as fem  # noqa: F401  (registers method="fem")
 
         x = np.linspace(-4.0, 4.0, 801)
         for alpha in alphas:

@@ -337,8 +337,8 @@ def tail_sweep(eps_values: tuple[float, ...], *, bulk_refinement: float = math.s
     PeakSweep
         ``method="tail"``.
     """
-    from ..solvers import fem
-    from ..solvers.fem_defaults import default_spacing
+    from ..solvers.fem import heated as fem
+    from ..solvers.fem.defaults import default_spacing
 
     eps_values = tuple(sorted(eps_values, reverse=True))
     peaks, coarse, other, converged = [], [], [], []

@@ -118,7 +118,7 @@ def fem_steady(alpha: float, *, spacing: float = 0.05, cutoff_factor: float = 1.
         If a Newton solve fails.
     """
     from ..operators.grid import symmetric_grid, uniform_grid
-    from ..solvers import fem
+    from ..solvers.fem import heated as fem
 
     scale = math.sqrt(sonine_temperature(alpha))
     target = cutoff_factor * fem.default_cutoff(alpha)

@@ -30,15 +30,15 @@ from ..analysis.humps import psi_profile
 from ..distribution import VelocityDistribution
 from ..reproduce import ClaimRow, Context, register
 from ..solvers.fd_cooling import HCSSolution, solve_hcs
-from ..solvers.fem_cooling import HUMP_FRONTIER, HUMP_STEP_RESOLUTION
-from ..solvers.fem_cooling_chain import hump_states
+from ..solvers.fem.cooling import HUMP_FRONTIER, HUMP_STEP_RESOLUTION
+from ..solvers.fem.cooling_chain import hump_states
 from ..solvers.scaling import solve_psi
 from ..solvers.spectral import solve_sonine_cooling
 from .plotting import save, subplots
 
 FEM_EPS = (1e-2, 1e-3, 1e-4, 1e-5, 1e-6)
 """Inelasticities of the FEM hump panels (full mode): those the continuation reaches
-(down to :data:`~kinetic_fem.solvers.fem_cooling.HUMP_FRONTIER`), plus that frontier."""
+(down to :data:`~kinetic_fem.solvers.fem.cooling.HUMP_FRONTIER`), plus that frontier."""
 QUICK_EPS = (1e-2, 1e-3)
 """Inelasticities of the quick mode."""
 QUICK_RESOLUTION = 0.14

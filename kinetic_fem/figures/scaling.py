@@ -23,7 +23,7 @@ def _fem_rows(phi, quick: bool) -> list[ClaimRow]:  # type: ignore[no-untyped-de
     """sup-norm distance of the rescaled heated FEM solution to phi as eps -> 0."""
     try:
         from ..solve import solve_heated
-        from ..solvers import fem  # noqa: F401  (registers "fem")
+        from ..solvers.fem import heated as fem  # noqa: F401  (registers "fem")
     except ImportError as exc:  # pragma: no cover - FEM optional here
         return [ClaimRow("C5", "heated FEM -> phi", "n/a", "P -> phi as eps -> 0", None,
                          "fem", f"FEM unavailable: {exc}")]

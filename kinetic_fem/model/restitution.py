@@ -103,7 +103,7 @@ class RestitutionLaw:
         """The law in velocity units of ``u``: :math:`g \\mapsto \\alpha(u g)`.
 
         A solver that measures velocities in a unit :math:`V` (the free-cooling transient
-        on segments of fixed unit, :mod:`kinetic_fem.solvers.fem_cooling_transient`)
+        on segments of fixed unit, :mod:`kinetic_fem.solvers.fem.cooling_transient`)
         evaluates ``law.rescaled(V)`` at the relative speeds in that unit; the kernel's
         counterpart is :meth:`kinetic_fem.model.CollisionKernel.rescaled`.
 

@@ -27,7 +27,7 @@ form :math:`2/(\\pi(1+c^2)^2)` has this expansion; the next odd coefficient, :ma
 depends on :math:`c_3^3` and is left out: relative :math:`4V^{-6}`.)  The zeta error of
 the closure falls as :math:`V^{-4}` (P2, h0 = 0.02, alpha = 0.5: 1.2e-8, 7.4e-10 at
 V = 50, 100; P3 at V = 200: 1e-11 ... 1.4e-10 over alpha), hence the default
-V = 200 (:mod:`kinetic_fem.solvers.fem_cooling_maxwell`).
+V = 200 (:mod:`kinetic_fem.solvers.fem.cooling_maxwell`).
 
 The tail enters the equations of the mesh by four terms, each in closed form or by an
 exact product rule (:func:`tail_gain_matrix`):

@@ -4,14 +4,14 @@
   (Armijo line search, constraints by an update hook, stall at round-off reported as
   converged, one :class:`~kinetic_fem.solvers.newton.NewtonResult`).
 - FEM (scikit-fem Galerkin): :mod:`~kinetic_fem.solvers.fem` (heated steady state, with
-  :mod:`~kinetic_fem.solvers.fem_newton` and the warm-started curve
-  :mod:`~kinetic_fem.solvers.fem_curve`),
-  :mod:`~kinetic_fem.solvers.fem_cooling` (homogeneous cooling state, with
-  :mod:`~kinetic_fem.solvers.fem_cooling_mesh` and
-  :mod:`~kinetic_fem.solvers.fem_cooling_newton`),
-  :mod:`~kinetic_fem.solvers.fem_evolution`, :mod:`~kinetic_fem.solvers.fem_transient`
-  and :mod:`~kinetic_fem.solvers.fem_cooling_transient` (transients),
-  :mod:`~kinetic_fem.solvers.fem_defaults` (meshes and cut-offs from the
+  :mod:`~kinetic_fem.solvers.fem.newton` and the warm-started curve
+  :mod:`~kinetic_fem.solvers.fem.curve`),
+  :mod:`~kinetic_fem.solvers.fem.cooling` (homogeneous cooling state, with
+  :mod:`~kinetic_fem.solvers.fem.cooling_mesh` and
+  :mod:`~kinetic_fem.solvers.fem.cooling_newton`),
+  :mod:`~kinetic_fem.solvers.fem.evolution`, :mod:`~kinetic_fem.solvers.fem.transient`
+  and :mod:`~kinetic_fem.solvers.fem.cooling_transient` (transients),
+  :mod:`~kinetic_fem.solvers.fem.defaults` (meshes and cut-offs from the
   model's scales), :mod:`~kinetic_fem.solvers.relaxation` (the relaxation spectrum: the
   linearised system about the steady state).
 - The paper's finite differences (Biben): :mod:`~kinetic_fem.solvers.finite_difference`

@@ -29,12 +29,12 @@ solution at :math:`p_0`, through the solutions at the values of a *path*
   controlled step, ``benchmarks/results/continuation_step.md``).
 
 Used by the FEM cooling state (the continuation in alpha of hard kernels
-:func:`~.fem_cooling_alpha.alpha_chain`, the near-elastic chain
-:func:`~.fem_cooling_quasi.quasi_elastic_chain`, the hump chain
-:func:`~.fem_cooling_links.chain_state`, the band's links
-:func:`~.fem_cooling_band.band_state`, several states in one walk
-:func:`~.fem_cooling_chain.hump_states`) and by the curves of states
-(:func:`~.fem_curve.heated_curve`, :func:`~.fem_cooling_curve.cooling_curve`, whose
+:func:`~.fem.cooling_alpha.alpha_chain`, the near-elastic chain
+:func:`~.fem.cooling_quasi.quasi_elastic_chain`, the hump chain
+:func:`~.fem.cooling_links.chain_state`, the band's links
+:func:`~.fem.cooling_band.band_state`, several states in one walk
+:func:`~.fem.cooling_chain.hump_states`) and by the curves of states
+(:func:`~.fem.curve.heated_curve`, :func:`~.fem.cooling_curve.cooling_curve`, whose
 paths are the values asked for and whose steps do not split).
 """
 

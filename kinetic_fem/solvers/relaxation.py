@@ -36,9 +36,9 @@ from ..model import CollisionKernel, HeatedProblem
 from ..operators.fem_thermostat import weighted_mass
 from ..options import gather
 from . import maxwell
-from .fem import steady_state
-from .fem_defaults import scaled_model
-from .fem_options import MeshOptions
+from .fem.defaults import scaled_model
+from .fem.heated import steady_state
+from .fem.options import MeshOptions
 
 __all__ = ["RelaxationSpectrum", "relaxation_spectrum", "maxwell_rates"]
 
@@ -108,7 +108,7 @@ def relaxation_spectrum(alpha: float, *, density: float = 1.0, diffusion: float 
         Rates below ``zero_tol`` times the collision rate count as conserved modes.
     **mesh_keywords
         The mesh of the steady state: ``mesh`` (a
-        :class:`~kinetic_fem.solvers.fem_options.MeshOptions`) or its fields by keyword
+        :class:`~kinetic_fem.solvers.fem.options.MeshOptions`) or its fields by keyword
         (``spacing``, ``cutoff``, ... in thermal velocities); defaults of the FEM solver.
 
     Returns

@@ -15,7 +15,7 @@ import pytest
 import kinetic_fem as kf
 from kinetic_fem.evolution import Evolution
 from kinetic_fem.model.protocol import Protocol, steps
-from kinetic_fem.solvers.fem_transient import lte_ratio
+from kinetic_fem.solvers.fem.transient import lte_ratio
 
 COARSE = {"spacing": 0.6, "cutoff": 10.0, "rtol": 1e-3}
 
@@ -114,7 +114,7 @@ def test_a_step_that_never_succeeds_is_given_up_with_a_clear_error(monkeypatch):
     the smallest step and twice it until max_steps (the stuck runs of the Mpemba start
     past its tabulated range and of the alpha = 0.9 Kovacs quench)."""
     from kinetic_fem.exceptions import ConvergenceError
-    from kinetic_fem.solvers import fem_transient
+    from kinetic_fem.solvers.fem import transient as fem_transient
 
     calls = []
 
@@ -132,7 +132,7 @@ def test_step_ratio_stays_below_two_also_after_output_times(monkeypatch):
     """Variable-step BDF2 is zero-stable for step ratios below 1 + sqrt(2): the step after
     one shortened to reach an output time went back to the wanted size (ratios up to 47
     in the Kovacs quench).  Dense, irregular output times force many shortened steps."""
-    from kinetic_fem.solvers import fem_transient
+    from kinetic_fem.solvers.fem import transient as fem_transient
 
     ratios = []
     attempt = fem_transient.BDF2.attempt
@@ -152,7 +152,7 @@ def test_step_ratio_stays_below_two_also_after_output_times(monkeypatch):
 def test_retry_after_a_second_rejection_uses_the_observed_exponent():
     """An estimate that barely falls as the step is cut (2.86 -> 2.19 for half the step)
     gives a much shorter retry than the asymptotic factor 0.9 err^(-1/2)."""
-    from kinetic_fem.solvers.fem_transient_setup import retry_step
+    from kinetic_fem.solvers.fem.transient_setup import retry_step
 
     assert retry_step(1.0, 4.0, 2) == pytest.approx(0.45)
     assert retry_step(1.0, 100.0, 2) == pytest.approx(0.2)
@@ -216,7 +216,7 @@ def test_step_newton_stops_on_the_moments_not_the_far_tail(heating):
 
 
 def test_default_spacing_follows_rtol():
-    from kinetic_fem.solvers.fem_evolution import default_transient_spacing
+    from kinetic_fem.solvers.fem.evolution import default_transient_spacing
 
     assert default_transient_spacing(1e-4) == 0.5
     assert default_transient_spacing(1e-2) == 0.5

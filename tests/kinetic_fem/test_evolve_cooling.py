@@ -1,4 +1,4 @@
-"""Tests of kf.evolve_cooling (kinetic_fem/solvers/fem_cooling_transient.py).
+"""Tests of kf.evolve_cooling (kinetic_fem/solvers/fem/cooling_transient.py).
 
 Figures behind the tolerances: benchmarks/cooling_transient.py and
 benchmarks/results/cooling_transient.md.

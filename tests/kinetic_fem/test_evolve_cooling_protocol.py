@@ -1,6 +1,6 @@
 """kf.evolve_cooling with restitution protocols, speed-dependent laws and any kernel.
 
-kinetic_fem/solvers/fem_cooling_transient.py: a restitution change is a stop and a
+kinetic_fem/solvers/fem/cooling_transient.py: a restitution change is a stop and a
 restart (backward Euler) with a new discretisation; within a segment of velocity unit V
 the law is ``law.rescaled(V)`` and the kernel ``kernel.rescaled(V)`` times V^d.
 Figures behind the tolerances: benchmarks/cooling_protocol.py and

@@ -108,7 +108,7 @@ def test_combine_sweeps_keeps_converged_peaks_and_prefers_the_last_sweep():
 
 def test_tail_matches_the_fem_state_at_eps_1e3():
     """The tail solution continues the FEM state: slope at the matching point, peak."""
-    from kinetic_fem.solvers import fem
+    from kinetic_fem.solvers.fem import heated as fem
 
     state = fem.steady_state(0.999, spacing=0.1)
     tail = solve_tail(state, spacing=0.1)
@@ -124,7 +124,7 @@ def test_tail_matches_the_fem_state_at_eps_1e3():
 def test_converged_tail_peaks(eps, x_star, n_star):
     """Peaks of n(c) at eps = 1e-4 and 1e-6 (f ~ 1e-104 and 1e-1700 there); mesh
     refinement moved x* by < 1e-5 relative and n* by < 3e-7."""
-    from kinetic_fem.solvers import fem
+    from kinetic_fem.solvers.fem import heated as fem
 
     tail = solve_tail(fem.steady_state(1.0 - eps), spacing=0.1)
     p = tail_peak(tail)

@@ -4,7 +4,7 @@ The module-level caches of ``kinetic_fem.solvers`` and ``kinetic_fem.operators``
 hump start, the gamma = 2 anchors and their splines, the stored tables, the Sonine
 collision tensors, the transport arrays of a discretisation) are keyed on every input;
 the near-elastic memo of the hard-kernel chain lives in one call
-(:class:`kinetic_fem.solvers.fem_regimes.Run`).  So a set of problems solved in one
+(:class:`kinetic_fem.solvers.fem.regimes.Run`).  So a set of problems solved in one
 order and then in the reverse order (every cache warm the second time) gives the same
 bits.  (The Sonine tensor cache was keyed on ``(alpha, gamma)`` and sliced a higher
 order's tensor for a lower order: a2 moved by 6e-16 after an order-10 solve.)

@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 from kinetic_fem.options import gather, option_names
-from kinetic_fem.solvers.fem import solve_fem_heated, steady_state
-from kinetic_fem.solvers.fem_cooling import solve_fem_cooling
-from kinetic_fem.solvers.fem_options import MeshOptions
+from kinetic_fem.solvers.fem.cooling import solve_fem_cooling
+from kinetic_fem.solvers.fem.heated import solve_fem_heated, steady_state
+from kinetic_fem.solvers.fem.options import MeshOptions
 
 
 @dataclasses.dataclass(frozen=True)

@@ -1,6 +1,6 @@
 """``RestitutionLaw.rescaled(u)``: the law in velocity units of ``u``, alpha_u(g) = alpha(u g).
 
-The free-cooling transient (kinetic_fem/solvers/fem_cooling_transient.py) evaluates
+The free-cooling transient (kinetic_fem/solvers/fem/cooling_transient.py) evaluates
 ``law.rescaled(V)`` at relative speeds measured in the unit V of a segment.
 """
 

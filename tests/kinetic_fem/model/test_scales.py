@@ -112,7 +112,7 @@ def test_bad_target_raises(target):
 def test_fem_rule_is_the_model_rule_at_its_target():
     """The FEM default (1e-33, no crossover margin, one thermal speed added) is the
     model's rule: ``heated_cutoff(alpha, 1e-33, core_margin=1) + 1`` to round-off."""
-    from kinetic_fem.solvers.fem_defaults import default_cutoff as fem_cutoff
+    from kinetic_fem.solvers.fem.defaults import default_cutoff as fem_cutoff
 
     for a in np.linspace(0.0, 0.99999, 60):
         model = heated_cutoff(a, 1e-33, core_margin=1.0) + 1.0

@@ -20,7 +20,7 @@ from kinetic_fem.operators.fem_pair_parallel import (
     collision_constant_parallel,
     parallel_enabled,
 )
-from kinetic_fem.solvers import fem
+from kinetic_fem.solvers.fem import heated as fem
 
 THREADS = sorted({1, min(2, numba.config.NUMBA_NUM_THREADS)})
 

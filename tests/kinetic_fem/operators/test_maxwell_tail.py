@@ -7,7 +7,7 @@ import pytest
 from scipy.integrate import quad
 
 from kinetic_fem.operators import maxwell_tail
-from kinetic_fem.solvers.fem import FEMDiscretisation
+from kinetic_fem.solvers.fem.heated import FEMDiscretisation
 
 
 def test_tail_shape_is_the_expansion_of_the_closed_form():

@@ -13,7 +13,7 @@ import kinetic_fem as kf
 from kinetic_fem import sonine
 from kinetic_fem.operators.collision import energy_balance
 from kinetic_fem.operators.fem_kernels import evaluate_field
-from kinetic_fem.solvers import fem
+from kinetic_fem.solvers.fem import heated as fem
 
 
 def _disc(alpha: float, order: int, n_el: int = 30, half: float = 12.0,
@@ -366,7 +366,7 @@ def test_chord_steps_reach_the_newton_state_with_fewer_jacobians(alpha):
 def test_heated_curve_warm_start_equals_pointwise_solutions():
     """Warm-started states equal the pointwise ones to the Newton tolerance (measured
     |dT/T| 1e-15, |da2| 1e-15 on the 25-point default curve; tolerance 1e-10)."""
-    from kinetic_fem.solvers.fem_curve import heated_curve
+    from kinetic_fem.solvers.fem.curve import heated_curve
 
     alphas = [0.3, 0.5, 0.7]
     warm = heated_curve(alphas, spacing=0.3)
@@ -385,7 +385,7 @@ def test_heated_curve_continuation_keeps_the_pointwise_meshes_and_states():
     start (0.96): the continuation ends on the pointwise meshes with the pointwise
     states to the Newton tolerance (measured |dT/T| <= 1e-15, |da2| <= 8e-16 on the
     25- and 100-point curves; tolerance 1e-10)."""
-    from kinetic_fem.solvers.fem_curve import heated_curve
+    from kinetic_fem.solvers.fem.curve import heated_curve
 
     alphas = [0.88, 0.9, 0.92, 0.94, 0.96]
     warm = heated_curve(alphas)
@@ -402,7 +402,7 @@ def test_heated_curve_25_points_equals_pointwise_solves():
     """The 25-point default curve over [0, 0.99] by continuation: every state on the
     pointwise mesh, T and a2 equal to the pointwise solves to the Newton tolerance
     (measured |dT/T| 7.8e-16, |da2| 6.0e-16; tolerance 1e-10)."""
-    from kinetic_fem.solvers.fem_curve import heated_curve
+    from kinetic_fem.solvers.fem.curve import heated_curve
 
     alphas = np.linspace(0.0, 0.99, 25)
     curve = heated_curve(alphas)
@@ -420,8 +420,8 @@ def test_predict_log_density_extrapolates_linearly():
     import math
 
     from kinetic_fem.gas import HeatedProblem
-    from kinetic_fem.solvers.fem_curve import predict_log_density
-    from kinetic_fem.solvers.fem_defaults import scaled_model
+    from kinetic_fem.solvers.fem.curve import predict_log_density
+    from kinetic_fem.solvers.fem.defaults import scaled_model
 
     alphas = [0.46, 0.5, 0.54]
     states = [fem.steady_state(a, order=2, spacing=0.3) for a in alphas]

@@ -1,4 +1,4 @@
-"""Tests of the FEM homogeneous cooling state (kinetic_fem.solvers.fem_cooling)."""
+"""Tests of the FEM homogeneous cooling state (kinetic_fem.solvers.fem.cooling)."""
 
 from __future__ import annotations
 
@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 import kinetic_fem as kf
-from kinetic_fem.solvers import fem_cooling, fem_cooling_links
+from kinetic_fem.solvers.fem import cooling as fem_cooling
+from kinetic_fem.solvers.fem import cooling_links as fem_cooling_links
 
 
 def test_registered_as_default_cooling_method():
@@ -204,7 +205,7 @@ def test_no_growing_modes_on_the_hump_mesh(states_093):
 
 
 def test_adapted_state_bad_target():
-    from kinetic_fem.solvers.fem_cooling_adapt import adapted_state
+    from kinetic_fem.solvers.fem.cooling_adapt import adapted_state
     with pytest.raises(ValueError, match="target"):
         adapted_state(None, 0.0)  # type: ignore[arg-type]
 

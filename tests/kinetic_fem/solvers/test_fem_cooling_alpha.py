@@ -1,4 +1,4 @@
-"""Tests of the continuation in alpha for hard kernels (kinetic_fem.solvers.fem_cooling_alpha)."""
+"""Tests of the continuation in alpha for hard kernels (kinetic_fem.solvers.fem.cooling_alpha)."""
 
 from __future__ import annotations
 
@@ -7,8 +7,8 @@ import pytest
 
 import kinetic_fem as kf
 from kinetic_fem.model import CoolingProblem
-from kinetic_fem.solvers.fem_cooling_alpha import uses_alpha_chain
-from kinetic_fem.solvers.fem_cooling_mesh import hcs_cutoff
+from kinetic_fem.solvers.fem.cooling_alpha import uses_alpha_chain
+from kinetic_fem.solvers.fem.cooling_mesh import hcs_cutoff
 
 
 def test_uses_alpha_chain():

@@ -10,8 +10,8 @@ import pytest
 
 import kinetic_fem as kf
 from kinetic_fem.model import CoolingProblem
-from kinetic_fem.solvers import fem_cooling as fc
-from kinetic_fem.solvers.fem_cooling_band import (
+from kinetic_fem.solvers.fem import cooling as fc
+from kinetic_fem.solvers.fem.cooling_band import (
     BAND_DECADES,
     BAND_EFOLDS,
     BAND_EPS,
@@ -21,8 +21,8 @@ from kinetic_fem.solvers.fem_cooling_band import (
     band_vertices,
     in_band,
 )
-from kinetic_fem.solvers.fem_cooling_mesh import log_chain
-from kinetic_fem.solvers.fem_cooling_newton import CLOSE_DAMPING
+from kinetic_fem.solvers.fem.cooling_mesh import log_chain
+from kinetic_fem.solvers.fem.cooling_newton import CLOSE_DAMPING
 
 
 def test_band_default_is_p3_on_the_graded_band_mesh():
@@ -78,7 +78,7 @@ def test_band_state_falls_back_when_it_fails(monkeypatch):
     """A failed band solve returns None and the default takes the continuation."""
     from types import SimpleNamespace
 
-    from kinetic_fem.solvers import fem_cooling_band
+    from kinetic_fem.solvers.fem import cooling_band as fem_cooling_band
 
     failed = SimpleNamespace(info=SimpleNamespace(converged=False, message="no"),
                              u=np.zeros(3))

@@ -1,4 +1,4 @@
-"""Tests of kinetic_fem.solvers.fem_cooling_chain (several states, one continuation)."""
+"""Tests of kinetic_fem.solvers.fem.cooling_chain (several states, one continuation)."""
 
 from __future__ import annotations
 
@@ -6,7 +6,8 @@ from types import SimpleNamespace
 
 import pytest
 
-from kinetic_fem.solvers import fem_cooling, fem_cooling_chain
+from kinetic_fem.solvers.fem import cooling as fem_cooling
+from kinetic_fem.solvers.fem import cooling_chain as fem_cooling_chain
 
 
 def test_states_at_requested_inelasticities():

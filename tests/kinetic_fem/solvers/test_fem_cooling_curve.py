@@ -7,9 +7,9 @@ import pytest
 
 import kinetic_fem as kf
 from kinetic_fem.model import CoolingProblem
-from kinetic_fem.solvers import fem_cooling
-from kinetic_fem.solvers.fem_cooling_curve import cooling_curve
-from kinetic_fem.solvers.fem_cooling_links import link_chain, start_state
+from kinetic_fem.solvers.fem import cooling as fem_cooling
+from kinetic_fem.solvers.fem.cooling_curve import cooling_curve
+from kinetic_fem.solvers.fem.cooling_links import link_chain, start_state
 
 # Two converged solves of the same discrete equations differ by the Newton tolerance
 # (tol = 1e-11 on ln f and the relative zeta; measured: zeta 1.1e-14, a2 1.9e-14 over

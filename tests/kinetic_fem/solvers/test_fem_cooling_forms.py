@@ -1,4 +1,4 @@
-"""Tests of kinetic_fem.solvers.fem_cooling_forms (element-array forms = skfem asm)."""
+"""Tests of kinetic_fem.solvers.fem.cooling_forms (element-array forms = skfem asm)."""
 
 from __future__ import annotations
 
@@ -7,9 +7,9 @@ import pytest
 from skfem import asm
 
 from kinetic_fem.operators.fem_transport import TransportArrays
-from kinetic_fem.solvers.fem import FEMDiscretisation, bath_drift, bath_drift_jacobian, mass
-from kinetic_fem.solvers.fem_cooling_forms import cooling_forms
-from kinetic_fem.solvers.fem_cooling_newton import second_moment
+from kinetic_fem.solvers.fem.cooling_forms import cooling_forms
+from kinetic_fem.solvers.fem.cooling_newton import second_moment
+from kinetic_fem.solvers.fem.heated import FEMDiscretisation, bath_drift, bath_drift_jacobian, mass
 
 
 @pytest.mark.parametrize("order", [1, 2, 3])

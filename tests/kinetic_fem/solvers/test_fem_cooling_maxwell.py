@@ -14,8 +14,9 @@ import numpy as np
 import pytest
 
 import kinetic_fem as kf
-from kinetic_fem.solvers import fem_cooling, fem_cooling_maxwell
-from kinetic_fem.solvers.fem_cooling_tail import maxwell_hcs
+from kinetic_fem.solvers.fem import cooling as fem_cooling
+from kinetic_fem.solvers.fem import cooling_maxwell as fem_cooling_maxwell
+from kinetic_fem.solvers.fem.cooling_tail import maxwell_hcs
 
 C = np.linspace(-10.0, 10.0, 4001)
 MEASURED = {0.0: (9.7e-12, 4.0e-8), 0.3: (2.2e-11, 1.6e-8), 0.9: (1.4e-10, 2.0e-8),

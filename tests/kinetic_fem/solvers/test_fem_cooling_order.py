@@ -5,8 +5,8 @@ import pytest
 
 import kinetic_fem as kf
 from kinetic_fem.model import CoolingProblem
-from kinetic_fem.solvers.fem_cooling import cooling_state
-from kinetic_fem.solvers.fem_cooling_order import P3_SPACING, cooling_order, order_spacing
+from kinetic_fem.solvers.fem.cooling import cooling_state
+from kinetic_fem.solvers.fem.cooling_order import P3_SPACING, cooling_order, order_spacing
 
 
 def test_default_order():
@@ -49,7 +49,7 @@ def test_energy_identity_reuses_the_last_loss_moment():
 def test_continuation_link_takes_few_newton_steps():
     """eps = 0.1 -> 0.05 on the link mesh: 8 Newton steps once decreases of ln f take the
     step on f after zeta settles (34 before: the far tail fell one e-fold per step)."""
-    from kinetic_fem.solvers import fem_cooling as fc
+    from kinetic_fem.solvers.fem import cooling as fc
 
     start = fc.hump_start(2, None)
     state = fc.continued_state(start, 0.1, 0.05, resolution=fc.HUMP_LINK_RESOLUTION,

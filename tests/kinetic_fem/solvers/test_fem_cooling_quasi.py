@@ -1,4 +1,4 @@
-"""Tests of the near-elastic cooling state of hard kernels (solvers.fem_cooling_quasi)."""
+"""Tests of the near-elastic cooling state of hard kernels (solvers.fem.cooling_quasi)."""
 
 from __future__ import annotations
 
@@ -9,14 +9,14 @@ import pytest
 
 import kinetic_fem as kf
 from kinetic_fem.model import CoolingProblem, UnsupportedModelError
-from kinetic_fem.solvers.fem import FEMDiscretisation
-from kinetic_fem.solvers.fem_cooling import cooling_state
-from kinetic_fem.solvers.fem_cooling_newton import CoolingState
-from kinetic_fem.solvers.fem_cooling_quasi import (
+from kinetic_fem.solvers.fem.cooling import cooling_state
+from kinetic_fem.solvers.fem.cooling_newton import CoolingState
+from kinetic_fem.solvers.fem.cooling_quasi import (
     check_frontier,
     efold_vertices,
     quasi_elastic_chain,
 )
+from kinetic_fem.solvers.fem.heated import FEMDiscretisation
 
 ZETA_REF = {0.995: 2.005042729432, 0.999: 2.001001674898}
 """zeta / eps of the default path at half the default spacing (0.0085, 0.005; 2097 and

@@ -8,11 +8,11 @@ import numpy as np
 import pytest
 
 from kinetic_fem.model import CoolingProblem
-from kinetic_fem.solvers import fem_cooling as fc
-from kinetic_fem.solvers.fem_cooling_generate import seed_state
-from kinetic_fem.solvers.fem_cooling_hump import HUMP_FAST_LINK, P3_MONITOR_LOG_F
-from kinetic_fem.solvers.fem_cooling_newton import newton_cooling
-from kinetic_fem.solvers.fem_cooling_seeds import SEED_EPS, SeedStart, seed_start
+from kinetic_fem.solvers.fem import cooling as fc
+from kinetic_fem.solvers.fem.cooling_generate import seed_state
+from kinetic_fem.solvers.fem.cooling_hump import HUMP_FAST_LINK, P3_MONITOR_LOG_F
+from kinetic_fem.solvers.fem.cooling_newton import newton_cooling
+from kinetic_fem.solvers.fem.cooling_seeds import SEED_EPS, SeedStart, seed_start
 
 
 @pytest.mark.parametrize("eps", SEED_EPS)

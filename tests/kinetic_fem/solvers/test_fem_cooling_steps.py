@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from kinetic_fem.solvers.fem_cooling_steps import SpeculativeSystem, newton_on_step
+from kinetic_fem.solvers.fem.cooling_steps import SpeculativeSystem, newton_on_step
 from kinetic_fem.solvers.newton import newton
 
 

@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 from kinetic_fem.model import CoolingProblem
-from kinetic_fem.solvers import fem_cooling_generate as gen
-from kinetic_fem.solvers import fem_cooling_stored as stored
-from kinetic_fem.solvers import fem_regimes as fr
+from kinetic_fem.solvers.fem import cooling_generate as gen
+from kinetic_fem.solvers.fem import cooling_stored as stored
+from kinetic_fem.solvers.fem import regimes as fr
 
 
 def test_data_files_ship_and_read():
@@ -31,7 +31,7 @@ def test_data_files_are_what_the_generator_writes(name):
     """The files are in the generator's format (to_json of their content is the file)."""
     from importlib import resources
 
-    text = resources.files("kinetic_fem.solvers").joinpath("data").joinpath(name).read_text()
+    text = resources.files("kinetic_fem.solvers.fem").joinpath("data").joinpath(name).read_text()
     assert gen.to_json(stored.read_data(name)) == text
 
 

@@ -12,7 +12,8 @@ import numpy as np
 import pytest
 
 import kinetic_fem as kf
-from kinetic_fem.solvers import fem_cooling, fem_cooling_tail
+from kinetic_fem.solvers.fem import cooling as fem_cooling
+from kinetic_fem.solvers.fem import cooling_tail as fem_cooling_tail
 
 C = np.linspace(-10.0, 10.0, 4001)
 
@@ -29,7 +30,7 @@ FAST = {0.3: 2.5e-4, 0.5: 2.5e-4, 0.9: 2.5e-4}
 @pytest.mark.parametrize("alpha", sorted(FAST))
 def test_maxwell_hcs_coarse(alpha):
     """The truncated mesh to c = 1e8 (``cutoff``; the default is the tail closure of
-    :mod:`kinetic_fem.solvers.fem_cooling_maxwell`)."""
+    :mod:`kinetic_fem.solvers.fem.cooling_maxwell`)."""
     dist = kf.solve_cooling(alpha, kernel=0.0, spacing=0.16, cutoff=1e8)
     assert dist.info.extra["zeta"] == pytest.approx((1 - alpha**2) / 4, rel=3e-8)
     assert dist.temperature == pytest.approx(1.0, rel=5e-6)

@@ -6,8 +6,8 @@ import pytest
 
 import kinetic_fem as kf
 from kinetic_fem.exceptions import ConvergenceError
-from kinetic_fem.solvers import fem
-from kinetic_fem.solvers.fem_defaults import default_order, scaled_model
+from kinetic_fem.solvers.fem import heated as fem
+from kinetic_fem.solvers.fem.defaults import default_order, scaled_model
 
 
 @pytest.mark.parametrize(("alpha", "kernel", "friction", "order"), [

@@ -1,4 +1,4 @@
-"""The FEM states of a granular mixture (kinetic_fem.solvers.fem_mixture).
+"""The FEM states of a granular mixture (kinetic_fem.solvers.fem.mixture).
 
 Checks that could fail: a mixture of identical species is the one-species FEM solution
 on the same mesh to round-off; the inelastic Maxwell mixture against its closed moment
@@ -12,8 +12,9 @@ import kinetic_fem as kf
 from kinetic_fem.exceptions import ResolutionWarning
 from kinetic_fem.mixture_state import MixtureState
 from kinetic_fem.model import UnsupportedModelError, ViscoelasticRestitution
-from kinetic_fem.solvers import fem_mixture, maxwell_mixture
-from kinetic_fem.solvers.fem_grading import graded_vertices
+from kinetic_fem.solvers import maxwell_mixture
+from kinetic_fem.solvers.fem import mixture as fem_mixture
+from kinetic_fem.solvers.fem.grading import graded_vertices
 
 
 @pytest.mark.parametrize("gamma", [1.0, 0.5])

@@ -1,4 +1,4 @@
-"""Tests of the regime table of the FEM cooling state (kinetic_fem.solvers.fem_regimes)."""
+"""Tests of the regime table of the FEM cooling state (kinetic_fem.solvers.fem.regimes)."""
 
 from __future__ import annotations
 
@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from kinetic_fem.model import CoolingProblem, SaturatingKernel, UnsupportedModelError
-from kinetic_fem.solvers import fem_regimes as fr
+from kinetic_fem.solvers.fem import regimes as fr
 
 KERNELS = (0.0, 0.5, 1.0, 1.5, 2.0)
 # a grid over [0, 1 - 1e-6] with every threshold of the table and its neighbours

@@ -13,7 +13,8 @@ from __future__ import annotations
 import pytest
 
 import kinetic_fem as kf
-from kinetic_fem.solvers import fem_defaults, maxwell
+from kinetic_fem.solvers import maxwell
+from kinetic_fem.solvers.fem import defaults as fem_defaults
 
 
 @pytest.mark.parametrize("alpha", [0.88, 0.9, 0.95, 0.99, 0.999])

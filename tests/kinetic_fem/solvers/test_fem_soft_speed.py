@@ -12,10 +12,12 @@ import kinetic_fem as kf
 from kinetic_fem.model import SaturatingKernel
 from kinetic_fem.operators.fem_discretisation import FEMDiscretisation
 from kinetic_fem.operators.fem_pair_breaks import kernel_rate
-from kinetic_fem.solvers import fem, fem_newton, maxwell
-from kinetic_fem.solvers.fem_defaults import action_root, model_cutoff, scaled_model, tail_action
-from kinetic_fem.solvers.fem_newton import EvenFold, power_of_two_scales
-from kinetic_fem.solvers.fem_state import state_temperature
+from kinetic_fem.solvers import maxwell
+from kinetic_fem.solvers.fem import heated as fem
+from kinetic_fem.solvers.fem import newton as fem_newton
+from kinetic_fem.solvers.fem.defaults import action_root, model_cutoff, scaled_model, tail_action
+from kinetic_fem.solvers.fem.newton import EvenFold, power_of_two_scales
+from kinetic_fem.solvers.fem.state import state_temperature
 
 
 def _disc(order: int = 3) -> FEMDiscretisation:

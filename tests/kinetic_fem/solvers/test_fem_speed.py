@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from kinetic_fem.solvers import fem
-from kinetic_fem.solvers.fem_defaults import default_spacing
+from kinetic_fem.solvers.fem import heated as fem
+from kinetic_fem.solvers.fem.defaults import default_spacing
 
 
 def test_nested_coarse_keeps_every_third_vertex_and_the_end_band():

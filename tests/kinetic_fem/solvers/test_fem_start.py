@@ -6,11 +6,11 @@ import numpy as np
 import pytest
 
 import kinetic_fem as kf
-import kinetic_fem.solvers.fem as fem
-import kinetic_fem.solvers.fem_defaults as defaults
+import kinetic_fem.solvers.fem.defaults as defaults
+import kinetic_fem.solvers.fem.heated as fem
 from kinetic_fem.model import ConstantRestitution, PowerLawKernel, SaturatingKernel
-from kinetic_fem.solvers.fem_defaults import ScaledModel
-from kinetic_fem.solvers.fem_start import start_exponent
+from kinetic_fem.solvers.fem.defaults import ScaledModel
+from kinetic_fem.solvers.fem.start import start_exponent
 
 
 def _grid(kernel, temperature: float, top: float = 60.0):

@@ -9,8 +9,8 @@ import pickle
 import pytest
 
 import kinetic_fem as kf
-from kinetic_fem.solvers import fem
-from kinetic_fem.solvers.fem_state import LazyExtra
+from kinetic_fem.solvers.fem import heated as fem
+from kinetic_fem.solvers.fem.state import LazyExtra
 
 
 @pytest.mark.parametrize(("alpha", "gamma"), [(0.6, 1.0), (0.8, 0.5)])

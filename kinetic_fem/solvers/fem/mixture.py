@@ -1,0 +1,832 @@
+"""Galerkin FEM for granular mixtures: the heated steady state and the cooling state.
+
+The coupled homogeneous Boltzmann equations of a mixture (:mod:`kinetic_fem.model.mixture`)
+in weak form, species :math:`s` with the Lagrange basis :math:`\\varphi^s_i` of its own
+velocity mesh and the unknown :math:`u_s = \\ln P_s`:
+
+.. math::
+
+    0 = -\\int \\varphi^{s\\prime}_i (D_s P_s' + \\xi_s v P_s)
+        + n \\sum_r x_r \\iint B(|x - y|) P_s(x) P_r(y)
+        \\left[\\varphi^s_i(x') - \\varphi^s_i(x)\\right] dx\\, dy,
+    \\qquad x' = x - \\mu_{sr}(1 + \\alpha_{sr})(x - y).
+
+The collision rule is linear, :math:`x' = a x + b y`, as for one species, so each pair
+of species is one pair sum of the one-species rule on two meshes
+(:func:`kinetic_fem.operators.fem_pair_mixture.cross_collision`); the loss term is taken
+half from the pairs where :math:`s` is the outer point and half from those where it is
+the inner one, so that a mixture of identical species is the one-species discretisation
+(:mod:`kinetic_fem.solvers.fem`) to round-off.
+
+**Heated state.**  Newton's method on all :math:`u_s` together (even states: the
+unknowns at :math:`v \\ge 0`; the collision sums visit :math:`x > 0` only), the
+equation of the dof at :math:`v = 0` of each species replaced by
+:math:`\\int P_s = 1`; dense block Jacobian, equilibrated LU, the update
+:math:`\\ln(1+\\delta)` and chord steps of :mod:`kinetic_fem.solvers.fem.newton`.
+Meshes: per species, graded in its thermal velocity :math:`\\sigma_s` (from the
+Gaussian theory, :mod:`kinetic_fem.solvers.mixture_gaussian`) out to where the
+larger of the Gaussian and the WKB tail :math:`e^{-S_s}`,
+:math:`S_s' = (\\xi_s v + \\sqrt{\\xi_s^2 v^2 + 4 n D_s B(v)})/(2D_s)`, falls below
+1e-33, widened by 15 % while :math:`f_s` at the cut-off exceeds 1e-30.
+
+**Cooling state.**  In scaled variables (mixture temperature
+:math:`T = \\sum_s x_s m_s\\langle v^2\\rangle_s = 1`) every species is stationary,
+
+.. math::
+
+    0 = -\\zeta n\\, \\partial_v (v P_s) + C_s[P]
+    \\quad (\\text{weak: } \\zeta n\\int \\varphi^{s\\prime}_i v P_s + C^s_i),
+
+with one common cooling rate :math:`\\zeta` (:math:`dT/dt = -2\\zeta n T^{1+\\gamma/2}`):
+the unknowns are the :math:`u_s` and :math:`\\zeta`, the equations those above with
+:math:`\\int P_s = 1` for each species and :math:`T = 1` (homogeneous kernels
+:math:`|g|^\\gamma` only: the scaling state needs :math:`B(\\lambda g) = \\lambda^\\gamma
+B(g)`).
+
+Constant restitution per pair and kernels with a compiled rate (power laws, the
+saturating kernel; the cooling state power laws) only; a restitution law raises
+:class:`~kinetic_fem.model.UnsupportedModelError`.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+import warnings
+from collections.abc import Sequence
+from dataclasses import dataclass, field, replace
+from functools import cached_property
+from typing import Any
+
+import numpy as np
+import scipy.linalg
+from numpy.typing import NDArray
+
+from ...distribution import RunInfo, VelocityDistribution
+from ...exceptions import ConvergenceError, ResolutionWarning
+from ...mixture_state import MixtureState
+from ...model import PowerLawKernel
+from ...model.kernel_base import FAMILY_POWER_LAW
+from ...model.mixture import Mixture
+from ...model.validation import UnsupportedModelError, check_positive
+from ...operators.fem_discretisation import LAGRANGE_ELEMENTS, FEMDiscretisation
+from ...operators.fem_pair_mixture import cross_collision
+from ...operators.fem_transport import TransportArrays
+from ...solve import register_solver
+from ..newton import newton
+from .cooling_forms import cooling_forms
+from .cooling_newton import MONITOR_LOG_F
+from .grading import graded_vertices
+from .newton import CHORD_LEVEL, CHORD_RATE, STALL_LEVEL, EquilibratedLU, EvenFold, log_update
+
+__all__ = ["MixtureDiscretisation", "solve_mixture_heated", "solve_mixture_cooling",
+           "mixture_meshes", "DEFAULT_ORDER", "DEFAULT_SPACING"]
+
+logger = logging.getLogger(__name__)
+
+DEFAULT_ORDER = 3
+"""Lagrange degree of the default meshes."""
+DEFAULT_SPACING = 0.25
+"""Bulk element size of the default meshes in thermal velocities :math:`\\sigma_s`
+(P3; measured on the Maxwell mixture against the exact moments: see
+``benchmarks/convergence_fem_mixture.py``)."""
+DECADES = 33.0
+"""The default cut-off is where the start's :math:`f_s` falls by this many decades."""
+CUTOFF_MARGIN = 2.0
+"""Thermal velocities added to that cut-off (the gain lifts the tail above
+:math:`e^{-S}`)."""
+TAIL_FLOOR = 1e-30
+""":math:`f_s(V)\\sigma_s` at the cut-off must be below this (else the interval widens)."""
+MAX_WIDENINGS = 4
+COOLING_MONITOR_LOG_F = math.log(1e-25)
+"""The cooling state's Newton step is measured where :math:`f_s > 10^{-25}` (and on
+:math:`\\zeta`): with the outflow at the cut-offs the drift-dominated outer decades carry
+near-null modes of the Jacobian whose steps stay of order one at residuals of 1e-17
+(measured, m 1:3 hard rods), changing nothing where f is above them."""
+CONTINUATION_TOL = 1e-6
+"""Newton tolerance of the intermediate states of the cooling continuation."""
+MIN_CONTINUATION_STEP = 1.0 / 256.0
+"""Smallest step of the continuation parameter before it gives up."""
+
+
+# ---------------------------------------------------------------- the discretisation
+@dataclass(frozen=True, eq=False)
+class MixtureDiscretisation:
+    """One Lagrange discretisation per species and the pair sums between them.
+
+    Parameters
+    ----------
+    mixture : Mixture
+        Constant restitution per pair.
+    vertices : sequence of ndarray
+        Mesh vertices of each species (physical velocities), symmetric about 0 with a
+        vertex at 0.
+    density : float
+        Total number density :math:`n`.
+    order : int
+        Lagrange degree (1, 2 or 3), the same for every species.
+    intorder : int, optional
+        Gauss degree (default ``2 * order + 1``).
+    """
+
+    mixture: Mixture
+    vertices: tuple[NDArray[np.float64], ...]
+    density: float = 1.0
+    order: int = DEFAULT_ORDER
+    intorder: int | None = None
+
+    def __post_init__(self) -> None:
+        if self.order not in LAGRANGE_ELEMENTS:
+            raise ValueError(f"order must be one of {sorted(LAGRANGE_ELEMENTS)}, got "
+                             f"{self.order!r}")
+        if len(self.vertices) != self.mixture.n_species:
+            raise ValueError(f"vertices must give one mesh per species "
+                             f"({self.mixture.n_species}), got {len(self.vertices)}")
+
+    @cached_property
+    def discs(self) -> tuple[FEMDiscretisation, ...]:
+        """The one-species discretisation of each mesh (basis, points, symmetry)."""
+        return tuple(FEMDiscretisation(1.0, np.asarray(v, dtype=float), self.order,
+                                       self.intorder or 2 * self.order + 1)
+                     for v in self.vertices)
+
+    @cached_property
+    def folds(self) -> tuple[EvenFold, ...]:
+        """The even reduction of each species."""
+        return tuple(EvenFold(d.symmetry) for d in self.discs)
+
+    @cached_property
+    def sizes(self) -> tuple[int, ...]:
+        """Even unknowns per species."""
+        return tuple(int(f.counts.size) for f in self.folds)
+
+    @cached_property
+    def offsets(self) -> NDArray[np.int64]:
+        """Start of each species' block in the stacked even unknowns."""
+        return np.concatenate([[0], np.cumsum(self.sizes)]).astype(np.int64)
+
+    @cached_property
+    def zero_rows(self) -> tuple[int, ...]:
+        """The even row of the dof at :math:`v = 0` of each species."""
+        rows = []
+        for disc, fold in zip(self.discs, self.folds, strict=True):
+            red = np.zeros(fold.counts.size)
+            red[fold.cols] = np.abs(disc.dof_locations)
+            rows.append(int(np.argmin(red)))
+        return tuple(rows)
+
+    @cached_property
+    def rules(self) -> NDArray[np.float64]:
+        """``(a, b)`` of :math:`x' = a x + b y` for every pair, shape (k, k, 2)."""
+        k = self.mixture.n_species
+        alpha = self.mixture.constant_alpha()
+        out = np.empty((k, k, 2))
+        for s in range(k):
+            for r in range(k):
+                b = self.mixture.reduced_mass(s, r) * (1.0 + alpha[s, r])
+                out[s, r] = (1.0 - b, b)
+        return out
+
+    @cached_property
+    def _kernel_argument(self) -> float | tuple[int, float]:
+        family, parameter = self.mixture.collision_kernel.numeric
+        return float(parameter) if family == FAMILY_POWER_LAW else (family, float(parameter))
+
+    def split(self, x: NDArray[np.float64]) -> list[NDArray[np.float64]]:
+        """The full coefficients :math:`u_s` of the stacked even unknowns ``x``."""
+        off = self.offsets
+        return [f.expand(x[off[s]:off[s + 1]]) for s, f in enumerate(self.folds)]
+
+    def stack(self, us: Sequence[NDArray[np.float64]]) -> NDArray[np.float64]:
+        """The stacked even unknowns of full (even) coefficients."""
+        return np.concatenate([f.vector(u) / f.counts for f, u in
+                               zip(self.folds, us, strict=True)])
+
+    def collision(self, us: Sequence[NDArray[np.float64]], *, jacobian: bool = False
+                  ) -> tuple[list[NDArray], list[list[Any]], NDArray]:
+        """The even-reduced collision residuals, Jacobian blocks and loss moments.
+
+        Parameters
+        ----------
+        us : sequence of ndarray
+            Even :math:`u_s` on each mesh.
+        jacobian : bool
+            Also the reduced blocks :math:`\\partial R^s/\\partial u_r`.
+
+        Returns
+        -------
+        res : list of ndarray
+            Reduced residual of each species (full sums: the visited half twice).
+        blocks : list of list of ndarray or None
+            ``blocks[s][r]``, reduced (None without ``jacobian``).
+        loss : ndarray, shape (k, k)
+            :math:`\\sum c\\, g^2` of each ordered pair (the full sums).
+        """
+        k = self.mixture.n_species
+        n = self.density
+        x = self.mixture.fractions
+        res_full = [np.zeros(d.basis.N) for d in self.discs]
+        jac_full: list[list[Any]] = [[None] * k for _ in range(k)]
+        loss = np.zeros((k, k))
+        ref_x, ref_w = self.discs[0].basis.quadrature
+        ref_x = np.ascontiguousarray(ref_x[0])
+        for o in range(k):
+            verts_o, dofs_o = self.discs[o].mesh_arrays
+            xq, wq, eq = self.discs[o].points
+            for i in range(k):
+                verts_i, dofs_i = self.discs[i].mesh_arrays
+                a, b = self.rules[o, i]
+                r_o, r_i, jxo, joi, jxi, jii, lo = cross_collision(
+                    verts_o, dofs_o, np.ascontiguousarray(us[o]), xq, wq, eq, verts_i, dofs_i,
+                    np.ascontiguousarray(us[i]), self.order, ref_x, ref_w, float(a), float(b),
+                    self._kernel_argument, n * x[i], 0.5 * n * x[i], 0.5 * n * x[o],
+                    jacobian, True)
+                res_full[o] += r_o
+                res_full[i] += r_i
+                loss[o, i] = 2.0 * lo
+                if jacobian:
+                    for (p, q), block in (((o, o), jxo.T), ((o, i), joi), ((i, o), jxi.T),
+                                          ((i, i), jii)):
+                        jac_full[p][q] = block if jac_full[p][q] is None \
+                            else jac_full[p][q] + block
+        # the visited half (x > 0) of even sums: S^T (r + r[mirror]) = 2 S^T r exactly
+        res = [2.0 * f.vector(r) for f, r in zip(self.folds, res_full, strict=True)]
+        if not jacobian:
+            return res, [[None] * k for _ in range(k)], loss
+        blocks = [[2.0 * _fold_block(jac_full[p][q], self.folds[p], self.folds[q])
+                   for q in range(k)] for p in range(k)]
+        return res, blocks, loss
+
+    def distributions(self, us: Sequence[NDArray[np.float64]], **kwargs: Any
+                      ) -> tuple[VelocityDistribution, ...]:
+        """One :class:`VelocityDistribution` per species (quadrature points and weights)."""
+        return tuple(d.distribution(u, **kwargs) for d, u in zip(self.discs, us, strict=True))
+
+
+def _fold_block(jac: NDArray, rows: EvenFold, cols: EvenFold) -> NDArray:
+    """:math:`S_r^T J S_c` of a block between two species."""
+    half = jac[:, cols.first]
+    half[:, cols.pairs] += jac[:, cols.second]
+    out = half[rows.first]
+    out[rows.pairs] += half[rows.second]
+    return out
+
+
+# ---------------------------------------------------------------- checks and meshes
+def _check_model(mixture: object, what: str, *, cooling: bool) -> Mixture:
+    if not isinstance(mixture, Mixture):
+        raise TypeError(f"mixture must be a kinetic_fem.Mixture, got {mixture!r}")
+    for s, row in enumerate(mixture.laws):
+        for r, law in enumerate(row):
+            if law.constant is None:
+                raise UnsupportedModelError(
+                    f"the FEM mixture solver needs a constant restitution coefficient for "
+                    f"every pair, got {law!r} for the pair ({s}, {r}); use "
+                    "particles.dsmc_mixture.simulate_mixture for restitution laws")
+    kernel = mixture.collision_kernel
+    if cooling and not isinstance(kernel, PowerLawKernel):
+        raise UnsupportedModelError(
+            f"the FEM cooling state of a mixture needs a homogeneous kernel |g|^gamma (the "
+            f"scaling state exists only then), got {kernel!r}")
+    if mixture.heated == cooling:
+        raise ValueError(f"{what} needs " + (
+            "a mixture without forcing (free cooling); this one is forced" if cooling else
+            "forced species (Mixture.white_noise or thermostats=...); this one cools"))
+    return mixture
+
+
+def _tail_action(v: NDArray, kernel: Any, density: float, diffusion: float,
+                 friction: float) -> NDArray:
+    """:math:`S(v)` with :math:`S' = (\\xi v + \\sqrt{\\xi^2v^2 + 4nDB(v)})/(2D)`
+    (trapezoid on ``v``, increasing from 0)."""
+    rate = (friction * v + np.sqrt((friction * v) ** 2
+                                   + 4.0 * density * diffusion * kernel.rate(v))) \
+        / (2.0 * diffusion)
+    return np.concatenate([[0.0], np.cumsum(0.5 * (rate[1:] + rate[:-1]) * np.diff(v))])
+
+
+def _start_profiles(mixture: Mixture, density: float, variances: NDArray, cooling: bool,
+                    one_species: bool = True) -> list[tuple[NDArray, NDArray]]:
+    """Per species ``(v, ln f)`` of the start on a fine grid ``v >= 0``.
+
+    The one-species state (FEM; heated: with the species' thermostat, free cooling: the
+    scaled state) at the species' own restitution coefficient, stretched to the
+    variance ``variances[s]`` and continued linearly in :math:`|v|` beyond its mesh (a
+    Gaussian start lies many decades below the tails of hard rods or of the scaled
+    state, and Newton's first steps there wander: measured, hard rods m 1:1 alpha 0.7
+    at spacing 0.5 did not converge in 40 steps from the Gaussian with the WKB tail).
+    """
+    out = []
+    alpha = mixture.constant_alpha()
+    for s in range(mixture.n_species):
+        sigma = math.sqrt(variances[s])
+        v = np.linspace(0.0, 60.0 * sigma, 30001)
+        from ...solve import solve_cooling, solve_heated
+
+        if not one_species:  # heated: the Gaussian lifted to the WKB tail
+            therm = mixture.thermostats[s]  # type: ignore[index]
+            log_f = np.maximum(-0.5 * v**2 / variances[s], -_tail_action(
+                v, mixture.collision_kernel, density, therm.diffusion, therm.friction))
+            log_f -= math.log(2.0 * np.trapezoid(np.exp(log_f), v))
+            out.append((v, log_f))
+            continue
+        if cooling:
+            one = solve_cooling(float(alpha[s, s]), kernel=mixture.collision_kernel)
+        else:
+            therm = mixture.thermostats[s]  # type: ignore[index]
+            one = solve_heated(float(alpha[s, s]), density=density,
+                               diffusion=therm.diffusion, friction=therm.friction,
+                               kernel=mixture.collision_kernel)
+        keep = one.v > 0
+        c = one.v[keep] / math.sqrt(one.moment(2, central=False))
+        log_one = np.log(one.values[keep] * math.sqrt(one.moment(2, central=False)))
+        slope = (log_one[-1] - log_one[-2]) / (c[-1] - c[-2])
+        cv = v / sigma
+        log_f = np.interp(cv, c, log_one) - math.log(sigma)
+        far = cv > c[-1]
+        log_f[far] = log_one[-1] - math.log(sigma) + slope * (cv[far] - c[-1])
+        log_f -= math.log(2.0 * np.trapezoid(np.exp(log_f), v))
+        out.append((v, log_f))
+    return out
+
+
+def mixture_meshes(mixture: Mixture, variances: Sequence[float] | NDArray,
+                   cutoffs: Sequence[float],
+                   *, spacing: float = DEFAULT_SPACING) -> tuple[NDArray[np.float64], ...]:
+    """Symmetric meshes, graded in each species' thermal velocity.
+
+    Parameters
+    ----------
+    mixture : Mixture
+        The model (its kernel sets the tail grading).
+    variances : sequence of float or ndarray
+        :math:`\\sigma_s^2 = \\langle v^2\\rangle_s` estimates.
+    cutoffs : sequence of float
+        Half-widths :math:`V_s` (physical velocities).
+    spacing : float
+        Bulk element size in thermal velocities.
+
+    Returns
+    -------
+    tuple of ndarray
+    """
+    check_positive("spacing", spacing)
+    growth = mixture.collision_kernel.tail_growth[1]
+    grading = (3.0 - (1.0 + 0.5 * growth)) / 3.0
+    out = []
+    for var, cut in zip(variances, cutoffs, strict=True):
+        sigma = math.sqrt(var)
+        out.append(sigma * graded_vertices(cut / sigma, spacing, grading=max(grading, 0.0)))
+    return tuple(out)
+
+
+def _estimate(mixture: Mixture, density: float, cooling: bool) -> NDArray[np.float64]:
+    """:math:`\\langle v^2\\rangle_s` of the Gaussian theory (the start and the meshes)."""
+    from .. import mixture_gaussian
+
+    try:
+        state = mixture_gaussian.cooling_state(mixture, density=density) if cooling \
+            else mixture_gaussian.steady_state(mixture, density=density)
+        var = np.asarray(state.moments[:, 2], dtype=float)
+        if np.all(np.isfinite(var)) and np.all(var > 0):
+            return var
+    except (ConvergenceError, ValueError) as err:  # pragma: no cover - fallback
+        logger.info("Gaussian estimate failed (%s); equal temperatures", err)
+    return 1.0 / np.asarray(mixture.masses, dtype=float)
+
+
+# ---------------------------------------------------------------- Newton
+@dataclass
+class _System:
+    """The stacked residual and Jacobian of the heated or cooling mixture."""
+
+    mdisc: MixtureDiscretisation
+    cooling: bool
+    forms: list[TransportArrays] = field(default_factory=list)
+
+    def __post_init__(self) -> None:
+        mix = self.mdisc.mixture
+        for s, disc in enumerate(self.mdisc.discs):
+            if self.cooling:  # the mass gradient only (the drift: _drift)
+                self.forms.append(TransportArrays(disc.basis, 0.0))
+            else:
+                therm = mix.thermostats[s]  # type: ignore[index]
+                self.forms.append(TransportArrays(disc.basis, therm.friction / therm.diffusion))
+
+    @property
+    def size(self) -> int:
+        return int(self.mdisc.offsets[-1]) + int(self.cooling)
+
+    def __call__(self, x: NDArray, jacobian: bool) -> tuple[NDArray, NDArray | None]:
+        md = self.mdisc
+        mix = md.mixture
+        k = mix.n_species
+        off = md.offsets
+        us = md.split(x[:off[-1]])
+        coll, blocks, _ = md.collision(us, jacobian=jacobian)
+        r = np.empty(self.size)
+        jac = np.zeros((self.size, self.size)) if jacobian else None
+        zeta = float(x[-1]) if self.cooling else 0.0
+        energy = 0.0
+        grad_energy = []
+        for s in range(k):
+            fold = md.folds[s]
+            sl = slice(off[s], off[s + 1])
+            heat, hjac, grad_mass = self.forms[s].transport(us[s], jacobian=jacobian)
+            if self.cooling:
+                # the scaled dynamics' anti-friction: + zeta n int phi' v P
+                drift, djac, grad_temp = self._drift(s, us[s], jacobian)
+                rs = coll[s] + md.density * zeta * fold.vector(drift)
+            else:
+                diffusion = mix.thermostats[s].diffusion  # type: ignore[index]
+                rs = coll[s] + diffusion * fold.vector(heat)
+            row0 = int(off[s]) + md.zero_rows[s]
+            r[sl] = rs
+            r[row0] = grad_mass.sum() - 1.0
+            if self.cooling:
+                weight = mix.fractions[s] * mix.masses[s]
+                energy += weight * grad_temp.sum()
+                grad_energy.append(weight * grad_temp)
+            if jacobian:
+                assert jac is not None
+                for q in range(k):
+                    jac[sl, off[q]:off[q + 1]] = blocks[s][q]
+                if self.cooling:
+                    assert djac is not None
+                    jac[sl, sl] += md.density * zeta * fold.matrix(djac)
+                    jac[sl, -1] = md.density * fold.vector(drift)
+                else:
+                    assert hjac is not None
+                    jac[sl, sl] += diffusion * fold.matrix(hjac)
+                jac[row0, :] = 0.0
+                jac[row0, sl] = fold.vector(grad_mass)
+        if self.cooling:
+            r[-1] = energy - 1.0
+            if jacobian:
+                assert jac is not None
+                jac[-1, :] = 0.0
+                for s in range(k):
+                    jac[-1, off[s]:off[s + 1]] = md.folds[s].vector(grad_energy[s])
+        return r, jac
+
+    def _drift(self, s: int, u: NDArray, jacobian: bool
+               ) -> tuple[NDArray, NDArray | None, NDArray]:
+        """:math:`\\int\\varphi_i' vP - [\\varphi_i vP]_{-V}^{V}` (the outflow at the
+        cut-offs, as for one species, :mod:`kinetic_fem.solvers.fem.cooling_newton`), its
+        dense Jacobian and :math:`\\int \\varphi_i v^2 P`."""
+        drift, _, grad_temp, djac = cooling_forms(self.forms[s], u, jacobian)
+        x = self.mdisc.discs[s].dof_locations
+        edges = np.array([np.argmin(x), np.argmax(x)])
+        outflow = np.abs(x[edges]) * np.exp(u[edges])
+        drift[edges] -= outflow
+        if djac is not None:
+            djac[edges, edges] -= outflow
+        return drift, djac, grad_temp
+
+
+def _solve(system: _System, x0: NDArray, *, tol: float, max_iter: int
+           ) -> tuple[NDArray, RunInfo]:
+    start = time.perf_counter()
+    n_jac = 0
+
+    def fun(x: NDArray, jacobian: bool) -> tuple[NDArray, NDArray | None]:
+        nonlocal n_jac
+        n_jac += int(jacobian)
+        return system(x, jacobian)
+
+    n_u = int(system.mdisc.offsets[-1])
+
+    def update(x: NDArray, d: NDArray) -> NDArray:
+        out = x.copy()
+        out[:n_u] = x[:n_u] + log_update(d[:n_u])
+        if system.cooling:
+            out[n_u:] = x[n_u:] + d[n_u:]
+        return out
+
+    def factorize(jac: NDArray):
+        return EquilibratedLU(jac).solve
+
+    monitor = COOLING_MONITOR_LOG_F if system.cooling else MONITOR_LOG_F
+
+    def step_norm(d: NDArray, x: NDArray) -> float:
+        # where f > 1e-40 (and zeta, relative): the far edge of the cooling state carries
+        # a near-null mode of the Jacobian whose step stays large at a round-off residual
+        # (as for one species, kinetic_fem.solvers.fem.cooling_newton.MONITOR_LOG_F)
+        seen = x[:n_u] > monitor
+        size = float(np.max(np.abs(d[:n_u][seen]))) if np.any(seen) else math.inf
+        if system.cooling:
+            size = max(size, abs(float(d[-1])) / max(abs(float(x[-1])), 1e-300))
+        return size
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
+        out = newton(fun, x0, tol=tol, max_iter=max_iter, criterion="step", update=update,
+                     step_norm=step_norm,
+                     line_search=system.cooling, stall_level=STALL_LEVEL, factorize=factorize,
+                     chord=CHORD_LEVEL, chord_rate=CHORD_RATE, name="FEM mixture Newton")
+    history = list(out.history)
+    text = f"Newton max|du| history {['%.1e' % h for h in history]}; {n_jac} Jacobians"
+    if not out.converged:
+        text = f"{out.message}; {text}"
+    info = RunInfo(converged=out.converged, iterations=out.iterations,
+                   residual=history[-1] if history else math.inf,
+                   wall_time=time.perf_counter() - start, message=text)
+    return out.x, info
+
+
+def _check_vertices(vertices: object, k: int) -> tuple[NDArray[np.float64], ...]:
+    if isinstance(vertices, np.ndarray) and vertices.ndim == 1:
+        vertices = [vertices] * k
+    if not isinstance(vertices, Sequence | np.ndarray) or len(vertices) != k:
+        raise ValueError(f"vertices must be one symmetric mesh (an array) or one per species "
+                         f"({k}), got {vertices!r}")
+    out = []
+    for s, verts in enumerate(vertices):
+        verts = np.sort(np.asarray(verts, dtype=float))
+        if verts.ndim != 1 or verts.size < 3 or not np.allclose(
+                verts, -verts[::-1], rtol=0, atol=1e-12 * np.abs(verts).max()) \
+                or not np.any(verts == 0.0):
+            raise ValueError(f"vertices[{s}] must be increasing, symmetric about 0 and "
+                             f"include v = 0, got {verts!r}")
+        out.append(verts)
+    return tuple(out)
+
+
+def _edges(mdisc: MixtureDiscretisation, us: Sequence[NDArray]) -> list[float]:
+    """:math:`f_s(V_s)\\sigma_s` at each cut-off."""
+    out = []
+    for disc, u in zip(mdisc.discs, us, strict=True):
+        x = disc.dof_locations
+        p = np.exp(u)
+        sigma = math.sqrt(float(np.sum(p * x**2) / np.sum(p)))
+        out.append(float(np.exp(u[np.argmax(x)])) * sigma)
+    return out
+
+
+def _mixture_state(mixture: Mixture, density: float, mdisc: MixtureDiscretisation,
+                   x: NDArray, info: RunInfo, cooling: bool, wall: float) -> MixtureState:
+    us = mdisc.split(x[:mdisc.offsets[-1]])
+    extra = {"order": mdisc.order, "n_dofs": [int(d.basis.N) for d in mdisc.discs],
+             "cutoffs": [float(v[-1]) for v in mdisc.vertices], "cpu_time": wall}
+    info = RunInfo(converged=info.converged, iterations=info.iterations,
+                   residual=info.residual, wall_time=info.wall_time, message=info.message,
+                   extra=extra)
+    params = {"density": density, "masses": list(mixture.masses),
+              "fractions": list(mixture.fractions)}
+    dists = mdisc.distributions(us, method="fem", params=params, info=info)
+    zeta = float(x[-1]) if cooling else None
+    return MixtureState(mixture, density, dists, "fem", zeta=zeta, info=info)
+
+
+def _profiles_of(state: MixtureState) -> tuple[NDArray, list[tuple[NDArray, NDArray]]]:
+    """Variances and ``(v, ln f)`` profiles (``v >= 0``, continued linearly in ``|v|`` to
+    60 thermal velocities) of a solved state: the start of the next continuation step."""
+    variances = np.array([d.moment(2, central=False) for d in state.distributions])
+    out = []
+    for dist, var in zip(state.distributions, variances, strict=True):
+        keep = dist.v > 0
+        c, log_f = dist.v[keep], np.log(dist.values[keep])
+        slope = (log_f[-1] - log_f[-2]) / (c[-1] - c[-2])
+        v = np.linspace(0.0, max(60.0 * math.sqrt(var), float(c[-1])), 30001)
+        values = np.interp(v, c, log_f)
+        far = v > c[-1]
+        values[far] = log_f[-1] + slope * (v[far] - c[-1])
+        out.append((v, values))
+    return variances, out
+
+
+def _solve_state(mixture: Mixture, density: float, cooling: bool, *, order: int,
+                 spacing: float, cutoff: float | None, vertices: object, tol: float,
+                 max_iter: int, start: MixtureState | None = None,
+                 one_species: bool = True) -> MixtureState:
+    cpu = time.process_time()
+    k = mixture.n_species
+    if start is None:
+        variances = _estimate(mixture, density, cooling)
+        profiles = _start_profiles(mixture, density, variances, cooling, one_species)
+    else:
+        variances, profiles = _profiles_of(start)
+    fixed = vertices is not None or cutoff is not None
+    if vertices is not None:
+        verts = _check_vertices(vertices, k)
+    else:
+        if cutoff is not None:
+            cuts = [check_positive("cutoff", cutoff) * math.sqrt(v) for v in variances]
+        else:
+            cuts = []
+            for (v, log_f), var in zip(profiles, variances, strict=True):
+                below = np.flatnonzero(log_f - log_f[0] < -DECADES * math.log(10.0))
+                reach = v[below[0]] if below.size else v[-1]
+                cuts.append(float(reach) + CUTOFF_MARGIN * math.sqrt(var))
+        verts = mixture_meshes(mixture, variances, cuts, spacing=spacing)
+    mdisc = MixtureDiscretisation(mixture, verts, density, order)
+    us0 = [np.interp(np.abs(d.dof_locations), v, lf) for d, (v, lf) in
+           zip(mdisc.discs, profiles, strict=True)]
+    x0 = mdisc.stack(us0)
+    if cooling and start is not None:
+        x0 = np.concatenate([x0, [start.zeta]])
+    elif cooling:
+        from .. import mixture_gaussian
+
+        try:
+            zeta0 = float(mixture_gaussian.cooling_state(mixture, density=density).zeta
+                          or 0.25)
+        except (ConvergenceError, ValueError):  # pragma: no cover - fallback
+            zeta0 = 0.25
+        x0 = np.concatenate([x0, [zeta0]])
+    system = _System(mdisc, cooling)
+    for widening in range(MAX_WIDENINGS + 1):
+        x, info = _solve(system, x0, tol=tol, max_iter=max_iter)
+        if not info.converged:
+            raise ConvergenceError(f"the FEM mixture Newton did not converge in {max_iter} "
+                                   f"iterations ({info.message}); refine the mesh (spacing) "
+                                   "or increase max_iter")
+        us = mdisc.split(x[:mdisc.offsets[-1]])
+        edges = _edges(mdisc, us)
+        if max(edges) < TAIL_FLOOR or fixed or widening == MAX_WIDENINGS:
+            break
+        logger.info("f_s sigma_s = %s at the cut-offs; widening", edges)
+        grow = [1.15 if e >= TAIL_FLOOR else 1.0 for e in edges]
+        cuts = [float(v[-1]) * g for v, g in zip(mdisc.vertices, grow, strict=True)]
+        variances = np.array([float(np.sum(np.exp(u) * d.dof_locations**2)
+                                    / np.sum(np.exp(u))) for d, u in
+                              zip(mdisc.discs, us, strict=True)])
+        verts = mixture_meshes(mixture, variances, cuts, spacing=spacing)
+        new = MixtureDiscretisation(mixture, verts, density, order)
+        us0 = [_extend(old, u, d) for old, u, d in zip(mdisc.discs, us, new.discs, strict=True)]
+        x0 = new.stack(us0)
+        if cooling:
+            x0 = np.concatenate([x0, x[-1:]])
+        mdisc = new
+        system = _System(mdisc, cooling)
+    if max(edges) >= TAIL_FLOOR:
+        warnings.warn(f"f_s sigma_s = {max(edges):.2e} at a cut-off is above {TAIL_FLOOR}: "
+                      "the tail is truncated; increase cutoff", ResolutionWarning,
+                      stacklevel=3)
+    return _mixture_state(mixture, density, mdisc, x, info, cooling,
+                          time.process_time() - cpu)
+
+
+def _extend(old: FEMDiscretisation, u: NDArray, new: FEMDiscretisation) -> NDArray:
+    """``u`` on a wider mesh: interpolated inside, continued linearly in |v| outside."""
+    x_old = old.dof_locations
+    keep = x_old >= 0
+    order = np.argsort(x_old[keep])
+    xs, us = x_old[keep][order], u[keep][order]
+    slope = (us[-1] - us[-2]) / (xs[-1] - xs[-2])
+    v = np.abs(new.dof_locations)
+    out = np.interp(v, xs, us)
+    far = v > xs[-1]
+    out[far] = us[-1] + slope * (v[far] - xs[-1])
+    return out
+
+
+@register_solver("fem", problem="mixture-heated")
+def solve_mixture_heated(mixture: Mixture, *, density: float = 1.0,
+                         order: int = DEFAULT_ORDER, spacing: float = DEFAULT_SPACING,
+                         cutoff: float | None = None, vertices: object = None,
+                         tol: float = 1e-11, max_iter: int = 40) -> MixtureState:
+    """Heated steady state of a mixture by Galerkin FEM and Newton's method.
+
+    Parameters
+    ----------
+    mixture : Mixture
+        Every species forced (white noise or a bath); constant restitution per pair; a
+        kernel with a compiled rate (power laws, the saturating kernel).
+    density : float
+        Total number density :math:`n > 0`.
+    order : int
+        Lagrange degree, 1, 2 or 3.
+    spacing : float
+        Bulk element size in each species' thermal velocity.
+    cutoff : float, optional
+        Half-width of each mesh in its species' thermal velocities (default: where the
+        start falls by 33 decades, widened while :math:`f_s` at the cut-off exceeds 1e-30).
+    vertices : array_like or sequence of array_like, optional
+        Explicit meshes (physical velocities; one for every species or one each),
+        symmetric with a vertex at 0; override ``spacing`` and ``cutoff``.
+    tol : float
+        Newton tolerance on the update of :math:`\\ln P_s`.
+    max_iter : int
+        Newton iteration limit.
+
+    Returns
+    -------
+    MixtureState
+        One distribution per species, :math:`T_s`, ratios, :math:`a_{2,s}`;
+        ``info.extra`` the mesh sizes and the CPU time.
+
+    Raises
+    ------
+    UnsupportedModelError
+        For a restitution law.
+    ConvergenceError
+        If Newton's method does not converge.
+
+    Examples
+    --------
+    >>> import kinetic_fem as kf
+    >>> mix = kf.Mixture.white_noise((1.0, 1.0), (0.5, 0.5), alpha=0.6, kernel=0.0)
+    >>> state = solve_mixture_heated(mix, spacing=0.5)
+    >>> round(float(state.temperatures[0]), 6)      # 4D/(n(1 - alpha^2)) = 6.25
+    6.25
+    """
+    mixture = _check_model(mixture, "the heated steady state", cooling=False)
+    density = check_positive("density", density)
+    # first from the one-species states for kernels growing at least linearly (hard rods:
+    # the gain lifts the tail far above the WKB one), from Gaussians with WKB tails for
+    # softer kernels (the Maxwell model's exponential tail does not stretch with sigma);
+    # then the other
+    first = mixture.collision_kernel.tail_growth[1] >= 1.0
+    try:
+        return _solve_state(mixture, density, False, order=order, spacing=spacing,
+                            cutoff=cutoff, vertices=vertices, tol=tol, max_iter=max_iter,
+                            one_species=first)
+    except ConvergenceError as err:
+        logger.info("heated mixture from the first start failed (%s); the other", err)
+    return _solve_state(mixture, density, False, order=order, spacing=spacing, cutoff=cutoff,
+                        vertices=vertices, tol=tol, max_iter=max_iter, one_species=not first)
+
+
+@register_solver("fem", problem="mixture-cooling")
+def solve_mixture_cooling(mixture: Mixture, *, density: float = 1.0,
+                          order: int = DEFAULT_ORDER, spacing: float = DEFAULT_SPACING,
+                          cutoff: float | None = None, vertices: object = None,
+                          tol: float = 1e-11, max_iter: int = 40) -> MixtureState:
+    """Homogeneous cooling state of a mixture (scaled, :math:`T = 1`) by FEM and Newton.
+
+    Parameters
+    ----------
+    mixture : Mixture
+        No forcing; constant restitution per pair; a power-law kernel.
+    density, order, spacing, cutoff, vertices, tol, max_iter
+        As in :func:`solve_mixture_heated`.
+
+    Returns
+    -------
+    MixtureState
+        Scaled to the mixture temperature :math:`T = 1`; ``zeta`` the common cooling
+        rate (:math:`dT/dt = -2\\zeta n T^{1+\\gamma/2}`).
+
+    Raises
+    ------
+    UnsupportedModelError
+        For a restitution law or a kernel that is not a power law.
+    ConvergenceError
+        If Newton's method does not converge.
+    """
+    mixture = _check_model(mixture, "the homogeneous cooling state", cooling=True)
+    density = check_positive("density", density)
+    options = {"order": order, "spacing": spacing, "cutoff": cutoff, "vertices": vertices,
+               "tol": tol, "max_iter": max_iter}
+    try:
+        return _solve_state(mixture, density, True, **options)  # type: ignore[arg-type]
+    except ConvergenceError as err:
+        logger.info("cooling mixture from the one-species start failed (%s); continuation "
+                    "from identical species", err)
+    return _continued(mixture, density, options)
+
+
+def _homotopy(mixture: Mixture, t: float) -> Mixture:
+    """The mixture at ``t`` on the path from identical species (``t = 0``: unit masses,
+    every pair at the mean restitution coefficient) to ``mixture`` (``t = 1``)."""
+    alpha = mixture.constant_alpha()
+    masses = tuple(float(m) ** t for m in mixture.masses)
+    table = (1.0 - t) * float(alpha.mean()) + t * alpha
+    return Mixture(masses, mixture.fractions, alpha=table.tolist(),
+                   kernel=mixture.collision_kernel, thermostats=mixture.thermostats)
+
+
+def _continued(mixture: Mixture, density: float, options: dict[str, Any]) -> MixtureState:
+    """The cooling state by continuation from identical species (:func:`_homotopy`),
+    the step halved when Newton fails and grown by half after a success."""
+    cpu = time.process_time()
+    inner = dict(options, tol=CONTINUATION_TOL)
+    state = _solve_state(_homotopy(mixture, 0.0), density, True, **inner)
+    t, step, steps = 0.0, 0.25, 0
+    while t < 1.0:
+        target = min(1.0, t + step)
+        final = target == 1.0
+        try:
+            state = _solve_state(_homotopy(mixture, target), density, True,
+                                 **(options if final else inner), start=state)
+        except ConvergenceError as err:
+            step *= 0.5
+            if step < MIN_CONTINUATION_STEP:
+                raise ConvergenceError(
+                    f"no homogeneous cooling state found for {mixture!r}: the continuation "
+                    f"from identical species stalled at t = {t:.4g} of the path to the "
+                    "mixture (masses m_s^t, alpha table interpolated); the scaled state may "
+                    "not exist (e.g. a runaway temperature ratio at disparate masses) or "
+                    f"need a finer mesh ({err})") from err
+            continue
+        t = target
+        steps += 1
+        step *= 1.5
+    assert state.info is not None
+    extra = dict(state.info.extra, continuation_steps=steps,
+                 cpu_time=time.process_time() - cpu)
+    info = replace(state.info, extra=extra)
+    return MixtureState(state.mixture, density, state.distributions, "fem", zeta=state.zeta,
+                        info=info)
