@@ -22,7 +22,6 @@ import inspect
 from collections.abc import Callable
 from typing import Any
 
-import numpy as np
 from numpy.typing import ArrayLike
 
 from .distribution import VelocityDistribution
@@ -33,48 +32,11 @@ from .mixture_evolution import MixtureEvolution, evolve_mixture
 from .model import CollisionKernel, HeatedProblem, InelasticGas, RestitutionLaw, check_positive
 from .model.mixture import Mixture
 from .model.protocol import Protocol
+from .model.validation import check_times
 from .solve import lookup_solver
 from .solvers.fem import cooling_transient, evolution  # noqa: F401  (register "fem")
 
 __all__ = ["evolve_heated", "evolve_cooling", "check_times"]
-
-
-def check_times(times: ArrayLike) -> np.ndarray:
-    """Output times as a float array: finite, >= 0, strictly increasing, not empty.
-
-    Parameters
-    ----------
-    times : array_like, shape (n_t,)
-        Output times.
-
-    Returns
-    -------
-    ndarray, shape (n_t,)
-
-    Raises
-    ------
-    ValueError
-        If ``times`` is empty, not finite, negative or not strictly increasing.
-
-    Examples
-    --------
-    >>> check_times([0, 1, 2.5])
-    array([0. , 1. , 2.5])
-    """
-    t = np.atleast_1d(np.asarray(times, dtype=float))
-    if t.ndim != 1 or t.size == 0:
-        raise ValueError(f"times must be a non-empty 1-d sequence, got shape {t.shape}")
-    if not np.all(np.isfinite(t)):
-        raise ValueError(f"times must be finite, got {t}")
-    if t[0] < 0:
-        raise ValueError(f"times must be >= 0 (the initial state is at t = 0), got {t[0]}")
-    if np.any(np.diff(t) <= 0):
-        bad = int(np.flatnonzero(np.diff(t) <= 0)[0])
-        raise ValueError(f"times must be strictly increasing; times[{bad}]={t[bad]} is "
-                         f"followed by {t[bad + 1]}")
-    if t[-1] == 0:
-        raise ValueError("times must reach beyond t = 0")
-    return t
 
 
 def _evolve_mixture(mixture: Mixture, *, heated: bool, density: float, times: ArrayLike,

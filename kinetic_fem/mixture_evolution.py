@@ -29,7 +29,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.integrate import solve_ivp
 
 from .model.mixture import Mixture
-from .model.validation import UnsupportedModelError, check_positive
+from .model.validation import UnsupportedModelError, check_positive, check_times
 
 __all__ = ["MixtureEvolution", "evolve_mixture", "MIXTURE_EVOLUTION_METHODS",
            "initial_temperatures_of"]
@@ -107,8 +107,6 @@ def initial_temperatures_of(mixture: Mixture, initial_temperature: object
 
 
 def _times(times: ArrayLike) -> NDArray[np.float64]:
-    from .evolve import check_times
-
     return check_times(times)
 
 

@@ -229,7 +229,7 @@ def evolve_sonine(alpha: float | RestitutionLaw, *, times: ArrayLike,
     ValueError
         For invalid parameters or times, or a restitution law that is not constant.
     """
-    from ..evolve import check_times
+    from ..model.validation import check_times
 
     problem = HeatedProblem.from_parameters(alpha, density=density, diffusion=diffusion,
                                             friction=friction, kernel=kernel)

@@ -11,8 +11,9 @@ import math
 import numbers
 
 import numpy as np
+from numpy.typing import ArrayLike
 
-__all__ = ["check_real", "check_alpha", "check_positive", "check_nonnegative",
+__all__ = ["check_times", "check_real", "check_alpha", "check_positive", "check_nonnegative",
            "check_finite_array", "UnsupportedModelError"]
 
 
@@ -195,3 +196,41 @@ def check_finite_array(name: str, values: object, *, ndim: int | None = None) ->
             f"{first}: {array.ravel()[first]!r}); all entries must be finite"
         )
     return array
+
+
+def check_times(times: ArrayLike) -> np.ndarray:
+    """Output times as a float array: finite, >= 0, strictly increasing, not empty.
+
+    Parameters
+    ----------
+    times : array_like, shape (n_t,)
+        Output times.
+
+    Returns
+    -------
+    ndarray, shape (n_t,)
+
+    Raises
+    ------
+    ValueError
+        If ``times`` is empty, not finite, negative or not strictly increasing.
+
+    Examples
+    --------
+    >>> check_times([0, 1, 2.5])
+    array([0. , 1. , 2.5])
+    """
+    t = np.atleast_1d(np.asarray(times, dtype=float))
+    if t.ndim != 1 or t.size == 0:
+        raise ValueError(f"times must be a non-empty 1-d sequence, got shape {t.shape}")
+    if not np.all(np.isfinite(t)):
+        raise ValueError(f"times must be finite, got {t}")
+    if t[0] < 0:
+        raise ValueError(f"times must be >= 0 (the initial state is at t = 0), got {t[0]}")
+    if np.any(np.diff(t) <= 0):
+        bad = int(np.flatnonzero(np.diff(t) <= 0)[0])
+        raise ValueError(f"times must be strictly increasing; times[{bad}]={t[bad]} is "
+                         f"followed by {t[bad + 1]}")
+    if t[-1] == 0:
+        raise ValueError("times must reach beyond t = 0")
+    return t

@@ -131,9 +131,8 @@ from .cooling_mesh import (
     hcs_vertices,
     initial_log_f,
 )
-from .cooling_newton import CoolingState, newton_cooling
+from .cooling_newton import CoolingState, cooling_recipe, newton_cooling
 from .cooling_tail import maxwell_hcs, recovered_distribution
-from .error import cooling_recipe
 from .heated import ACCURACY_REFINEMENTS, refinement_factor
 from .options import MeshOptions
 from .regimes import CoolingOptions, hump_start, link_start, solve_state, uses_hump_mesh

@@ -21,6 +21,7 @@ import functools
 import logging
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -28,12 +29,15 @@ import numpy as np
 from numpy.typing import NDArray
 from skfem import LinearForm, asm
 
+from ...distribution import VelocityDistribution
+from ...error import ErrorEstimate, ErrorRecipe, richardson_factor
 from ...operators.adaptive import PSI_Y2, element_indicator
 from ...operators.fem_transport import TransportArrays
 from ...run_info import RunInfo
 from ..newton import PseudoTransient, newton
 from .cooling_forms import cooling_forms
 from .cooling_steps import SpeculativeSystem, newton_on_step
+from .error import BISECTED_METHOD, bisected, interpolated_log
 from .heated import (
     EquilibratedLU,
     FEMDiscretisation,
@@ -46,6 +50,7 @@ from .heated import (
 from .newton import CHORD_LEVEL
 
 __all__ = ["CoolingState", "CoolingNewtonOptions", "newton_cooling", "second_moment",
+           "cooling_estimate", "cooling_recipe",
            "PSEUDO_TIME_STEP", "INCREASE_LIMIT", "MONITOR_LOG_F", "RESIDUAL_STALL", "LOG_STEP_ZETA",
            "CLOSE_DAMPING", "RESIDUAL_FLOOR", "RESIDUAL_FLOOR_REL"]
 
@@ -504,3 +509,53 @@ def newton_cooling(disc: FEMDiscretisation, u0: NDArray, zeta0: float,
                                              min_growth=MIN_GROWTH, stalled=stalled))
     return CoolingState(disc, sym @ res.x[:n_red], float(res.x[n_red]),
                         newton_info(list(res.history), tol, res.iterations, start))
+
+
+def cooling_estimate(disc: FEMDiscretisation, u: NDArray, zeta: float,
+                     build: Callable[..., VelocityDistribution]) -> ErrorEstimate:
+    """The bisected-mesh estimate of a cooling state, with :math:`\\zeta`.
+
+    Parameters
+    ----------
+    disc : FEMDiscretisation
+        The state's discretisation (scaled velocities).
+    u : ndarray
+        Its :math:`u_h = \\ln f_h`.
+    zeta : float
+        Its cooling rate.
+    build : callable
+        ``build(disc, u) -> VelocityDistribution``: how the result is made from a state
+        (the plain quadrature-point values, or the recovered tail of the Maxwell model).
+
+    Returns
+    -------
+    ErrorEstimate
+    """
+    fine = bisected(disc)
+    u_fine = interpolated_log(disc, u, fine)
+    step = newton_cooling(fine, u_fine, zeta, max_iter=1, tol=1e-300, pseudo_time=math.inf,
+                          line_search=False)
+    better = build(fine, step.u)
+    base = build(disc, u)
+    est = ErrorEstimate.from_comparison(base, better, method=BISECTED_METHOD,
+                                        factor=richardson_factor(disc.order),
+                                        zeta=(zeta, step.zeta))
+    # the scaled state has unit temperature by construction (a constraint of Newton's
+    # system): its error is the constraint's residual, not the step's second-order one
+    return replace(est, temperature=abs(base.temperature - 1.0))
+
+
+def cooling_recipe(disc: FEMDiscretisation, u: NDArray, zeta: float,
+                   build: Callable[..., VelocityDistribution]) -> ErrorRecipe:
+    """The :class:`~kinetic_fem.error.ErrorRecipe` of a cooling state (see
+    :func:`cooling_estimate`).
+
+    Parameters
+    ----------
+    disc, u, zeta, build
+        As in :func:`cooling_estimate`.
+    """
+    def compute(dist: Any) -> ErrorEstimate:
+        return cooling_estimate(disc, u, zeta, build)
+
+    return ErrorRecipe(compute, BISECTED_METHOD)

@@ -19,16 +19,15 @@ dofs, paid when ``dist.error`` is first read.
 
 Heated states: :func:`heated_estimate` (the Newton of
 :func:`kinetic_fem.solvers.fem.newton.newton_steady`, one iteration); cooling states:
-:func:`cooling_estimate` (:func:`kinetic_fem.solvers.fem.cooling_newton.newton_cooling`,
-one undamped Newton step, with :math:`\\zeta`).
+:func:`kinetic_fem.solvers.fem.cooling_newton.cooling_estimate` (beside the Newton it
+steps, one undamped step of :func:`~kinetic_fem.solvers.fem.cooling_newton.newton_cooling`,
+with :math:`\\zeta`).
 """
 
 from __future__ import annotations
 
 import logging
-import math
 from dataclasses import replace
-from typing import Any, Callable
 
 import numpy as np
 from numpy.typing import NDArray
@@ -39,7 +38,7 @@ from ...operators.fem_discretisation import FEMDiscretisation
 from .newton import newton_steady
 
 __all__ = ["bisected", "interpolated_log", "heated_estimate", "heated_recipe",
-           "cooling_estimate", "cooling_recipe", "BISECTED_METHOD"]
+           "BISECTED_METHOD"]
 
 logger = logging.getLogger(__name__)
 
@@ -124,55 +123,3 @@ def heated_recipe(disc: FEMDiscretisation, u: NDArray) -> ErrorRecipe:
         Its :math:`u_h = \\ln P_h`.
     """
     return ErrorRecipe(lambda dist: heated_estimate(disc, u, dist), BISECTED_METHOD)
-
-
-def cooling_estimate(disc: FEMDiscretisation, u: NDArray, zeta: float,
-                     build: Callable[..., VelocityDistribution]) -> ErrorEstimate:
-    """The bisected-mesh estimate of a cooling state, with :math:`\\zeta`.
-
-    Parameters
-    ----------
-    disc : FEMDiscretisation
-        The state's discretisation (scaled velocities).
-    u : ndarray
-        Its :math:`u_h = \\ln f_h`.
-    zeta : float
-        Its cooling rate.
-    build : callable
-        ``build(disc, u) -> VelocityDistribution``: how the result is made from a state
-        (the plain quadrature-point values, or the recovered tail of the Maxwell model).
-
-    Returns
-    -------
-    ErrorEstimate
-    """
-    from .cooling_newton import newton_cooling  # (imports fem: not at module level)
-
-    fine = bisected(disc)
-    u_fine = interpolated_log(disc, u, fine)
-    step = newton_cooling(fine, u_fine, zeta, max_iter=1, tol=1e-300, pseudo_time=math.inf,
-                          line_search=False)
-    better = build(fine, step.u)
-    base = build(disc, u)
-    est = ErrorEstimate.from_comparison(base, better, method=BISECTED_METHOD,
-                                        factor=richardson_factor(disc.order),
-                                        zeta=(zeta, step.zeta))
-    # the scaled state has unit temperature by construction (a constraint of Newton's
-    # system): its error is the constraint's residual, not the step's second-order one
-    return replace(est, temperature=abs(base.temperature - 1.0))
-
-
-def cooling_recipe(disc: FEMDiscretisation, u: NDArray, zeta: float,
-                   build: Callable[..., VelocityDistribution]) -> ErrorRecipe:
-    """The :class:`~kinetic_fem.error.ErrorRecipe` of a cooling state (see
-    :func:`cooling_estimate`).
-
-    Parameters
-    ----------
-    disc, u, zeta, build
-        As in :func:`cooling_estimate`.
-    """
-    def compute(dist: Any) -> ErrorEstimate:
-        return cooling_estimate(disc, u, zeta, build)
-
-    return ErrorRecipe(compute, BISECTED_METHOD)
