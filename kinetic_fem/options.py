@@ -4,9 +4,9 @@ A solver takes the options that belong together (a mesh's degree, spacing and cu
 Newton's tolerance and iteration limit) as one frozen dataclass, and still takes each of
 them by keyword, as users pass them (``kf.solve_heated(0.5, spacing=0.2)``).  One rule
 turns the keywords into the object and refuses the names it does not know
-(:func:`gather`); :func:`option_names` lists every name a function takes, its own
-parameters and the fields of its option objects, for the command line's check of
-``-o KEY=VALUE``.
+(:func:`gather`; :func:`gather_groups` for several objects); :func:`option_names` lists
+every name a function takes, its own parameters and the fields of its option objects,
+for the command line's check of ``-o KEY=VALUE``.
 """
 
 from __future__ import annotations
@@ -14,10 +14,10 @@ from __future__ import annotations
 import dataclasses
 import inspect
 import typing
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any, TypeVar
 
-__all__ = ["gather", "option_names"]
+__all__ = ["gather", "gather_groups", "option_names"]
 
 T = TypeVar("T")
 
@@ -73,9 +73,64 @@ def gather(cls: type[T], given: T | None, keywords: Mapping[str, Any], where: st
     return dataclasses.replace(given, **keywords)  # type: ignore[type-var]
 
 
+def gather_groups(groups: Sequence[tuple[type, Any]], keywords: Mapping[str, Any],
+                  where: str) -> tuple[Any, ...]:
+    """:func:`gather` for a function with several option objects: each keyword goes to
+    the first group with a field of its name.
+
+    Parameters
+    ----------
+    groups : sequence of (dataclass type, given or None)
+        The options' classes, each with the object passed (None: its defaults).
+    keywords : mapping
+        Fields of any of the classes passed by keyword.
+    where : str
+        The function's name, for the message.
+
+    Returns
+    -------
+    tuple
+        One object per group, in order.
+
+    Raises
+    ------
+    TypeError
+        For a keyword that is no group's field, naming the allowed ones.
+
+    Examples
+    --------
+    >>> @dataclasses.dataclass(frozen=True)
+    ... class Grid:
+    ...     spacing: float = 0.1
+    >>> @dataclasses.dataclass(frozen=True)
+    ... class Steps:
+    ...     dt: float = 1.0
+    >>> gather_groups(((Grid, None), (Steps, Steps(dt=2.0))), {"spacing": 0.2}, "run")
+    (Grid(spacing=0.2), Steps(dt=2.0))
+    >>> gather_groups(((Grid, None), (Steps, None)), {"dx": 0.2}, "run")
+    Traceback (most recent call last):
+    ...
+    TypeError: run() got an unexpected keyword argument 'dx'; its options are ['spacing', 'dt']
+    """
+    fields = [[f.name for f in dataclasses.fields(cls)] for cls, _ in groups]
+    allowed = [name for names in fields for name in names]
+    unknown = [name for name in keywords if name not in allowed]
+    if unknown:
+        raise TypeError(f"{where}() got an unexpected keyword argument {unknown[0]!r}; its "
+                        f"options are {allowed}")
+    out = []
+    taken: set[str] = set()
+    for (cls, given), names in zip(groups, fields, strict=True):
+        mine = {k: v for k, v in keywords.items() if k in names and k not in taken}
+        taken |= set(mine)
+        out.append(gather(cls, given, mine, where))
+    return tuple(out)
+
+
 def option_names(function: Callable[..., Any]) -> list[str] | None:
     """The keywords ``function`` takes: its named parameters, and for a ``**keywords``
-    parameter the fields of its dataclass-typed parameters.
+    parameter the fields of its dataclass-typed parameters that have a default (its
+    option objects).
 
     Parameters
     ----------
@@ -99,7 +154,10 @@ def option_names(function: Callable[..., Any]) -> list[str] | None:
         hints = typing.get_type_hints(function)
     except Exception:  # noqa: BLE001 (unresolvable annotations: no names to add)
         return None
-    groups = [arg for name in names for arg in typing.get_args(hints.get(name)) or
+    # option objects are the dataclass-typed parameters with a default (a required one,
+    # such as the problem, is an argument, not a group of keywords)
+    optional = [n for n in names if params[n].default is not params[n].empty]
+    groups = [arg for name in optional for arg in typing.get_args(hints.get(name)) or
               (hints.get(name),) if dataclasses.is_dataclass(arg) and isinstance(arg, type)]
     if not groups:
         return None

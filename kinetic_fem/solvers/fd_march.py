@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -27,13 +28,55 @@ from scipy.linalg import solve_banded
 
 from ..operators.collision import HalfGrid, gain_term, loss_frequency
 from ..operators.grid import moments
+from ..options import gather_groups
 from ..sonine import relaxation_time
-from .fd_newton import drift, laplacian
+from .fd_newton import FDOperator, drift, laplacian
 
-__all__ = ["MarchResult", "march", "even_moments", "F_FLOOR"]
+__all__ = ["MarchOptions", "MarchResult", "march", "even_moments", "F_FLOOR"]
 
 F_FLOOR = 1e-30
 """Values of f(c) above which the tails are required to be resolved (claim C16)."""
+
+
+@dataclass(frozen=True)
+class MarchOptions:
+    """How the finite-difference scheme marches in time (unit problem ``n = D = 1``).
+
+    Parameters
+    ----------
+    dt : float, optional
+        Time step; :func:`march` needs it, the solver
+        (:func:`kinetic_fem.solvers.finite_difference.solve_fd_heated`) takes
+        ``courant / nu_max`` without it.
+    courant : float
+        :math:`\\delta t\\,\\nu_{max}` when ``dt`` is not given (the solver's).
+    implicit_loss : bool
+        Treat :math:`\\nu_i P_i` implicitly (positive for any ``dt``).
+    tol : float
+        Steady when :math:`\\tau \\max|\\partial_t \\ln P| <` ``tol`` over the nodes with
+        :math:`f > 10^{-30}`.
+    max_time : float, optional
+        Longest marching time (default: none for :func:`march`, 200 relaxation times for
+        the solver).
+    max_steps : int
+        Most time steps.
+    progress : bool
+        Show a progress bar.
+
+    Examples
+    --------
+    >>> MarchOptions(dt=0.01, implicit_loss=True)  # doctest: +NORMALIZE_WHITESPACE
+    MarchOptions(dt=0.01, courant=0.5, implicit_loss=True, tol=1e-10, max_time=None,
+                 max_steps=1000000, progress=False)
+    """
+
+    dt: float | None = None
+    courant: float = 0.5
+    implicit_loss: bool = False
+    tol: float = 1e-10
+    max_time: float | None = None
+    max_steps: int = 10**6
+    progress: bool = False
 
 
 @dataclass(frozen=True)
@@ -92,12 +135,10 @@ def _log_change_rate(p_new: NDArray[np.float64], p_old: NDArray[np.float64], dt:
     return float(np.max(np.abs(np.log(p_new[mask] / p_old[mask])))) / dt
 
 
-def march(grid: HalfGrid, p0: NDArray[np.float64], *, alpha: float, dt: float,
-          implicit_loss: bool = False, log_interp: bool = True, order: int = 2,
-          tol: float = 1e-10,
-          max_time: float = math.inf, max_steps: int = 10**6, stop: bool = True,
-          record_dt: float | None = None, progress: bool = False, gamma: float = 1.0,
-          friction: float = 0.0, tau: float | None = None) -> MarchResult:
+def march(grid: HalfGrid, p0: NDArray[np.float64], operator: FDOperator | None = None,
+          options: MarchOptions | None = None, *, stop: bool = True,
+          record_dt: float | None = None, tau: float | None = None,
+          **keywords: Any) -> MarchResult:
     """March the unit problem (``n = D = 1``) from ``p0`` with constant step ``dt``.
 
     Parameters
@@ -105,37 +146,45 @@ def march(grid: HalfGrid, p0: NDArray[np.float64], *, alpha: float, dt: float,
     grid : HalfGrid
     p0 : ndarray, shape (n,)
         Positive initial distribution on the half grid (normalised here).
-    alpha : float
-        Restitution coefficient.
-    dt : float
-        Time step (unit problem).
-    implicit_loss : bool
-        Treat :math:`\\nu_i P_i` implicitly (positive for any ``dt``).
-    log_interp, order : bool, int
-        See :func:`kinetic_fem.operators.collision.gain_term`.
-    tol : float
-        Steady when :math:`\\tau \\max|\\partial_t \\ln P| <` ``tol`` over the nodes with
-        :math:`f > 10^{-30}`, :math:`\\tau` the relaxation time
-        (:func:`kinetic_fem.sonine.relaxation_time`).
-    max_time, max_steps : float, int
-        Limits of the run.
+    operator : FDOperator, optional
+        The model (``alpha``, ``gamma`` 1 or 0, bath ``friction``) and the gain term's
+        interpolation (``log_interp``, ``order``: see
+        :func:`kinetic_fem.operators.collision.gain_term`); ``alpha`` required, here or
+        by keyword.
+    options : MarchOptions, optional
+        ``dt`` (required, here or by keyword), ``implicit_loss``, ``tol`` (steady when
+        :math:`\\tau \\max|\\partial_t \\ln P| <` ``tol`` over the nodes with
+        :math:`f > 10^{-30}`), ``max_time`` (default: none), ``max_steps``, ``progress``.
     stop : bool
         Stop at the steady state (``False``: run to ``max_time``, for transients).
     record_dt : float, optional
         Interval of the recorded series ``t, temperature, a2, rate`` (default
         :math:`\\tau/20`).
-    gamma, friction : float
-        Kernel exponent (1 or 0) and bath friction :math:`\\xi'` of the unit problem.
     tau : float, optional
         Relaxation time of the stopping criterion (default
         :func:`kinetic_fem.sonine.relaxation_time`, the hard-rod white-noise scale).
+    **keywords
+        Fields of :class:`FDOperator` and of :class:`MarchOptions`, over ``operator`` and
+        ``options``.
 
     Raises
     ------
+    TypeError
+        For a keyword that is neither an operator nor a marching option, or no
+        ``alpha`` or ``dt``.
     ValueError
         If an explicit step has :math:`\\delta t\\,\\nu_{max} > 1` or the cell Peclet
         number of the bath drift exceeds 1 (either could make :math:`P` negative).
     """
+    op, opts = gather_groups(((FDOperator, operator), (MarchOptions, options)), keywords,
+                             "march")
+    if opts.dt is None:
+        raise TypeError("march() needs the time step dt (by keyword or in MarchOptions)")
+    alpha, gamma, friction = op.alpha, op.gamma, op.friction
+    log_interp, order = op.log_interp, op.order
+    dt, implicit_loss, tol, max_steps, progress = (opts.dt, opts.implicit_loss, opts.tol,
+                                                   opts.max_steps, opts.progress)
+    max_time = math.inf if opts.max_time is None else opts.max_time
     tau = relaxation_time(alpha) if tau is None else tau
     record_dt = tau / 20.0 if record_dt is None else record_dt
     w = grid.half_weights

@@ -33,12 +33,46 @@ from numpy.typing import NDArray
 
 from ..operators.collision import HalfGrid, gain_term, kernel_power, loss_frequency
 from ..operators.fd_kernels import gain_jacobian
+from ..options import gather
 from .newton import NewtonReport, NewtonResult, newton
 
-__all__ = ["FDSteadyState", "laplacian", "drift", "steady_residual", "collision_jacobian",
-           "newton_steady", "update_factor", "UNDERFLOW"]
+__all__ = ["FDOperator", "FDSteadyState", "laplacian", "drift", "steady_residual",
+           "collision_jacobian", "newton_steady", "update_factor", "UNDERFLOW"]
 
 UNDERFLOW = 1e-290
+
+
+@dataclass(frozen=True)
+class FDOperator:
+    """The discrete operator of the unit problem (``n = D = 1``): the model and the
+    interpolation of the gain term, the options that :func:`newton_steady` and
+    :func:`kinetic_fem.solvers.fd_march.march` share.
+
+    Parameters
+    ----------
+    alpha : float
+        Coefficient of restitution.
+    gamma : float
+        Kernel exponent, 1 or 0.
+    friction : float
+        Bath friction :math:`\\xi` of the unit problem (0: white noise).
+    log_interp : bool
+        Interpolate :math:`\\ln P` (not :math:`P`) at the pre-collision velocities.
+    order : int
+        Order of that interpolation, 2 or 3
+        (:func:`kinetic_fem.operators.collision.gain_term`).
+
+    Examples
+    --------
+    >>> FDOperator(0.5, order=3)
+    FDOperator(alpha=0.5, gamma=1.0, friction=0.0, log_interp=True, order=3)
+    """
+
+    alpha: float
+    gamma: float = 1.0
+    friction: float = 0.0
+    log_interp: bool = True
+    order: int = 2
 
 
 def update_factor(y: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -230,10 +264,9 @@ class FDSteadyState(NewtonReport):
     newton: NewtonResult
 
 
-def newton_steady(grid: HalfGrid, p0: NDArray[np.float64], *, alpha: float,
-                  log_interp: bool = True, order: int = 2, tol: float = 1e-10,
-                  max_iter: int = 60, monitor_floor: float = 1e-50, gamma: float = 1.0,
-                  friction: float = 0.0) -> FDSteadyState:
+def newton_steady(grid: HalfGrid, p0: NDArray[np.float64], operator: FDOperator | None = None,
+                  *, tol: float = 1e-10, max_iter: int = 60, monitor_floor: float = 1e-50,
+                  **operator_keywords: Any) -> FDSteadyState:
     """Solve :math:`R(P,\\lambda) = 0`, :math:`\\sum w P = 1` from ``p0`` (positive).
 
     The shared driver :func:`kinetic_fem.solvers.newton.newton` runs on
@@ -248,12 +281,9 @@ def newton_steady(grid: HalfGrid, p0: NDArray[np.float64], *, alpha: float,
         The half grid :math:`v_i = i h \\ge 0`.
     p0 : ndarray, shape (n,)
         Positive start (a Gaussian is enough for every alpha tried, 0 to 0.9999).
-    alpha : float
-        Coefficient of restitution.
-    log_interp : bool
-        Interpolate :math:`\\ln P` (not :math:`P`) at the pre-collision velocities.
-    order : int
-        Order of that interpolation.
+    operator : FDOperator, optional
+        The model and the gain term's interpolation (``alpha`` required, here or by
+        keyword).
     tol : float
         Converged when the largest relative Newton update is below ``tol`` on the
         monitored nodes.
@@ -263,13 +293,22 @@ def newton_steady(grid: HalfGrid, p0: NDArray[np.float64], *, alpha: float,
         Nodes with :math:`f = \\sqrt{T} P >` ``monitor_floor`` are monitored for
         convergence (20 decades below the resolved 1e-30); deeper, under-resolved
         tail nodes are updated but do not hold up convergence.
-    gamma, friction : float
-        Kernel exponent (1 or 0) and bath friction of the unit problem.
+    **operator_keywords
+        Fields of :class:`FDOperator` (``alpha``, ``gamma``, ``friction``,
+        ``log_interp``, ``order``), over ``operator``.
 
     Returns
     -------
     FDSteadyState
+
+    Raises
+    ------
+    TypeError
+        For a keyword that is not a field of :class:`FDOperator`, or no ``alpha``.
     """
+    op = gather(FDOperator, operator, operator_keywords, "newton_steady")
+    alpha, gamma, friction = op.alpha, op.gamma, op.friction
+    log_interp, order = op.log_interp, op.order
     w = grid.half_weights
     n = grid.n
     cache: dict[str, object] = {}

@@ -83,7 +83,7 @@ import logging
 import math
 import time
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -95,14 +95,15 @@ from ..exceptions import ConvergenceWarning
 from ..gas import HeatedProblem, check_positive
 from ..model import FokkerPlanckBath, UnsupportedModelError, WhiteNoise
 from ..operators.collision import HalfGrid, half_grid, pair_moment
+from ..options import gather_groups
 from ..solve import register_solver
-from .fd_march import F_FLOOR, MarchResult, even_moments, march
-from .fd_newton import newton_steady
+from .fd_march import F_FLOOR, MarchOptions, MarchResult, even_moments, march
+from .fd_newton import FDOperator, newton_steady
 from .fd_scales import UnitModel, default_cutoff
 from .richardson import richardson_log
 
 __all__ = ["ConvergenceWarning", "default_cutoff", "march", "MarchResult", "solve_fd_heated",
-           "F_FLOOR", "ORDER"]
+           "FDScheme", "FDOperator", "MarchOptions", "F_FLOOR", "ORDER"]
 
 logger = logging.getLogger(__name__)
 
@@ -128,6 +129,51 @@ def _check_resolution(grid: HalfGrid, p: NDArray[np.float64], temperature: float
 
 
 @dataclass(frozen=True)
+class FDScheme:
+    """The discretisation of :func:`solve_fd_heated`: its grids and its gain term.
+
+    Parameters
+    ----------
+    spacing : float, optional
+        Grid spacing :math:`\\delta v` of the coarsest grid, in units of the estimated
+        :math:`\\sqrt{T}`; default 0.08, finer near elastic collisions
+        (:meth:`kinetic_fem.solvers.fd_scales.UnitModel.spacing`: 0.043 at alpha = 0.99,
+        0.02 from alpha = 0.992 on).
+    cutoff : float, optional
+        Cut-off in units of :math:`\\sqrt{T}`, rounded up to a multiple of ``spacing``
+        (so that halving the spacing nests the grids); default from the model
+        (:class:`kinetic_fem.solvers.fd_scales.UnitModel`; :func:`default_cutoff` for hard
+        rods under white noise).
+    richardson : {2, 1, 0} or bool
+        Levels of Richardson extrapolation: 2 (default) combines ``spacing``,
+        ``spacing/2``, ``spacing/4``; 1 or ``True`` the first two; 0 or ``False`` one
+        grid (second order, no error estimate).  The cost of Newton grows as
+        :math:`(1/\\delta v)^3`: the grid of ``spacing/4`` dominates.
+    log_interp : bool
+        Interpolate :math:`\\ln P` (default) or :math:`P` at the gain-term argument.
+    interpolation_order : {3, 2}
+        Cubic on four nodes (default) or quadratic on the three nearest nodes (the
+        paper).  The interpolation error of the gain term is amplified by
+        :math:`1/\\varepsilon` in the energy balance, and the quadratic one is not a
+        smooth function of the spacing (the stencil jumps with the argument), so
+        Richardson does not remove it: at alpha = 0.99 the extrapolated quadratic
+        result misses T by 1.7e-5 while its estimate says 1.3e-7 (cubic: 2e-8).
+
+    Examples
+    --------
+    >>> FDScheme(spacing=0.1, richardson=0)  # doctest: +NORMALIZE_WHITESPACE
+    FDScheme(spacing=0.1, cutoff=None, richardson=0, log_interp=True,
+             interpolation_order=3)
+    """
+
+    spacing: float | None = None
+    cutoff: float | None = None
+    richardson: bool | int = 2
+    log_interp: bool = True
+    interpolation_order: int = 3
+
+
+@dataclass(frozen=True)
 class _UnitSolution:
     grid: HalfGrid
     p: NDArray[np.float64]
@@ -135,10 +181,8 @@ class _UnitSolution:
     series: dict[str, NDArray[np.float64]]
 
 
-def _solve_unit(model: UnitModel, *, spacing: float, intervals: int, steady: str,
-                dt: float | None, courant: float, implicit_loss: bool, log_interp: bool,
-                order: int, tol: float, max_time: float | None, max_steps: int,
-                initial_temperature: float, progress: bool,
+def _solve_unit(model: UnitModel, operator: FDOperator, marching: MarchOptions, *,
+                spacing: float, intervals: int, steady: str, initial_temperature: float,
                 start: NDArray[np.float64] | None = None) -> _UnitSolution:
     """Steady state of the unit problem on one grid (``start``: a guess on this grid)."""
     t_start = time.perf_counter()
@@ -150,15 +194,13 @@ def _solve_unit(model: UnitModel, *, spacing: float, intervals: int, steady: str
     extra: dict[str, float | int | str] = {"n_v_half": n_v, "dv": grid.h,
                                            "cutoff_v": float(grid.v[-1]), "steady": steady}
     nu_bound = grid.v[-1] + math.sqrt(max(t0, 2.0 * temp_est)) if gamma == 1.0 else 1.0
-    model_kw: dict[str, Any] = dict(alpha=alpha, log_interp=log_interp, order=order,
-                                    gamma=gamma, friction=xi)
     series: dict[str, NDArray[np.float64]] = {}
     info: dict[str, Any]
     warm = None
     if steady == "newton" and start is not None:
         # a finer grid of a Richardson sequence, started from the coarser solution; if
         # that start is too rough (an under-resolved coarse tail), start afresh
-        warm = newton_steady(grid, start, monitor_floor=_MONITOR_TAIL, max_iter=15, **model_kw)
+        warm = newton_steady(grid, start, operator, monitor_floor=_MONITOR_TAIL, max_iter=15)
         if not warm.converged:
             logger.debug("fd: Newton from the coarser grid failed (%s); cold start",
                          warm.message)
@@ -175,17 +217,17 @@ def _solve_unit(model: UnitModel, *, spacing: float, intervals: int, steady: str
         # the start underflows stay at zero in the first Newton solve
         c = grid.v / math.sqrt(t0)
         p_start = np.exp(-0.5 * c**2 - (c / 3.0) ** 4)
-        bulk = newton_steady(grid, p_start, monitor_floor=_MONITOR_BULK, **model_kw)
+        bulk = newton_steady(grid, p_start, operator, monitor_floor=_MONITOR_BULK)
         # the deep tail (below 1e-50) is slaved to the bulk and relaxes at the large
         # local rate nu(v): a few implicit steps settle it, then Newton polishes all
         # (skipped where the bath drift makes the implicit step lose its M-matrix)
         polish = None
         if 0.5 * xi * grid.v[-1] * grid.h <= 1.0:
-            polish = march(grid, bulk.p, dt=_POLISH_COURANT / nu_bound, implicit_loss=True,
-                           tol=0.0, max_steps=_POLISH_STEPS, stop=False,
-                           tau=model.relaxation_time, **model_kw)
-        res = newton_steady(grid, bulk.p if polish is None else polish.p,
-                            monitor_floor=_MONITOR_TAIL, **model_kw)
+            polish = march(grid, bulk.p, operator, dt=_POLISH_COURANT / nu_bound,
+                           implicit_loss=True, tol=0.0, max_steps=_POLISH_STEPS, stop=False,
+                           tau=model.relaxation_time)
+        res = newton_steady(grid, bulk.p if polish is None else polish.p, operator,
+                            monitor_floor=_MONITOR_TAIL)
         p = res.p
         extra["mass_defect_rate"] = float(res.multiplier)
         extra["newton_iterations"] = f"{bulk.iterations} (f > 1e-50) + {res.iterations} (all)"
@@ -193,17 +235,17 @@ def _solve_unit(model: UnitModel, *, spacing: float, intervals: int, steady: str
         info = dict(converged=res.converged, iterations=bulk.iterations + res.iterations,
                     residual=res.residual, message=res.message)
     else:
+        dt, implicit_loss = marching.dt, marching.implicit_loss
         if dt is None:
-            dt = courant / nu_bound
+            dt = marching.courant / nu_bound
         elif not implicit_loss and dt * nu_bound > 1.0:
             raise ValueError(f"dt={dt:.3g} is too large for an explicit collision step: "
                              f"dt*nu_max can reach {dt * nu_bound:.3g} > 1 and make P negative. "
                              f"Use dt <= {0.5 / nu_bound:.3g} or implicit_loss=True")
         tau = model.relaxation_time
-        marched = march(grid, np.exp(-grid.v**2 / (2.0 * t0)), dt=dt,
-                        implicit_loss=implicit_loss, tol=tol,
-                        max_time=200.0 * tau if max_time is None else max_time,
-                        max_steps=max_steps, progress=progress, tau=tau, **model_kw)
+        max_time = 200.0 * tau if marching.max_time is None else marching.max_time
+        marched = march(grid, np.exp(-grid.v**2 / (2.0 * t0)), operator,
+                        replace(marching, dt=dt, max_time=max_time), tau=tau)
         p, series = marched.p, marched.series
         extra["dt"] = dt
         info = dict(converged=marched.converged, iterations=marched.steps,
@@ -263,13 +305,9 @@ def _richardson_levels(richardson: bool | int) -> int:
 
 
 @register_solver("fd", problem="heated")
-def solve_fd_heated(problem: HeatedProblem, *, spacing: float | None = None,
-                    cutoff: float | None = None,
-                    steady: str = "newton", richardson: bool | int = 2, dt: float | None = None,
-                    courant: float = 0.5, implicit_loss: bool = False, log_interp: bool = True,
-                    interpolation_order: int = 3, tol: float = 1e-10, max_time: float | None = None,
-                    max_steps: int = 10**6, initial_temperature: float = 1.0,
-                    progress: bool = False) -> VelocityDistribution:
+def solve_fd_heated(problem: HeatedProblem, *, scheme: FDScheme | None = None,
+                    marching: MarchOptions | None = None, steady: str = "newton",
+                    initial_temperature: float = 1.0, **keywords: Any) -> VelocityDistribution:
     """Heated steady state by the paper's finite-difference scheme.
 
     A second-order method; the default extrapolates over three grids (module
@@ -280,50 +318,24 @@ def solve_fd_heated(problem: HeatedProblem, *, spacing: float | None = None,
     problem : HeatedProblem
         Constant restitution, kernel ``gamma`` 1 or 0, white noise or a Fokker-Planck
         bath.
-    spacing : float, optional
-        Grid spacing :math:`\\delta v` of the coarsest grid, in units of the estimated
-        :math:`\\sqrt{T}`; default 0.08, finer near elastic collisions
-        (:meth:`kinetic_fem.solvers.fd_scales.UnitModel.spacing`: 0.043 at alpha = 0.99, 0.02
-        from alpha = 0.992 on).
-    cutoff : float, optional
-        Cut-off in units of :math:`\\sqrt{T}`, rounded up to a multiple of ``spacing``
-        (so that halving the spacing nests the grids); default from the model
-        (:class:`kinetic_fem.solvers.fd_scales.UnitModel`; :func:`default_cutoff` for hard
-        rods under white noise).
+    scheme : FDScheme, optional
+        The discretisation: ``spacing``, ``cutoff``, ``richardson``, ``log_interp``,
+        ``interpolation_order`` (:class:`FDScheme`).
+    marching : MarchOptions, optional
+        The time marching of ``steady="march"``: ``dt`` (of the coarsest grid, divided by
+        4 per halving; default ``courant / nu_max``), ``courant`` (must be ``<= 1``
+        without ``implicit_loss``), ``implicit_loss``, ``tol``, ``max_time`` (default 200
+        relaxation times), ``max_steps``, ``progress``
+        (:class:`kinetic_fem.solvers.fd_march.MarchOptions`).
     steady : {"newton", "march"}
         Newton on the discrete steady equations, or time marching (the paper); both
         reach the same discrete steady state.
-    richardson : {2, 1, 0} or bool
-        Levels of Richardson extrapolation: 2 (default) combines ``spacing``,
-        ``spacing/2``, ``spacing/4``; 1 or ``True`` the first two; 0 or ``False`` one
-        grid (second order, no error estimate).  The cost of Newton grows as
-        :math:`(1/\\delta v)^3`: the grid of ``spacing/4`` dominates.
-    dt : float, optional
-        Time step of the unit problem on the coarsest grid (divided by 4 per halving);
-        default ``courant / nu_max``.
-    courant : float
-        :math:`\\delta t\\, \\nu_{max}` when ``dt`` is not given; must be ``<= 1``.
-    implicit_loss : bool
-        Implicit loss term (positive for any ``dt``).
-    log_interp : bool
-        Interpolate :math:`\\ln P` (default) or :math:`P` at the gain-term argument.
-    interpolation_order : {3, 2}
-        Cubic on four nodes (default) or quadratic on the three nearest nodes (the
-        paper).  The interpolation error of the gain term is amplified by
-        :math:`1/\\varepsilon` in the energy balance, and the quadratic one is not a
-        smooth function of the spacing (the stencil jumps with the argument), so
-        Richardson does not remove it: at alpha = 0.99 the extrapolated quadratic
-        result misses T by 1.7e-5 while its estimate says 1.3e-7 (cubic: 2e-8).
-    tol : float
-        Stopping criterion :math:`\\tau\\max|\\partial_t\\ln P| <` ``tol`` of the marching.
-    max_time : float, optional
-        Longest marching time of the unit problem (default 200 relaxation times).
-    max_steps : int
-        Most time steps.
     initial_temperature : float
         Temperature of the Gaussian start in units of the estimate.
-    progress : bool
-        Show a progress bar (marching).
+    **keywords
+        Any field of ``scheme`` or ``marching`` by keyword, over those objects
+        (``kf.solve_heated(0.5, method="fd", spacing=0.1, richardson=0)``); an unknown
+        name raises :class:`TypeError`.
 
     Returns
     -------
@@ -337,6 +349,8 @@ def solve_fd_heated(problem: HeatedProblem, *, spacing: float | None = None,
 
     Raises
     ------
+    TypeError
+        For a keyword that is neither a scheme nor a marching option.
     ValueError
         For a spacing above 0.25 or a cut-off below 4 (in units of sqrt(T)), an unknown
         ``steady`` or ``richardson``, or a time step that breaks positivity.
@@ -350,6 +364,8 @@ def solve_fd_heated(problem: HeatedProblem, *, spacing: float | None = None,
     >>> round(d.a2, 3), d.info.extra["order"]
     (0.058, 2)
     """
+    sch, marching = gather_groups(((FDScheme, scheme), (MarchOptions, marching)), keywords,
+                                  "solve_fd_heated")
     if problem.gas.restitution.constant is None:
         raise UnsupportedModelError(
             f"the paper's FD method needs a constant restitution coefficient (its gain term "
@@ -357,6 +373,9 @@ def solve_fd_heated(problem: HeatedProblem, *, spacing: float | None = None,
             f"alpha), got {problem.gas.restitution!r}; use method='fem'")
     problem.require("fd", gammas=(0.0, 1.0), constant_restitution=True,
                     thermostats=(WhiteNoise, FokkerPlanckBath))
+    spacing, cutoff, richardson = sch.spacing, sch.cutoff, sch.richardson
+    log_interp, interpolation_order = sch.log_interp, sch.interpolation_order
+    courant, implicit_loss, tol = marching.courant, marching.implicit_loss, marching.tol
     model = UnitModel.from_problem(problem)
     spacing = model.spacing() if spacing is None else check_positive("spacing", spacing)
     if spacing > 0.25:
@@ -378,19 +397,19 @@ def solve_fd_heated(problem: HeatedProblem, *, spacing: float | None = None,
                          "step; use courant <= 1 or implicit_loss=True")
     initial_temperature = check_positive("initial_temperature", initial_temperature)
     check_positive("tol", tol)
+    marching = replace(marching, courant=courant)
+    operator = FDOperator(model.alpha, gamma=model.gamma, friction=model.friction,
+                          log_interp=log_interp, order=interpolation_order)
     # the cut-off is rounded up to a multiple of the spacing, so that the grids of
     # spacing/2 and spacing/4 (Richardson) have exactly 2 and 4 times as many intervals
     intervals = int(math.ceil(cutoff / spacing - 1e-9))
-    options: dict[str, Any] = dict(
-        steady=steady, courant=courant, implicit_loss=implicit_loss, log_interp=log_interp,
-        order=interpolation_order, tol=tol, max_time=max_time, max_steps=max_steps,
-        initial_temperature=initial_temperature, progress=progress)
     sols: list[_UnitSolution] = []
     for k in range(levels + 1):
         start = _refine(sols[-1]) if sols and steady == "newton" else None
-        sols.append(_solve_unit(model, spacing=spacing / 2**k, intervals=intervals * 2**k,
-                                dt=None if dt is None else dt / 4**k, start=start,
-                                **options))
+        level = marching if marching.dt is None else replace(marching, dt=marching.dt / 4**k)
+        sols.append(_solve_unit(model, operator, level, spacing=spacing / 2**k,
+                                intervals=intervals * 2**k, steady=steady,
+                                initial_temperature=initial_temperature, start=start))
     sol = sols[0]
     grid = sol.grid
     extra: dict[str, object] = {**sol.info.extra, "order": ORDER, "richardson": levels,

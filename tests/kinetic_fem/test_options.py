@@ -7,10 +7,11 @@ import dataclasses
 import numpy as np
 import pytest
 
-from kinetic_fem.options import gather, option_names
+from kinetic_fem.options import gather, gather_groups, option_names
 from kinetic_fem.solvers.fem.cooling import solve_fem_cooling
 from kinetic_fem.solvers.fem.heated import solve_fem_heated, steady_state
 from kinetic_fem.solvers.fem.options import MeshOptions
+from kinetic_fem.solvers.finite_difference import FDScheme, MarchOptions, solve_fd_heated
 
 
 @dataclasses.dataclass(frozen=True)
@@ -26,6 +27,22 @@ def test_gather_merges_keywords_over_the_object():
         gather(_Opts, None, {"c": 1}, "f")
     with pytest.raises(TypeError, match="as a _Opts"):
         gather(_Opts, {"a": 1}, {}, "f")
+
+
+def test_gather_groups_sends_each_keyword_to_its_object():
+    first, second = gather_groups(((_Opts, None), (FDScheme, FDScheme(spacing=0.1))),
+                                  {"a": 3, "richardson": 0}, "f")
+    assert first == _Opts(a=3) and second == FDScheme(spacing=0.1, richardson=0)
+    with pytest.raises(TypeError, match=r"'c'; its options are \['a', 'b', 'spacing'"):
+        gather_groups(((_Opts, None), (FDScheme, None)), {"c": 1}, "f")
+
+
+def test_option_names_list_the_fd_fields_not_the_problem_fields():
+    names = set(option_names(solve_fd_heated) or ())
+    fields = {f.name for cls in (FDScheme, MarchOptions) for f in dataclasses.fields(cls)}
+    assert fields | {"scheme", "marching", "steady", "initial_temperature"} <= names
+    assert not {"gas", "thermostat"} & names  # the problem is an argument, not options
+    assert "gas" not in (option_names(solve_fem_heated) or ())
 
 
 def test_option_names_list_the_mesh_fields():

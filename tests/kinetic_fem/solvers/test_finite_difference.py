@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 import kinetic_fem as kf
+import kinetic_fem.solvers.fd_newton as fd_newton
 import kinetic_fem.solvers.finite_difference as fd
 from kinetic_fem.operators.collision import energy_balance, half_grid
 from kinetic_fem.operators.fd_kernels import gain_integral, gain_jacobian
@@ -212,6 +213,41 @@ def test_bad_options(options, match):
 def test_misspelt_option():
     with pytest.raises(TypeError):
         solve(0.5, spaceing=0.1)
+
+
+def test_option_objects_and_keywords_give_the_same_result():
+    """The scheme and the marching as objects (issue 26) or by keyword: one computation."""
+    with pytest.warns(fd.ConvergenceWarning):  # 40 steps: not steady, the same 40 steps
+        by_keywords = solve(0.5, spacing=0.2, cutoff=12.0, steady="march", max_steps=40,
+                            implicit_loss=True, dt=0.05)
+    with pytest.warns(fd.ConvergenceWarning):
+        by_objects = kf.solve_heated(
+            0.5, method="fd", steady="march",
+            scheme=fd.FDScheme(spacing=0.2, cutoff=12.0, richardson=0, interpolation_order=2),
+            marching=fd.MarchOptions(max_steps=40, implicit_loss=True), dt=0.05)
+    np.testing.assert_array_equal(by_keywords.values, by_objects.values)
+    assert by_objects.info.iterations == 40
+    with pytest.raises(TypeError, match=r"'spaceing'; its options are \['spacing'"):
+        solve(0.5, spaceing=0.1)
+    with pytest.raises(TypeError, match="as a FDScheme"):
+        solve(0.5, scheme={"spacing": 0.1})
+
+
+def test_march_and_newton_take_the_operator():
+    grid = half_grid(12.0, 61)
+    p0 = np.exp(-grid.v**2 / 2)
+    op = fd.FDOperator(0.5, order=3)
+    by_object = fd.march(grid, p0, op, fd.MarchOptions(dt=0.01, max_steps=5))
+    by_keywords = fd.march(grid, p0, alpha=0.5, order=3, dt=0.01, max_steps=5)
+    np.testing.assert_array_equal(by_object.p, by_keywords.p)
+    assert by_object.steps == 5
+    with pytest.raises(TypeError, match="time step dt"):
+        fd.march(grid, p0, op)
+    with pytest.raises(TypeError, match="'alpha'"):
+        fd.march(grid, p0, dt=0.01)
+    newton = fd_newton.newton_steady(grid, p0, op, max_iter=2)
+    again = fd_newton.newton_steady(grid, p0, alpha=0.5, order=3, max_iter=2)
+    np.testing.assert_array_equal(newton.p, again.p)
 
 
 def test_bad_alpha():
