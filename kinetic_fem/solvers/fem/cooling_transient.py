@@ -267,7 +267,8 @@ def evolve_cooling_fem(gas: InelasticGas, *, times: NDArray, initial: VelocityDi
     unit[0] = math.sqrt(t0)
     tol = default_newton_tol(rtol) if newton_tol is None else newton_tol
     opt = TransientOptions(rtol, 1e-9 / rate_in_units(1.0), order, spacing, cutoff,
-                           first_step, max_step, max_steps, tol, max_newton)
+                           first_step, max_step, max_steps, tol, max_newton,
+                           moment_norm=False)
     # error per collision time (as evolve_heated): the mean free time at the segment's
     # temperature ``temp`` (in units V^2)
     integ = BDF2(discretise(build_mesh(c_cut, h_el), 0.0), coefficients, options=opt,

@@ -431,7 +431,7 @@ class BDF2(TimeIntegrator):
         tail = self.tail_closure(u0)
         idx, in1, in2, coef = tail
         sym, forms, stats, tol = self.sym, self.forms, self.stats, self.opt.newton_tol
-        weights = self.newton_weights(u0)
+        weights = self.newton_weights(u0) if self.opt.moment_norm else None
 
         def on_line(ur: NDArray) -> NDArray:
             if idx.size:   # the tail on its line (a linear update would miss it)
@@ -455,8 +455,11 @@ class BDF2(TimeIntegrator):
                         break
                     delta = -lu.solve(f)
                     # in units of the tolerances: moments (newton_tol), every dof (TAIL_TOL)
-                    size = max(float(np.max(weights @ np.abs(delta))) / tol,
-                               float(np.abs(delta).max()) / TAIL_TOL)
+                    if weights is None:   # the largest update of ln P
+                        size = float(np.abs(delta).max()) / tol
+                    else:
+                        size = max(float(np.max(weights @ np.abs(delta))) / tol,
+                                   float(np.abs(delta).max()) / TAIL_TOL)
                     if not math.isfinite(size):
                         break
                     u = sym @ on_line(u[self.keep] + log_update(delta))
