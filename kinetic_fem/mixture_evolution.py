@@ -87,6 +87,17 @@ def initial_temperatures_of(mixture: Mixture, initial_temperature: object
                             ) -> NDArray[np.float64]:
     """:math:`T_s(0)` from None (1 for every species), a float or one value per species.
 
+    Parameters
+    ----------
+    mixture : Mixture
+        The mixture (its number of species).
+    initial_temperature : None, float or sequence of float
+        The initial temperatures.
+
+    Returns
+    -------
+    ndarray, shape (k,)
+
     Raises
     ------
     ValueError, TypeError

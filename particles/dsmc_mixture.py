@@ -133,7 +133,19 @@ def _standard_error(batches: NDArray[np.float64]) -> NDArray[np.float64] | float
 
 
 def species_counts(mixture: Mixture, n_particles: object) -> NDArray[np.int64]:
-    """Rods per species, ``n_particles * x_s``, checked to be whole numbers >= 2."""
+    """Rods per species, ``n_particles * x_s``, checked to be whole numbers >= 2.
+
+    Parameters
+    ----------
+    mixture : Mixture
+        The mixture (its number fractions).
+    n_particles : int
+        Total number of particles.
+
+    Returns
+    -------
+    ndarray of int64, shape (k,)
+    """
     if isinstance(n_particles, bool) or not isinstance(n_particles, (int, np.integer)):
         raise TypeError(f"n_particles must be an integer, got {n_particles!r}")
     n = int(n_particles)

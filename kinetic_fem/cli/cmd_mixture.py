@@ -66,12 +66,33 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
 
 
 def interrupt_note(args: argparse.Namespace) -> str:
-    """What Ctrl-C leaves behind: nothing (a mixture run writes no files)."""
+    """What Ctrl-C leaves behind: nothing (a mixture run writes no files).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line.
+
+    Returns
+    -------
+    str
+    """
     return "nothing was written"
 
 
 def run(args: argparse.Namespace) -> int:
-    """Read the mixture, compute its state, print one line per species."""
+    """Read the mixture, compute its state, print one line per species.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line (``file``, ``method`` and the run options).
+
+    Returns
+    -------
+    int
+        The exit status.
+    """
     from ..mixture_file import read_mixture
     from ..mixture_solve import solve_mixture
 

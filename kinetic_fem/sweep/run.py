@@ -70,6 +70,17 @@ def summarize_mixture(result: Any, c: NDArray[np.float64] = C_GRID
     NaN; the species' :math:`T_s`, :math:`a_{2,s}` and the ratio :math:`T_1/T_2` with
     the standard errors of a sampled run (``temperature_errors``, ``a2_errors``,
     ``temperature_ratio_error()``; NaN for a deterministic one).
+
+    Parameters
+    ----------
+    result : object
+        A mixture result (``mixture``, ``temperatures``, ``a2``, ...).
+    c : ndarray
+        The velocity grid of the record's ``f`` (NaN for a mixture).
+
+    Returns
+    -------
+    dict of str to ndarray
     """
     k = result.mixture.n_species
     nan_k = np.full(k, np.nan)
