@@ -63,7 +63,7 @@ def test_sonine_item_checks_c3(tmp_path):
     assert (tmp_path / "S1_a2_first_order.png").stat().st_size > 1000
 
 
-def test_quick_mode_warnings_are_summarised_once(tmp_path, capsys, caplog):
+def test_quick_mode_warnings_are_summarised_once(tmp_path, capsys, caplog, monkeypatch):
     """Quick mode: an item's warnings are not printed; its rows say they are estimates.
 
     The markdown table shortens the note; the summary at its end names the rows once;
@@ -81,7 +81,10 @@ def test_quick_mode_warnings_are_summarised_once(tmp_path, capsys, caplog):
 
     root = logging.getLogger()
     handler = logging.StreamHandler()  # as a CLI would install
-    root.addHandler(handler)
+    # only this handler: one left by an earlier test of the same process (bound to a
+    # capture stream that is closed by now) would print a logging error here
+    monkeypatch.setattr(root, "handlers", [handler])
+    monkeypatch.setattr(logging.getLogger("particles"), "handlers", [])
     before = {name: list(logging.getLogger(name).handlers) for name in ("particles", "")}
     try:
         ctx = Context(out=tmp_path / "q", quick=True)
