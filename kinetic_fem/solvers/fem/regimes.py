@@ -1,7 +1,7 @@
 """The regimes of the FEM cooling state: one table that reads as the dispatch (issue 26).
 
 :func:`kinetic_fem.solvers.fem.cooling.cooling_state` solves the scaled homogeneous
-cooling state (module notes of :mod:`.cooling`) by the one regime of
+cooling state (module notes of :mod:`kinetic_fem.solvers.fem.cooling`) by the one regime of
 :data:`REGIMES` that applies to the problem and its options: each regime is a small
 class with ``applies(problem, options)`` (the regimes are a partition: exactly one
 applies to every power-law kernel, restitution coefficient and set of options,
