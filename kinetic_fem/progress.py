@@ -12,11 +12,12 @@ from __future__ import annotations
 
 import sys
 import threading
+import time
 from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
 from typing import Any
 
-__all__ = ["interactive", "resolve_progress", "progress_bar", "ticking"]
+__all__ = ["interactive", "resolve_progress", "progress_bar", "ticking", "working"]
 
 
 def _in_notebook() -> bool:
@@ -117,10 +118,12 @@ def ticking(bar: Any, interval: float = 1.0) -> Iterator[Any]:
         The bar.
     """
     stop = threading.Event()
+    shown_from = getattr(bar, "start_t", 0.0) + getattr(bar, "delay", 0.0)
 
     def tick() -> None:
         while not stop.wait(interval):
-            bar.refresh()
+            if time.time() >= shown_from:  # a bar with ``delay`` stays hidden until then
+                bar.refresh()
 
     thread = None
     if not getattr(bar, "disable", True):
@@ -132,3 +135,36 @@ def ticking(bar: Any, interval: float = 1.0) -> Iterator[Any]:
         stop.set()
         if thread is not None:
             thread.join()
+
+
+@contextmanager
+def working(desc: str, progress: bool | None, delay: float = 2.0,
+            interval: float = 1.0) -> Iterator[Any]:
+    """A bar without a total for one long call: its name and a moving clock.
+
+    Shown only if the call is still running after ``delay`` seconds (a quick call prints
+    nothing), and only when ``progress`` asks for it (:func:`resolve_progress`).
+
+    Parameters
+    ----------
+    desc : str
+        What runs (the bar's text).
+    progress : bool or None
+        See :func:`resolve_progress`.
+    delay : float
+        Seconds before the bar appears.
+    interval : float
+        Seconds between refreshes of its clock.
+
+    Yields
+    ------
+    tqdm.tqdm
+        The bar (closed when the block ends).
+    """
+    bar = progress_bar(progress=progress, desc=desc, total=None, delay=delay,
+                       bar_format="{desc}: {elapsed}")
+    try:
+        with ticking(bar, interval):
+            yield bar
+    finally:
+        bar.close()

@@ -18,6 +18,7 @@ from typing import Any, Callable
 from . import limits
 from .model import CollisionKernel, CoolingProblem, HeatedProblem, RestitutionLaw
 from .model.mixture import Mixture
+from .progress import resolve_progress, working
 
 __all__ = ["SOLVERS", "PROBLEM_KINDS", "HEATED_SOLVERS", "COOLING_SOLVERS",
            "TRANSIENT_HEATED_SOLVERS", "TRANSIENT_COOLING_SOLVERS", "register_solver",
@@ -117,7 +118,7 @@ def _solve_mixture(kind: str, mixture: Mixture, method: str, density: float,
 def solve_heated(alpha: float | RestitutionLaw | Mixture, *, density: float = 1.0,
                  diffusion: float = 1.0, friction: float = 0.0,
                  kernel: float | CollisionKernel = 1.0, method: str = "fem",
-                 **options: Any) -> Any:
+                 progress: bool | None = None, **options: Any) -> Any:
     """Steady state of the heated inelastic gas.
 
     Parameters
@@ -138,6 +139,10 @@ def solve_heated(alpha: float | RestitutionLaw | Mixture, *, density: float = 1.
         every kernel, the other methods power laws).
     method : str
         Registry key: ``"fem"`` (Galerkin, Newton), ``"fd"`` (the paper's iteration), ...
+    progress : bool, optional
+        A line with the solve's name and a moving clock on stderr if the solve is still
+        running after 2 s (near-elastic states, fine meshes); default (None): when the
+        session is interactive (:mod:`kinetic_fem.progress`).
     **options
         Passed to the solver; see its documentation.
 
@@ -173,21 +178,24 @@ def solve_heated(alpha: float | RestitutionLaw | Mixture, *, density: float = 1.
     >>> round(kf.sonine.a2_first_order(0.6), 4)
     0.032
     """
+    resolve_progress(progress)  # a bad value fails before any work
     if isinstance(alpha, Mixture):
-        return _solve_mixture("heated", alpha, method, density,
-                              {"diffusion": (diffusion, 1.0), "friction": (friction, 0.0),
-                               "kernel": (kernel, 1.0)}, options)
+        with working(f"solve_heated (mixture, {method})", progress):
+            return _solve_mixture("heated", alpha, method, density,
+                                  {"diffusion": (diffusion, 1.0), "friction": (friction, 0.0),
+                                   "kernel": (kernel, 1.0)}, options)
     problem = HeatedProblem.from_parameters(alpha, density=density, diffusion=diffusion,
                                             friction=friction, kernel=kernel)
     solver = _lookup(HEATED_SOLVERS, method, "heated")
     limits.check_frontier(problem, method, options)
     limits.check_scale(problem)
-    return limits.check_result(solver(problem, **options))
+    with working(f"solve_heated ({method})", progress):
+        return limits.check_result(solver(problem, **options))
 
 
 def solve_cooling(alpha: float | RestitutionLaw | Mixture, *, density: float = 1.0,
                   kernel: float | CollisionKernel = 1.0, method: str = "fem",
-                  **options: Any) -> Any:
+                  progress: bool | None = None, **options: Any) -> Any:
     """Homogeneous cooling state in scaled variables (see :func:`solve_heated`).
 
     The result has unit temperature; its cooling rate :math:`\\zeta`, defined by
@@ -206,6 +214,8 @@ def solve_cooling(alpha: float | RestitutionLaw | Mixture, *, density: float = 1
         Collision kernel :math:`|g|^\\gamma` (homogeneous kernels only).
     method : str
         ``"fem"`` (default), ``"fd"`` or ``"spectral"``.
+    progress : bool, optional
+        As for :func:`solve_heated`.
     **options
         Passed to the method (see its solver function).
 
@@ -221,12 +231,15 @@ def solve_cooling(alpha: float | RestitutionLaw | Mixture, *, density: float = 1
     >>> round(hcs.temperature, 10), round(hcs.info.extra["zeta"], 8), round(hcs.a2, 7)
     (1.0, 0.43556748, 0.1610182)
     """
+    resolve_progress(progress)  # a bad value fails before any work
     if isinstance(alpha, Mixture):
-        return _solve_mixture("cooling", alpha, method, density, {"kernel": (kernel, 1.0)},
-                              options)
+        with working(f"solve_cooling (mixture, {method})", progress):
+            return _solve_mixture("cooling", alpha, method, density,
+                                  {"kernel": (kernel, 1.0)}, options)
     problem = CoolingProblem.from_parameters(alpha, density=density, kernel=kernel)
     solver = _lookup(COOLING_SOLVERS, method, "cooling")
     limits.check_frontier(problem, method, options)
     # the Maxwell model's cooling state has a c^-4 tail: no finite <c^4> to resolve
-    return limits.check_result(solver(problem, **options),
-                               check_tail=not problem.gas.kernel.is_maxwell)
+    with working(f"solve_cooling ({method})", progress):
+        return limits.check_result(solver(problem, **options),
+                                   check_tail=not problem.gas.kernel.is_maxwell)

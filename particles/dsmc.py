@@ -115,6 +115,7 @@ from kinetic_fem.model import (
     RestitutionLaw,
     check_positive,
 )
+from kinetic_fem.progress import resolve_progress
 from kinetic_fem.sonine import a2_first_order
 
 from ._dsmc_engine import DSMCOptions, DSMCRun, Engine
@@ -161,7 +162,8 @@ def _common(n_particles: int, collisions_per_particle: float, relax: str | float
             sample_every: float, average_every: str | float, n_batches: int, bins: int,
             c_max: float,
             checkpoint: str | Path | None, checkpoint_every: float, resume: bool,
-            max_wall_time: float | None, progress: bool, w: float) -> dict[str, Any]:
+            max_wall_time: float | None, progress: bool | None,
+            w: float) -> dict[str, Any]:
     """Validate the run options shared by both problems; ``w``: :func:`_window`."""
     n = _check_int("n_particles", n_particles, 2, 2**32 - 1)
     cpp = check_positive("collisions_per_particle", collisions_per_particle)
@@ -203,7 +205,7 @@ def _common(n_particles: int, collisions_per_particle: float, relax: str | float
             "average_every": average_every if average_every == "auto" else float(average_every),
             "bins": _check_int("bins", bins, 1),
             "window": max(10, int(math.ceil(w / every))), "checkpointing": ck,
-            "progress": bool(progress)}
+            "progress": resolve_progress(progress)}
 
 
 def _window(gas: InelasticGas, temperature: float, friction: float = 0.0) -> float:
@@ -276,7 +278,7 @@ def simulate_heated(alpha: float | RestitutionLaw, n_particles: int, *, density:
                     initial_velocities: ArrayLike | None = None,
                     checkpoint: str | Path | None = None, checkpoint_every: float = 300.0,
                     resume: bool = False, max_wall_time: float | None = None,
-                    progress: bool = False) -> DSMCRun:
+                    progress: bool | None = None) -> DSMCRun:
     """DSMC steady state of the gas driven by white noise or a Fokker-Planck bath.
 
     Parameters
@@ -336,8 +338,9 @@ def simulate_heated(alpha: float | RestitutionLaw, n_particles: int, *, density:
         ``resume=True`` continue from the file if it exists (bit-identical).
     max_wall_time : float, optional
         Stop after this many seconds (checkpoint written; ``info.message`` says so).
-    progress : bool
-        tqdm progress bar over the averaging samples.
+    progress : bool, optional
+        tqdm progress bar over the averaging samples; default (None): shown when the
+        session is interactive (a terminal or a notebook).
 
     Returns
     -------
@@ -419,7 +422,7 @@ def simulate_cooling(alpha: float | RestitutionLaw, n_particles: int, *, density
                      c_max: float = 6.0, initial_velocities: ArrayLike | None = None,
                      checkpoint: str | Path | None = None, checkpoint_every: float = 300.0,
                      resume: bool = False, max_wall_time: float | None = None,
-                     progress: bool = False) -> DSMCRun:
+                     progress: bool | None = None) -> DSMCRun:
     """DSMC of the freely cooling gas: Haff's law and the homogeneous cooling state.
 
     Parameters are those of :func:`simulate_heated` without ``diffusion``, ``friction``

@@ -48,6 +48,7 @@ from kinetic_fem.mixture_evolution import MixtureEvolution, initial_temperatures
 from kinetic_fem.mixture_state import SpeciesTemperatures
 from kinetic_fem.model import check_positive
 from kinetic_fem.model.mixture import Mixture
+from kinetic_fem.progress import resolve_progress
 
 from ._dsmc_mixture_kernels import collide_block
 
@@ -176,7 +177,7 @@ def simulate_mixture(mixture: Mixture, n_particles: int, *, density: float = 1.0
                      seed: int | np.random.SeedSequence | None = None,
                      collisions_per_particle: float = 200.0, relax: float = 50.0,
                      options: MixtureDSMCOptions | None = None,
-                     progress: bool = False) -> MixtureRun:
+                     progress: bool | None = None) -> MixtureRun:
     """DSMC steady state (forced species) or scaled cooling state of a mixture.
 
     Parameters
@@ -195,8 +196,9 @@ def simulate_mixture(mixture: Mixture, n_particles: int, *, density: float = 1.0
         Collisions per rod before measuring (the initial Gaussians relax to the state).
     options : MixtureDSMCOptions, optional
         Step size, sampling cadence, batches, histogram.
-    progress : bool
-        Show a progress bar (tqdm).
+    progress : bool, optional
+        Show a progress bar (tqdm); default (None): shown when the session is
+        interactive (a terminal or a notebook).
 
     Returns
     -------
@@ -248,7 +250,8 @@ def simulate_mixture(mixture: Mixture, n_particles: int, *, density: float = 1.0
     done = 0.0  # collisions per rod so far
     next_sample = relax
     n_collisions = 0
-    bar = tqdm(total=total, disable=not progress, unit="coll/rod", leave=False)
+    bar = tqdm(total=total, disable=not resolve_progress(progress), unit="coll/rod",
+               leave=False)
     while done < total:
         dt = opts.collisions_per_step / (density * _mean_rate(v, species, mixture, gamma))
         loss, new, carry = rods.step(v, dt, carry, pair_counts, rng)

@@ -98,6 +98,7 @@ from kinetic_fem.model import (
     RestitutionLaw,
     check_positive,
 )
+from kinetic_fem.progress import resolve_progress
 
 from ._md_engine import EngineOptions, InelasticCollapseError, Kicks, MDEngine
 from ._md_run import (
@@ -179,7 +180,7 @@ def simulate_heated(alpha: float | RestitutionLaw, n_particles: int, *, density:
                     sample_interval: float = 1.0, n_batches: int = 10, n_bins: int = 240,
                     snapshots_at: Sequence[float] = (), n_records: int = 200,
                     box_counts: Sequence[int] | None = None, positions: ArrayLike | None = None,
-                    velocities: ArrayLike | None = None, progress: bool = False,
+                    velocities: ArrayLike | None = None, progress: bool | None = None,
                     checkpoint: str | Path | None = None, checkpoint_every: float = 300.0,
                     resume: bool = False, max_wall_time: float | None = None,
                     collapse_tol: float = 1e-12, max_stall: int | None = None) -> MDRun:
@@ -237,8 +238,9 @@ def simulate_heated(alpha: float | RestitutionLaw, n_particles: int, *, density:
     positions, velocities : array_like, optional
         Initial rod left ends and velocities (default random, Gaussian at the
         temperature estimate).
-    progress : bool
-        tqdm progress bar.
+    progress : bool, optional
+        tqdm progress bar; default (None): shown when the session is interactive (a
+        terminal or a notebook).
     checkpoint, checkpoint_every, resume : path, float, bool
         Write the state every ``checkpoint_every`` seconds (at the next record or
         sample) and at the end; with ``resume=True`` continue from the file if it
@@ -323,7 +325,7 @@ def simulate_heated(alpha: float | RestitutionLaw, n_particles: int, *, density:
                    snapshots_at=_check_snapshots(snapshots_at, cpp), n_records=n_records,
                    box_counts=boxes, sample_dt=sample_dt)
     return run_md(params, seed=seed, y=y, v=v, rng=rng, options=options, plan=plan,
-                  checkpointing=ck, progress=progress)
+                  checkpointing=ck, progress=resolve_progress(progress))
 
 
 def simulate_cooling(alpha: float | RestitutionLaw, n_particles: int, *, density: float = 1.0,
@@ -335,7 +337,7 @@ def simulate_cooling(alpha: float | RestitutionLaw, n_particles: int, *, density
                      c_max: float = 8.0, n_records: int = 200,
                      box_counts: Sequence[int] | None = None, temperature0: float = 1.0,
                      positions: ArrayLike | None = None, velocities: ArrayLike | None = None,
-                     progress: bool = False, checkpoint: str | Path | None = None,
+                     progress: bool | None = None, checkpoint: str | Path | None = None,
                      checkpoint_every: float = 300.0, resume: bool = False,
                      max_wall_time: float | None = None, collapse_tol: float = 1e-12,
                      max_stall: int | None = None) -> MDRun:
@@ -408,4 +410,4 @@ checkpoint_every, resume, max_wall_time, collapse_tol, max_stall
                    snapshots_at=tuple(float(s) for s in snapshots_at), n_records=n_records,
                    box_counts=boxes)
     return run_md(params, seed=seed, y=y, v=v, rng=rng, options=options, plan=plan,
-                  checkpointing=ck, progress=progress)
+                  checkpointing=ck, progress=resolve_progress(progress))

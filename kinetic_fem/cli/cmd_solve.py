@@ -81,7 +81,9 @@ def _arguments(parser: argparse.ArgumentParser, table: dict, method: str, *, hea
                         default=[], metavar="KEY=VALUE",
                         help=f"solver option, repeatable, e.g. -o {example}; an unknown KEY "
                              "lists the method's valid options")
-    parser.add_argument("--quiet", action="store_true", help="no log messages")
+    parser.add_argument("--quiet", action="store_true",
+                        help="no log messages and no progress line (otherwise a solve still "
+                             "running after 2 s shows its name and a clock)")
 
 
 def interrupt_note(args: argparse.Namespace) -> str:
@@ -133,7 +135,7 @@ def run_heated(args: argparse.Namespace) -> int:
     alpha = restitution_of(args)
     dist = solve_heated(alpha, density=args.density, diffusion=args.diffusion,
                         friction=args.friction, kernel=args.kernel, method=args.method,
-                        **options)
+                        progress=not args.quiet, **options)
     print(f"method={dist.method or args.method} alpha={alpha} density={args.density} "
           f"diffusion={args.diffusion} friction={args.friction} kernel={args.kernel}")
     print(f"T = {dist.temperature:.10g}")
@@ -157,7 +159,7 @@ def run_cooling(args: argparse.Namespace) -> int:
     options = _prepare(args, COOLING_SOLVERS, "cooling")
     alpha = restitution_of(args)
     dist = solve_cooling(alpha, density=args.density, kernel=args.kernel, method=args.method,
-                         **options)
+                         progress=not args.quiet, **options)
     print(f"method={dist.method or args.method} alpha={alpha} density={args.density} "
           f"kernel={args.kernel} (scaled state, T = 1)")
     print(f"zeta = {dist.info.extra['zeta']:.10g}  (dT/dt = -2 zeta n T^(1+gamma/2))")

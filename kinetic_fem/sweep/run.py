@@ -358,8 +358,12 @@ def sweep(function: Callable[..., Any], grid: Mapping[str, Any], *,
     logger.info("sweep of %s: %d point(s), %d stored, %d to compute", manifest["function"],
                 len(points), len(records), len(todo))
     if todo:
-        calls = [{k: v for k, v in p.items() if not (replica and k == "replica")}
-                 for p in points]
+        # the sweep's bar counts the points: a function with a bar of its own (DSMC, MD,
+        # evolve, solve) runs quiet unless the caller asked for its bar
+        quiet = ({"progress": False} if _takes(function, "progress")
+                 and "progress" not in fixed and "progress" not in coords else {})
+        calls = [{**{k: v for k, v in p.items() if not (replica and k == "replica")},
+                  **quiet} for p in points]
         _compute(function, points, calls, seeds, fixed, todo, keys, records, db, executor,
                  progress)
     return _dataset(coords, points, records, seeds, manifest, store, derive)
