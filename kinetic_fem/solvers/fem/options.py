@@ -39,11 +39,18 @@ class MeshOptions:
         Explicit symmetric vertices (overrides ``spacing`` and ``cutoff``).
     intorder : int, optional
         Gauss degree (default ``2 * order + 1``).
+    grading : float, optional
+        Tail grading :math:`\\kappa \\ge 0` of the heated solver's mesh: elements of
+        size :math:`h_0 \\max(1, |c|/3)^\\kappa`
+        (:func:`~kinetic_fem.solvers.fem.grading.graded_vertices`); 0 a uniform mesh;
+        default: from the model's scales, :math:`(3 - \\gamma)/3` for the tail
+        :math:`\\ln f \\sim -c^\\gamma` (uniform for the paper's model).  The cooling
+        state's meshes follow its regimes and refuse it.
 
     Examples
     --------
     >>> MeshOptions(order=3, spacing=0.2)
-    MeshOptions(order=3, spacing=0.2, cutoff=None, vertices=None, intorder=None)
+    MeshOptions(order=3, spacing=0.2, cutoff=None, vertices=None, intorder=None, grading=None)
     """
 
     order: int | None = None
@@ -51,6 +58,7 @@ class MeshOptions:
     cutoff: float | None = None
     vertices: ArrayLike | None = field(default=None, compare=False)
     intorder: int | None = None
+    grading: float | None = None
 
 
 @dataclass(frozen=True)
