@@ -7,7 +7,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from kinetic_fem.evolution_error import default_rtol
+from kinetic_fem.evolution_error import RTOL_RATIO, default_rtol, rerun_recipe
 from kinetic_fem.evolve import evolve_cooling, evolve_heated
 from kinetic_fem.options import gather, gather_groups, option_default, option_names
 from kinetic_fem.solve import lookup_solver
@@ -95,6 +95,16 @@ def test_transient_drivers_take_their_options_as_one_object_or_by_keyword():
     by_object = evolve_cooling(0.8, times=times, options=CoolingEvolveOptions(
         spacing=0.5, rtol=1e-3, rescale=3.0))
     np.testing.assert_array_equal(by_keywords.values, by_object.values)
+    # the error estimate reruns at a tighter rtol than the object's (a stand-in rerun)
+    asked = []
+
+    def rerun(**options):
+        asked.append(options)
+        return by_object
+
+    options = {"options": CoolingEvolveOptions(rtol=1e-3)}
+    assert rerun_recipe(rerun, cooling, options)(by_object).rtol == 1e-3
+    assert asked[0]["rtol"] == 1e-3 / RTOL_RATIO
     with pytest.raises(TypeError, match="'spacnig'; its CoolingEvolveOptions options"):
         evolve_cooling(0.8, times=times, spacnig=0.5)
     with pytest.raises(TypeError, match="'rescale'; its EvolveOptions options"):
