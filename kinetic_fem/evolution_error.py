@@ -24,7 +24,7 @@ times the steps), paid on first read; a solve costs nothing extra.
 
 from __future__ import annotations
 
-import inspect
+import dataclasses
 import logging
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -34,6 +34,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .error import ErrorEstimate
+from .options import option_default
 
 __all__ = ["EvolutionError", "RTOL_RATIO", "TIGHTER_METHOD", "rerun_recipe"]
 
@@ -159,10 +160,11 @@ def default_rtol(solver: Callable[..., Any]) -> float:
     solver : callable
         A registered transient solver.
     """
-    param = inspect.signature(solver).parameters.get("rtol")
-    if param is None or param.default is inspect.Parameter.empty:
-        raise TypeError(f"{getattr(solver, '__name__', solver)!r} has no default rtol")
-    return float(param.default)
+    try:
+        return float(option_default(solver, "rtol"))  # a parameter or an option's field
+    except KeyError:
+        raise TypeError(f"{getattr(solver, '__name__', solver)!r} has no default rtol"
+                        ) from None
 
 
 def rerun_recipe(run: Callable[..., Any], solver: Callable[..., Any],
@@ -183,7 +185,10 @@ def rerun_recipe(run: Callable[..., Any], solver: Callable[..., Any],
     callable
     """
     def compute(ev: Any) -> EvolutionError:
-        rtol = float(options.get("rtol", default_rtol(solver)))
+        # rtol by keyword, else that of an options object passed, else the default
+        given = [o.rtol for o in options.values()
+                 if dataclasses.is_dataclass(o) and hasattr(o, "rtol")]
+        rtol = float(options.get("rtol", given[0] if given else default_rtol(solver)))
         logger.info("error estimate of an evolution: rerun at rtol=%g", rtol / RTOL_RATIO)
         better = run(**{**options, "rtol": rtol / RTOL_RATIO})
         return EvolutionError.from_comparison(ev, better, rtol=rtol)

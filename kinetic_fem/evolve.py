@@ -33,6 +33,7 @@ from .model import CollisionKernel, HeatedProblem, InelasticGas, RestitutionLaw,
 from .model.mixture import Mixture
 from .model.protocol import Protocol
 from .model.validation import check_times
+from .options import option_names
 from .solve import lookup_solver
 from .solvers.fem import cooling_transient, evolution  # noqa: F401  (register "fem")
 
@@ -282,6 +283,6 @@ def evolve_cooling(alpha: float | RestitutionLaw, *, density: float = 1.0,
 def _with_error(ev: Evolution, run: Callable[..., Evolution], solver: Callable[..., Any],
                 options: dict[str, Any]) -> Evolution:
     """``ev`` with its lazy error estimate (:mod:`kinetic_fem.evolution_error`)."""
-    if "rtol" not in options and "rtol" not in inspect.signature(solver).parameters:
+    if "rtol" not in options and "rtol" not in (option_names(solver) or ()):
         return ev   # a method without a tolerance: no estimate from it
     return ev.with_error(rerun_recipe(run, solver, dict(options)))

@@ -6,7 +6,8 @@ them by keyword, as users pass them (``kf.solve_heated(0.5, spacing=0.2)``).  On
 turns the keywords into the object and refuses the names it does not know
 (:func:`gather`; :func:`gather_groups` for several objects); :func:`option_names` lists
 every name a function takes, its own parameters and the fields of its option objects,
-for the command line's check of ``-o KEY=VALUE``.
+for the command line's check of ``-o KEY=VALUE``; :func:`option_default` gives the default
+of one of them.
 """
 
 from __future__ import annotations
@@ -17,7 +18,7 @@ import typing
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any, TypeVar
 
-__all__ = ["gather", "gather_groups", "option_names"]
+__all__ = ["gather", "gather_groups", "option_names", "option_default"]
 
 T = TypeVar("T")
 
@@ -127,6 +128,20 @@ def gather_groups(groups: Sequence[tuple[type, Any]], keywords: Mapping[str, Any
     return tuple(out)
 
 
+def _option_groups(function: Callable[..., Any]) -> list[type] | None:
+    """The option objects' classes of ``function``: its dataclass-typed parameters with a
+    default (a required one, such as the problem, is an argument, not a group of
+    keywords); None if its annotations cannot be resolved."""
+    params = inspect.signature(function).parameters
+    try:
+        hints = typing.get_type_hints(function)
+    except Exception:  # noqa: BLE001 (unresolvable annotations: no names to add)
+        return None
+    optional = [n for n, p in params.items() if p.default is not p.empty]
+    return [arg for name in optional for arg in typing.get_args(hints.get(name)) or
+            (hints.get(name),) if dataclasses.is_dataclass(arg) and isinstance(arg, type)]
+
+
 def option_names(function: Callable[..., Any]) -> list[str] | None:
     """The keywords ``function`` takes: its named parameters, and for a ``**keywords``
     parameter the fields of its dataclass-typed parameters that have a default (its
@@ -150,17 +165,49 @@ def option_names(function: Callable[..., Any]) -> list[str] | None:
              if p.kind in (p.KEYWORD_ONLY, p.POSITIONAL_OR_KEYWORD)}
     if not any(p.kind is p.VAR_KEYWORD for p in params.values()):
         return sorted(names)
-    try:
-        hints = typing.get_type_hints(function)
-    except Exception:  # noqa: BLE001 (unresolvable annotations: no names to add)
-        return None
-    # option objects are the dataclass-typed parameters with a default (a required one,
-    # such as the problem, is an argument, not a group of keywords)
-    optional = [n for n in names if params[n].default is not params[n].empty]
-    groups = [arg for name in optional for arg in typing.get_args(hints.get(name)) or
-              (hints.get(name),) if dataclasses.is_dataclass(arg) and isinstance(arg, type)]
+    groups = _option_groups(function)
     if not groups:
         return None
     for group in groups:
         names |= {f.name for f in dataclasses.fields(group)}
     return sorted(names)
+
+
+def option_default(function: Callable[..., Any], name: str) -> Any:
+    """The default of the keyword ``name`` of ``function``: of its parameter of that
+    name, else of the field of that name of its first option object that has one.
+
+    Parameters
+    ----------
+    function : callable
+    name : str
+
+    Returns
+    -------
+    object
+
+    Raises
+    ------
+    KeyError
+        If ``function`` takes no keyword ``name`` with a default.
+
+    Examples
+    --------
+    >>> @dataclasses.dataclass(frozen=True)
+    ... class Steps:
+    ...     rtol: float = 1e-6
+    >>> def run(x: float, options: Steps | None = None, **keywords: Any) -> None:
+    ...     pass
+    >>> option_default(run, "rtol")
+    1e-06
+    """
+    params = inspect.signature(function).parameters
+    param = params.get(name)
+    if param is not None and param.default is not param.empty:
+        return param.default
+    if param is None and any(p.kind is p.VAR_KEYWORD for p in params.values()):
+        for group in _option_groups(function) or ():
+            for f in dataclasses.fields(group):
+                if f.name == name and f.default is not dataclasses.MISSING:
+                    return f.default
+    raise KeyError(f"{getattr(function, '__name__', function)!r} has no default {name!r}")

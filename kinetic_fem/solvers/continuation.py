@@ -33,7 +33,8 @@ Used by the FEM cooling state (the continuation in alpha of hard kernels
 :func:`~.fem.cooling_quasi.quasi_elastic_chain`, the hump chain
 :func:`~.fem.cooling_links.chain_state`, the band's links
 :func:`~.fem.cooling_band.band_state`, several states in one walk
-:func:`~.fem.cooling_chain.hump_states`) and by the curves of states
+:func:`~.fem.cooling_chain.hump_states`, the strong-inelasticity start
+:class:`~.fem.regimes.StrongInelastic`) and by the curves of states
 (:func:`~.fem.curve.heated_curve`, :func:`~.fem.cooling_curve.cooling_curve`, whose
 paths are the values asked for and whose steps do not split).
 """

@@ -44,6 +44,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import mpmath
 import numpy as np
@@ -51,11 +52,12 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.integrate import solve_ivp
 
 from ..model import check_alpha, check_nonnegative, check_positive
+from ..options import gather
 from ..sonine import sonine_norm, sonine_polynomial_coefficients
 
 __all__ = ["MaxwellSteadyState", "MaxwellTransient", "collision_moment_rates",
-           "moment_rates", "steady_state", "evolve_moments", "hcs_zeta", "hcs_pdf",
-           "hcs_characteristic_function", "scaled_moment_growth_rates"]
+           "moment_rates", "steady_state", "evolve_moments", "MomentOptions", "hcs_zeta",
+           "hcs_pdf", "hcs_characteristic_function", "scaled_moment_growth_rates"]
 
 Protocol = float | Callable[[float], float]
 
@@ -272,11 +274,36 @@ def _as_protocol(name: str, value: Protocol, *, allow_zero: bool = True
     return lambda t: x
 
 
+@dataclass(frozen=True)
+class MomentOptions:
+    """Numerical options of :func:`evolve_moments`.
+
+    Parameters
+    ----------
+    order : int
+        Highest moment :math:`K` integrated (``>= 2``).
+    breakpoints : sequence of float
+        Times where a protocol jumps; the integration restarts there so the jump
+        costs no accuracy.
+    rtol : float
+        Relative tolerance of the DOP853 integrator (the absolute tolerance is
+        ``1e-20 rtol`` times the moment's Gaussian scale).
+
+    Examples
+    --------
+    >>> MomentOptions(order=6)
+    MomentOptions(order=6, breakpoints=(), rtol=1e-12)
+    """
+
+    order: int = 4
+    breakpoints: Sequence[float] = ()
+    rtol: float = 1e-12
+
+
 def evolve_moments(alpha: float | Callable[[float], float], times: ArrayLike, *,
                    density: float = 1.0, diffusion: Protocol = 1.0, friction: Protocol = 0.0,
                    initial_moments: ArrayLike | None = None, initial_temperature: float = 1.0,
-                   order: int = 4, breakpoints: Sequence[float] = (), rtol: float = 1e-12
-                   ) -> MaxwellTransient:
+                   **options: Any) -> MaxwellTransient:
     """Integrate the closed moment equations of the Maxwell model along a protocol.
 
     Parameters
@@ -294,14 +321,13 @@ def evolve_moments(alpha: float | Callable[[float], float], times: ArrayLike, *,
         :math:`M_0 = 1, M_1, ..`; missing orders up to ``order`` are taken from a
         Gaussian with these mean and temperature.  Default: a centred Gaussian at
         ``initial_temperature``.
-    order : int
-        Highest moment :math:`K` integrated (``>= 2``).
-    breakpoints : sequence of float
-        Times where a protocol jumps; the integration restarts there so the jump
-        costs no accuracy.
-    rtol : float
-        Relative tolerance of the DOP853 integrator (the absolute tolerance is
-        ``1e-20 rtol`` times the moment's Gaussian scale).
+    initial_temperature : float
+        Temperature of the default Gaussian start.
+    **options
+        The numerical options of :class:`MomentOptions` (``order`` default 4,
+        ``breakpoints``, ``rtol`` default 1e-12) by keyword, or as one object
+        ``options=MomentOptions(...)`` (the keywords override its fields; an unknown
+        keyword raises :class:`TypeError`).
 
     Returns
     -------
@@ -316,6 +342,8 @@ def evolve_moments(alpha: float | Callable[[float], float], times: ArrayLike, *,
     >>> bool(abs(ev.temperature[1] / (t_inf * (1 - math.exp(-0.375))) - 1) < 1e-9)
     True
     """
+    opts = gather(MomentOptions, options.pop("options", None), options, "evolve_moments")
+    order, breakpoints, rtol = opts.order, opts.breakpoints, opts.rtol
     times = np.asarray(times, dtype=float)
     if times.ndim != 1 or len(times) < 1 or not np.all(np.isfinite(times)):
         raise ValueError("times must be a non-empty 1-d array of finite values")

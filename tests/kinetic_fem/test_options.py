@@ -7,11 +7,15 @@ import dataclasses
 import numpy as np
 import pytest
 
-from kinetic_fem.options import gather, gather_groups, option_names
+from kinetic_fem.evolution_error import RTOL_RATIO, default_rtol, rerun_recipe
+from kinetic_fem.evolve import evolve_cooling, evolve_heated
+from kinetic_fem.options import gather, gather_groups, option_default, option_names
+from kinetic_fem.solve import lookup_solver
 from kinetic_fem.solvers.fem.cooling import solve_fem_cooling
 from kinetic_fem.solvers.fem.heated import solve_fem_heated, steady_state
-from kinetic_fem.solvers.fem.options import MeshOptions
+from kinetic_fem.solvers.fem.options import CoolingEvolveOptions, EvolveOptions, MeshOptions
 from kinetic_fem.solvers.finite_difference import FDScheme, MarchOptions, solve_fd_heated
+from kinetic_fem.solvers.maxwell import MomentOptions, evolve_moments
 
 
 @dataclasses.dataclass(frozen=True)
@@ -64,3 +68,52 @@ def test_mesh_object_and_keywords_give_the_same_state():
     np.testing.assert_array_equal(by_keywords.u, by_object.u)
     with pytest.raises(TypeError, match="spacnig"):
         solve_fem_heated(None, spacnig=0.2)  # refused before the problem is looked at
+
+
+def test_option_default_reads_a_parameter_or_an_option_field():
+    def run(x: float, *, tol: float = 1e-3, options: _Opts | None = None, **kw: float) -> None:
+        pass
+
+    assert option_default(run, "tol") == 1e-3
+    assert option_default(run, "a") == 1            # a field of the option object
+    with pytest.raises(KeyError, match="'x'"):
+        option_default(run, "x")                    # no default
+    with pytest.raises(KeyError, match="'c'"):
+        option_default(run, "c")
+
+
+def test_transient_drivers_take_their_options_as_one_object_or_by_keyword():
+    heated = lookup_solver("transient-heated", "fem")
+    cooling = lookup_solver("transient-cooling", "fem")
+    for solver, cls in ((heated, EvolveOptions), (cooling, CoolingEvolveOptions)):
+        names = set(option_names(solver) or ())
+        assert {f.name for f in dataclasses.fields(cls)} | {"options", "progress"} <= names
+        assert not {"diffusion", "friction", "restitution"} & names  # the protocol's
+    assert default_rtol(heated) == 1e-4 and default_rtol(cooling) == 1e-6
+    times = [0.1]
+    by_keywords = evolve_cooling(0.8, times=times, spacing=0.5, rtol=1e-3, rescale=3.0)
+    by_object = evolve_cooling(0.8, times=times, options=CoolingEvolveOptions(
+        spacing=0.5, rtol=1e-3, rescale=3.0))
+    np.testing.assert_array_equal(by_keywords.values, by_object.values)
+    # the error estimate reruns at a tighter rtol than the object's (a stand-in rerun)
+    asked = []
+
+    def rerun(**options):
+        asked.append(options)
+        return by_object
+
+    options = {"options": CoolingEvolveOptions(rtol=1e-3)}
+    assert rerun_recipe(rerun, cooling, options)(by_object).rtol == 1e-3
+    assert asked[0]["rtol"] == 1e-3 / RTOL_RATIO
+    with pytest.raises(TypeError, match="'spacnig'; its CoolingEvolveOptions options"):
+        evolve_cooling(0.8, times=times, spacnig=0.5)
+    with pytest.raises(TypeError, match="'rescale'; its EvolveOptions options"):
+        evolve_heated(0.8, times=times, rescale=2.0)
+
+
+def test_moment_options_object_and_keywords_agree():
+    by_keywords = evolve_moments(0.5, [0.0, 1.0], order=6, rtol=1e-10)
+    by_object = evolve_moments(0.5, [0.0, 1.0], options=MomentOptions(order=6, rtol=1e-10))
+    np.testing.assert_array_equal(by_keywords.moments, by_object.moments)
+    with pytest.raises(TypeError, match="'ordre'"):
+        evolve_moments(0.5, [0.0, 1.0], ordre=6)

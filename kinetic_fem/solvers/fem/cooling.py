@@ -149,6 +149,15 @@ __all__ = ["solve_fem_cooling", "cooling_state", "CoolingState", "CoolingOptions
 logger = logging.getLogger(__name__)
 
 
+def _cooling_mesh(m: MeshOptions) -> MeshOptions:
+    """``m``, refusing the heated solver's ``grading``."""
+    if m.grading is not None:
+        raise ValueError(f"grading={m.grading!r}: the cooling state's meshes follow its "
+                         "regimes (the drop of ln f per element); give spacing, cutoff or "
+                         "vertices")
+    return m
+
+
 def cooling_state(problem: CoolingProblem, *, mesh: MeshOptions | None = None,
                   tol: float = 1e-11, max_iter: int = 100,
                   resolution: float | None = None, sequence: bool = True,
@@ -190,7 +199,7 @@ def cooling_state(problem: CoolingProblem, *, mesh: MeshOptions | None = None,
             f"{problem.gas.restitution!r}: a velocity-dependent law has its own speed scale, "
             "so no scaling state exists (the gas approaches elastic collisions as it cools); "
             "use particles.dsmc.simulate_cooling for the transient")
-    m = gather(MeshOptions, mesh, mesh_keywords, "cooling_state")
+    m = _cooling_mesh(gather(MeshOptions, mesh, mesh_keywords, "cooling_state"))
     return solve_state(problem, CoolingOptions(
         order=m.order, spacing=m.spacing, cutoff=m.cutoff, vertices=m.vertices,
         intorder=m.intorder, tol=tol, max_iter=max_iter, resolution=resolution,
@@ -265,7 +274,7 @@ def solve_fem_cooling(problem: CoolingProblem, *, mesh: MeshOptions | None = Non
     ConvergenceError
         If Newton's method does not converge, or ``accuracy`` cannot be met.
     """
-    m = gather(MeshOptions, mesh, mesh_keywords, "solve_fem_cooling")
+    m = _cooling_mesh(gather(MeshOptions, mesh, mesh_keywords, "solve_fem_cooling"))
     if accuracy is not None:
         check_positive("accuracy", accuracy)
         if m.vertices is not None:

@@ -60,6 +60,7 @@ from __future__ import annotations
 import logging
 import math
 import time
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -70,6 +71,7 @@ from ...exceptions import ConvergenceError
 from ...model import InelasticGas, RestitutionLaw
 from ...model.protocol import Protocol
 from ...operators.fem_discretisation import FEMDiscretisation
+from ...options import gather
 from ...solve import register_solver
 from .cooling_segments import (
     CONTINUE_WIDTH,
@@ -83,6 +85,7 @@ from .cooling_segments import (
     steepest_drop,
     usable_extent,
 )
+from .options import CoolingEvolveOptions
 from .transient import (
     BDF2,
     TimeIntegrator,
@@ -98,7 +101,7 @@ __all__ = ["evolve_cooling_fem", "default_cooling_cutoff", "check_free_cooling",
 
 logger = logging.getLogger(__name__)
 
-DEFAULT_RESCALE = 4.0
+DEFAULT_RESCALE = CoolingEvolveOptions.rescale
 """Temperature ratio over one segment (the thermal speed halves)."""
 
 
@@ -162,12 +165,9 @@ def check_free_cooling(gas: InelasticGas, protocol: Protocol) -> None:
 
 @register_solver("fem", problem="transient-cooling")
 def evolve_cooling_fem(gas: InelasticGas, *, times: NDArray, initial: VelocityDistribution | None,
-                       initial_temperature: float | None, protocol: Protocol | None = None,
-                       rtol: float = 1e-6, order: int = 2, spacing: float = 0.25,
-                       cutoff: float | None = None, rescale: float = DEFAULT_RESCALE,
-                       first_step: float | None = None, max_step: float = math.inf,
-                       max_steps: int = 20000, newton_tol: float | None = None,
-                       max_newton: int = 12, progress: bool = False) -> Evolution:
+                       initial_temperature: float | None, protocol: Protocol | None,
+                       options: CoolingEvolveOptions | None = None, progress: bool = False,
+                       **option_keywords: Any) -> Evolution:
     """Free cooling by adaptive BDF2 on segments of fixed velocity scale (see the module).
 
     Parameters
@@ -180,28 +180,26 @@ def evolve_cooling_fem(gas: InelasticGas, *, times: NDArray, initial: VelocityDi
         Initial state (normalised), or None for a Gaussian.
     initial_temperature : float or None
         Temperature of the Gaussian start (default 1).
-    protocol : Protocol, optional
-        Restitution changes at given times (no thermostat: :func:`check_free_cooling`).
-    rtol : float
-        Local error tolerance per step (relative on T, absolute on a2).
-    order : int
-        Lagrange degree, 1 or 2.
-    spacing : float
-        Element size in thermal velocities at the end of a segment (the coarsest).
-    cutoff : float, optional
-        Largest half-width of a mesh in thermal velocities at a segment's start (default
-        :func:`default_cooling_cutoff`; meshes end earlier where the tail is negligible
-        or unresolved, see the module).
-    rescale : float
-        Temperature ratio after which the state is remapped to the current thermal
-        speed (> 1).
-    first_step, max_step, max_steps, newton_tol, max_newton
-        Step-size and Newton options
-        (:class:`kinetic_fem.solvers.fem.transient.TransientOptions`); ``first_step``
-        and ``max_step`` in physical time; ``newton_tol`` default
-        :func:`~kinetic_fem.solvers.fem.transient_setup.default_newton_tol`.
+    protocol : Protocol or None
+        Restitution changes at given times (no thermostat: :func:`check_free_cooling`;
+        None: none).
+    options : CoolingEvolveOptions, optional
+        The numerical options as one object
+        (:class:`~kinetic_fem.solvers.fem.options.CoolingEvolveOptions`): ``rtol``
+        (default 1e-6, local error per step, relative on T and absolute on a2),
+        ``order`` (1 or 2), ``spacing`` (default 0.25, element size in thermal
+        velocities at the end of a segment), ``cutoff`` (largest half-width of a mesh at
+        a segment's start, default :func:`default_cooling_cutoff`; meshes end earlier
+        where the tail is negligible or unresolved, see the module), ``rescale``
+        (temperature ratio of a segment, > 1), and the step and Newton options
+        ``first_step`` and ``max_step`` (physical time), ``max_steps``, ``newton_tol``
+        (default :func:`~kinetic_fem.solvers.fem.transient_setup.default_newton_tol`),
+        ``max_newton``.
     progress : bool
         Show a progress bar over time (tqdm).
+    **option_keywords
+        Fields of ``options`` by keyword (over ``options``; an unknown keyword raises
+        :class:`TypeError`).
 
     Returns
     -------
@@ -222,15 +220,18 @@ def evolve_cooling_fem(gas: InelasticGas, *, times: NDArray, initial: VelocityDi
         :data:`~kinetic_fem.solvers.fem.cooling_segments.MIN_EXTENT` thermal velocities).
     """
     start = time.perf_counter()
+    o = gather(CoolingEvolveOptions, options, option_keywords, "evolve_cooling")
+    rtol, order, cutoff, rescale, first_step = o.rtol, o.order, o.cutoff, o.rescale, o.first_step
     protocol = Protocol() if protocol is None else protocol
     check_free_cooling(gas, protocol)
     if order not in (1, 2):
         raise ValueError(f"order must be 1 or 2, got {order!r}")
     if not (math.isfinite(rescale) and rescale > 1.0):
         raise ValueError(f"rescale must be a finite number > 1, got {rescale!r}")
-    for name, val in (("spacing", spacing), ("rtol", rtol)):
-        if not (math.isfinite(val) and val > 0.0):
+    for name, val in (("spacing", o.spacing), ("rtol", rtol)):
+        if val is None or not (math.isfinite(val) and val > 0.0):
             raise ValueError(f"{name} must be a finite positive number, got {val!r}")
+    spacing = float(o.spacing or 0.0)  # checked above: a positive number
     kernel = gas.kernel
     degree = float(kernel.scale_degree)
     c_cut = default_cooling_cutoff(kernel.tail_growth[1]) if cutoff is None else float(cutoff)
@@ -265,9 +266,9 @@ def evolve_cooling_fem(gas: InelasticGas, *, times: NDArray, initial: VelocityDi
     else:
         t0 = 1.0 if initial_temperature is None else float(initial_temperature)
     unit[0] = math.sqrt(t0)
-    tol = default_newton_tol(rtol) if newton_tol is None else newton_tol
+    tol = default_newton_tol(rtol) if o.newton_tol is None else o.newton_tol
     opt = TransientOptions(rtol, 1e-9 / rate_in_units(1.0), order, spacing, cutoff,
-                           first_step, max_step, max_steps, tol, max_newton,
+                           first_step, o.max_step, o.max_steps, tol, o.max_newton,
                            moment_norm=False)
     # error per collision time (as evolve_heated): the mean free time at the segment's
     # temperature ``temp`` (in units V^2)

@@ -22,6 +22,7 @@ from __future__ import annotations
 import logging
 import math
 import time
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -34,7 +35,9 @@ from ...model import (
     as_thermostat,
 )
 from ...model.protocol import Protocol
+from ...options import gather
 from ...solve import register_solver
+from .options import EvolveOptions
 from .transient import BDF2, TransientOptions, build_mesh, floor_log, make_discretisation
 from .transient_setup import default_newton_tol, distribution_log_density, progress_bar
 
@@ -126,11 +129,8 @@ def _evolution(outputs: list, integ: BDF2, times: NDArray, params: dict, start: 
 @register_solver("fem", problem="transient-heated")
 def evolve_heated_fem(problem: HeatedProblem, *, times: NDArray, protocol: Protocol,
                       initial: VelocityDistribution | None,
-                      initial_temperature: float | None, rtol: float = 1e-4, order: int = 2,
-                      spacing: float | None = None, cutoff: float | None = None,
-                      first_step: float | None = None, max_step: float = math.inf,
-                      max_steps: int = 20000, newton_tol: float | None = None,
-                      max_newton: int = 12, progress: bool = False) -> Evolution:
+                      initial_temperature: float | None, options: EvolveOptions | None = None,
+                      progress: bool = False, **option_keywords: Any) -> Evolution:
     """Transient of the heated gas under ``protocol`` by adaptive BDF2 (see the module).
 
     Parameters
@@ -145,17 +145,25 @@ def evolve_heated_fem(problem: HeatedProblem, *, times: NDArray, protocol: Proto
         Initial state (normalised), or None for a Gaussian.
     initial_temperature : float or None
         Temperature of the Gaussian start.
-    rtol, order, spacing, cutoff, first_step, max_step, max_steps, newton_tol, max_newton
-        Numerical options (:class:`kinetic_fem.solvers.fem.transient.TransientOptions`;
-        ``newton_tol`` default :func:`default_newton_tol`, ``spacing`` default
-        :func:`default_transient_spacing`).
+    options : EvolveOptions, optional
+        The numerical options as one object
+        (:class:`~kinetic_fem.solvers.fem.options.EvolveOptions`: ``rtol`` default 1e-4,
+        ``order``, ``spacing`` default :func:`default_transient_spacing`, ``cutoff``,
+        ``first_step``, ``max_step``, ``max_steps``, ``newton_tol`` default
+        :func:`default_newton_tol`, ``max_newton``).
     progress : bool
         Show a progress bar over time (tqdm).
+    **option_keywords
+        Fields of :class:`~kinetic_fem.solvers.fem.options.EvolveOptions` by keyword
+        (over ``options``; an unknown keyword raises :class:`TypeError`).
 
     Returns
     -------
     Evolution
     """
+    o = gather(EvolveOptions, options, option_keywords, "evolve_heated")
+    rtol, order, spacing, cutoff = o.rtol, o.order, o.spacing, o.cutoff
+    first_step, newton_tol = o.first_step, o.newton_tol
     start = time.perf_counter()
     gas = problem.gas
     if order not in (1, 2):
@@ -187,8 +195,8 @@ def evolve_heated_fem(problem: HeatedProblem, *, times: NDArray, protocol: Proto
     # h/t_coll, so rtol collision times; the step control grows it
     h0 = first_step if first_step is not None else rtol * t_coll
     tol = default_newton_tol(rtol) if newton_tol is None else newton_tol
-    opt = TransientOptions(rtol, 0.0, order, spacing, cutoff, first_step, max_step,
-                           max_steps, tol, max_newton)
+    opt = TransientOptions(rtol, 0.0, order, spacing, cutoff, first_step, o.max_step,
+                           o.max_steps, tol, o.max_newton)
     integ = BDF2(disc_at(0.0), coefficients, options=opt,
                  collision_time=lambda temp: 1.0 / (
                      gas.density * float(gas.kernel.rate(math.sqrt(temp)))))

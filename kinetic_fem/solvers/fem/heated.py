@@ -159,10 +159,20 @@ state, T and a2 equal to 8e-15."""
 
 
 # ---------------------------------------------------------------- weak forms (n = D = 1)
+def _checked_grading(grading: float | None) -> float | None:
+    if grading is not None and not (isinstance(grading, (int, float)) and
+                                    not isinstance(grading, bool) and
+                                    math.isfinite(grading) and grading >= 0.0):
+        raise ValueError(f"grading must be a finite number >= 0 (0: a uniform mesh), got "
+                         f"{grading!r}")
+    return grading
+
+
 def _mesh(alpha: float, *, cutoff: float | None, spacing: float, vertices,
-          model: ScaledModel | None = None) -> NDArray:
+          model: ScaledModel | None = None, grading: float | None = None) -> NDArray:
     """Mesh vertices at ``n = D = 1``: explicit, or uniform (the paper's model) or graded
-    (:func:`kinetic_fem.solvers.fem.defaults.graded_vertices`) in thermal velocities."""
+    (:func:`kinetic_fem.solvers.fem.defaults.graded_vertices`) in thermal velocities;
+    ``grading`` (given) replaces the model's."""
     if vertices is not None:
         verts = np.sort(np.asarray(vertices, dtype=float))
         if not np.allclose(verts, -verts[::-1], rtol=0, atol=1e-12 * np.abs(verts).max()):
@@ -180,9 +190,12 @@ def _mesh(alpha: float, *, cutoff: float | None, spacing: float, vertices,
                       "distribution; use spacing <= 0.25", ResolutionWarning, stacklevel=3)
     if model is None or model.is_paper_model:
         scale = math.sqrt(sonine.steady_temperature(alpha))
+        if grading is not None:
+            return scale * graded_vertices(c_max, spacing, grading=grading)
         half = max(2, int(math.ceil(c_max / spacing)))
         return symmetric_grid(uniform_grid(c_max * scale, half + 1))
-    grading = (3.0 - tail_exponent(model)) / 3.0
+    if grading is None:
+        grading = (3.0 - tail_exponent(model)) / 3.0
     return math.sqrt(model.temperature) * graded_vertices(c_max, spacing, grading=grading)
 
 
@@ -253,13 +266,15 @@ def steady_state(model: float | HeatedProblem, *, mesh: MeshOptions | None = Non
         HeatedProblem.from_parameters(model)
     return _steady_state(problem, scaled_model(problem), order=m.order, spacing=m.spacing,
                          cutoff=m.cutoff, vertices=m.vertices, intorder=m.intorder,
-                         symmetric=symmetric, tol=tol, max_iter=max_iter, initial=initial)
+                         symmetric=symmetric, tol=tol, max_iter=max_iter, initial=initial,
+                         grading=_checked_grading(m.grading))
 
 
 def _steady_state(problem: HeatedProblem, scaled: ScaledModel, *, order: int | None,
                   spacing: float | None, cutoff: float | None, vertices, intorder: int | None,
                   symmetric: bool, tol: float, max_iter: int,
-                  initial: SteadyState | Callable[[NDArray], NDArray] | None) -> SteadyState:
+                  initial: SteadyState | Callable[[NDArray], NDArray] | None,
+                  grading: float | None = None) -> SteadyState:
     """:func:`steady_state` of ``problem`` with its scaled model (computed once: for other
     kernels than power laws the temperature estimate costs a few ms)."""
     paper = scaled.is_paper_model
@@ -274,7 +289,7 @@ def _steady_state(problem: HeatedProblem, scaled: ScaledModel, *, order: int | N
                 return _steady_state(problem, scaled, order=3, spacing=None,
                                      cutoff=cutoff, vertices=None, intorder=intorder,
                                      symmetric=symmetric, tol=tol, max_iter=max_iter,
-                                     initial=initial)
+                                     initial=initial, grading=grading)
             except ConvergenceError as err:
                 logger.info("P3 default failed at alpha=%g (%s); P2", alpha, err)
                 order = 2
@@ -327,19 +342,20 @@ def _steady_state(problem: HeatedProblem, scaled: ScaledModel, *, order: int | N
                 coarse, c_seq = _widened_solve(
                     alpha, scaled, paper, order, intorder, symmetric, spacing, c_max, start,
                     fixed=cutoff is not None, tol=SEQUENCE_TOL, max_iter=max_iter,
-                    coarsen=coarsen)
+                    coarsen=coarsen, grading=grading)
 
             def refined(v: NDArray) -> NDArray:
                 return coarse.log_density(v)
 
             return _widened_solve(alpha, scaled, paper, order, intorder, symmetric, spacing,
                                   c_seq, refined, fixed=cutoff is not None, tol=tol,
-                                  max_iter=max_iter, chord_level=SEQUENCE_CHORD_LEVEL)[0]
+                                  max_iter=max_iter, chord_level=SEQUENCE_CHORD_LEVEL,
+                                  grading=grading)[0]
         except ConvergenceError as err:
             logger.info("mesh sequencing failed at alpha=%g (%s); default start", alpha, err)
     state, _ = _widened_solve(alpha, scaled, paper, order, intorder, symmetric, spacing,
                               c_max, start, fixed=cutoff is not None or vertices is not None,
-                              tol=tol, max_iter=max_iter, vertices=vertices)
+                              tol=tol, max_iter=max_iter, vertices=vertices, grading=grading)
     return state
 
 
@@ -347,14 +363,16 @@ def _widened_solve(alpha: float, scaled: ScaledModel, paper: bool, order: int,
                    intorder: int | None, symmetric: bool, spacing: float, c_max: float,
                    start: Callable[[NDArray], NDArray], *, fixed: bool, tol: float,
                    max_iter: int, vertices=None, coarsen: int = 1,
-                   chord_level: float = CHORD_LEVEL) -> tuple[SteadyState, float]:
+                   chord_level: float = CHORD_LEVEL,
+                   grading: float | None = None) -> tuple[SteadyState, float]:
     """Newton on one mesh from ``ln P = start(v)``; unless ``fixed``, widen the interval
     by 15 % (from the current solution) until :math:`f` at the cut-off is below
     :data:`CUTOFF_TARGET`.  With ``coarsen > 1`` the mesh is :func:`nested_coarse`.
     Returns the state and the final cut-off :math:`c_{max}`."""
 
     def mesh(c: float):
-        verts = _mesh(alpha, cutoff=c, spacing=spacing, vertices=vertices, model=scaled)
+        verts = _mesh(alpha, cutoff=c, spacing=spacing, vertices=vertices, model=scaled,
+                      grading=grading)
         return verts if coarsen == 1 else nested_coarse(verts, coarsen)
 
     verts = mesh(c_max)
@@ -466,6 +484,10 @@ def solve_fem_heated(problem: HeatedProblem, *, mesh: MeshOptions | None = None,
         ``spacing`` and ``cutoff``.
     intorder : int, optional
         Gauss degree; default ``2 * order + 1``.
+    grading : float, optional
+        Tail grading :math:`\\kappa \\ge 0` of the mesh (element size
+        :math:`h_0 \\max(1, |c|/3)^\\kappa`, 0: uniform); default from the model's tail,
+        :math:`(3 - \\gamma)/3` (uniform for the paper's model).
     symmetric : bool
         Use the full collision bracket :math:`\\varphi(x') + \\varphi(y') -
         \\varphi(x) - \\varphi(y)` on every pair: mass and momentum conserved to
@@ -516,8 +538,8 @@ def solve_fem_heated(problem: HeatedProblem, *, mesh: MeshOptions | None = None,
             raise ValueError("accuracy= refines the spacing: it cannot be combined with "
                              "explicit vertices; give spacing (or neither)")
     state = steady_state(problem, order=order, spacing=spacing, cutoff=cutoff,
-                         vertices=vertices, intorder=intorder, symmetric=symmetric, tol=tol,
-                         max_iter=max_iter)
+                         vertices=vertices, intorder=intorder, grading=m.grading,
+                         symmetric=symmetric, tol=tol, max_iter=max_iter)
     if accuracy is None:
         return state_distribution(problem, state, state.disc.order)
     order = state.disc.order
@@ -540,8 +562,8 @@ def solve_fem_heated(problem: HeatedProblem, *, mesh: MeshOptions | None = None,
             break
         spacing *= refinement_factor(history, accuracy, order)
         state = steady_state(problem, order=order, spacing=spacing, cutoff=cutoff,
-                             intorder=intorder, symmetric=symmetric, tol=tol,
-                             max_iter=max_iter)
+                             intorder=intorder, grading=m.grading, symmetric=symmetric,
+                             tol=tol, max_iter=max_iter)
     raise ConvergenceError(
         f"FEM did not reach accuracy={accuracy:g} (T relative and a2): estimated errors "
         + ", ".join(f"{e:.2g} at spacing {h:.3g}" for h, e in history)

@@ -1,18 +1,26 @@
-"""The mesh of an FEM solve as one object (issue 26).
+"""The options of an FEM solve or transient as objects (issue 26).
 
 :class:`MeshOptions` holds the options of the velocity mesh that travel together: the
 Lagrange degree, the bulk spacing, the cut-off, explicit vertices and the Gauss degree.
 The FEM solvers take it as ``mesh=`` and still take each field by keyword
 (``kf.solve_heated(0.5, spacing=0.2)``), through :func:`kinetic_fem.options.gather`.
+
+:class:`EvolveOptions` (heated) and :class:`CoolingEvolveOptions` (free cooling) hold
+the numerical options of an FEM transient (tolerance, mesh, steps, Newton); the drivers
+take them as ``options=`` and each field by keyword (``kf.evolve_heated(0.5, times=...,
+rtol=1e-5)``).  The drivers resolve them into the integrator's
+:class:`~kinetic_fem.solvers.fem.transient_setup.TransientOptions` (defaults that depend
+on ``rtol`` filled in).
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 from numpy.typing import ArrayLike
 
-__all__ = ["MeshOptions"]
+__all__ = ["MeshOptions", "EvolveOptions", "CoolingEvolveOptions"]
 
 
 @dataclass(frozen=True)
@@ -31,11 +39,18 @@ class MeshOptions:
         Explicit symmetric vertices (overrides ``spacing`` and ``cutoff``).
     intorder : int, optional
         Gauss degree (default ``2 * order + 1``).
+    grading : float, optional
+        Tail grading :math:`\\kappa \\ge 0` of the heated solver's mesh: elements of
+        size :math:`h_0 \\max(1, |c|/3)^\\kappa`
+        (:func:`~kinetic_fem.solvers.fem.grading.graded_vertices`); 0 a uniform mesh;
+        default: from the model's scales, :math:`(3 - \\gamma)/3` for the tail
+        :math:`\\ln f \\sim -c^\\gamma` (uniform for the paper's model).  The cooling
+        state's meshes follow its regimes and refuse it.
 
     Examples
     --------
     >>> MeshOptions(order=3, spacing=0.2)
-    MeshOptions(order=3, spacing=0.2, cutoff=None, vertices=None, intorder=None)
+    MeshOptions(order=3, spacing=0.2, cutoff=None, vertices=None, intorder=None, grading=None)
     """
 
     order: int | None = None
@@ -43,3 +58,81 @@ class MeshOptions:
     cutoff: float | None = None
     vertices: ArrayLike | None = field(default=None, compare=False)
     intorder: int | None = None
+    grading: float | None = None
+
+
+@dataclass(frozen=True)
+class EvolveOptions:
+    """Numerical options of an FEM transient of the heated gas (None: the driver's default).
+
+    Parameters
+    ----------
+    rtol : float
+        Tolerance on the local error per collision time (relative on T, absolute on a2).
+    order : int
+        Lagrange degree, 1 or 2.
+    spacing : float, optional
+        Element size in thermal velocities of the coldest state (default
+        :func:`~kinetic_fem.solvers.fem.evolution.default_transient_spacing`).
+    cutoff : float, optional
+        Half-width of the velocity interval in thermal velocities of the hottest state
+        (default :func:`~kinetic_fem.solvers.fem.evolution.default_transient_cutoff`).
+    first_step : float, optional
+        First step and step after a discontinuity (default ``rtol`` collision times).
+    max_step : float
+        Largest step (inf: no limit).
+    max_steps : int
+        Accepted plus rejected steps before giving up.
+    newton_tol : float, optional
+        Newton tolerance on the update of ln P (default
+        :func:`~kinetic_fem.solvers.fem.transient_setup.default_newton_tol`).
+    max_newton : int
+        Newton iterations per step before the step counts as failed.
+
+    Examples
+    --------
+    >>> EvolveOptions(rtol=1e-5).spacing is None
+    True
+    """
+
+    rtol: float = 1e-4
+    order: int = 2
+    spacing: float | None = None
+    cutoff: float | None = None
+    first_step: float | None = None
+    max_step: float = math.inf
+    max_steps: int = 20000
+    newton_tol: float | None = None
+    max_newton: int = 12
+
+
+@dataclass(frozen=True)
+class CoolingEvolveOptions(EvolveOptions):
+    """Numerical options of an FEM transient of free cooling: those of
+    :class:`EvolveOptions` with other defaults, and ``rescale``.
+
+    Parameters
+    ----------
+    rtol : float
+        Local error tolerance per step (relative on T, absolute on a2).
+    spacing : float
+        Element size in thermal velocities at the end of a segment (the coarsest).
+    cutoff : float, optional
+        Largest half-width of a mesh in thermal velocities at a segment's start (default
+        :func:`~kinetic_fem.solvers.fem.cooling_transient.default_cooling_cutoff`).
+    rescale : float
+        Temperature ratio after which the state is remapped to the current thermal
+        speed (> 1).
+    order, first_step, max_step, max_steps, newton_tol, max_newton
+        As in :class:`EvolveOptions` (``first_step`` default: a tenth of
+        :math:`\\sqrt{r_{tol}}` collision times).
+
+    Examples
+    --------
+    >>> CoolingEvolveOptions().rescale
+    4.0
+    """
+
+    rtol: float = 1e-6
+    spacing: float | None = 0.25
+    rescale: float = 4.0

@@ -46,6 +46,7 @@ from ...distribution import VelocityDistribution
 from ...exceptions import ConvergenceError
 from ...model import CoolingProblem, check_positive
 from ...operators.fem_discretisation import LAGRANGE_ELEMENTS, FEMDiscretisation
+from ..continuation import NO_RETRY, continuation
 from .cooling_alpha import (
     ALPHA_CHAIN_COARSE,
     DIRECT_EPS,
@@ -641,6 +642,12 @@ class StrongInelastic(GenericNewton):
     """alpha < 0.5 (long exponential tails, far from the Gaussian start), gamma > 0:
     the globalised iteration starts from the state one step of at most
     :data:`step` in alpha above (on twice the spacing when sequenced).
+
+    The steps are a :func:`~kinetic_fem.solvers.continuation.continuation` in alpha
+    (:meth:`path`) from the state at the top of the path, solved by the regime that
+    applies there (alpha 0.5: :class:`GenericNewton`), each step the globalised
+    iteration on that alpha's own coarse mesh from the state above, the last on the
+    target's mesh; a failed step stops it (no retry).
     """
 
     name = "strong inelasticity, continuation from alpha 0.5"
@@ -651,18 +658,63 @@ class StrongInelastic(GenericNewton):
         return (problem.gas.gamma > 0.0 and problem.gas.alpha < self.below_alpha
                 and not _anchored(problem, options))
 
-    def start(self, problem: CoolingProblem, options: CoolingOptions, mesh: _Mesh,
-              run: Run) -> tuple[NDArray[np.float64], float]:
-        """The state at the next alpha up, on the target's cut-off."""
+    def path(self, problem: CoolingProblem, coarse: CoolingOptions) -> list[float]:
+        """The alphas above the target, from the top down: each the one step of at most
+        :data:`step` towards :data:`below_alpha` from the next one below, up to the first
+        that this regime does not solve with the ``coarse`` options.
+
+        Parameters
+        ----------
+        problem : CoolingProblem
+            The target.
+        coarse : CoolingOptions
+            The options of the states above it.
+
+        Returns
+        -------
+        list of float
+        """
+        ups = []
         alpha = problem.gas.alpha
-        n_steps = math.ceil((self.below_alpha - alpha) / self.step - 1e-9)
-        alpha_prev = alpha + (self.below_alpha - alpha) / n_steps
-        coarse_problem = CoolingProblem.from_parameters(alpha_prev, kernel=problem.gas.kernel)
-        coarse = run.solve(coarse_problem, CoolingOptions(
+        while True:
+            n_steps = math.ceil((self.below_alpha - alpha) / self.step - 1e-9)
+            alpha = alpha + (self.below_alpha - alpha) / n_steps
+            ups.append(alpha)
+            above = CoolingProblem.from_parameters(alpha, kernel=problem.gas.kernel)
+            if not isinstance(select(above, coarse), StrongInelastic):
+                return ups[::-1]
+
+    def globalised(self, problem: CoolingProblem, options: CoolingOptions, mesh: _Mesh,
+                   run: Run) -> CoolingState:
+        """The continuation in alpha down to the target (see the class)."""
+        coarse = CoolingOptions(
             order=mesh.order, tol=1e-7, max_iter=options.max_iter,
-            spacing=2.0 * mesh.spacing if options.sequence else mesh.spacing, sequence=False))
-        return (coarse.log_f(mesh.disc.dof_locations),
-                coarse.zeta * (1.0 - alpha**2) / (1.0 - alpha_prev**2))
+            spacing=2.0 * mesh.spacing if options.sequence else mesh.spacing, sequence=False)
+        alpha = problem.gas.alpha
+        ups = self.path(problem, coarse)
+        kernel = problem.gas.kernel
+
+        def solve(prev: CoolingState, alpha_prev: float, alpha_next: float) -> CoolingState:
+            if alpha_next == alpha:
+                disc, tol = mesh.disc, options.tol
+            else:
+                disc = self.mesh(CoolingProblem.from_parameters(alpha_next, kernel=kernel),
+                                 coarse).disc
+                tol = coarse.tol
+            zeta0 = prev.zeta * (1.0 - alpha_next**2) / (1.0 - alpha_prev**2)
+            return newton_cooling(disc, prev.log_f(disc.dof_locations), zeta0, tol=tol,
+                                  max_iter=options.max_iter)
+
+        top = run.solve(CoolingProblem.from_parameters(ups[0], kernel=kernel), coarse)
+        walk = continuation(top, ups[0], [*ups[1:], alpha], solve, rule=NO_RETRY)
+        if not walk.converged:
+            failed = walk.failed
+            assert failed is not None
+            raise ConvergenceError(
+                f"FEM cooling Newton did not converge in {options.max_iter} iterations at "
+                f"alpha={walk.failed_value} ({failed.info.message}); refine the mesh "
+                "(smaller spacing) or increase max_iter")
+        return walk.state
 
 
 REGIMES: tuple[Regime, ...] = (

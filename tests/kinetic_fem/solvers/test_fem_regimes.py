@@ -81,3 +81,23 @@ def test_each_regime_solves(name, gamma, alpha, options):
     state = regime.solve(problem, opts, fr.Run())
     assert state.info.converged
     assert state.energy_identity() == pytest.approx(state.zeta, rel=1e-6)
+
+
+def test_strong_inelastic_walks_its_path_with_the_continuation_driver(monkeypatch):
+    """Below alpha 0.5 the state is continued down from the state at 0.5: one step with
+    the default step (0.5), several with a smaller one; the converged state does not
+    depend on the path (Newton's tolerance 1e-9)."""
+    problem = CoolingProblem.from_parameters(0.4, kernel=1.0)
+    options = fr.CoolingOptions(order=2, spacing=0.5, sequence=False, tol=1e-9)
+    regime = fr.select(problem, options)
+    assert isinstance(regime, fr.StrongInelastic)
+    assert regime.path(problem, options) == [0.5]
+    one_step = fr.solve_state(problem, options)
+    monkeypatch.setattr(fr.StrongInelastic, "step", 0.04)
+    path = regime.path(problem, options)
+    assert path[0] == 0.5 and len(path) == 3
+    steps = -np.diff([*path, 0.4])
+    assert np.all(steps > 0.0) and np.all(steps <= 0.04 + 1e-12)
+    three_steps = fr.solve_state(problem, options)
+    assert three_steps.zeta == pytest.approx(one_step.zeta, rel=1e-8)
+    np.testing.assert_allclose(three_steps.u, one_step.u, rtol=0, atol=1e-6)
