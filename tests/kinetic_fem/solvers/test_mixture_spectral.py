@@ -160,3 +160,14 @@ def test_hard_rods_converge_to_the_fem_mixture():
     assert t_err[0] > 30 * t_err[1] > 900 * t_err[2]
     assert a2_err[0] > 30 * a2_err[1] > 900 * a2_err[2]
     assert t_err[2] < 2e-7 and a2_err[2] < 1.5e-7
+
+
+def test_sweep_over_the_mass_ratio():
+    import kinetic_fem as kf
+
+    ds = kf.sweep(solve_binary, {"mass_ratio": [1.0, 2.0]}, alpha=0.8, method="spectral",
+                  executor="serial")
+    assert float(ds.T_ratio.sel(mass_ratio=1.0)) == pytest.approx(1.0, abs=1e-13)
+    ratio = ms.steady_state(binary_mixture(2.0, alpha=0.8)).temperature_ratio()
+    assert float(ds.T_ratio.sel(mass_ratio=2.0)) == pytest.approx(ratio, rel=1e-14)
+    assert "a2_species" in ds
