@@ -70,23 +70,28 @@ from __future__ import annotations
 
 import logging
 import math
+import time
 
 import numpy as np
 from numpy.typing import NDArray
 
-from ..mixture_state import MixtureMoments
+from ..distribution import RunInfo, VelocityDistribution
+from ..mixture_state import MixtureMoments, MixtureState
 from ..model.kernel import PowerLawKernel
 from ..model.mixture import Mixture
 from ..model.thermostat import FokkerPlanckBath, NoThermostat, WhiteNoise
 from ..model.validation import UnsupportedModelError, check_positive
+from ..operators.grid import simpson_weights
 from ..operators.sonine_tensors import (
     dilation_coefficients,
     laplacian_coefficients,
     orthonormal_sonine,
 )
+from ..solve import register_solver
 from .newton import newton
 
-__all__ = ["steady_state", "cooling_state", "MAX_ORDER", "DEFAULT_ORDER"]
+__all__ = ["steady_state", "cooling_state", "solve_mixture_heated", "solve_mixture_cooling",
+           "MAX_ORDER", "DEFAULT_ORDER"]
 
 logger = logging.getLogger(__name__)
 
@@ -398,3 +403,71 @@ def cooling_state(mixture: Mixture, *, density: float = 1.0,
         raise ValueError(f"the homogeneous cooling state needs a Mixture without forcing, got "
                          f"{mixture!r}; for forced species use steady_state")
     return _solve(mixture, order, density)
+
+
+def _state(moments: MixtureMoments, start: float) -> MixtureState:
+    """The truncated series of every species on a grid (as the one-species ``"spectral"``:
+    half-width :math:`\\max(12, \\sqrt{4P+8} + 8)` thermal speeds, spacing 0.01)."""
+    order = int(moments.info["order"])  # type: ignore[call-overload]
+    p = np.arange(order + 1)
+    norms = np.exp(0.5 * (np.array([math.lgamma(j + 0.5) - math.lgamma(j + 1.0) for j in p])
+                          - 0.5 * math.log(math.pi)))
+    b = np.asarray(moments.info["sonine"]) * norms
+    cutoff = max(12.0, math.sqrt(4.0 * order + 8.0) + 8.0)
+    c = np.linspace(-cutoff, cutoff, 2 * int(math.ceil(cutoff / 0.01)) + 1)
+    shape = b @ orthonormal_sonine(order, c) * np.exp(-0.5 * c**2) / math.sqrt(2.0 * math.pi)
+    mixture = moments.mixture
+    info = RunInfo(converged=True, iterations=int(moments.info["iterations"]),  # type: ignore[call-overload]
+                   residual=float(moments.info["residual"]),  # type: ignore[arg-type]
+                   wall_time=time.perf_counter() - start,
+                   message=f"mixture Sonine Galerkin, order {order}",
+                   extra={"order": order, "sonine": moments.info["sonine"]})
+    params = {"density": moments.density, "masses": list(mixture.masses),
+              "fractions": list(mixture.fractions)}
+    dists = []
+    for s, (mass, temp) in enumerate(zip(mixture.masses, moments.temperatures, strict=True)):
+        sigma = math.sqrt(temp / mass)
+        dists.append(VelocityDistribution.from_values(
+            sigma * c, shape[s] / sigma, weights=sigma * simpson_weights(c), method="spectral",
+            params=params, info=info))
+    return MixtureState(mixture, moments.density, tuple(dists), "spectral", zeta=moments.zeta,
+                        info=info)
+
+
+@register_solver("spectral", problem="mixture-heated")
+def solve_mixture_heated(mixture: Mixture, *, density: float = 1.0,
+                         order: int = DEFAULT_ORDER) -> MixtureState:
+    """:func:`steady_state` with one distribution per species (``kf.solve_heated``).
+
+    Parameters
+    ----------
+    mixture, density, order
+        As in :func:`steady_state`.
+
+    Returns
+    -------
+    MixtureState
+        The truncated series of each species on a grid of its thermal speed (may be
+        negative in the far tails).
+    """
+    start = time.perf_counter()
+    return _state(steady_state(mixture, density=density, order=order), start)
+
+
+@register_solver("spectral", problem="mixture-cooling")
+def solve_mixture_cooling(mixture: Mixture, *, density: float = 1.0,
+                          order: int = DEFAULT_ORDER) -> MixtureState:
+    """:func:`cooling_state` with one distribution per species (``kf.solve_cooling``).
+
+    Parameters
+    ----------
+    mixture, density, order
+        As in :func:`cooling_state`.
+
+    Returns
+    -------
+    MixtureState
+        At mixture temperature 1, with ``zeta``.
+    """
+    start = time.perf_counter()
+    return _state(cooling_state(mixture, density=density, order=order), start)

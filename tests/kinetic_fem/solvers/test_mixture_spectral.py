@@ -171,3 +171,18 @@ def test_sweep_over_the_mass_ratio():
     ratio = ms.steady_state(binary_mixture(2.0, alpha=0.8)).temperature_ratio()
     assert float(ds.T_ratio.sel(mass_ratio=2.0)) == pytest.approx(ratio, rel=1e-14)
     assert "a2_species" in ds
+
+
+@pytest.mark.parametrize("forcing", ["same_power", "cooling"])
+def test_solve_heated_and_cooling_take_a_mixture(forcing):
+    import kinetic_fem as kf
+
+    mix = binary_mixture(3.0, alpha=0.7, forcing=forcing)
+    solve = kf.solve_cooling if forcing == "cooling" else kf.solve_heated
+    state = solve(mix, method="spectral", order=6)
+    moments = (ms.cooling_state if forcing == "cooling" else ms.steady_state)(mix, order=6)
+    # the series on the grid (Simpson, spacing 0.01 thermal speeds): measured 8e-16
+    np.testing.assert_allclose(state.temperatures, moments.temperatures, rtol=1e-12)
+    np.testing.assert_allclose(state.a2, moments.a2, rtol=0, atol=1e-12)
+    assert state.zeta == moments.zeta
+    assert [d.method for d in state.distributions] == ["spectral", "spectral"]
