@@ -304,6 +304,13 @@ def _solve(mixture: Mixture, order: int, density: float) -> MixtureMoments:
                    float(np.real(zeta)) if cooling else None, resid, iterations)
 
 
+def _sqrt_norms(order: int) -> NDArray[np.float64]:
+    """:math:`\\sqrt{N_p}`, ``p = 0 .. order``: :math:`b_p = a_p\\sqrt{N_p}`."""
+    p = np.arange(order + 1)
+    return np.exp(0.5 * (np.array([math.lgamma(j + 0.5) - math.lgamma(j + 1.0) for j in p])
+                         - 0.5 * math.log(math.pi)))
+
+
 def _result(mixture: Mixture, density: float, order: int, b: NDArray[np.float64],
             temps: NDArray[np.float64], zeta: float | None, resid: float,
             iterations: int) -> MixtureMoments:
@@ -321,9 +328,7 @@ def _result(mixture: Mixture, density: float, order: int, b: NDArray[np.float64]
     scaled = b @ basis_moments                                  # (k, 2P + 1)
     var = temps / np.asarray(mixture.masses)
     moments = scaled * np.sqrt(var)[:, None] ** np.arange(2 * order + 1)[None, :]
-    p = np.arange(order + 1)
-    norms = np.exp(0.5 * (np.array([math.lgamma(j + 0.5) - math.lgamma(j + 1.0) for j in p])
-                          - 0.5 * math.log(math.pi)))
+    norms = _sqrt_norms(order)
     info: dict[str, object] = {"order": order, "sonine": (b / norms).tolist(),
                                "residual": resid, "iterations": iterations}
     if np.any(moments[:, 4] <= 0.0):
@@ -409,10 +414,7 @@ def _state(moments: MixtureMoments, start: float) -> MixtureState:
     """The truncated series of every species on a grid (as the one-species ``"spectral"``:
     half-width :math:`\\max(12, \\sqrt{4P+8} + 8)` thermal speeds, spacing 0.01)."""
     order = int(moments.info["order"])  # type: ignore[call-overload]
-    p = np.arange(order + 1)
-    norms = np.exp(0.5 * (np.array([math.lgamma(j + 0.5) - math.lgamma(j + 1.0) for j in p])
-                          - 0.5 * math.log(math.pi)))
-    b = np.asarray(moments.info["sonine"]) * norms
+    b = np.asarray(moments.info["sonine"]) * _sqrt_norms(order)
     cutoff = max(12.0, math.sqrt(4.0 * order + 8.0) + 8.0)
     c = np.linspace(-cutoff, cutoff, 2 * int(math.ceil(cutoff / 0.01)) + 1)
     shape = b @ orthonormal_sonine(order, c) * np.exp(-0.5 * c**2) / math.sqrt(2.0 * math.pi)
