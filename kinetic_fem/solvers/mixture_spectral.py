@@ -270,8 +270,6 @@ def _solve(mixture: Mixture, order: int, density: float) -> MixtureMoments:
     density = check_positive("density", density)
     gamma, alpha = _check_mixture(mixture)
     cooling = not mixture.heated
-    if cooling and mixture.collision_kernel.homogeneity_degree is None:  # pragma: no cover
-        raise UnsupportedModelError("free cooling needs a homogeneous kernel")
     start = (mixture_gaussian.cooling_state if cooling else mixture_gaussian.steady_state)(
         mixture, density=density)
     k = mixture.n_species
