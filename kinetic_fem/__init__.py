@@ -52,6 +52,7 @@ _HOME = {name: module for module, names in _NAMES.items() for name in names}
 
 _SOLVER_MODULES = {"fd_cooling": "fd_cooling", "fem": "fem.heated", "fem_cooling": "fem.cooling",
                    "fem_mixture": "fem.mixture", "finite_difference": "finite_difference",
+                   "mixture_spectral": "mixture_spectral",
                    "scaling": "scaling", "spectral": "spectral"}
 """Modules of :mod:`kinetic_fem.solvers` that register solvers; public as ``kf.<name>``
 (``kf.fem`` is :mod:`kinetic_fem.solvers.fem.heated`, ``kf.fem_cooling``

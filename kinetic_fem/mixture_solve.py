@@ -45,11 +45,19 @@ def _maxwell() -> tuple[StateFunction, StateFunction]:
     return maxwell_mixture.steady_state, maxwell_mixture.cooling_state
 
 
+def _spectral() -> tuple[StateFunction, StateFunction]:
+    """The Sonine Galerkin method of the mixture (order 8)."""
+    from .solvers import mixture_spectral
+
+    return mixture_spectral.steady_state, mixture_spectral.cooling_state
+
+
 #: method name -> loader of ``(steady_state, cooling_state)``, each called as
 #: ``function(mixture, density=...)``; ``"sonine"`` is first-order Sonine theory,
 #: ``"gaussian"`` Gaussian species, ``"maxwell"`` the exact Maxwell mixture (kernel 0)
 MIXTURE_STATE_METHODS: dict[str, Callable[[], tuple[StateFunction, StateFunction]]] = {
     "sonine": _sonine, "gaussian": _gaussian, "maxwell": _maxwell}
+MIXTURE_STATE_METHODS["spectral"] = _spectral
 
 
 def binary_mixture(mass_ratio: float, *, fraction: float = 0.5, alpha: float = 0.9,

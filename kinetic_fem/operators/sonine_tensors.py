@@ -54,6 +54,7 @@ def orthonormal_sonine(order: int, c: ArrayLike) -> NDArray[np.float64]:
     ----------
     order : int
     c : array_like, shape (...)
+        Real, or complex (the mixture's complex-step derivatives); the result has its type.
 
     Returns
     -------
@@ -66,9 +67,10 @@ def orthonormal_sonine(order: int, c: ArrayLike) -> NDArray[np.float64]:
            [ 0.707107,  0.      ],
            [ 0.612372, -0.408248]])
     """
-    c = np.asarray(c, dtype=float)
+    c = np.asarray(c)
+    c = c.astype(complex if np.iscomplexobj(c) else float)
     x = 0.5 * c * c
-    out = np.empty((order + 1,) + c.shape)
+    out = np.empty((order + 1,) + c.shape, dtype=c.dtype)
     out[0] = 1.0
     if order >= 1:
         out[1] = (0.5 - x) * math.sqrt(2.0)
