@@ -36,7 +36,12 @@ from ...model import (
 from ...model.protocol import Protocol
 from ...solve import register_solver
 from .transient import BDF2, TransientOptions, build_mesh, floor_log, make_discretisation
-from .transient_setup import default_newton_tol, distribution_log_density, progress_bar
+from .transient_setup import (
+    SCHEMES,
+    default_newton_tol,
+    distribution_log_density,
+    progress_bar,
+)
 
 __all__ = ["evolve_heated_fem", "default_transient_cutoff", "default_transient_spacing"]
 
@@ -130,7 +135,8 @@ def evolve_heated_fem(problem: HeatedProblem, *, times: NDArray, protocol: Proto
                       spacing: float | None = None, cutoff: float | None = None,
                       first_step: float | None = None, max_step: float = math.inf,
                       max_steps: int = 20000, newton_tol: float | None = None,
-                      max_newton: int = 12, progress: bool = False) -> Evolution:
+                      max_newton: int = 12, scheme: str = "bdf3",
+                      progress: bool = False) -> Evolution:
     """Transient of the heated gas under ``protocol`` by adaptive BDF2 (see the module).
 
     Parameters
@@ -149,6 +155,9 @@ def evolve_heated_fem(problem: HeatedProblem, *, times: NDArray, protocol: Proto
         Numerical options (:class:`kinetic_fem.solvers.fem.transient.TransientOptions`;
         ``newton_tol`` default :func:`default_newton_tol`, ``spacing`` default
         :func:`default_transient_spacing`).
+    scheme : str
+        Time scheme: ``"bdf3"`` (variable-step BDF3) or ``"bdf2"`` (the integrator
+        before issue 30, kept for comparison); both start with backward Euler.
     progress : bool
         Show a progress bar over time (tqdm).
 
@@ -160,6 +169,8 @@ def evolve_heated_fem(problem: HeatedProblem, *, times: NDArray, protocol: Proto
     gas = problem.gas
     if order not in (1, 2):
         raise ValueError(f"order must be 1 or 2, got {order!r}")
+    if scheme not in SCHEMES:
+        raise ValueError(f"scheme must be one of {sorted(SCHEMES)}, got {scheme!r}")
     t_end = float(times[-1])
     if spacing is None:
         spacing = default_transient_spacing(rtol)
@@ -188,7 +199,7 @@ def evolve_heated_fem(problem: HeatedProblem, *, times: NDArray, protocol: Proto
     h0 = first_step if first_step is not None else rtol * t_coll
     tol = default_newton_tol(rtol) if newton_tol is None else newton_tol
     opt = TransientOptions(rtol, 0.0, order, spacing, cutoff, first_step, max_step,
-                           max_steps, tol, max_newton)
+                           max_steps, tol, max_newton, scheme=scheme)
     integ = BDF2(disc_at(0.0), coefficients, options=opt,
                  collision_time=lambda temp: 1.0 / (
                      gas.density * float(gas.kernel.rate(math.sqrt(temp)))))
@@ -218,7 +229,7 @@ def evolve_heated_fem(problem: HeatedProblem, *, times: NDArray, protocol: Proto
     series = {"diffusion": np.array([coefficients(t, False)[1] for t in times]),
               "friction": np.array([coefficients(t, False)[2] for t in times])}
     st = integ.stats
-    message = (f"adaptive BDF2, rtol={rtol:g}: {st.accepted} steps ({st.forced} at the minimum "
+    message = (f"adaptive {scheme.upper()}, rtol={rtol:g}: {st.accepted} steps ({st.forced} at the minimum "
                f"step {opt.min_step:.3g} above tolerance, {st.rejected} rejected, "
                f"{st.newton_failures} Newton failures), {st.newton_iterations} Newton "
                f"iterations, {st.jacobians} Jacobians, {st.factorisations} factorisations, "

@@ -76,14 +76,17 @@ from numpy.typing import NDArray
 from ...exceptions import ConvergenceError
 from .heated import EquilibratedLU, FEMDiscretisation, log_update
 from .transient_setup import (
+    BDF3_MAX_RATIO,
     CAP_GROWTH,
     INITIAL_FLOOR,
     LOG_TAIL,
     MAX_RATIO,
     NOISE_FLOOR,
+    SCHEMES,
     Level,
     TransientOptions,
     TransientStats,
+    bdf_weights,
     build_mesh,
     floor_log,
     lagrange_weights,
@@ -320,6 +323,9 @@ class BDF2(TimeIntegrator):
         self.limited = 0
         self.mass_defect = 0.0
         self.step_cap = math.inf   # below the last step whose Newton iteration failed
+        if options.scheme not in SCHEMES:
+            raise ValueError(f"scheme must be one of {sorted(SCHEMES)}, got {options.scheme!r}")
+        self.max_order = SCHEMES[options.scheme]
         self.set_disc(disc)
 
     def set_disc(self, disc: FEMDiscretisation) -> None:
@@ -598,6 +604,11 @@ class BDF2(TimeIntegrator):
         self.mass_defect += float(np.sum(out[low] - c_old[low])) / c_new
         return out
 
+    def order_of(self, n_levels: int) -> int:
+        """Order of the next step from ``n_levels`` known levels: backward Euler from
+        one or two, BDF2 from three, BDF3 (scheme ``"bdf3"``) from four."""
+        return 1 if n_levels < 3 else min(n_levels - 1, self.max_order)
+
     def level(self, s: float, u: NDArray) -> Level:
         """The accepted level of ``u`` at time ``s``."""
         return Level(s, u, self.masses(u), 0.0, np.zeros(2), self.observables(u))
@@ -606,7 +617,18 @@ class BDF2(TimeIntegrator):
         """One step of size ``h`` from ``hist[-1]``: the new level and its error norm."""
         last = hist[-1]
         s_new = last.s + h
-        if len(hist) >= 3:   # BDF2
+        if len(hist) >= 4 and self.max_order == 3:   # variable-step BDF3
+            past = hist[-1:-4:-1]                     # newest first
+            ts = [lv.s for lv in hist[-1:-5:-1]]
+            a = bdf_weights([s_new, *ts[:3]])
+            c_new = h * a[0]
+            c_old = -h * sum(aj * lv.m for aj, lv in zip(a[1:], past, strict=True))
+            c_old = self.history_target(c_old, last.m, c_new)
+            ratio = lte_ratio((h, ts[0] - ts[1], ts[1] - ts[2], ts[2] - ts[3]), 3)
+            weights = lagrange_weights([lv.s for lv in hist[-4:]], s_new)
+            u_start = u_pred = np.sum([c * lv.u for c, lv in
+                                       zip(weights, hist[-4:], strict=True)], axis=0)
+        elif len(hist) >= 3:   # BDF2
             h1, h2 = last.s - hist[-2].s, hist[-2].s - hist[-3].s
             w = h / h1
             c_new = (1.0 + 2.0 * w) / (1.0 + w)
@@ -617,6 +639,15 @@ class BDF2(TimeIntegrator):
             u_pred = np.sum([c * lv.u for c, lv in zip(weights, hist[-3:], strict=True)],
                             axis=0)
             u_start = u_pred
+        elif len(hist) == 2 and self.max_order == 3:
+            # backward Euler estimated against the linear extrapolation of the two levels
+            # (the explicit Euler predictor from the first level's derivative rejected
+            # the second step of a Gaussian start by 1e2-1e3 and restarted at 1e-7)
+            c_new, c_old = 1.0, last.m
+            ratio = lte_ratio((h, last.s - hist[-2].s), 1)
+            weights = lagrange_weights([lv.s for lv in hist], s_new)
+            u_pred = weights[0] * hist[0].u + weights[1] * hist[1].u
+            u_start = last.u
         else:                # backward Euler, from the last level
             c_new, c_old, ratio = 1.0, last.m, lte_ratio((h,), 1)
             if last.udot is None:
@@ -662,7 +693,9 @@ class BDF2(TimeIntegrator):
                     f"{self.opt.max_steps} steps taken before s={s_stop:.4g} (reached "
                     f"{hist[-1].s:.4g}); increase max_steps or rtol={self.opt.rtol:g}")
             # variable-step BDF2 is zero-stable for step ratios below 1 + sqrt(2)
-            ratio_cap = MAX_RATIO * (hist[-1].s - hist[-2].s) if len(hist) >= 2 else math.inf
+            order = self.order_of(len(hist))
+            max_ratio = BDF3_MAX_RATIO if order == 3 else MAX_RATIO
+            ratio_cap = max_ratio * (hist[-1].s - hist[-2].s) if len(hist) >= 2 else math.inf
             h = h_wanted = min(h, self.opt.max_step, ratio_cap)
             rest = s_stop - hist[-1].s   # reached in one step, or two equal ones
             hit = hist[-1].s + h >= s_stop - 1e-12 * max(1.0, abs(s_stop))
@@ -679,20 +712,22 @@ class BDF2(TimeIntegrator):
                         "refine the mesh (spacing) or loosen newton_tol")
                 continue
             level, err = result
-            order = 2 if len(hist) >= 3 else 1
             factor = 0.9 * max(err, 1e-10) ** (-1.0 / order)
             forced = err > 1.0 and h <= self.opt.min_step * 1.000001
             if err <= 1.0 or forced:
                 self.stats.forced += int(forced)
                 self.stats.accepted += 1
                 hist.append(level)
-                del hist[:-3]
-                h_next = min(h * min(2.0, max(0.2, factor)), self.step_cap)
+                del hist[:-(self.max_order + 1)]
+                h_next = min(h * min(2.0 if order < 3 else max_ratio, max(0.2, factor)),
+                             self.step_cap)
                 self.step_cap *= CAP_GROWTH
                 self.h = max(h_next, min(h_wanted, self.step_cap)) if hit else h_next
                 return hit
             self.stats.rejected += 1
             first = rejected is None
             h, rejected = max(retry_step(h, err, order, rejected), self.opt.min_step), (h, err)
-            if first:   # the next steps stay below the retried one for a while
+            # the next steps stay below the retried one for a while (bdf3: not after the
+            # first two steps of a run, whose rejections only correct the guessed first step)
+            if first and not (self.max_order == 3 and len(hist) <= 2):
                 self.step_cap = min(self.step_cap, h)
