@@ -626,8 +626,13 @@ class BDF2(TimeIntegrator):
             c_old = self.history_target(c_old, last.m, c_new)
             ratio = lte_ratio((h, ts[0] - ts[1], ts[1] - ts[2], ts[2] - ts[3]), 3)
             weights = lagrange_weights([lv.s for lv in hist[-4:]], s_new)
-            u_start = u_pred = np.sum([c * lv.u for c, lv in
-                                       zip(weights, hist[-4:], strict=True)], axis=0)
+            u_pred = np.sum([c * lv.u for c, lv in zip(weights, hist[-4:], strict=True)],
+                            axis=0)
+            # Newton starts from BDF2's quadratic extrapolation: the cubic one overshot
+            # in the far tail (exp overflow, Maxwell transient at rtol 1e-4)
+            weights = lagrange_weights([lv.s for lv in hist[-3:]], s_new)
+            u_start = np.sum([c * lv.u for c, lv in zip(weights, hist[-3:], strict=True)],
+                             axis=0)
         elif len(hist) >= 3:   # BDF2
             h1, h2 = last.s - hist[-2].s, hist[-2].s - hist[-3].s
             w = h / h1
