@@ -21,10 +21,11 @@ single-threaded BLAS, ``yardstick.cpu_yardstick``).  Target: ratio <= 20.
   with the same errors.
 
     python benchmarks/bench_transient_speed.py [--rtol R ...] [--only heated|maxwell|cooling]
-        [--scheme bdf2 bdf3] [--compare TREE]
+        [--scheme bdf2 bdf3 bdf4] [--compare TREE]
 
 ``--scheme`` runs the heated cases with these time schemes (default: ``bdf2``, the
-integrator before issue 30, and ``bdf3``, the default since; before/after in one run).
+integrator before issue 30 and still the default, ``bdf3`` and ``bdf4``; before/after
+in one run).
 
 ``--rtol`` runs the calls at these tolerances as well (the table of global error
 against CPU time).  ``--compare TREE`` first runs the same table in a subprocess with
@@ -128,7 +129,7 @@ def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--rtol", type=float, nargs="*", default=[])
     parser.add_argument("--only", choices=sorted(CASES), default=None)
-    parser.add_argument("--scheme", nargs="*", default=["bdf2", "bdf3"],
+    parser.add_argument("--scheme", nargs="*", default=["bdf2", "bdf3", "bdf4"],
                         help="time schemes of the heated cases, old and new in one run "
                              "(the cooling case runs its driver's default)")
     parser.add_argument("--compare", default=None, metavar="TREE",

@@ -271,7 +271,7 @@ def evolve_cooling_fem(gas: InelasticGas, *, times: NDArray, initial: VelocityDi
     else:
         t0 = 1.0 if initial_temperature is None else float(initial_temperature)
     unit[0] = math.sqrt(t0)
-    tol = default_newton_tol(rtol) if newton_tol is None else newton_tol
+    tol = default_newton_tol(rtol, scheme) if newton_tol is None else newton_tol
     opt = TransientOptions(rtol, 1e-9 / rate_in_units(1.0), order, spacing, cutoff,
                            first_step, max_step, max_steps, tol, max_newton,
                            moment_norm=False, scheme=scheme)

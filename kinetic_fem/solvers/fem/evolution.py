@@ -135,7 +135,7 @@ def evolve_heated_fem(problem: HeatedProblem, *, times: NDArray, protocol: Proto
                       spacing: float | None = None, cutoff: float | None = None,
                       first_step: float | None = None, max_step: float = math.inf,
                       max_steps: int = 20000, newton_tol: float | None = None,
-                      max_newton: int = 12, scheme: str = "bdf3",
+                      max_newton: int = 12, scheme: str = "bdf2",
                       progress: bool = False) -> Evolution:
     """Transient of the heated gas under ``protocol`` by adaptive BDF2 (see the module).
 
@@ -156,8 +156,10 @@ def evolve_heated_fem(problem: HeatedProblem, *, times: NDArray, protocol: Proto
         ``newton_tol`` default :func:`default_newton_tol`, ``spacing`` default
         :func:`default_transient_spacing`).
     scheme : str
-        Time scheme: ``"bdf3"`` (variable-step BDF3) or ``"bdf2"`` (the integrator
-        before issue 30, kept for comparison); both start with backward Euler.
+        Time scheme: ``"bdf2"`` (default), ``"bdf3"`` or ``"bdf4"`` (variable-step
+        BDF3/BDF4: 2-4 times fewer steps at default size and equal or smaller global
+        error; on coarse meshes, spacing 0.6, Newton failures cascaded); all start with
+        backward Euler (:class:`~kinetic_fem.solvers.fem.transient_setup.TransientOptions`).
     progress : bool
         Show a progress bar over time (tqdm).
 
@@ -197,7 +199,7 @@ def evolve_heated_fem(problem: HeatedProblem, *, times: NDArray, protocol: Proto
     # first step (and after a switch): backward Euler's error per unit step is about
     # h/t_coll, so rtol collision times; the step control grows it
     h0 = first_step if first_step is not None else rtol * t_coll
-    tol = default_newton_tol(rtol) if newton_tol is None else newton_tol
+    tol = default_newton_tol(rtol, scheme) if newton_tol is None else newton_tol
     opt = TransientOptions(rtol, 0.0, order, spacing, cutoff, first_step, max_step,
                            max_steps, tol, max_newton, scheme=scheme)
     integ = BDF2(disc_at(0.0), coefficients, options=opt,

@@ -123,6 +123,11 @@ far tail's updates reach no moment, but left unconverged they grew from step to 
 until a Newton step of 1e24 in P (Maxwell transient, spacing 0.5, t = 1.03); 1e-3 cost
 two more iterations per step (4 instead of 2 at 521 nodes) for the same errors."""
 
+LOW_ORDER_STEPS = 10
+"""After a Newton failure of a BDF3 step, this many accepted steps are BDF2: on a coarse
+mesh (spacing 0.6, rtol 1e-3, hard rods from T = 0.8) BDF3's failures cascaded down to
+steps of 1e-14, where BDF2 from the same levels went on."""
+
 HISTORY_FLOOR = 0.3
 """With ``positive_history``: a BDF2 history term below this fraction of ``c_new m^k``
 is replaced by backward Euler's (:meth:`BDF2.history_target`)."""
@@ -326,6 +331,7 @@ class BDF2(TimeIntegrator):
         if options.scheme not in SCHEMES:
             raise ValueError(f"scheme must be one of {sorted(SCHEMES)}, got {options.scheme!r}")
         self.max_order = SCHEMES[options.scheme]
+        self.low_order = 0   # accepted steps still to take at order <= 2 (after a failure)
         self.set_disc(disc)
 
     def set_disc(self, disc: FEMDiscretisation) -> None:
@@ -567,7 +573,8 @@ class BDF2(TimeIntegrator):
         return red[k:].astype(np.int64), int(red[k - 1]), int(red[k - 2]), coef
 
     # ------------------------------------------------------------------ stepping
-    def history_target(self, c_old: NDArray, m_last: NDArray, c_new: float) -> NDArray:
+    def history_target(self, c_old: NDArray, m_last: NDArray, c_new: float,
+                       force: bool = False) -> NDArray:
         """The BDF2 history term, kept positive with ``positive_history``.
 
         A far-tail dof decaying by more than a factor ~4 per step (the loss rate grows
@@ -592,7 +599,7 @@ class BDF2(TimeIntegrator):
         -------
         ndarray
         """
-        if not self.positive_history:
+        if not (self.positive_history or force):
             return c_old
         low = c_old < HISTORY_FLOOR * c_new * m_last
         if not low.any():
@@ -607,7 +614,8 @@ class BDF2(TimeIntegrator):
     def order_of(self, n_levels: int) -> int:
         """Order of the next step from ``n_levels`` known levels: backward Euler from
         one or two, BDF2 from three, BDF3 (scheme ``"bdf3"``) from four."""
-        return 1 if n_levels < 3 else min(n_levels - 1, self.max_order)
+        cap = 2 if self.low_order > 0 else self.max_order
+        return 1 if n_levels < 3 else min(n_levels - 1, cap)
 
     def level(self, s: float, u: NDArray) -> Level:
         """The accepted level of ``u`` at time ``s``."""
@@ -617,21 +625,22 @@ class BDF2(TimeIntegrator):
         """One step of size ``h`` from ``hist[-1]``: the new level and its error norm."""
         last = hist[-1]
         s_new = last.s + h
-        if len(hist) >= 4 and self.max_order == 3:   # variable-step BDF3
-            past = hist[-1:-4:-1]                     # newest first
-            ts = [lv.s for lv in hist[-1:-5:-1]]
-            a = bdf_weights([s_new, *ts[:3]])
+        order = self.order_of(len(hist))
+        if order >= 3:   # variable-step BDF3 (or higher)
+            levels = hist[-1:-order - 2:-1]           # newest first, order + 1 levels
+            ts = [lv.s for lv in levels]
+            a = bdf_weights([s_new, *ts[:order]])
             c_new = h * a[0]
-            c_old = -h * sum(aj * lv.m for aj, lv in zip(a[1:], past, strict=True))
-            c_old = self.history_target(c_old, last.m, c_new)
-            ratio = lte_ratio((h, ts[0] - ts[1], ts[1] - ts[2], ts[2] - ts[3]), 3)
-            weights = lagrange_weights([lv.s for lv in hist[-4:]], s_new)
-            u_pred = np.sum([c * lv.u for c, lv in zip(weights, hist[-4:], strict=True)],
-                            axis=0)
+            c_old = -h * sum(aj * lv.m for aj, lv in zip(a[1:], levels, strict=False))
+            c_old = self.history_target(c_old, last.m, c_new, force=True)
+            ratio = lte_ratio((h, *(t0 - t1 for t0, t1 in zip(ts, ts[1:], strict=False))),
+                              order)
+            weights = lagrange_weights(ts, s_new)
+            u_pred = np.sum([c * lv.u for c, lv in zip(weights, levels, strict=True)], axis=0)
             # Newton starts from BDF2's quadratic extrapolation: the cubic one overshot
             # in the far tail (exp overflow, Maxwell transient at rtol 1e-4)
-            weights = lagrange_weights([lv.s for lv in hist[-3:]], s_new)
-            u_start = np.sum([c * lv.u for c, lv in zip(weights, hist[-3:], strict=True)],
+            weights = lagrange_weights(ts[:3], s_new)
+            u_start = np.sum([c * lv.u for c, lv in zip(weights, levels[:3], strict=True)],
                              axis=0)
         elif len(hist) >= 3:   # BDF2
             h1, h2 = last.s - hist[-2].s, hist[-2].s - hist[-3].s
@@ -644,7 +653,7 @@ class BDF2(TimeIntegrator):
             u_pred = np.sum([c * lv.u for c, lv in zip(weights, hist[-3:], strict=True)],
                             axis=0)
             u_start = u_pred
-        elif len(hist) == 2 and self.max_order == 3:
+        elif len(hist) == 2 and self.max_order >= 3:
             # backward Euler estimated against the linear extrapolation of the two levels
             # (the explicit Euler predictor from the first level's derivative rejected
             # the second step of a Gaussian start by 1e2-1e3 and restarted at 1e-7)
@@ -699,7 +708,7 @@ class BDF2(TimeIntegrator):
                     f"{hist[-1].s:.4g}); increase max_steps or rtol={self.opt.rtol:g}")
             # variable-step BDF2 is zero-stable for step ratios below 1 + sqrt(2)
             order = self.order_of(len(hist))
-            max_ratio = BDF3_MAX_RATIO if order == 3 else MAX_RATIO
+            max_ratio = BDF3_MAX_RATIO if order >= 3 else MAX_RATIO
             ratio_cap = max_ratio * (hist[-1].s - hist[-2].s) if len(hist) >= 2 else math.inf
             h = h_wanted = min(h, self.opt.max_step, ratio_cap)
             rest = s_stop - hist[-1].s   # reached in one step, or two equal ones
@@ -708,6 +717,8 @@ class BDF2(TimeIntegrator):
             result = self.attempt(hist, h)
             if result is None:
                 self.stats.newton_failures += 1
+                if order >= 3:   # BDF2 for a while (BDF3's failures cascaded to 1e-14)
+                    self.low_order = LOW_ORDER_STEPS
                 # steps stay below the failed one a while (alpha 0.9 Kovacs quench)
                 self.step_cap = 0.7 * h
                 h = 0.5 * h if h > self.opt.min_step else 2.0 * h
@@ -722,6 +733,7 @@ class BDF2(TimeIntegrator):
             if err <= 1.0 or forced:
                 self.stats.forced += int(forced)
                 self.stats.accepted += 1
+                self.low_order = max(self.low_order - 1, 0)
                 hist.append(level)
                 del hist[:-(self.max_order + 1)]
                 h_next = min(h * min(2.0 if order < 3 else max_ratio, max(0.2, factor)),
@@ -734,5 +746,5 @@ class BDF2(TimeIntegrator):
             h, rejected = max(retry_step(h, err, order, rejected), self.opt.min_step), (h, err)
             # the next steps stay below the retried one for a while (bdf3: not after the
             # first two steps of a run, whose rejections only correct the guessed first step)
-            if first and not (self.max_order == 3 and len(hist) <= 2):
+            if first and not (self.max_order >= 3 and len(hist) <= 2):
                 self.step_cap = min(self.step_cap, h)
