@@ -147,7 +147,8 @@ def main(argv: list[str] | None = None) -> None:
     kf.evolve_cooling(0.5, kernel=0.0, times=[0.01], spacing=0.5, cutoff=10.0, rtol=1e-2)
     names = [args.only] if args.only else list(CASES)
     print(f"tree: {Path(kf.__file__).resolve().parents[1]}")
-    header = ("| case | scheme | rtol | CPU s | steps (rej.) | Jacobians | LU | nodes | steady CPU s | "
+    header = ("| case | scheme | rtol | CPU s | steps (rej.) | Jacobians | LU | nodes | "
+              "steady CPU s | "
               "ratio | units | err T | err a2 |")
     print(header)
     print("|" + "---|" * 13)
@@ -160,7 +161,8 @@ def main(argv: list[str] | None = None) -> None:
             unit = 0.5 * (unit + cpu_yardstick())
             errs = (f"{row['err_T']:.2e} | {row['err_a2']:.2e}" if "err_T" in row
                     else f"(T_end {row['T_end']:.8f}) | (a2_end {row['a2_end']:.8f})")
-            print(f"| {name} | {row['scheme']} | {row['rtol']:g} | {row['cpu']:.2f} | {row['steps']} "
+            print(f"| {name} | {row['scheme']} | {row['rtol']:g} | {row['cpu']:.2f} | "
+                  f"{row['steps']} "
                   f"({row['rejected']}) | {row['jacobians']} | {row['factorisations']} | "
                   f"{row['nodes']} | {steady:.3f} | {row['cpu'] / steady:.1f} | "
                   f"{row['cpu'] / unit:.1f} | {errs} |", flush=True)

@@ -231,7 +231,8 @@ def evolve_heated_fem(problem: HeatedProblem, *, times: NDArray, protocol: Proto
     series = {"diffusion": np.array([coefficients(t, False)[1] for t in times]),
               "friction": np.array([coefficients(t, False)[2] for t in times])}
     st = integ.stats
-    message = (f"adaptive {scheme.upper()}, rtol={rtol:g}: {st.accepted} steps ({st.forced} at the minimum "
+    message = (f"adaptive {scheme.upper()}, rtol={rtol:g}: {st.accepted} steps "
+               f"({st.forced} at the minimum "
                f"step {opt.min_step:.3g} above tolerance, {st.rejected} rejected, "
                f"{st.newton_failures} Newton failures), {st.newton_iterations} Newton "
                f"iterations, {st.jacobians} Jacobians, {st.factorisations} factorisations, "

@@ -631,7 +631,8 @@ class BDF2(TimeIntegrator):
             ts = [lv.s for lv in levels]
             a = bdf_weights([s_new, *ts[:order]])
             c_new = h * a[0]
-            c_old = -h * sum(aj * lv.m for aj, lv in zip(a[1:], levels, strict=False))
+            c_old = -h * np.sum([aj * lv.m for aj, lv in zip(a[1:], levels, strict=False)],
+                                axis=0)
             c_old = self.history_target(c_old, last.m, c_new, force=True)
             ratio = lte_ratio((h, *(t0 - t1 for t0, t1 in zip(ts, ts[1:], strict=False))),
                               order)
