@@ -368,8 +368,9 @@ def evolve_cooling_fem(gas: InelasticGas, *, times: NDArray, initial: VelocityDi
     n_seg, n_edge = count["segments"], count["edge"]
     params = {"problem": "cooling transient", **gas.as_dict(), "protocol": repr(protocol)}
     st = integ.stats
-    message = (f"adaptive {scheme.upper()} on {n_seg + 1} segments (rescale {rescale:g}, {n_edge} ended "
-               f"by a steep tail, {len(breaks)} restitution changes), rtol={rtol:g}: "
+    message = (f"adaptive {scheme.upper()} on {n_seg + 1} segments (rescale {rescale:g}, "
+               f"{n_edge} ended by a steep tail, {len(breaks)} restitution changes), "
+               f"rtol={rtol:g}: "
                f"{st.accepted} steps ({st.rejected} rejected, {st.newton_failures} Newton "
                f"failures, {st.forced} forced), {st.newton_iterations} Newton iterations, "
                f"{integ.limited} dof-steps backward Euler (history mass "
