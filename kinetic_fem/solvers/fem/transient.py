@@ -15,7 +15,10 @@ integrator).
 
 :class:`TimeIntegrator` is the protocol (as SciPy's ``OdeSolver``): the public
 :meth:`~TimeIntegrator.step` keeps the status and the counters and calls the scheme's
-``_step_impl``; :class:`BDF2` is the scheme.
+``_step_impl``; :class:`BDF2` is the scheme.  With ``TransientOptions.scheme`` ``"bdf3"``
+or ``"bdf4"`` (opt-in) it raises the order to variable-step BDF3/BDF4 once enough levels
+are known (coefficients :func:`~.transient_setup.bdf_weights`, the predictor through one
+level more); the default ``"bdf2"`` is the scheme described below.
 
 Time stepping is variable-step BDF2 on :math:`m(P)`: with :math:`\\omega = h_k/h_{k-1}`
 
