@@ -21,7 +21,11 @@ single-threaded BLAS, ``yardstick.cpu_yardstick``).  Target: ratio <= 20.
   with the same errors.
 
     python benchmarks/bench_transient_speed.py [--rtol R ...] [--only heated|maxwell|cooling]
-        [--compare TREE]
+        [--scheme bdf2 bdf3 bdf4] [--compare TREE]
+
+``--scheme`` runs the heated cases with these time schemes (default: ``bdf2``, the
+integrator before issue 30 and still the default, ``bdf3`` and ``bdf4``; before/after
+in one run).
 
 ``--rtol`` runs the calls at these tolerances as well (the table of global error
 against CPU time).  ``--compare TREE`` first runs the same table in a subprocess with
@@ -97,10 +101,13 @@ def maxwell_errors(model: dict, call: dict, ev) -> tuple[float, float]:
     return float(err_t), float(err_a2)
 
 
-def run(name: str, rtol: float | None, unit: float) -> dict:
-    """One evolve call of case ``name`` (default rtol if None) and its figures."""
+def run(name: str, rtol: float | None, unit: float, scheme: str | None = None) -> dict:
+    """One evolve call of case ``name`` (default rtol if None; default scheme if None)
+    and its figures."""
     model, call = CASES[name]
     options = {} if rtol is None else {"rtol": rtol}
+    if scheme is not None:
+        options["scheme"] = scheme
     kwargs = {k: v for k, v in model.items() if k != "alpha"}
     _FACTORS[0] = 0
     t0 = time.process_time()
@@ -108,7 +115,7 @@ def run(name: str, rtol: float | None, unit: float) -> dict:
     ev = evolve(model["alpha"], **kwargs, **call, **options)
     cpu = time.process_time() - t0
     extra = ev.info.extra
-    row = {"case": name, "rtol": extra.get("rtol", rtol), "cpu": cpu,
+    row = {"case": name, "scheme": scheme or "default", "rtol": extra.get("rtol", rtol), "cpu": cpu,
            "steps": extra.get("accepted"), "rejected": extra.get("rejected"),
            "jacobians": extra.get("jacobians"), "factorisations": _FACTORS[0],
            "nodes": extra.get("n_dofs"), "units": cpu / unit,
@@ -122,6 +129,9 @@ def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--rtol", type=float, nargs="*", default=[])
     parser.add_argument("--only", choices=sorted(CASES), default=None)
+    parser.add_argument("--scheme", nargs="*", default=["bdf2", "bdf3", "bdf4"],
+                        help="time schemes of the heated cases, old and new in one run "
+                             "(the cooling case runs its driver's default)")
     parser.add_argument("--compare", default=None, metavar="TREE",
                         help="first run the same table with PYTHONPATH at TREE")
     args = parser.parse_args(argv)
@@ -137,19 +147,22 @@ def main(argv: list[str] | None = None) -> None:
     kf.evolve_cooling(0.5, kernel=0.0, times=[0.01], spacing=0.5, cutoff=10.0, rtol=1e-2)
     names = [args.only] if args.only else list(CASES)
     print(f"tree: {Path(kf.__file__).resolve().parents[1]}")
-    header = ("| case | rtol | CPU s | steps (rej.) | Jacobians | LU | nodes | steady CPU s | "
+    header = ("| case | scheme | rtol | CPU s | steps (rej.) | Jacobians | LU | nodes | "
+              "steady CPU s | "
               "ratio | units | err T | err a2 |")
     print(header)
-    print("|" + "---|" * 12)
+    print("|" + "---|" * 13)
     for name in names:
-        for rtol in [None, *args.rtol]:
+        schemes = [None] if name in COOLING else args.scheme
+        for rtol, scheme in [(r, sc) for r in [None, *args.rtol] for sc in schemes]:
             unit = cpu_yardstick()
             steady = steady_cpu(name)
-            row = run(name, rtol, unit)
+            row = run(name, rtol, unit, scheme)
             unit = 0.5 * (unit + cpu_yardstick())
             errs = (f"{row['err_T']:.2e} | {row['err_a2']:.2e}" if "err_T" in row
                     else f"(T_end {row['T_end']:.8f}) | (a2_end {row['a2_end']:.8f})")
-            print(f"| {name} | {row['rtol']:g} | {row['cpu']:.2f} | {row['steps']} "
+            print(f"| {name} | {row['scheme']} | {row['rtol']:g} | {row['cpu']:.2f} | "
+                  f"{row['steps']} "
                   f"({row['rejected']}) | {row['jacobians']} | {row['factorisations']} | "
                   f"{row['nodes']} | {steady:.3f} | {row['cpu'] / steady:.1f} | "
                   f"{row['cpu'] / unit:.1f} | {errs} |", flush=True)

@@ -222,3 +222,63 @@ def test_default_spacing_follows_rtol():
     assert default_transient_spacing(1e-2) == 0.5
     assert default_transient_spacing(1e-6) == 0.25
     assert 0.25 < default_transient_spacing(1e-5) < 0.5
+
+
+@pytest.fixture(scope="module")
+def maxwell_bath_exact():
+    from kinetic_fem.solvers.maxwell import evolve_moments
+
+    times = np.array([0.0, 0.25, 0.5, 1.0])
+    return times, evolve_moments(0.5, times, friction=0.5, initial_temperature=1.0, order=4)
+
+
+@pytest.mark.parametrize("scheme", ["bdf3", "bdf4"])
+@pytest.mark.parametrize("rtol", [1e-2, 1e-3, 1e-4, 1e-5])
+def test_higher_order_global_error_within_rtol(rtol, scheme, maxwell_bath_exact):
+    """Issue 30: variable-step BDF3 and BDF4 keep the global error of the
+    Maxwell transient in a bath (alpha 0.5, friction 0.5, T0 = 1, to t = 1; spacing 0.35,
+    cut-off 8, mesh error 1.7e-8 in T and 2.5e-6 in a2 at rtol 1e-7) against the exact
+    moments below rtol.  Measured error/rtol at rtol 1e-2 ... 1e-5: BDF3 T 0.02, 0.05,
+    0.09, 0.12, a2 0.02, 0.07, 0.09, 0.11 (14, 21, 36, 66 steps); BDF4 T 0.02, 0.01,
+    0.02, 0.03, a2 0.01, 0.03, 0.09, 0.33 (13, 25, 29, 45 steps); scheme bdf2: T
+    0.10-0.31, a2 0.06-0.40 (13, 28, 73, 210 steps)."""
+    times, exact = maxwell_bath_exact
+    ev = kf.evolve_heated(0.5, kernel=0.0, friction=0.5, initial_temperature=1.0,
+                          times=times[1:], rtol=rtol, spacing=0.35, cutoff=8.0, scheme=scheme)
+    assert scheme.upper() in ev.info.message
+    assert np.abs(ev.temperature / exact.temperature[1:] - 1.0).max() < rtol
+    assert np.abs(ev.a2 - exact.a2[1:]).max() < rtol
+
+
+@pytest.mark.parametrize("scheme", ["bdf3", "bdf4"])
+def test_higher_order_schemes_take_fewer_steps(scheme):
+    """The default (``scheme="bdf2"``) is the integrator before issue 30; BDF3 and BDF4
+    need fewer steps (Maxwell bath to t = 1 at rtol 1e-4, spacing 0.5; measured 73
+    against 37 for BDF3)."""
+    call = dict(kernel=0.0, friction=0.5, initial_temperature=1.0, times=[0.5, 1.0],
+                rtol=1e-4, spacing=0.5, cutoff=8.0)
+    old = kf.evolve_heated(0.5, **call)
+    new = kf.evolve_heated(0.5, scheme=scheme, **call)
+    assert "BDF2" in old.info.message and scheme.upper() in new.info.message
+    assert new.info.extra["accepted"] < 0.7 * old.info.extra["accepted"]
+    np.testing.assert_allclose(new.temperature, old.temperature, rtol=1e-4)
+
+
+def test_bad_scheme_is_refused():
+    with pytest.raises(ValueError, match="scheme must be one of"):
+        kf.evolve_heated(0.5, times=[0.1], initial_temperature=0.8, scheme="rk4", **COARSE)
+
+
+def test_bdf_weights_and_error_constants():
+    from kinetic_fem.solvers.fem.transient_setup import bdf_weights
+
+    # BDF3 at equal steps: 11/6, -3, 3/2, -1/3; the weights differentiate cubics exactly
+    np.testing.assert_allclose(bdf_weights([3.0, 2.0, 1.0, 0.0]), [11 / 6, -3, 1.5, -1 / 3])
+    nodes = [1.0, 0.7, 0.3, 0.1]
+    a = bdf_weights(nodes)
+    assert sum(ai * t**3 for ai, t in zip(a, nodes, strict=True)) == pytest.approx(3.0)
+    # uniform BDF3 (C = 3/22) with the cubic predictor (1): 3/25
+    assert lte_ratio((1.0, 1.0, 1.0, 1.0), 3) == pytest.approx(3 / 25)
+    # the variable-step order 2 generic formula equals the closed one
+    from kinetic_fem.solvers.fem.transient_setup import _lte_ratio_generic
+    assert _lte_ratio_generic((0.3, 0.2, 0.5), 2) == pytest.approx(lte_ratio((0.3, 0.2, 0.5), 2))

@@ -194,7 +194,8 @@ def evolve_cooling_fem(gas: InelasticGas, *, times: NDArray, initial: VelocityDi
         (temperature ratio of a segment, > 1), and the step and Newton options
         ``first_step`` and ``max_step`` (physical time), ``max_steps``, ``newton_tol``
         (default :func:`~kinetic_fem.solvers.fem.transient_setup.default_newton_tol`),
-        ``max_newton``.
+        ``max_newton``, and ``scheme`` (``"bdf2"`` by default; ``"bdf3"``
+        restarts after each remap like BDF2).
     progress : bool
         Show a progress bar over time (tqdm).
     **option_keywords
@@ -222,6 +223,7 @@ def evolve_cooling_fem(gas: InelasticGas, *, times: NDArray, initial: VelocityDi
     start = time.perf_counter()
     o = gather(CoolingEvolveOptions, options, option_keywords, "evolve_cooling")
     rtol, order, cutoff, rescale, first_step = o.rtol, o.order, o.cutoff, o.rescale, o.first_step
+    scheme = o.scheme
     protocol = Protocol() if protocol is None else protocol
     check_free_cooling(gas, protocol)
     if order not in (1, 2):
@@ -266,10 +268,10 @@ def evolve_cooling_fem(gas: InelasticGas, *, times: NDArray, initial: VelocityDi
     else:
         t0 = 1.0 if initial_temperature is None else float(initial_temperature)
     unit[0] = math.sqrt(t0)
-    tol = default_newton_tol(rtol) if o.newton_tol is None else o.newton_tol
+    tol = default_newton_tol(rtol, scheme) if o.newton_tol is None else o.newton_tol
     opt = TransientOptions(rtol, 1e-9 / rate_in_units(1.0), order, spacing, cutoff,
                            first_step, o.max_step, o.max_steps, tol, o.max_newton,
-                           moment_norm=False)
+                           moment_norm=False, scheme=scheme)
     # error per collision time (as evolve_heated): the mean free time at the segment's
     # temperature ``temp`` (in units V^2)
     integ = BDF2(discretise(build_mesh(c_cut, h_el), 0.0), coefficients, options=opt,
@@ -363,8 +365,9 @@ def evolve_cooling_fem(gas: InelasticGas, *, times: NDArray, initial: VelocityDi
     n_seg, n_edge = count["segments"], count["edge"]
     params = {"problem": "cooling transient", **gas.as_dict(), "protocol": repr(protocol)}
     st = integ.stats
-    message = (f"adaptive BDF2 on {n_seg + 1} segments (rescale {rescale:g}, {n_edge} ended "
-               f"by a steep tail, {len(breaks)} restitution changes), rtol={rtol:g}: "
+    message = (f"adaptive {scheme.upper()} on {n_seg + 1} segments (rescale {rescale:g}, "
+               f"{n_edge} ended by a steep tail, {len(breaks)} restitution changes), "
+               f"rtol={rtol:g}: "
                f"{st.accepted} steps ({st.rejected} rejected, {st.newton_failures} Newton "
                f"failures, {st.forced} forced), {st.newton_iterations} Newton iterations, "
                f"{integ.limited} dof-steps backward Euler (history mass "

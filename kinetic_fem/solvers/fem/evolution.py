@@ -39,7 +39,12 @@ from ...options import gather
 from ...solve import register_solver
 from .options import EvolveOptions
 from .transient import BDF2, TransientOptions, build_mesh, floor_log, make_discretisation
-from .transient_setup import default_newton_tol, distribution_log_density, progress_bar
+from .transient_setup import (
+    SCHEMES,
+    default_newton_tol,
+    distribution_log_density,
+    progress_bar,
+)
 
 __all__ = ["evolve_heated_fem", "default_transient_cutoff", "default_transient_spacing"]
 
@@ -150,7 +155,8 @@ def evolve_heated_fem(problem: HeatedProblem, *, times: NDArray, protocol: Proto
         (:class:`~kinetic_fem.solvers.fem.options.EvolveOptions`: ``rtol`` default 1e-4,
         ``order``, ``spacing`` default :func:`default_transient_spacing`, ``cutoff``,
         ``first_step``, ``max_step``, ``max_steps``, ``newton_tol`` default
-        :func:`default_newton_tol`, ``max_newton``).
+        :func:`default_newton_tol`, ``max_newton``, ``scheme``: ``"bdf2"`` by default,
+        ``"bdf3"`` or ``"bdf4"``).
     progress : bool
         Show a progress bar over time (tqdm).
     **option_keywords
@@ -163,11 +169,13 @@ def evolve_heated_fem(problem: HeatedProblem, *, times: NDArray, protocol: Proto
     """
     o = gather(EvolveOptions, options, option_keywords, "evolve_heated")
     rtol, order, spacing, cutoff = o.rtol, o.order, o.spacing, o.cutoff
-    first_step, newton_tol = o.first_step, o.newton_tol
+    first_step, newton_tol, scheme = o.first_step, o.newton_tol, o.scheme
     start = time.perf_counter()
     gas = problem.gas
     if order not in (1, 2):
         raise ValueError(f"order must be 1 or 2, got {order!r}")
+    if scheme not in SCHEMES:
+        raise ValueError(f"scheme must be one of {sorted(SCHEMES)}, got {scheme!r}")
     t_end = float(times[-1])
     if spacing is None:
         spacing = default_transient_spacing(rtol)
@@ -194,9 +202,9 @@ def evolve_heated_fem(problem: HeatedProblem, *, times: NDArray, protocol: Proto
     # first step (and after a switch): backward Euler's error per unit step is about
     # h/t_coll, so rtol collision times; the step control grows it
     h0 = first_step if first_step is not None else rtol * t_coll
-    tol = default_newton_tol(rtol) if newton_tol is None else newton_tol
+    tol = default_newton_tol(rtol, scheme) if newton_tol is None else newton_tol
     opt = TransientOptions(rtol, 0.0, order, spacing, cutoff, first_step, o.max_step,
-                           o.max_steps, tol, o.max_newton)
+                           o.max_steps, tol, o.max_newton, scheme=scheme)
     integ = BDF2(disc_at(0.0), coefficients, options=opt,
                  collision_time=lambda temp: 1.0 / (
                      gas.density * float(gas.kernel.rate(math.sqrt(temp)))))
@@ -226,7 +234,8 @@ def evolve_heated_fem(problem: HeatedProblem, *, times: NDArray, protocol: Proto
     series = {"diffusion": np.array([coefficients(t, False)[1] for t in times]),
               "friction": np.array([coefficients(t, False)[2] for t in times])}
     st = integ.stats
-    message = (f"adaptive BDF2, rtol={rtol:g}: {st.accepted} steps ({st.forced} at the minimum "
+    message = (f"adaptive {scheme.upper()}, rtol={rtol:g}: {st.accepted} steps "
+               f"({st.forced} at the minimum "
                f"step {opt.min_step:.3g} above tolerance, {st.rejected} rejected, "
                f"{st.newton_failures} Newton failures), {st.newton_iterations} Newton "
                f"iterations, {st.jacobians} Jacobians, {st.factorisations} factorisations, "

@@ -15,7 +15,10 @@ integrator).
 
 :class:`TimeIntegrator` is the protocol (as SciPy's ``OdeSolver``): the public
 :meth:`~TimeIntegrator.step` keeps the status and the counters and calls the scheme's
-``_step_impl``; :class:`BDF2` is the scheme.
+``_step_impl``; :class:`BDF2` is the scheme.  With ``TransientOptions.scheme`` ``"bdf3"``
+or ``"bdf4"`` (opt-in) it raises the order to variable-step BDF3/BDF4 once enough levels
+are known (coefficients :func:`~.transient_setup.bdf_weights`, the predictor through one
+level more); the default ``"bdf2"`` is the scheme described below.
 
 Time stepping is variable-step BDF2 on :math:`m(P)`: with :math:`\\omega = h_k/h_{k-1}`
 
@@ -76,14 +79,17 @@ from numpy.typing import NDArray
 from ...exceptions import ConvergenceError
 from .heated import EquilibratedLU, FEMDiscretisation, log_update
 from .transient_setup import (
+    BDF3_MAX_RATIO,
     CAP_GROWTH,
     INITIAL_FLOOR,
     LOG_TAIL,
     MAX_RATIO,
     NOISE_FLOOR,
+    SCHEMES,
     Level,
     TransientOptions,
     TransientStats,
+    bdf_weights,
     build_mesh,
     floor_log,
     lagrange_weights,
@@ -119,6 +125,11 @@ TAIL_TOL = 1e-2
 far tail's updates reach no moment, but left unconverged they grew from step to step
 until a Newton step of 1e24 in P (Maxwell transient, spacing 0.5, t = 1.03); 1e-3 cost
 two more iterations per step (4 instead of 2 at 521 nodes) for the same errors."""
+
+LOW_ORDER_STEPS = 10
+"""After a Newton failure of a BDF3 step, this many accepted steps are BDF2: on a coarse
+mesh (spacing 0.6, rtol 1e-3, hard rods from T = 0.8) BDF3's failures cascaded down to
+steps of 1e-14, where BDF2 from the same levels went on."""
 
 HISTORY_FLOOR = 0.3
 """With ``positive_history``: a BDF2 history term below this fraction of ``c_new m^k``
@@ -320,6 +331,10 @@ class BDF2(TimeIntegrator):
         self.limited = 0
         self.mass_defect = 0.0
         self.step_cap = math.inf   # below the last step whose Newton iteration failed
+        if options.scheme not in SCHEMES:
+            raise ValueError(f"scheme must be one of {sorted(SCHEMES)}, got {options.scheme!r}")
+        self.max_order = SCHEMES[options.scheme]
+        self.low_order = 0   # accepted steps still to take at order <= 2 (after a failure)
         self.set_disc(disc)
 
     def set_disc(self, disc: FEMDiscretisation) -> None:
@@ -561,7 +576,8 @@ class BDF2(TimeIntegrator):
         return red[k:].astype(np.int64), int(red[k - 1]), int(red[k - 2]), coef
 
     # ------------------------------------------------------------------ stepping
-    def history_target(self, c_old: NDArray, m_last: NDArray, c_new: float) -> NDArray:
+    def history_target(self, c_old: NDArray, m_last: NDArray, c_new: float,
+                       force: bool = False) -> NDArray:
         """The BDF2 history term, kept positive with ``positive_history``.
 
         A far-tail dof decaying by more than a factor ~4 per step (the loss rate grows
@@ -586,7 +602,7 @@ class BDF2(TimeIntegrator):
         -------
         ndarray
         """
-        if not self.positive_history:
+        if not (self.positive_history or force):
             return c_old
         low = c_old < HISTORY_FLOOR * c_new * m_last
         if not low.any():
@@ -598,6 +614,12 @@ class BDF2(TimeIntegrator):
         self.mass_defect += float(np.sum(out[low] - c_old[low])) / c_new
         return out
 
+    def order_of(self, n_levels: int) -> int:
+        """Order of the next step from ``n_levels`` known levels: backward Euler from
+        one or two, BDF2 from three, BDF3 (scheme ``"bdf3"``) from four."""
+        cap = 2 if self.low_order > 0 else self.max_order
+        return 1 if n_levels < 3 else min(n_levels - 1, cap)
+
     def level(self, s: float, u: NDArray) -> Level:
         """The accepted level of ``u`` at time ``s``."""
         return Level(s, u, self.masses(u), 0.0, np.zeros(2), self.observables(u))
@@ -606,7 +628,25 @@ class BDF2(TimeIntegrator):
         """One step of size ``h`` from ``hist[-1]``: the new level and its error norm."""
         last = hist[-1]
         s_new = last.s + h
-        if len(hist) >= 3:   # BDF2
+        order = self.order_of(len(hist))
+        if order >= 3:   # variable-step BDF3 (or higher)
+            levels = hist[-1:-order - 2:-1]           # newest first, order + 1 levels
+            ts = [lv.s for lv in levels]
+            a = bdf_weights([s_new, *ts[:order]])
+            c_new = h * a[0]
+            c_old = -h * np.sum([aj * lv.m for aj, lv in zip(a[1:], levels, strict=False)],
+                                axis=0)
+            c_old = self.history_target(c_old, last.m, c_new, force=True)
+            ratio = lte_ratio((h, *(t0 - t1 for t0, t1 in zip(ts, ts[1:], strict=False))),
+                              order)
+            weights = lagrange_weights(ts, s_new)
+            u_pred = np.sum([c * lv.u for c, lv in zip(weights, levels, strict=True)], axis=0)
+            # Newton starts from BDF2's quadratic extrapolation: the cubic one overshot
+            # in the far tail (exp overflow, Maxwell transient at rtol 1e-4)
+            weights = lagrange_weights(ts[:3], s_new)
+            u_start = np.sum([c * lv.u for c, lv in zip(weights, levels[:3], strict=True)],
+                             axis=0)
+        elif len(hist) >= 3:   # BDF2
             h1, h2 = last.s - hist[-2].s, hist[-2].s - hist[-3].s
             w = h / h1
             c_new = (1.0 + 2.0 * w) / (1.0 + w)
@@ -617,6 +657,15 @@ class BDF2(TimeIntegrator):
             u_pred = np.sum([c * lv.u for c, lv in zip(weights, hist[-3:], strict=True)],
                             axis=0)
             u_start = u_pred
+        elif len(hist) == 2 and self.max_order >= 3:
+            # backward Euler estimated against the linear extrapolation of the two levels
+            # (the explicit Euler predictor from the first level's derivative rejected
+            # the second step of a Gaussian start by 1e2-1e3 and restarted at 1e-7)
+            c_new, c_old = 1.0, last.m
+            ratio = lte_ratio((h, last.s - hist[-2].s), 1)
+            weights = lagrange_weights([lv.s for lv in hist], s_new)
+            u_pred = weights[0] * hist[0].u + weights[1] * hist[1].u
+            u_start = last.u
         else:                # backward Euler, from the last level
             c_new, c_old, ratio = 1.0, last.m, lte_ratio((h,), 1)
             if last.udot is None:
@@ -662,7 +711,9 @@ class BDF2(TimeIntegrator):
                     f"{self.opt.max_steps} steps taken before s={s_stop:.4g} (reached "
                     f"{hist[-1].s:.4g}); increase max_steps or rtol={self.opt.rtol:g}")
             # variable-step BDF2 is zero-stable for step ratios below 1 + sqrt(2)
-            ratio_cap = MAX_RATIO * (hist[-1].s - hist[-2].s) if len(hist) >= 2 else math.inf
+            order = self.order_of(len(hist))
+            max_ratio = BDF3_MAX_RATIO if order >= 3 else MAX_RATIO
+            ratio_cap = max_ratio * (hist[-1].s - hist[-2].s) if len(hist) >= 2 else math.inf
             h = h_wanted = min(h, self.opt.max_step, ratio_cap)
             rest = s_stop - hist[-1].s   # reached in one step, or two equal ones
             hit = hist[-1].s + h >= s_stop - 1e-12 * max(1.0, abs(s_stop))
@@ -670,6 +721,8 @@ class BDF2(TimeIntegrator):
             result = self.attempt(hist, h)
             if result is None:
                 self.stats.newton_failures += 1
+                if order >= 3:   # BDF2 for a while (BDF3's failures cascaded to 1e-14)
+                    self.low_order = LOW_ORDER_STEPS
                 # steps stay below the failed one a while (alpha 0.9 Kovacs quench)
                 self.step_cap = 0.7 * h
                 h = 0.5 * h if h > self.opt.min_step else 2.0 * h
@@ -679,20 +732,23 @@ class BDF2(TimeIntegrator):
                         "refine the mesh (spacing) or loosen newton_tol")
                 continue
             level, err = result
-            order = 2 if len(hist) >= 3 else 1
             factor = 0.9 * max(err, 1e-10) ** (-1.0 / order)
             forced = err > 1.0 and h <= self.opt.min_step * 1.000001
             if err <= 1.0 or forced:
                 self.stats.forced += int(forced)
                 self.stats.accepted += 1
+                self.low_order = max(self.low_order - 1, 0)
                 hist.append(level)
-                del hist[:-3]
-                h_next = min(h * min(2.0, max(0.2, factor)), self.step_cap)
+                del hist[:-(self.max_order + 1)]
+                h_next = min(h * min(2.0 if order < 3 else max_ratio, max(0.2, factor)),
+                             self.step_cap)
                 self.step_cap *= CAP_GROWTH
                 self.h = max(h_next, min(h_wanted, self.step_cap)) if hit else h_next
                 return hit
             self.stats.rejected += 1
             first = rejected is None
             h, rejected = max(retry_step(h, err, order, rejected), self.opt.min_step), (h, err)
-            if first:   # the next steps stay below the retried one for a while
+            # the next steps stay below the retried one for a while (bdf3: not after the
+            # first two steps of a run, whose rejections only correct the guessed first step)
+            if first and not (self.max_order >= 3 and len(hist) <= 2):
                 self.step_cap = min(self.step_cap, h)

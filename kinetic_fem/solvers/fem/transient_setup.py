@@ -26,7 +26,7 @@ __all__ = ["MAX_RATIO", "MIN_EXPONENT", "retry_step", "CAP_GROWTH", "NOISE_FLOOR
            "TransientOptions", "TransientStats", "lte_ratio", "build_mesh",
            "make_discretisation", "floor_log", "Level", "lagrange_weights",
            "check_normalised", "distribution_log_density", "progress_bar",
-           "default_newton_tol"]
+           "default_newton_tol", "SCHEMES", "BDF3_MAX_RATIO", "bdf_weights"]
 
 CAP_GROWTH = 1.2
 """After a Newton failure at a step h, steps stay below 0.7 h, and after a rejected
@@ -36,6 +36,15 @@ MAX_RATIO = 2.0
 """Largest ratio of a step to the one before: variable-step BDF2 is zero-stable below
 :math:`1 + \\sqrt 2` (the step after one shortened to reach an output time had ratios
 up to 47 and was rejected)."""
+
+BDF3_MAX_RATIO = 1.5
+"""Largest ratio of a step to the one before for variable-step BDF3 and BDF4, and their
+largest growth per step (BDF2: ``MAX_RATIO``); a smaller growth than BDF2's, as the
+zero-stability bounds of variable-step BDF fall with the order."""
+
+SCHEMES = {"bdf2": 2, "bdf3": 3, "bdf4": 4}
+"""Time schemes of the FEM transients and their highest order (``TransientOptions.scheme``):
+all start with backward Euler and raise the order by one per accepted step."""
 
 MIN_EXPONENT = 0.3
 """Smallest exponent of the error norm in the step assumed after a second rejection of
@@ -104,6 +113,11 @@ class TransientOptions:
         False: by the largest update of ln P against ``newton_tol`` (the free-cooling
         driver: with the moment norm a viscoelastic cooling run at spacing 0.5, rtol 1e-5
         found no acceptable step at s = 2.26).
+    scheme : str
+        ``"bdf2"`` (the default), ``"bdf3"`` or ``"bdf4"`` (variable-step BDF3/BDF4
+        once four/five levels are known: 2-3 times fewer steps at equal or smaller global
+        error, but on coarse meshes, spacing 0.6, their long steps ended in cascades of
+        Newton failures; :data:`SCHEMES`).
     """
 
     rtol: float = 1e-4
@@ -117,6 +131,7 @@ class TransientOptions:
     newton_tol: float = 1e-11
     max_newton: int = 12
     moment_norm: bool = True
+    scheme: str = "bdf2"
 
 
 @dataclass
@@ -149,9 +164,15 @@ class TransientStats:
         return dict(vars(self))
 
 
-def default_newton_tol(rtol: float) -> float:
-    """Default tolerance of the step Newton on the update of ln P: ``1e-4 rtol``, at
-    least 1e-11.
+def default_newton_tol(rtol: float, scheme: str = "bdf2") -> float:
+    """Default tolerance of the step Newton on the update of ln P: ``1e-4 rtol`` with
+    BDF2, ``1e-3 rtol`` with the higher orders, at least 1e-11.
+
+    With BDF3 and ``1e-4 rtol`` the simplified Newton of the longer steps stalled near
+    round-off on a coarse mesh (hard rods from T = 0.8, spacing 0.6, rtol 1e-3: 9 Newton
+    failures cascading to steps of 1e-5; ``1e-3 rtol``: none, 31 steps), and the global
+    errors did not change (hard rods to t = 5, rtol 1e-3 ... 1e-5: the same to two
+    digits; Maxwell model in a bath: within rtol, ``benchmarks/bench_transient_speed.py``).
 
     Far below the local error the step control admits (``rtol`` per collision time),
     so the Newton error does not reach the error estimate; tighter costs iterations,
@@ -164,12 +185,14 @@ def default_newton_tol(rtol: float) -> float:
     ----------
     rtol : float
         The transient's tolerance.
+    scheme : str
+        The time scheme (:data:`SCHEMES`).
 
     Returns
     -------
     float
     """
-    return max(1e-4 * rtol, 1e-11)
+    return max((1e-4 if scheme == "bdf2" else 1e-3) * rtol, 1e-11)
 
 
 def lte_ratio(steps: tuple[float, ...], order: int) -> float:
@@ -177,7 +200,9 @@ def lte_ratio(steps: tuple[float, ...], order: int) -> float:
 
     The local error of the corrector is ``lte_ratio * (y_corrector - y_predictor)``.
     ``steps = (h_k, h_{k-1}, h_{k-2})`` (BDF2 with a quadratic predictor) or
-    ``(h_k,)`` (backward Euler with an explicit Euler predictor).  Computed by applying
+    ``(h_k,)`` (backward Euler with an explicit Euler predictor), ``(h_k, h_{k-1})``
+    (backward Euler with the linear extrapolation through the last two levels), or
+    ``(h_k, ..., h_{k-3})`` (BDF3 with a cubic predictor).  Computed by applying
     both formulas to :math:`t^{q+1}/(q+1)!`.
 
     Parameters
@@ -185,7 +210,7 @@ def lte_ratio(steps: tuple[float, ...], order: int) -> float:
     steps : tuple of float
         The last step sizes, newest first.
     order : int
-        1 (backward Euler) or 2 (BDF2).
+        1 (backward Euler), 2 (BDF2) or 3 (BDF3).
 
     Returns
     -------
@@ -195,9 +220,13 @@ def lte_ratio(steps: tuple[float, ...], order: int) -> float:
     --------
     >>> round(lte_ratio((1.0, 1.0, 1.0), 2), 12), lte_ratio((0.1,), 1)
     (0.181818181818, 0.5)
+    >>> round(lte_ratio((1.0, 1.0, 1.0, 1.0), 3), 12), round(lte_ratio((1.0, 1.0), 1), 12)
+    (0.12, 0.333333333333)
     """
-    if order == 1:
+    if order == 1 and len(steps) == 1:
         return 0.5
+    if order != 2:
+        return _lte_ratio_generic(steps, order)
     h, h1, h2 = steps
     w = h / h1
     c_new = (1.0 + 2.0 * w) / (1.0 + w)
@@ -205,6 +234,55 @@ def lte_ratio(steps: tuple[float, ...], order: int) -> float:
     resid = -(1.0 + w) * (-h) ** 3 / 6.0 + w * w / (1.0 + w) * (-(h + h1)) ** 3 / 6.0
     e_corr = -resid / c_new
     e_pred = -h * (h + h1) * (h + h1 + h2) / 6.0
+    return e_corr / (e_corr - e_pred)
+
+
+def bdf_weights(nodes: list[float]) -> list[float]:
+    """Derivative at ``nodes[0]`` of the Lagrange interpolant through ``nodes``.
+
+    The variable-step BDF formula of order ``len(nodes) - 1`` for the new time
+    ``nodes[0]`` is :math:`\\sum_j a_j m(t_j) = R(t_0)` with these weights :math:`a_j`.
+
+    Parameters
+    ----------
+    nodes : list of float
+        The new time first, then the past times (distinct).
+
+    Returns
+    -------
+    list of float
+
+    Examples
+    --------
+    >>> [round(a, 12) for a in bdf_weights([2.0, 1.0, 0.0])]   # BDF2, h = 1
+    [1.5, -2.0, 0.5]
+    """
+    s = nodes[0]
+    out = []
+    for j, sj in enumerate(nodes):
+        if j == 0:
+            out.append(sum(1.0 / (s - sk) for sk in nodes[1:]))
+            continue
+        w = 1.0 / (sj - s)
+        for k, sk in enumerate(nodes):
+            if k not in (0, j):
+                w *= (s - sk) / (sj - sk)
+        out.append(w)
+    return out
+
+
+def _lte_ratio_generic(steps: tuple[float, ...], order: int) -> float:
+    """:func:`lte_ratio` of variable-step BDF of ``order`` with the predictor through
+    ``order + 1`` past levels, by both formulas applied to :math:`t^{q+1}/(q+1)!`."""
+    times = [0.0]
+    for h in steps:
+        times.append(times[-1] - h)
+    y = [t ** (order + 1) / math.factorial(order + 1) for t in times]
+    a = bdf_weights(times[:order + 1])
+    # y(0) = y'(0) = 0: the corrector's value solves a_0 y_0 + sum a_j y_j = 0
+    e_corr = -sum(aj * yj for aj, yj in zip(a[1:], y[1:order + 1], strict=True)) / a[0]
+    e_pred = sum(wj * yj for wj, yj in
+                 zip(lagrange_weights(times[1:order + 2], 0.0), y[1:order + 2], strict=True))
     return e_corr / (e_corr - e_pred)
 
 
