@@ -37,6 +37,7 @@ BENCHMARKS: dict[str, tuple[str, bool]] = {
     "bench_sweep": ("speed", True),
     "bench_md_yardstick": ("speed", False),
     "bench_md_mixture": ("speed", False),
+    "bench_fem_mixture": ("speed", False),
     "bench_transient_speed": ("speed", False),
     "bench_first_hour": ("speed", True),
     "error_estimate_cost": ("speed", False),

@@ -6,8 +6,8 @@ convention), so that a sweep grid (:func:`kinetic_fem.sweep`), a TOML file of th
 a figure can name them; :func:`solve_binary` computes its heated steady state or
 homogeneous cooling state with one of the methods of :data:`MIXTURE_STATE_METHODS`
 (each a pair of functions ``(steady_state, cooling_state)`` returning a
-:class:`~kinetic_fem.mixture_state.MixtureMoments`).  A method is one entry of that table:
-the FEM mixture solver adds ``"fem"`` there.
+:class:`~kinetic_fem.mixture_state.MixtureMoments`).  A method is one entry of that table;
+``"fem"`` is the FEM mixture solver (:mod:`kinetic_fem.solvers.fem.mixture`).
 """
 
 from __future__ import annotations
@@ -52,12 +52,27 @@ def _spectral() -> tuple[StateFunction, StateFunction]:
     return mixture_spectral.steady_state, mixture_spectral.cooling_state
 
 
+def _fem() -> tuple[StateFunction, StateFunction]:
+    from .solvers.fem import mixture as fem_mixture
+
+    def steady_state(mixture: Mixture, *, density: float = 1.0) -> MixtureMoments:
+        return fem_mixture.solve_mixture_heated(mixture, density=density).moments()
+
+    def cooling_state(mixture: Mixture, *, density: float = 1.0) -> MixtureMoments:
+        return fem_mixture.solve_mixture_cooling(mixture, density=density).moments()
+
+    return steady_state, cooling_state
+
+
 #: method name -> loader of ``(steady_state, cooling_state)``, each called as
 #: ``function(mixture, density=...)``; ``"sonine"`` is first-order Sonine theory,
-#: ``"gaussian"`` Gaussian species, ``"maxwell"`` the exact Maxwell mixture (kernel 0)
+#: ``"gaussian"`` Gaussian species, ``"maxwell"`` the exact Maxwell mixture (kernel 0),
+#: ``"fem"`` the FEM states at their default mesh (:mod:`kinetic_fem.solvers.fem.mixture`;
+#: their moments up to the fourth), ``"spectral"`` the Sonine Galerkin method (order 8,
+#: :mod:`kinetic_fem.solvers.mixture_spectral`)
 MIXTURE_STATE_METHODS: dict[str, Callable[[], tuple[StateFunction, StateFunction]]] = {
-    "sonine": _sonine, "gaussian": _gaussian, "maxwell": _maxwell}
-MIXTURE_STATE_METHODS["spectral"] = _spectral
+    "sonine": _sonine, "gaussian": _gaussian, "maxwell": _maxwell, "spectral": _spectral,
+    "fem": _fem}
 
 
 def binary_mixture(mass_ratio: float, *, fraction: float = 0.5, alpha: float = 0.9,

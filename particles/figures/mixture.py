@@ -19,6 +19,7 @@ import math
 
 import numpy as np
 
+from kinetic_fem.exceptions import ConvergenceError
 from kinetic_fem.figures.plotting import save, subplots
 from kinetic_fem.mixture_solve import MIXTURE_STATE_METHODS, binary_mixture, solve_mixture
 from kinetic_fem.reproduce import ClaimRow, Context, register
@@ -88,8 +89,7 @@ def mixture_temperature_ratio(ctx: Context) -> list[ClaimRow]:
             for method in lines:
                 # a registered FEM solver is drawn at the symbol ratios only (its cost)
                 xs = ratios if method in LINE_METHODS else np.asarray(sizes["ratios"])
-                ys = [solve_mixture(binary_mixture(r, alpha=alpha, forcing=convention),
-                                    method=method).temperature_ratio() for r in xs]
+                ys = [_line_point(method, r, alpha, convention) for r in xs]
                 ax.plot(xs, ys, styles.get(method, "-."), color=color,
                         label=f"{method} alpha={alpha}" if c == 0 or method == "sonine"
                         else None)
@@ -119,6 +119,17 @@ def mixture_temperature_ratio(ctx: Context) -> list[ClaimRow]:
         writer.writeheader()
         writer.writerows(table)
     return rows
+
+
+def _line_point(method: str, ratio: float, alpha: float, convention: str) -> float:
+    """T_1/T_2 of ``method`` at one mass ratio; NaN where its Newton fails (FEM), so the
+    rows fall back to DSMC as reference."""
+    mix = binary_mixture(ratio, alpha=alpha, forcing=convention)
+    try:
+        return solve_mixture(mix, method=method).temperature_ratio()
+    except ConvergenceError as exc:
+        logger.info("B3: no %s point at m2/m1=%g, alpha=%g: %s", method, ratio, alpha, exc)
+        return math.nan
 
 
 def _resolved(p: dict, ref_name: str) -> bool:

@@ -47,3 +47,17 @@ def test_binary_mixture_bad_input_names_the_argument():
         binary_mixture(2.0, forcing="same_temperature")
     with pytest.raises(ValueError, match="method"):
         solve_mixture(binary_mixture(2.0), method="fem-typo")
+
+
+def test_sweep_with_the_fem_method_matches_the_exact_maxwell_mixture():
+    """method="fem" (the FEM heated state at its default mesh) in a sweep: the Maxwell
+    mixture (kernel 0, m 1:3, x 0.3, alpha_22 0.9, same_power) against the exact moments
+    (measured T_s 5.5e-14, a2_s 7.8e-10; 1.1 s)."""
+    options = {"fraction": 0.3, "alpha": 0.7, "alpha_22": 0.9, "kernel": 0.0,
+               "forcing": "same_power"}
+    ds = kf.sweep(solve_binary, {"mass_ratio": [3.0]}, method="fem", executor="serial",
+                  **options)
+    exact = solve_binary(3.0, method="maxwell", **options)
+    point = ds.sel(mass_ratio=3.0)
+    np.testing.assert_allclose(point.T_species.values, exact.temperatures, rtol=5e-13)
+    np.testing.assert_allclose(point.a2_species.values, exact.a2, rtol=0, atol=3e-9)

@@ -319,6 +319,10 @@ def _start_profiles(mixture: Mixture, density: float, variances: NDArray, coolin
     """
     out = []
     alpha = mixture.constant_alpha()
+    # the one-species state depends on the species' alpha and thermostat, not on its
+    # mass: solved once for each distinct pair (identical species, the same_diffusion
+    # convention at one alpha: one solve for the mixture)
+    solved: dict[tuple[float, ...], Any] = {}
     for s in range(mixture.n_species):
         sigma = math.sqrt(variances[s])
         v = np.linspace(0.0, 60.0 * sigma, 30001)
@@ -332,12 +336,16 @@ def _start_profiles(mixture: Mixture, density: float, variances: NDArray, coolin
             out.append((v, log_f))
             continue
         if cooling:
-            one = solve_cooling(float(alpha[s, s]), kernel=mixture.collision_kernel)
+            key: tuple[float, ...] = (float(alpha[s, s]),)
+            if key not in solved:
+                solved[key] = solve_cooling(key[0], kernel=mixture.collision_kernel)
         else:
             therm = mixture.thermostats[s]  # type: ignore[index]
-            one = solve_heated(float(alpha[s, s]), density=density,
-                               diffusion=therm.diffusion, friction=therm.friction,
-                               kernel=mixture.collision_kernel)
+            key = (float(alpha[s, s]), float(therm.diffusion), float(therm.friction))
+            if key not in solved:
+                solved[key] = solve_heated(key[0], density=density, diffusion=key[1],
+                                           friction=key[2], kernel=mixture.collision_kernel)
+        one = solved[key]
         keep = one.v > 0
         c = one.v[keep] / math.sqrt(one.moment(2, central=False))
         log_one = np.log(one.values[keep] * math.sqrt(one.moment(2, central=False)))

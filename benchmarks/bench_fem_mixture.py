@@ -1,0 +1,86 @@
+"""CPU time of a binary FEM mixture state against one species, and where it goes.
+
+Hard rods, alpha = 0.7, P3, the same bulk spacing in thermal velocities (0.25, the
+mixture's default; at 0.5 the heated Newton of masses 1:3 and 1:10 does not converge): the heated
+state (white noise) and the cooling state, one species (``kf.solve_heated(0.7)``,
+``kf.solve_cooling(0.7)``) against a binary mixture of identical species (x 0.5/0.5,
+equal masses: the accuracy is the one-species one) and of masses 1:3 and 1:10.  For the mixtures
+the CPU time is split into the pair sums (``MixtureDiscretisation.collision``, with and
+without Jacobian) and the rest (transport forms, LU solves, Newton driver).  Target of
+issue 27: a binary state at most 4 times one species.
+
+Run with one BLAS thread::
+
+    OMP_NUM_THREADS=1 python benchmarks/bench_fem_mixture.py
+"""
+
+from __future__ import annotations
+
+import time
+import warnings
+from collections.abc import Callable
+from typing import Any
+
+import kinetic_fem as kf
+from kinetic_fem.exceptions import ResolutionWarning
+from kinetic_fem.solvers.fem import mixture as fem_mixture
+
+
+def best(call: Callable[[], Any], repeats: int) -> tuple[float, Any]:
+    """Smallest CPU time of ``repeats`` calls and the last result."""
+    times = []
+    out = None
+    for _ in range(repeats):
+        cpu = time.process_time()
+        out = call()
+        times.append(time.process_time() - cpu)
+    return min(times), out
+
+
+def timed_collision(record: list[float]) -> Callable[..., Any]:
+    """The pair sums of the mixture, their CPU time appended to ``record``."""
+    plain = fem_mixture.MixtureDiscretisation.collision
+
+    def collision(self, us, *, jacobian=False):
+        cpu = time.process_time()
+        out = plain(self, us, jacobian=jacobian)
+        record.append(time.process_time() - cpu)
+        return out
+
+    return collision
+
+
+def main(spacing: float = 0.25, repeats: int = 3) -> None:
+    """Print the table."""
+    warnings.simplefilter("ignore", ResolutionWarning)
+    print(f"| state | dofs | CPU s (best of {repeats}) | ratio to one species | "
+          "pair sums share |")
+    print("|---|---|---|---|---|")
+    for cooling in (False, True):
+        name = "cooling" if cooling else "heated"
+        solve = kf.solve_cooling if cooling else kf.solve_heated
+        one_t, one = best(lambda s=solve: s(0.7, order=3, spacing=spacing), repeats)
+        print(f"| {name}, one species | {one.info.extra['n_dofs']} | {one_t:.3f} | 1 | |")
+        for masses in ((1.0, 1.0), (1.0, 3.0), (1.0, 10.0)):
+            mix = (kf.Mixture(masses, (0.5, 0.5), alpha=0.7) if cooling else
+                   kf.Mixture.white_noise(masses, (0.5, 0.5), alpha=0.7))
+            record: list[float] = []
+            plain = fem_mixture.MixtureDiscretisation.collision
+            fem_mixture.MixtureDiscretisation.collision = timed_collision(record)  # type: ignore[method-assign]
+            try:
+                mix_t, state = best(lambda s=solve, m=mix: s(m, order=3, spacing=spacing),
+                                    repeats)
+            except kf.exceptions.ConvergenceError as err:
+                print(f"| {name}, binary m {masses[0]:g}:{masses[1]:g} | | failed: "
+                      f"{str(err)[:70]} | | |", flush=True)
+                continue
+            finally:
+                fem_mixture.MixtureDiscretisation.collision = plain  # type: ignore[method-assign]
+            share = sum(record) / repeats / mix_t
+            print(f"| {name}, binary m {masses[0]:g}:{masses[1]:g} | "
+                  f"{state.info.extra['n_dofs']} | {mix_t:.3f} | {mix_t / one_t:.2f} | "
+                  f"{share:.0%} |", flush=True)
+
+
+if __name__ == "__main__":
+    main()
