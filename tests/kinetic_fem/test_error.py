@@ -165,10 +165,16 @@ def test_estimate_survives_pickling_only_once_computed():
     assert kept.error.a2 == computed.a2
 
 
-def test_sweep_fills_error_columns_for_deterministic_methods():
-    ds = kf.sweep(kf.solve_heated, {"alpha": [0.6]}, method="spectral",
-                  executor="serial").isel(alpha=0)
-    d = kf.solve_heated(0.6, method="spectral")
+@pytest.mark.parametrize("options", [{"method": "spectral"},
+                                     {"method": "fem", "order": 3, "spacing": 0.5},
+                                     {"method": "fd", "spacing": 0.12, "richardson": 1}],
+                         ids=["spectral", "fem", "fd"])
+def test_sweep_fills_error_columns_for_deterministic_methods(options):
+    ds = kf.sweep(kf.solve_heated, {"alpha": [0.6]}, executor="serial",
+                  **options).isel(alpha=0)
+    d = kf.solve_heated(0.6, **options)
+    assert np.isfinite(float(ds.a2_error)) and np.isfinite(float(ds.T_error))
+    assert np.isfinite(ds.f_error.values).any()
     assert float(ds.a2_error) == pytest.approx(d.error.a2, rel=1e-12)
     assert float(ds.T_error) == pytest.approx(d.error.temperature * d.temperature, rel=1e-12)
     i = int(np.argmin(np.abs(ds.c.values)))

@@ -111,6 +111,14 @@ def test_phi_distribution_is_a_velocity_distribution(phi):
     assert 1.99 < n[0] < 2.05 and 2.5 < n[1] < 3.0
 
 
+def test_phi_and_psi_carry_error_estimates_under_the_common_names(phi, psi):
+    for res in (phi, psi):
+        e = res.distribution.error
+        assert e.kind == "estimate" and e.zeta is None
+        assert 0.0 < e.temperature < 1e-9 and 0.0 < e.a2 < 1e-9  # measured 5e-12..2e-11
+        assert e.c.size > 2 and 0.0 < e.f_max < 1e-7  # measured 5e-10, 7e-10
+
+
 # ---------------------------------------------------------------- psi (C12)
 def test_psi_converges_with_zero_mean(psi):
     assert psi.info.converged and psi.info.residual < 1e-12
