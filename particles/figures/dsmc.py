@@ -35,6 +35,15 @@ def _heated_size(ctx: Context) -> tuple[int, float]:
     return (2000, 300.0) if ctx.quick else (25_000, 4000.0)
 
 
+A2_T_LIMIT = 4.09
+"""Two-sided 99.73 % quantile of Student's t with 9 degrees of freedom
+(``scipy.stats.t.ppf(0.99865, 9)``): the a2 error of :func:`_heated` is estimated from 10
+batch means, so ``|a2 - exact| / error`` is t-distributed, not normal.  Measured at
+alpha = 0.99, N = 2000, 1005 collisions per particle over 8 seeds: a2 spread 0.0043,
+estimated errors 0.0025-0.0068 (mean 0.0044); the seed of F2 drew the smallest error,
+0.0025, and lies 3.6 of them (2.1 true spreads) from the exact -0.1068."""
+
+
 @lru_cache(maxsize=None)
 def _heated(alpha: float, n: int, cpp: float, seed: int) -> dsmc.DSMCRun:
     """Averaging over at least 10 batches of 2/(1-alpha^2) collisions per particle each."""
@@ -88,11 +97,14 @@ def heated_vs_deterministic(ctx: Context) -> list[ClaimRow]:
             _note(ctx, f"N={n}, {cpp:g} collisions per particle; dissipation from the "
                        "collisions, (1-alpha^2)/2 sum g^2 per particle and time")))
         if det is not None:
-            agree = abs(run.a2 - det.a2) < 3 * run.a2_error
+            agree = abs(run.a2 - det.a2) < A2_T_LIMIT * run.a2_error
             rows.append(ClaimRow(
                 "C3", f"a2 DSMC vs {det.method}, alpha={alpha}",
                 f"{run.a2:+.4f} +- {run.a2_error:.4f}", f"{det.a2:+.4f} ({det.method})",
-                bool(agree), "dsmc", _note(ctx, f"N={n}; 3 standard errors")))
+                bool(agree), "dsmc",
+                _note(ctx, f"N={n}; {A2_T_LIMIT:.2f} standard errors (the 3-sigma level "
+                           "of Student's t with 9 degrees of freedom: the error is "
+                           "estimated from 10 batch means)")))
     title = "heated DSMC (symbols) and deterministic (lines)"
     if all(_deterministic(a, ctx.quick) is None for a in F2_ALPHAS):
         title = "heated DSMC (no deterministic solver available)"
