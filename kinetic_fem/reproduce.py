@@ -76,7 +76,7 @@ class ClaimRow:
         Anything a reader needs to judge the row.
     explained : str
         Why a verdict ``agrees=False`` is expected, as a key of :data:`EXPLANATIONS`
-        (``"misprint"``, ``"peak exponent"``); empty if a disagreement would be
+        (``"misprint"``, ``"peak exponent"``, ``"later stage"``); empty if a disagreement would be
         unexplained.
     """
 
@@ -94,6 +94,9 @@ EXPLANATIONS = {
     "misprint": "misprints (the formula derived from its equations agrees)",
     "peak exponent": "the n(c) peak's exponents (derived: v* ~ eps^(-8/15), "
                      "3 - n* ~ eps^(2/5))",
+    "later stage": "the stage it shows comes after its figure's run (two compact MD "
+                   "clusters and energy plateaus; at the last snapshot the + and - rods are "
+                   "still interleaved)",
 }
 """Reasons a row may disagree with the paper although the computation is right."""
 

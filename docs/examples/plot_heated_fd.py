@@ -32,7 +32,7 @@ from kinetic_fem import sonine
 from kinetic_fem.operators.collision import energy_balance
 from kinetic_fem.operators.grid import simpson_weights
 
-TEST_KWARGS = {"alpha": 0.6, "spacing": 0.2, "richardson": 0}
+TEST_KWARGS = {"alpha": 0.6, "spacing": 0.15, "richardson": 0}
 
 
 @dataclass(frozen=True)

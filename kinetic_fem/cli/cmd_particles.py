@@ -29,7 +29,7 @@ __all__ = ["add_parsers", "run", "interrupt_note"]
 
 EPILOG = """\
 examples:
-  kinetic-fem {cmd} 0.9 -N 10000 --collisions 200 --seed 1 --out run.npz
+  kinetic-fem {cmd} 0.9 -N 10000 --collisions 400 --seed 1 --out run.npz
   kinetic-fem {cmd} 0.6 -N 100000 --progress --checkpoint run.ckpt      (Ctrl-C, then:)
   kinetic-fem {cmd} 0.6 -N 100000 --progress --checkpoint run.ckpt --resume
   kinetic-fem {cmd} 0.9 -N 5000 --cooling --collisions 50 -o n_batches=4

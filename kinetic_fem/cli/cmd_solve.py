@@ -33,7 +33,7 @@ examples:
 COOLING_EPILOG = """\
 examples:
   kinetic-fem solve-cooling 0.9 --out hcs09.vtu
-  kinetic-fem solve-cooling 0.5 --method spectral -o order=4
+  kinetic-fem solve-cooling 0.8 --method spectral -o order=4
   kinetic-fem solve-cooling 0.8 --kernel 0 --method fem
 """
 

@@ -7,6 +7,7 @@ per process (``functools.lru_cache``).
 
 from __future__ import annotations
 
+import logging
 import math
 from functools import lru_cache
 
@@ -20,9 +21,16 @@ from kinetic_fem.sonine import A2_ELASTIC_LIMIT, a2_first_order, steady_temperat
 
 from .. import dsmc
 
+logger = logging.getLogger(__name__)
+
 F2_ALPHAS = (0.1, 0.6, 0.9, 0.99)
 F4_ALPHAS = (0.0, 0.1, 0.6, 0.707, 0.9, 0.99, 0.999)
 F9_EPS = (1e-2, 1e-3, 1e-4)
+HUMP_N_FACTOR = 10.0
+"""The cooling humps have their eps -> 0 width only if N >= HUMP_N_FACTOR eps^(-2/3) (the
+order at which the psi balance is set): at eps = 1e-3, N = 300 (3 eps^(-2/3)) gives a width
+of 1.40 eps^(1/3), N = 3000 (30 eps^(-2/3)) 1.10-1.14 against psi's 1.10 (see
+:func:`_psi_size`)."""
 
 
 
@@ -33,6 +41,15 @@ def _note(ctx: Context, text: str) -> str:
 
 def _heated_size(ctx: Context) -> tuple[int, float]:
     return (2000, 300.0) if ctx.quick else (25_000, 4000.0)
+
+
+A2_T_LIMIT = 4.09
+"""Two-sided 99.73 % quantile of Student's t with 9 degrees of freedom
+(``scipy.stats.t.ppf(0.99865, 9)``): the a2 error of :func:`_heated` is estimated from 10
+batch means, so ``|a2 - exact| / error`` is t-distributed, not normal.  Measured at
+alpha = 0.99, N = 2000, 1005 collisions per particle over 8 seeds: a2 spread 0.0043,
+estimated errors 0.0025-0.0068 (mean 0.0044); the seed of F2 drew the smallest error,
+0.0025, and lies 3.6 of them (2.1 true spreads) from the exact -0.1068."""
 
 
 @lru_cache(maxsize=None)
@@ -88,11 +105,14 @@ def heated_vs_deterministic(ctx: Context) -> list[ClaimRow]:
             _note(ctx, f"N={n}, {cpp:g} collisions per particle; dissipation from the "
                        "collisions, (1-alpha^2)/2 sum g^2 per particle and time")))
         if det is not None:
-            agree = abs(run.a2 - det.a2) < 3 * run.a2_error
+            agree = abs(run.a2 - det.a2) < A2_T_LIMIT * run.a2_error
             rows.append(ClaimRow(
                 "C3", f"a2 DSMC vs {det.method}, alpha={alpha}",
                 f"{run.a2:+.4f} +- {run.a2_error:.4f}", f"{det.a2:+.4f} ({det.method})",
-                bool(agree), "dsmc", _note(ctx, f"N={n}; 3 standard errors")))
+                bool(agree), "dsmc",
+                _note(ctx, f"N={n}; {A2_T_LIMIT:.2f} standard errors (the 3-sigma level "
+                           "of Student's t with 9 degrees of freedom: the error is "
+                           "estimated from 10 batch means)")))
     title = "heated DSMC (symbols) and deterministic (lines)"
     if all(_deterministic(a, ctx.quick) is None for a in F2_ALPHAS):
         title = "heated DSMC (no deterministic solver available)"
@@ -365,6 +385,15 @@ def cooling_collapse(ctx: Context) -> list[ClaimRow]:
     save(fig, ctx.out / "F10_dsmc_collapse.png")
     sizes = ", ".join(f"eps={e:g}: N={_cooling_size(e, ctx.quick)[0]}, width {w:.4f}"
                       for e, w in zip(F9_EPS, widths, strict=True))
+    small = [(e, _cooling_size(e, ctx.quick)[0]) for e in F9_EPS
+             if _cooling_size(e, ctx.quick)[0] < HUMP_N_FACTOR * e ** (-2.0 / 3.0)]
+    if small:
+        logger.warning(
+            "F10: N = %s at eps = %s, below %g eps^(-2/3) = %s: finite N broadens the humps "
+            "(measured at eps = 1e-3: width 1.40 eps^(1/3) at N = 300, 1.10-1.14 at N = 3000), "
+            "so the fitted nu is biased low", ", ".join(str(n) for _, n in small),
+            ", ".join(f"{e:g}" for e, _ in small), HUMP_N_FACTOR,
+            ", ".join(f"{HUMP_N_FACTOR * e ** (-2.0 / 3.0):.0f}" for e, _ in small))
     return [ClaimRow("C11", "fitted exponent nu of the hump width", f"{nu:.3f}", "1/3",
                      bool(abs(nu - 1 / 3) < 0.05), "dsmc", _note(ctx, sizes))]
 

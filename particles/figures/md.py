@@ -320,7 +320,8 @@ def cooling_small_n(ctx: Context) -> list[ClaimRow]:
                      min(plus, minus) > 0.25, "md", note),
             ClaimRow("C14", "sign changes of c along the ring at the last snapshot (2: two "
                      "compact clusters; ~N/2: + and - rods interleaved)", f"{runs_c} of N={n}",
-                     "two well defined clusters (in space)", runs_c <= 0.1 * n, "md", note),
+                     "two well defined clusters (in space)", runs_c <= 0.1 * n, "md", note,
+                     explained="later stage"),
             ClaimRow("C14", "late f(0)/max f (bimodal if << 1)", f"{dip:.3f}{cmp}",
                      "sharply bimodal f(c)", dip < 0.2, "md", note),
             ClaimRow("C14", "late E ~ t^x (centre-of-mass frame): fitted x", f"{slope_e:.2f}",
@@ -330,7 +331,7 @@ def cooling_small_n(ctx: Context) -> list[ClaimRow]:
                      "decays slower than t^-0.5 between consecutive records",
                      f"{flat:.2f} ({n_rec} record intervals)",
                      "energy decays as a series of plateaus (most of the time flat)",
-                     flat > 0.5, "md", note + plateau_note)]
+                     flat > 0.5, "md", note + plateau_note, explained="later stage")]
 
 
 @register("C8-MD", "heated MD density fluctuations against n sigma at fixed alpha",

@@ -3,6 +3,7 @@
 import logging
 import subprocess
 import sys
+import warnings
 
 import numpy as np
 import pytest
@@ -167,7 +168,7 @@ def test_solve_heated_passes_solver_options(tmp_path, capsys, toy_solver):
 
 def test_solve_cooling_prints_zeta_and_saves(tmp_path, capsys):
     path = tmp_path / "hcs.npz"
-    assert main(["solve-cooling", "0.5", "--method", "spectral", "-o", "order=4",
+    assert main(["solve-cooling", "0.8", "--method", "spectral", "-o", "order=4",
                  "--out", str(path), "--quiet"]) == 0
     out = capsys.readouterr().out
     assert "zeta = " in out and "a2 = " in out
@@ -416,3 +417,21 @@ def test_ctrl_c_on_a_sweep_says_what_was_kept(tmp_path):
     assert "Traceback" not in err
     last = err.strip().splitlines()[-1]
     assert last.startswith("kinetic-fem: interrupted: ") and f"kept in {store}" in last
+
+
+@pytest.mark.parametrize("command", [
+    "solve-cooling 0.8 --method spectral -o order=4",
+    "dsmc 0.9 -N 10000 --collisions 400 --seed 1 --out run.npz",
+])
+def test_help_examples_run_without_a_warning(command, tmp_path, monkeypatch, capsys, caplog):
+    """Two cheap examples of the --help texts (they warned before: an asymptotic Sonine
+    order, DSMC batches shorter than the relaxation window) run with warnings as errors."""
+    args = command.split()
+    with pytest.raises(SystemExit):
+        main([args[0], "--help"])
+    assert f"kinetic-fem {command}" in capsys.readouterr().out
+    monkeypatch.chdir(tmp_path)
+    with warnings.catch_warnings(), caplog.at_level(logging.WARNING):
+        warnings.simplefilter("error", UserWarning)
+        assert main([*args, "--quiet"]) == 0
+    assert not [r for r in caplog.records if r.levelno >= logging.WARNING], caplog.text

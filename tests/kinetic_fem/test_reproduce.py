@@ -138,3 +138,8 @@ def test_verdict_summary_separates_paper_errors_quick_mode_and_unexplained_rows(
         "1 unexplained\n    C4 tail: measured 2, paper 1.5")
     with pytest.raises(ValueError, match="explained='typo'"):
         classify(ClaimRow("C4", "tail", "2", "1.5", False, explained="typo"))
+    later = ClaimRow("C14", "sign changes", "38 of N=100", "two clusters", False,
+                     explained="later stage")
+    assert classify(later) == "paper: later stage"
+    assert "1 where the paper is wrong, the stage it shows comes after" in verdict_summary(
+        [later])
