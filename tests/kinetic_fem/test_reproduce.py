@@ -141,5 +141,6 @@ def test_verdict_summary_separates_paper_errors_quick_mode_and_unexplained_rows(
     later = ClaimRow("C14", "sign changes", "38 of N=100", "two clusters", False,
                      explained="later stage")
     assert classify(later) == "paper: later stage"
-    assert "1 where the paper is wrong, the stage it shows comes after" in verdict_summary(
-        [later])
+    summary = verdict_summary([later])
+    assert "1 explained, our figure's run ends before the stage" in summary
+    assert "where the paper is wrong" not in summary  # our run's limit, not the paper's
