@@ -27,7 +27,9 @@ Meshes: per species, graded in its thermal velocity :math:`\\sigma_s` (from the
 Gaussian theory, :mod:`kinetic_fem.solvers.mixture_gaussian`) out to where the
 larger of the Gaussian and the WKB tail :math:`e^{-S_s}`,
 :math:`S_s' = (\\xi_s v + \\sqrt{\\xi_s^2 v^2 + 4 n D_s B(v)})/(2D_s)`, falls below
-1e-33, widened by 15 % while :math:`f_s` at the cut-off exceeds 1e-30.
+1e-33, widened by 15 % while :math:`f_s` at the cut-off exceeds 1e-30; if Newton fails
+there, cut once where the last iterate's :math:`f_s\\sigma_s` falls below 1e-33 and
+restarted from it (:data:`TRIM_LEVEL`).
 
 **Cooling state.**  In scaled variables (mixture temperature
 :math:`T = \\sum_s x_s m_s\\langle v^2\\rangle_s = 1`) every species is stationary,
@@ -104,6 +106,14 @@ COOLING_MONITOR_LOG_F = math.log(1e-25)
 :math:`\\zeta`): with the outflow at the cut-offs the drift-dominated outer decades carry
 near-null modes of the Jacobian whose steps stay of order one at residuals of 1e-17
 (measured, m 1:3 hard rods), changing nothing where f is above them."""
+TRIM_LEVEL = 1e-33
+"""When the heated state's Newton fails on the default meshes, each mesh is cut where the
+last iterate's :math:`f_s\\sigma_s` falls below this and Newton restarts from that iterate
+(once; the widening then keeps :math:`f_s\\sigma_s < 10^{-30}` at the cut-offs): a mesh
+reaching far below it carries near-null modes at its edge whose full Newton steps grow
+while the residual is at round-off (measured: same_power m 1:0.1 alpha 0.9 hard rods,
+residual 5.5e-15 with steps 0.3 after 40 iterations at cut-offs of 14 thermal velocities,
+:math:`f_s\\sigma_s \\sim 10^{-63}` at the light species' edge)."""
 CONTINUATION_TOL = 1e-6
 """Newton tolerance of the intermediate states of the cooling continuation."""
 MIN_CONTINUATION_STEP = 1.0 / 256.0
@@ -644,29 +654,30 @@ def _solve_state(mixture: Mixture, density: float, cooling: bool, *, order: int,
             zeta0 = 0.25
         x0 = np.concatenate([x0, [zeta0]])
     system = _System(mdisc, cooling)
-    for widening in range(MAX_WIDENINGS + 1):
+    trimmed = False
+    widening = 0
+    while True:
         x, info = _solve(system, x0, tol=tol, max_iter=max_iter)
-        if not info.converged:
-            raise ConvergenceError(f"the FEM mixture Newton did not converge in {max_iter} "
-                                   f"iterations ({info.message}); refine the mesh (spacing) "
-                                   "or increase max_iter")
         us = mdisc.split(x[:mdisc.offsets[-1]])
+        if not info.converged:
+            trim = None if fixed or trimmed or cooling else _trimmed_cutoffs(mdisc, us)
+            if trim is None:
+                raise ConvergenceError(f"the FEM mixture Newton did not converge in "
+                                       f"{max_iter} iterations ({info.message}); refine the "
+                                       "mesh (spacing) or increase max_iter")
+            logger.info("Newton failed (%s); cut-offs trimmed to %s", info.message, trim)
+            trimmed = True
+            mdisc, x0 = _remeshed(mdisc, us, trim, spacing, x[mdisc.offsets[-1]:])
+            system = _System(mdisc, cooling)
+            continue
         edges = _edges(mdisc, us)
         if max(edges) < TAIL_FLOOR or fixed or widening == MAX_WIDENINGS:
             break
+        widening += 1
         logger.info("f_s sigma_s = %s at the cut-offs; widening", edges)
         grow = [1.15 if e >= TAIL_FLOOR else 1.0 for e in edges]
         cuts = [float(v[-1]) * g for v, g in zip(mdisc.vertices, grow, strict=True)]
-        variances = np.array([float(np.sum(np.exp(u) * d.dof_locations**2)
-                                    / np.sum(np.exp(u))) for d, u in
-                              zip(mdisc.discs, us, strict=True)])
-        verts = mixture_meshes(mixture, variances, cuts, spacing=spacing)
-        new = MixtureDiscretisation(mixture, verts, density, order)
-        us0 = [_extend(old, u, d) for old, u, d in zip(mdisc.discs, us, new.discs, strict=True)]
-        x0 = new.stack(us0)
-        if cooling:
-            x0 = np.concatenate([x0, x[-1:]])
-        mdisc = new
+        mdisc, x0 = _remeshed(mdisc, us, cuts, spacing, x[mdisc.offsets[-1]:])
         system = _System(mdisc, cooling)
     if max(edges) >= TAIL_FLOOR:
         warnings.warn(f"f_s sigma_s = {max(edges):.2e} at a cut-off is above {TAIL_FLOOR}: "
@@ -674,6 +685,41 @@ def _solve_state(mixture: Mixture, density: float, cooling: bool, *, order: int,
                       stacklevel=3)
     return _mixture_state(mixture, density, mdisc, x, info, cooling,
                           time.process_time() - cpu)
+
+
+def _variance(disc: FEMDiscretisation, u: NDArray) -> float:
+    """:math:`\\sum_i x_i^2 e^{u_i} / \\sum_i e^{u_i}` over the dofs (the mesh scale)."""
+    return float(np.sum(np.exp(u) * disc.dof_locations**2) / np.sum(np.exp(u)))
+
+
+def _remeshed(mdisc: MixtureDiscretisation, us: Sequence[NDArray], cuts: Sequence[float],
+              spacing: float, tail: NDArray) -> tuple[MixtureDiscretisation, NDArray]:
+    """New meshes with the cut-offs ``cuts`` (graded on the variances of ``us``) and the
+    stacked start on them (``us`` carried over by :func:`_extend`, ``tail`` appended)."""
+    variances = np.array([_variance(d, u) for d, u in zip(mdisc.discs, us, strict=True)])
+    verts = mixture_meshes(mdisc.mixture, variances, cuts, spacing=spacing)
+    new = MixtureDiscretisation(mdisc.mixture, verts, mdisc.density, mdisc.order)
+    us0 = [_extend(old, u, d) for old, u, d in zip(mdisc.discs, us, new.discs, strict=True)]
+    return new, np.concatenate([new.stack(us0), tail])
+
+
+def _trimmed_cutoffs(mdisc: MixtureDiscretisation, us: Sequence[NDArray]
+                     ) -> list[float] | None:
+    """Cut-offs where the iterate's :math:`f_s\\sigma_s` first falls below
+    :data:`TRIM_LEVEL`, or None if no mesh reaches below it."""
+    cuts, changed = [], False
+    for disc, u, verts in zip(mdisc.discs, us, mdisc.vertices, strict=True):
+        loc = disc.dof_locations
+        keep = loc >= 0
+        order = np.argsort(loc[keep])
+        v, log_f = loc[keep][order], u[keep][order] + 0.5 * math.log(_variance(disc, u))
+        below = np.flatnonzero(log_f < math.log(TRIM_LEVEL))
+        if below.size and v[below[0]] < float(verts[-1]):
+            cuts.append(float(v[below[0]]))
+            changed = True
+        else:
+            cuts.append(float(verts[-1]))
+    return cuts if changed else None
 
 
 def _extend(old: FEMDiscretisation, u: NDArray, new: FEMDiscretisation) -> NDArray:

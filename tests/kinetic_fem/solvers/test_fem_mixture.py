@@ -128,3 +128,34 @@ def test_hard_rods_1_to_3_cooling_state_converges_in_the_mesh():
     assert coarse.zeta == pytest.approx(fine.zeta, rel=1e-9)
     assert fine.temperature_ratio() == pytest.approx(0.7447600907, rel=1e-9)
     assert fine.zeta == pytest.approx(0.2123161875, rel=1e-9)
+
+
+def test_failed_heated_newton_restarts_on_trimmed_meshes(caplog):
+    """When the heated Newton fails on the default meshes, the meshes are cut where the
+    iterate's f_s sigma_s falls below TRIM_LEVEL (1e-33) and Newton restarts from it.
+    Hard rods m 1:2, alpha 0.8 at spacing 0.5: both starts failed before (the Gaussian's
+    at residual 9e-16 with steps 3e-3 after 40 iterations: the near-null edge modes);
+    the trimmed restart converges in 9 steps, and T1/T2 agrees with spacing 0.125
+    (0.8082591066) to the discretisation error (measured 1.6e-8; 2.6 s)."""
+    mix = kf.Mixture.white_noise((1.0, 2.0), (0.5, 0.5), alpha=0.8)
+    with caplog.at_level("INFO", logger=fem_mixture.__name__):
+        state = kf.solve_heated(mix, spacing=0.5)
+    assert "cut-offs trimmed" in caplog.text
+    assert state.info.converged
+    assert state.temperature_ratio() == pytest.approx(0.8082591066, rel=3e-8)
+    np.testing.assert_allclose(state.a2, [-0.0240493, 0.0012614], rtol=0, atol=1e-6)
+
+
+@pytest.mark.slow
+def test_same_power_light_species_heated_state_is_found():
+    """same_power (D_s = 1/m_s), m2/m1 = 0.1, x 0.5/0.5, alpha 0.9, hard rods: Newton on
+    the default meshes (cut-offs 14 thermal velocities, f_s sigma_s ~ 1e-63 at the light
+    species' edge) does not converge (steps 0.3 at residual 5e-15 after 40 iterations);
+    the trimmed restart does, and agrees with an explicit cut-off of 13 thermal velocities
+    (measured: T1/T2 1.3246784883 both, difference 2e-11; 21 s)."""
+    mix = kf.Mixture.white_noise((1.0, 0.1), (0.5, 0.5), alpha=0.9, convention="same_power")
+    state = kf.solve_heated(mix)
+    assert state.info.converged
+    explicit = kf.solve_heated(mix, cutoff=13.0)
+    assert state.temperature_ratio() == pytest.approx(explicit.temperature_ratio(), rel=1e-9)
+    assert state.temperature_ratio() == pytest.approx(1.3246784883, rel=1e-9)
