@@ -160,6 +160,10 @@ def measure_reproduce(source: Path, unit: float) -> list[tuple[str, float]]:
                  "--out", str(out)], copy)
             print(f"  reproduce --quick, {label}: {cpu:.1f} CPU s, {wall:.0f} s wall, "
                   f"status {status}", file=sys.stderr, flush=True)
+            claims = out / "claims.md"
+            if claims.is_file():  # the closing summary (verdicts) of that run
+                summary = claims.read_text().split("claim row(s):")[-1]
+                print(f"  summary: claim row(s):{summary}", file=sys.stderr, flush=True)
             rows.append((f"`reproduce --quick`, {label} (CPU s)", cpu))
             rows.append((f"`reproduce --quick`, {label} (units)", cpu / unit))
     return rows

@@ -127,8 +127,10 @@ sphinx_gallery_conf["run_stale_examples"] = _gallery_mode_changed(_HERE / "auto_
 def _stop_build(signum: int, frame: object) -> None:
     """Ctrl-C: stop the whole build now (sphinx-gallery would report the interrupt as an
     error of the running example, or a SystemError from a numba kernel, and go on)."""
-    sys.stderr.write("\ndocs build interrupted (Ctrl-C): stopped; unchanged examples "
-                     "keep their output for the next build\n")
+    # straight to file descriptor 2: while an example runs, sphinx-gallery has replaced
+    # sys.stdout/sys.stderr by its capture, and os._exit flushes nothing
+    os.write(2, b"\ndocs build interrupted (Ctrl-C): stopped; unchanged examples keep "
+                b"their output for the next build\n")
     os._exit(130)
 
 

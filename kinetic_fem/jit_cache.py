@@ -14,9 +14,14 @@ Where the cache lives: numba writes it beside the sources (each ``__pycache__``)
 the package folder is not writable (a system-wide installation) and the user has not
 chosen a folder with ``NUMBA_CACHE_DIR``, :func:`configure_cache_dir` points numba at a
 user cache folder, ``$XDG_CACHE_HOME/kinetic-fem/numba`` (``~/.cache/...``), where
-:func:`ensure_fresh_cache` keeps it consistent in the same way.  :func:`announce_compilation`
-says once per process, as a :class:`CompilationNotice` warning on stderr, that kernels are
-being compiled (the first solve after a fresh install spends most of its time there).
+:func:`ensure_fresh_cache` keeps it consistent in the same way.
+
+:func:`announce_compilation` says once per process that kernels are being compiled (the
+first solve after a fresh install spends most of its time there): an INFO record of this
+module's logger and, when progress is shown (the ``progress=`` of the running call, by
+default when the session is interactive, see :mod:`kinetic_fem.progress`) and no logging
+handler shows that record already, one line on stderr through ``tqdm.write`` (the
+progress bars' channel).  It is not a warning: ``-W error`` runs are not affected.
 """
 
 from __future__ import annotations
@@ -25,12 +30,11 @@ import hashlib
 import logging
 import os
 import sys
-import warnings
 from pathlib import Path
 from typing import Any
 
 __all__ = ["ensure_fresh_cache", "kernel_sources_digest", "configure_cache_dir",
-           "user_cache_dir", "cache_folders", "announce_compilation", "CompilationNotice",
+           "user_cache_dir", "cache_folders", "announce_compilation", "compilation_message",
            "COMPILE_SECONDS"]
 
 logger = logging.getLogger(__name__)
@@ -121,8 +125,25 @@ solve on an idle core (``benchmarks/bench_first_hour.py``, first-solve row), quo
 :func:`announce_compilation`."""
 
 
-class CompilationNotice(UserWarning):
-    """Numba is compiling kernels (once per install; later runs load them from disk)."""
+def compilation_message(where: str) -> str:
+    """The one line that says kernels are being compiled.
+
+    Parameters
+    ----------
+    where : str
+        Where later runs load them from.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> compilation_message("here").startswith("kinetic-fem: compiling kernels, once per install")
+    True
+    """
+    return (f"kinetic-fem: compiling kernels, once per install, about {COMPILE_SECONDS} s of "
+            f"CPU for a first heated and cooling solve; later runs load them from {where}")
 
 
 def _path_hash(path: str) -> str:
@@ -204,11 +225,16 @@ _ANNOUNCED: list[Any] = []
 
 
 def announce_compilation(package: str) -> None:
-    """Warn once per process when numba first compiles a kernel of ``package``.
+    """Say once per process when numba first compiles a kernel of ``package``.
 
     A listener of numba's ``numba:compile`` event, which fires only when a kernel is
-    not found in the cache; the warning (:class:`CompilationNotice`) names the cost
-    and says that it is paid once per install.
+    not found in the cache.  The message (:func:`compilation_message`) names the cost
+    and says that it is paid once per install: always as an INFO log record of this
+    module, and as one line on stderr (``tqdm.write``, so that a running bar stays
+    intact) when progress is shown -- :func:`kinetic_fem.progress.showing_progress`,
+    that is the ``progress=`` of the running call (``False``, or the command line's
+    ``--quiet``, silences it) -- unless a logging handler already shows the record (the
+    command line logs INFO to stderr).  Not a warning: ``-W error`` is unaffected.
 
     Parameters
     ----------
@@ -230,11 +256,7 @@ def announce_compilation(package: str) -> None:
             if module.split(".")[0] in self.packages and not getattr(self, "done", False):
                 self.done = True
                 where = os.environ.get("NUMBA_CACHE_DIR") or "the package's __pycache__"
-                warnings.warn_explicit(
-                    f"compiling the numba kernels this call needs, once per install (tens "
-                    f"of seconds of CPU; a first heated and cooling solve about "
-                    f"{COMPILE_SECONDS} s); later runs load them from {where}",
-                    CompilationNotice, filename=module.split(".")[0], lineno=0, module=module)
+                _say(compilation_message(where))
 
         def on_end(self, ev: Any) -> None:
             pass
@@ -242,3 +264,28 @@ def announce_compilation(package: str) -> None:
     listener = _Listener()
     _ANNOUNCED.append(listener)
     event.register("numba:compile", listener)
+
+
+def _logged_visibly(log: logging.Logger, level: int) -> bool:
+    """Whether a record of ``level`` from ``log`` reaches a handler that lets it through."""
+    if not log.isEnabledFor(level):
+        return False
+    node: logging.Logger | None = log
+    while node is not None:
+        if any(h.level <= level for h in node.handlers):
+            return True
+        node = node.parent if node.propagate else None
+    return False
+
+
+def _say(message: str) -> None:
+    """Log ``message`` at INFO; also write it on stderr if progress is shown and no
+    handler shows the record."""
+    from .progress import showing_progress
+
+    visible = _logged_visibly(logger, logging.INFO)
+    logger.info("%s", message)
+    if showing_progress() and not visible:
+        from tqdm import tqdm
+
+        tqdm.write(message, file=sys.stderr)

@@ -5,7 +5,9 @@ that is when stderr is a terminal or the code runs in a Jupyter notebook), ``Tru
 ``False``; :func:`resolve_progress` turns that into a bool and :func:`progress_bar`
 makes the bar (``tqdm``; its notebook widget in Jupyter), on stderr.  The command line
 always shows its bars unless ``--quiet``.  :func:`ticking` refreshes a bar every
-second while one long step runs, so that its clock moves.
+second while one long step runs, so that its clock moves.  :func:`showing_progress`
+tells code without a ``progress=`` of its own (the numba compilation notice of
+:mod:`kinetic_fem.jit_cache`) whether the running call shows progress.
 """
 
 from __future__ import annotations
@@ -15,9 +17,15 @@ import threading
 import time
 from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
+from contextvars import ContextVar
 from typing import Any
 
-__all__ = ["interactive", "resolve_progress", "progress_bar", "ticking", "working"]
+__all__ = ["interactive", "resolve_progress", "showing_progress", "progress_bar", "ticking",
+           "working"]
+
+_LAST: ContextVar[bool | None] = ContextVar("kinetic_fem_progress", default=None)
+"""The progress choice last resolved in this context (each long call resolves its own
+``progress=`` when it starts)."""
 
 
 def _in_notebook() -> bool:
@@ -68,11 +76,24 @@ def resolve_progress(progress: bool | None) -> bool:
     (False, True)
     """
     if progress is None:
-        return interactive()
-    if not isinstance(progress, bool):
+        progress = interactive()
+    elif not isinstance(progress, bool):
         raise TypeError(f"progress must be True, False or None (shown when interactive), "
                         f"got {progress!r}")
+    _LAST.set(progress)
     return progress
+
+
+def showing_progress() -> bool:
+    """Whether the running call shows progress: the choice it made with
+    :func:`resolve_progress` (the last one in this thread), else :func:`interactive`.
+
+    Returns
+    -------
+    bool
+    """
+    last = _LAST.get()
+    return interactive() if last is None else last
 
 
 def progress_bar(iterable: Iterable[Any] | None = None, *, progress: bool | None = None,

@@ -322,8 +322,9 @@ def quick_mode_summary(rows: list[ClaimRow]) -> str:
     ...                note="quick-mode estimate (4 warnings in C2-DSMC: batches too short)")
     >>> print(quick_mode_summary([row]))
     Quick-mode estimates: 1 row (claims C2) comes from runs that logged 4 warnings
-    (item C2-DSMC: batches too short): too short for honest error bars, so its
-    verdict is an estimate; `kinetic-fem reproduce --full` runs the paper's sizes.
+    (item C2-DSMC: batches too short): the quick-mode sizes limit it (the warning says
+    how), so its verdict is an estimate; `kinetic-fem reproduce --full` runs the paper's
+    sizes.
     """
     marked: dict[str, list[Any]] = {}  # item -> [warnings, reason, rows]
     for r in rows:
@@ -340,7 +341,8 @@ def quick_mode_summary(rows: list[ClaimRow]) -> str:
     one = n_rows == 1
     return (f"Quick-mode estimates: {n_rows} row{'' if one else 's'} (claims {', '.join(claims)}) "
             f"{'comes' if one else 'come'} from runs that logged {n_warn} warning"
-            f"{'' if n_warn == 1 else 's'}\n({items}): too short for honest error bars, so "
+            f"{'' if n_warn == 1 else 's'}\n({items}): the quick-mode sizes limit "
+            f"{'it' if one else 'them'} (the warning says how), so "
             f"{'its verdict is an estimate' if one else 'their verdicts are estimates'}; "
             f"`kinetic-fem reproduce --full` runs the paper's sizes.")
 
@@ -358,7 +360,7 @@ def classify(row: ClaimRow) -> str:
     str
         ``"agrees"``; ``"not decided"`` (``agrees`` is None: a qualitative or new
         quantity); for a disagreeing row ``"paper: <reason>"`` (its :attr:`ClaimRow.explained`,
-        a key of :data:`EXPLANATIONS`), else ``"quick-mode statistics"`` if its item
+        a key of :data:`EXPLANATIONS`), else ``"quick-mode sizes"`` if its item
         warned in quick mode, else ``"unexplained"``.
 
     Examples
@@ -376,7 +378,7 @@ def classify(row: ClaimRow) -> str:
                              f"is not one of {sorted(EXPLANATIONS)}")
         return f"paper: {row.explained}"
     if any(_QUICK_NOTE.match(p) for p in row.note.split("; ")):
-        return "quick-mode statistics"
+        return "quick-mode sizes"
     return "unexplained"
 
 
@@ -400,7 +402,7 @@ def verdict_summary(rows: list[ClaimRow]) -> str:
     >>> print(verdict_summary(rows))
     2 claim row(s): 1 agree with the paper, 0 not decided (qualitative or new), 1 disagree:
       1 where the paper is wrong, misprints (the formula derived from its equations agrees): C12
-      0 limited by quick-mode statistics
+      0 limited by quick-mode sizes
       0 unexplained
     """
     kinds: dict[str, list[ClaimRow]] = {}
@@ -419,8 +421,8 @@ def verdict_summary(rows: list[ClaimRow]) -> str:
         if group:
             lead = "where the paper is wrong" if reason in PAPER_ERRORS else "explained"
             lines.append(f"  {len(group)} {lead}, {text}: {claims(group)}")
-    quick = kinds.get("quick-mode statistics", [])
-    lines.append(f"  {len(quick)} limited by quick-mode statistics"
+    quick = kinds.get("quick-mode sizes", [])
+    lines.append(f"  {len(quick)} limited by quick-mode sizes"
                  + (f": {claims(quick)} (`--full` runs the paper's sizes)" if quick else ""))
     bad = kinds.get("unexplained", [])
     lines.append(f"  {len(bad)} unexplained" + "".join(

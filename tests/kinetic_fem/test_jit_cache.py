@@ -96,14 +96,33 @@ def test_the_users_numba_cache_dir_wins_and_is_kept_fresh(tmp_path, monkeypatch)
     assert ensure_fresh_cache(pkg, recheck=True) is False and stale.exists()
 
 
-def test_the_first_compilation_is_announced_once(tmp_path):
-    """A CompilationNotice on stderr when a kernel is compiled, none when it is cached."""
-    code = ("import warnings; warnings.simplefilter('default')\n"
-            "from kinetic_fem.model.restitution import restitution_value\n"
-            "restitution_value(0, 0.5, 0.0, 1.0); restitution_value(0, 0.5, 0.0, 2.0)\n")
+def _first_and_second_run(tmp_path, code, *flags):
     env = {**__import__("os").environ, "NUMBA_CACHE_DIR": str(tmp_path)}
-    runs = [subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
+    return [subprocess.run([sys.executable, *flags, "-c", code], env=env, capture_output=True,
                            text=True, check=True, timeout=300) for _ in range(2)]
-    assert runs[0].stderr.count("CompilationNotice: compiling the numba kernels this call "
-                                "needs, once per install") == 1
-    assert "CompilationNotice" not in runs[1].stderr
+
+
+_KERNEL = ("from kinetic_fem.model.restitution import restitution_value\n"
+           "restitution_value(0, 0.5, 0.0, 1.0); restitution_value(0, 0.5, 0.0, 2.0)\n")
+_NOTICE = "kinetic-fem: compiling kernels, once per install, about"
+
+
+def test_the_first_compilation_is_announced_once_and_is_no_warning(tmp_path):
+    """With progress shown: one line on stderr when a kernel is compiled, none when it is
+    cached; not a warning (a run under ``-W error`` passes)."""
+    code = "from kinetic_fem.progress import resolve_progress; resolve_progress(True)\n" + _KERNEL
+    runs = _first_and_second_run(tmp_path, code, "-W", "error")
+    assert runs[0].stderr.count(_NOTICE) == 1, runs[0].stderr
+    assert "Warning" not in runs[0].stderr
+    assert _NOTICE not in runs[1].stderr
+
+
+def test_the_compilation_notice_is_quiet_without_progress_but_logged(tmp_path):
+    """progress=False: no line on stderr; the INFO record is there for a logging setup,
+    once (not also as a line)."""
+    quiet = "from kinetic_fem.progress import resolve_progress; resolve_progress(False)\n"
+    logged = ("import logging; logging.basicConfig(level=logging.INFO, format='LOG %(message)s')\n"
+              "from kinetic_fem.progress import resolve_progress; resolve_progress(True)\n")
+    assert _NOTICE not in _first_and_second_run(tmp_path / "q", quiet + _KERNEL)[0].stderr
+    err = _first_and_second_run(tmp_path / "l", logged + _KERNEL)[0].stderr
+    assert err.count(_NOTICE) == 1 and err.count("LOG " + _NOTICE) == 1, err

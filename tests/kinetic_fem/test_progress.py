@@ -83,3 +83,15 @@ def test_dsmc_progress_defaults_to_when_watched(progress: bool | None, shown: bo
                           progress=progress)
     assert run.temperature > 0
     assert ("DSMC" in capsys.readouterr().err) is shown
+
+
+@pytest.mark.parametrize("progress, shown", [(True, True), (None, False)])
+def test_md_progress_defaults_to_when_watched(progress: bool | None, shown: bool,
+                                              capsys: pytest.CaptureFixture[str]) -> None:
+    """MD's ``progress`` as DSMC's: a bar named "MD" when asked, none under pytest."""
+    from particles.md import simulate_heated
+
+    run = simulate_heated(0.6, 200, seed=1, collisions_per_particle=10.0, n_batches=2,
+                          progress=progress)
+    assert run.temperature > 0
+    assert ("MD" in capsys.readouterr().err) is shown

@@ -129,7 +129,7 @@ def test_verdict_summary_separates_paper_errors_quick_mode_and_unexplained_rows(
                      note=f"{QUICK_MARK} (3 warnings in C2-DSMC: batches too short)"),
             ClaimRow("C9", "hump", "one", "two", None)]
     assert [classify(r) for r in rows] == ["agrees", "paper: peak exponent", "paper: misprint",
-                                           "quick-mode statistics", "not decided"]
+                                           "quick-mode sizes", "not decided"]
     text = verdict_summary(rows)
     assert "5 claim row(s): 1 agree with the paper, 1 not decided" in text
     assert "3 disagree" in text and text.endswith("0 unexplained")
