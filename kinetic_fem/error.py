@@ -25,6 +25,9 @@ the difference from a better result :math:`\\tilde Q`:
 - the quasi-elastic limits :math:`\\phi`, :math:`\\psi`: their constants against the
   coarser grid of their own refinement.
 
+A mixture state's estimate (``state.error``, one of these per species plus the
+temperature ratios and the common cooling rate) is :mod:`kinetic_fem.mixture_error`.
+
 :math:`\\hat e_f` is an envelope over neighbouring nodes, an error bar rather than a
 signed difference that crosses zero.  Estimates of deterministic results are computed
 when first read (``dist.error`` is cached), so a solve costs nothing extra; the recipe

@@ -11,12 +11,14 @@ gives it, and in free cooling the common cooling rate :math:`\\zeta` of the conv
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from .distribution import VelocityDistribution
+from .mixture_error import MixtureError
 from .model.mixture import Mixture
 
 __all__ = ["MixtureMoments", "MixtureState", "SpeciesTemperatures"]
@@ -117,6 +119,9 @@ class MixtureState(SpeciesTemperatures):
         The common cooling rate in free cooling, else None.
     info : RunInfo or None
         Convergence and cost of the solve.
+    error_recipe : MixtureErrorRecipe, optional
+        How the solver estimates the state's errors when :attr:`error` is first read
+        (:mod:`kinetic_fem.mixture_error`).
     """
 
     mixture: Mixture
@@ -125,6 +130,18 @@ class MixtureState(SpeciesTemperatures):
     method: str
     zeta: float | None = None
     info: Any = None
+    error_recipe: Any = field(default=None, repr=False, compare=False)
+
+    @cached_property
+    def error(self) -> MixtureError:
+        """Estimated errors: each species' (as ``distributions[s].error``), the
+        temperature ratios', the mixture temperature's and the cooling rate's
+        (:class:`~kinetic_fem.mixture_error.MixtureError`), computed on first read."""
+        if self.error_recipe is not None:
+            return self.error_recipe()
+        return MixtureError.unavailable(
+            self.mixture.n_species, f"no error estimate for this state (method "
+            f"{self.method!r}): only solvers' results carry one")
 
     @property
     def temperatures(self) -> NDArray[np.float64]:

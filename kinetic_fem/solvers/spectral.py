@@ -65,7 +65,7 @@ from .newton import newton
 
 __all__ = ["SonineSolution", "solve_sonine", "solve_spectral_heated", "solve_sonine_cooling",
            "solve_spectral_cooling", "MAX_ORDER", "order_estimate", "ORDER_METHOD",
-           "SeriesCheck", "series_check", "SERIES_AHEAD"]
+           "SeriesCheck", "series_check", "SERIES_AHEAD", "resolved_core", "SERIES_FLOOR"]
 
 logger = logging.getLogger(__name__)
 
@@ -543,7 +543,7 @@ def order_estimate(sol: SonineSolution, solve_at: Callable[[int], SonineSolution
                 "larger than estimated; use method='fem'")
         logger.warning("Sonine series at order %d: %s", sol.order, note)
     return replace(last, temperature=t, a2=a2, zeta=zeta,
-                   f_relative=_resolved_core(last.f_relative * max(ratios, default=1.0)),
+                   f_relative=resolved_core(last.f_relative * max(ratios, default=1.0)),
                    asymptotic=asymptotic, note=note)
 
 
@@ -554,7 +554,7 @@ wrong by many decades (measured: hard rods at alpha = 0.9, estimate < 1, true 2e
 c = 11), so the estimate there is ``inf``."""
 
 
-def _resolved_core(f_rel: NDArray[np.float64]) -> NDArray[np.float64]:
+def resolved_core(f_rel: NDArray[np.float64]) -> NDArray[np.float64]:
     """``f_rel`` (symmetric nodes) with ``inf`` from the first node out of the trusted core."""
     out = f_rel.copy()
     mid = out.size // 2
