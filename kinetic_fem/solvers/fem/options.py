@@ -20,9 +20,12 @@ from dataclasses import dataclass, field
 
 from numpy.typing import ArrayLike
 
+from ...options import option_group
+
 __all__ = ["MeshOptions", "EvolveOptions", "CoolingEvolveOptions"]
 
 
+@option_group
 @dataclass(frozen=True)
 class MeshOptions:
     """The velocity mesh of an FEM solve (None: the solver's default).
@@ -61,6 +64,7 @@ class MeshOptions:
     grading: float | None = None
 
 
+@option_group
 @dataclass(frozen=True)
 class EvolveOptions:
     """Numerical options of an FEM transient of the heated gas (None: the driver's default).
@@ -112,6 +116,7 @@ class EvolveOptions:
     scheme: str = "bdf2"
 
 
+@option_group
 @dataclass(frozen=True)
 class CoolingEvolveOptions(EvolveOptions):
     """Numerical options of an FEM transient of free cooling: those of
