@@ -17,18 +17,27 @@ drop of :math:`\\ln f` is spread over the elements:
   model (geometric elements).
 
 :func:`march` is that one loop; the builders of the solvers are size rules over it, so a
-new kernel family's mesh is a size rule, not a new loop.
+new kernel family's mesh is a size rule, not a new loop.  :func:`log_drop_vertices` is the
+rule "from a state" as one call: any :math:`\\ln f` (a callable: a state's ``log_f``, a
+predictor of the state, the log of a
+:class:`~kinetic_fem.distribution.VelocityDistribution`'s ``f``) and a
+:class:`LogDropRule` (the e-folds per element, the smallest and largest element, a
+uniform bulk, the depth of the cut-off) give the vertices; the band state's mesh
+(:func:`~kinetic_fem.solvers.fem.cooling_band.band_vertices`) is one such rule, and
+:func:`~kinetic_fem.solvers.fem.options.mesh_from_state` the public entry.
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
+from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["march", "log_drop_size"]
+__all__ = ["march", "log_drop_size", "LogDropRule", "log_drop_vertices"]
 
 
 def march(size: Callable[[float], float], stop: float | Callable[[float], bool], *,
@@ -110,3 +119,126 @@ def log_drop_size(slope: float, efolds: float, *, largest: float = np.inf,
     0.5
     """
     return max(smallest, min(largest, efolds / max(slope, 1e-300)))
+
+
+@dataclass(frozen=True)
+class LogDropRule:
+    """Where vertices go along a given :math:`\\ln f`: a placement rule of
+    :func:`log_drop_vertices`.
+
+    Elements of size ``smallest`` out to ``bulk`` (a uniform bulk); beyond, each element
+    carries at most ``efolds`` e-folds of :math:`\\ln f` (:func:`log_drop_size`), within
+    [``smallest``, ``largest``], where the largest element may grow linearly beyond
+    ``bulk``: :math:`L(c) = \\min(` ``largest`` :math:`, s\\,(1 + g (c - c_b)/\\ell))`
+    (``growth`` :math:`g`, ``scale`` :math:`\\ell`; :math:`g = 0`: ``largest``).  The mesh
+    ends at the first vertex where :math:`\\ln f` has fallen ``decades`` decades below its
+    value at 0 (``from_peak``: below its largest value), or at the end of the probe.
+
+    Parameters
+    ----------
+    efolds : float
+        Largest drop of :math:`\\ln f` over one element beyond the bulk.
+    smallest : float
+        Smallest element, and the element of the bulk.
+    largest : float
+        Largest element.
+    bulk : float
+        End of the uniform bulk.
+    growth, scale : float
+        Linear growth of the largest element beyond the bulk, per ``scale``.
+    decades : float
+        Depth of the cut-off, decades.
+    reach : float
+        End of the probe of :math:`\\ln f` (its slope is read on ``probe`` points of
+        [0, ``reach``]); the mesh ends there at the latest, or where :math:`\\ln f`
+        stops being finite.
+    probe : int
+        Points of the probe.
+    from_peak : bool
+        Measure the cut-off's depth from the peak of :math:`\\ln f`, not from its value
+        at 0 (a state with humps).
+
+    Examples
+    --------
+    >>> LogDropRule(efolds=1.0, smallest=0.1).largest
+    inf
+    """
+
+    efolds: float
+    smallest: float
+    largest: float = math.inf
+    bulk: float = 0.0
+    growth: float = 0.0
+    scale: float = 1.0
+    decades: float = 40.0
+    reach: float = 40.0
+    probe: int = 40001
+    from_peak: bool = False
+
+    def __post_init__(self) -> None:
+        for name in ("efolds", "smallest", "largest", "scale", "decades", "reach"):
+            value = getattr(self, name)
+            if not value > 0.0:
+                raise ValueError(f"LogDropRule {name} must be > 0, got {value!r}")
+        if self.largest < self.smallest:
+            raise ValueError(f"LogDropRule largest ({self.largest!r}) must be at least "
+                             f"smallest ({self.smallest!r})")
+        if self.bulk < 0.0 or self.growth < 0.0:
+            raise ValueError(f"LogDropRule bulk and growth must be >= 0, got {self.bulk!r}, "
+                             f"{self.growth!r}")
+        if self.probe < 3:
+            raise ValueError(f"LogDropRule probe must be >= 3 points, got {self.probe!r}")
+
+
+def log_drop_vertices(log_f: Callable[[NDArray[np.float64]], NDArray[np.float64]],
+                      rule: LogDropRule) -> NDArray[np.float64]:
+    """Symmetric vertices on which ``log_f`` drops by at most ``rule.efolds`` per element
+    (:class:`LogDropRule`).
+
+    Parameters
+    ----------
+    log_f : callable
+        :math:`\\ln f` (even in :math:`c`) at an array of velocities :math:`c \\ge 0`: a
+        state's, a predictor's, or the model's scales' (a Gaussian bulk and its tail).
+    rule : LogDropRule
+        The placement.
+
+    Returns
+    -------
+    ndarray
+        Increasing vertices, symmetric about 0, including 0.
+
+    Examples
+    --------
+    >>> rule = LogDropRule(efolds=2.0, smallest=0.2, largest=1.0)
+    >>> v = log_drop_vertices(lambda c: -0.5 * c**2, rule)
+    >>> bool(v[0] == -v[-1] and np.all(np.diff(v) > 0)), bool(13.5 < v[-1] < 13.8)
+    (True, True)
+    >>> h = np.diff(v[v >= 0])  # (ln f)' = -c: h = 2/c within [0.2, 1]
+    >>> round(float(h.min()), 9), round(float(h.max()), 9)
+    (0.2, 1.0)
+    """
+    probe = np.linspace(0.0, rule.reach, rule.probe)
+    start = np.asarray(log_f(probe), dtype=float)
+    finite = np.isfinite(start)
+    if not finite[0]:
+        raise ValueError("log_f must be finite at c = 0")
+    if not finite.all():  # a state that ends (f = 0 beyond its data): probe where it is
+        end = int(np.argmin(finite))
+        probe, start = probe[:end], start[:end]
+    top = float(start.max()) if rule.from_peak else float(start[0])
+    low = start < top - rule.decades * math.log(10.0)
+    cutoff = float(probe[np.argmax(low)]) if low.any() else float(probe[-1])
+    slope = np.maximum(-np.gradient(start, probe), 1e-300)
+    h0 = rule.smallest
+
+    def size(c: float) -> float:
+        if c <= rule.bulk:
+            return h0
+        largest = rule.largest
+        if rule.growth:
+            largest = min(largest, h0 * (1.0 + rule.growth * (c - rule.bulk) / rule.scale))
+        return log_drop_size(float(np.interp(c, probe, slope)), rule.efolds,
+                             largest=largest, smallest=h0)
+
+    return march(size, cutoff)
