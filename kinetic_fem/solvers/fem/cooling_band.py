@@ -135,7 +135,21 @@ def band_vertices(eps: float, log_f: Callable[[NDArray], NDArray], *,
 def band_rule(eps: float, *, resolution: float = BAND_RESOLUTION, edge: float = BAND_EDGE,
               growth: float = BAND_GROWTH, efolds: float = BAND_EFOLDS,
               decades: float = BAND_DECADES) -> LogDropRule:
-    """The placement rule of :func:`band_vertices` at ``eps`` (its parameters).
+    """The placement rule of :func:`band_vertices` at ``eps``: elements of ``resolution``
+    hump widths out to :math:`c = 1 +` ``edge`` :math:`w`, then at most ``efolds`` e-folds
+    each, growing by at most ``growth`` times their size per hump width.
+
+    Parameters
+    ----------
+    eps : float
+        Inelasticity :math:`1 - \\alpha`, in (0, 1); the hump width :math:`w =
+        \\varepsilon^{1/3}`.
+    resolution, edge, growth, efolds, decades : float
+        As for :func:`band_vertices`.
+
+    Returns
+    -------
+    LogDropRule
 
     Examples
     --------
