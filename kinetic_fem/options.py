@@ -18,9 +18,55 @@ import typing
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any, TypeVar
 
-__all__ = ["gather", "gather_groups", "option_names", "option_default"]
+__all__ = ["option_group", "is_option_group", "gather", "gather_groups", "option_names",
+           "option_default"]
 
 T = TypeVar("T")
+
+_MARK = "__option_group__"
+
+
+def option_group(cls: type[T]) -> type[T]:
+    """Mark a frozen dataclass as an option object: a function that takes it (with a
+    default) and ``**keywords`` accepts its fields by keyword (:func:`gather`), so
+    :func:`option_names` and :func:`option_default` list them.
+
+    A dataclass argument that is not marked (a state, a protocol, a problem) is an
+    argument, not a group of keywords, whether or not it has a default.
+
+    Parameters
+    ----------
+    cls : dataclass type
+
+    Returns
+    -------
+    cls
+        The same class, marked (subclasses inherit the mark).
+
+    Raises
+    ------
+    TypeError
+        If ``cls`` is not a dataclass.
+
+    Examples
+    --------
+    >>> @option_group
+    ... @dataclasses.dataclass(frozen=True)
+    ... class Grid:
+    ...     spacing: float = 0.1
+    >>> is_option_group(Grid), is_option_group(int)
+    (True, False)
+    """
+    if not (isinstance(cls, type) and dataclasses.is_dataclass(cls)):
+        raise TypeError(f"option_group takes a dataclass, got {cls!r}")
+    setattr(cls, _MARK, True)
+    return cls
+
+
+def is_option_group(cls: Any) -> bool:
+    """Whether ``cls`` is a class marked by :func:`option_group`."""
+    return isinstance(cls, type) and dataclasses.is_dataclass(cls) and \
+        bool(getattr(cls, _MARK, False))
 
 
 def gather(cls: type[T], given: T | None, keywords: Mapping[str, Any], where: str) -> T:
@@ -129,9 +175,10 @@ def gather_groups(groups: Sequence[tuple[type, Any]], keywords: Mapping[str, Any
 
 
 def _option_groups(function: Callable[..., Any]) -> list[type] | None:
-    """The option objects' classes of ``function``: its dataclass-typed parameters with a
-    default (a required one, such as the problem, is an argument, not a group of
-    keywords); None if its annotations cannot be resolved."""
+    """The option objects' classes of ``function``: its parameters with a default typed
+    by a class marked :func:`option_group` (a required one, such as the problem, and a
+    dataclass that is not an option object, such as a start state or a protocol, are
+    arguments, not groups of keywords); None if its annotations cannot be resolved."""
     params = inspect.signature(function).parameters
     try:
         hints = typing.get_type_hints(function)
@@ -139,13 +186,13 @@ def _option_groups(function: Callable[..., Any]) -> list[type] | None:
         return None
     optional = [n for n, p in params.items() if p.default is not p.empty]
     return [arg for name in optional for arg in typing.get_args(hints.get(name)) or
-            (hints.get(name),) if dataclasses.is_dataclass(arg) and isinstance(arg, type)]
+            (hints.get(name),) if is_option_group(arg)]
 
 
 def option_names(function: Callable[..., Any]) -> list[str] | None:
     """The keywords ``function`` takes: its named parameters, and for a ``**keywords``
-    parameter the fields of its dataclass-typed parameters that have a default (its
-    option objects).
+    parameter the fields of its option objects (its parameters with a default typed by
+    an :func:`option_group` class; other dataclass arguments add no names).
 
     Parameters
     ----------
@@ -193,7 +240,8 @@ def option_default(function: Callable[..., Any], name: str) -> Any:
 
     Examples
     --------
-    >>> @dataclasses.dataclass(frozen=True)
+    >>> @option_group
+    ... @dataclasses.dataclass(frozen=True)
     ... class Steps:
     ...     rtol: float = 1e-6
     >>> def run(x: float, options: Steps | None = None, **keywords: Any) -> None:

@@ -28,7 +28,7 @@ from scipy.linalg import solve_banded
 
 from ..operators.collision import HalfGrid, gain_term, loss_frequency
 from ..operators.grid import moments
-from ..options import gather_groups
+from ..options import gather_groups, option_group
 from ..sonine import relaxation_time
 from .fd_newton import FDOperator, drift, laplacian
 
@@ -38,6 +38,7 @@ F_FLOOR = 1e-30
 """Values of f(c) above which the tails are required to be resolved (claim C16)."""
 
 
+@option_group
 @dataclass(frozen=True)
 class MarchOptions:
     """How the finite-difference scheme marches in time (unit problem ``n = D = 1``).

@@ -33,7 +33,7 @@ from numpy.typing import NDArray
 
 from ..operators.collision import HalfGrid, gain_term, kernel_power, loss_frequency
 from ..operators.fd_kernels import gain_jacobian
-from ..options import gather
+from ..options import gather, option_group
 from .newton import NewtonReport, NewtonResult, newton
 
 __all__ = ["FDOperator", "FDSteadyState", "laplacian", "drift", "steady_residual",
@@ -42,6 +42,7 @@ __all__ = ["FDOperator", "FDSteadyState", "laplacian", "drift", "steady_residual
 UNDERFLOW = 1e-290
 
 
+@option_group
 @dataclass(frozen=True)
 class FDOperator:
     """The discrete operator of the unit problem (``n = D = 1``): the model and the

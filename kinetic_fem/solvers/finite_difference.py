@@ -95,7 +95,7 @@ from ..exceptions import ConvergenceWarning
 from ..gas import HeatedProblem, check_positive
 from ..model import FokkerPlanckBath, UnsupportedModelError, WhiteNoise
 from ..operators.collision import HalfGrid, half_grid, pair_moment
-from ..options import gather_groups
+from ..options import gather_groups, option_group
 from ..solve import register_solver
 from .fd_march import F_FLOOR, MarchOptions, MarchResult, even_moments, march
 from .fd_newton import FDOperator, newton_steady
@@ -128,6 +128,7 @@ def _check_resolution(grid: HalfGrid, p: NDArray[np.float64], temperature: float
                       ConvergenceWarning, stacklevel=3)
 
 
+@option_group
 @dataclass(frozen=True)
 class FDScheme:
     """The discretisation of :func:`solve_fd_heated`: its grids and its gain term.

@@ -52,7 +52,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.integrate import solve_ivp
 
 from ..model import check_alpha, check_nonnegative, check_positive
-from ..options import gather
+from ..options import gather, option_group
 from ..sonine import sonine_norm, sonine_polynomial_coefficients
 
 __all__ = ["MaxwellSteadyState", "MaxwellTransient", "collision_moment_rates",
@@ -274,6 +274,7 @@ def _as_protocol(name: str, value: Protocol, *, allow_zero: bool = True
     return lambda t: x
 
 
+@option_group
 @dataclass(frozen=True)
 class MomentOptions:
     """Numerical options of :func:`evolve_moments`.

@@ -52,6 +52,7 @@ import scipy.sparse
 import scipy.sparse.linalg
 from numpy.typing import ArrayLike, NDArray
 
+from ..options import option_group
 from ..run_info import RunInfo
 
 __all__ = ["NewtonResult", "NewtonReport", "NewtonOptions", "PseudoTransient", "newton",
@@ -244,6 +245,7 @@ class PseudoTransient:
     stalled: Callable[[list[float]], bool] | None = None
 
 
+@option_group
 @dataclass(frozen=True)
 class NewtonOptions:
     """The options of :func:`newton` that travel together.

@@ -7,9 +7,18 @@ import dataclasses
 import numpy as np
 import pytest
 
+from kinetic_fem.distribution import VelocityDistribution
 from kinetic_fem.evolution_error import RTOL_RATIO, default_rtol, rerun_recipe
 from kinetic_fem.evolve import evolve_cooling, evolve_heated
-from kinetic_fem.options import gather, gather_groups, option_default, option_names
+from kinetic_fem.model.protocol import Protocol
+from kinetic_fem.options import (
+    gather,
+    gather_groups,
+    is_option_group,
+    option_default,
+    option_group,
+    option_names,
+)
 from kinetic_fem.solve import lookup_solver
 from kinetic_fem.solvers.fem.cooling import solve_fem_cooling
 from kinetic_fem.solvers.fem.heated import solve_fem_heated, steady_state
@@ -18,10 +27,16 @@ from kinetic_fem.solvers.finite_difference import FDScheme, MarchOptions, solve_
 from kinetic_fem.solvers.maxwell import MomentOptions, evolve_moments
 
 
+@option_group
 @dataclasses.dataclass(frozen=True)
 class _Opts:
     a: int = 1
     b: float | None = None
+
+
+@dataclasses.dataclass(frozen=True)
+class _Plain:  # a dataclass argument, not an option object
+    c: int = 1
 
 
 def test_gather_merges_keywords_over_the_object():
@@ -117,3 +132,33 @@ def test_moment_options_object_and_keywords_agree():
     np.testing.assert_array_equal(by_keywords.moments, by_object.moments)
     with pytest.raises(TypeError, match="'ordre'"):
         evolve_moments(0.5, [0.0, 1.0], ordre=6)
+
+
+
+def test_option_names_skip_dataclass_arguments_that_are_not_option_objects():
+    """A start state, a protocol or any unmarked dataclass with a default is an argument:
+    it adds no names; only classes marked ``option_group`` do (the former rule listed
+    every optional dataclass argument's fields)."""
+    from kinetic_fem.solvers.fem.cooling_transient import evolve_cooling_fem
+
+    def run(x: float, *, initial: VelocityDistribution | None = None,
+            protocol: Protocol | None = None, plain: _Plain | None = None,
+            options: _Opts | None = None, **keywords: float) -> None:
+        pass
+
+    def run_plain(x: float, *, plain: _Plain | None = None, **keywords: float) -> None:
+        pass
+
+    assert is_option_group(_Opts) and not is_option_group(_Plain)
+    assert option_names(run) == ["a", "b", "initial", "options", "plain", "protocol", "x"]
+    assert option_names(run_plain) is None          # **keywords with no option object
+    with pytest.raises(KeyError, match="'c'"):
+        option_default(run, "c")
+    names = set(option_names(evolve_cooling_fem) or ())
+    assert {f.name for f in dataclasses.fields(CoolingEvolveOptions)} <= names
+    assert {"initial", "protocol", "initial_temperature", "times"} <= names
+    state = {f.name for f in dataclasses.fields(VelocityDistribution)}
+    assert not (state - {"times"}) & names            # the state's fields are not options
+    assert not state & set(option_names(solve_fem_cooling) or ())
+    with pytest.raises(TypeError, match="option_group takes a dataclass"):
+        option_group(int)

@@ -34,14 +34,13 @@ If either solve fails the caller falls back to the near-elastic continuation.
 from __future__ import annotations
 
 import logging
-import math
 from typing import Callable
 
 import numpy as np
 from numpy.typing import NDArray
 
 from ...model import CoolingProblem
-from ...operators.mesher import log_drop_size, march
+from ...operators.mesher import LogDropRule, log_drop_vertices
 from ..continuation import NO_RETRY, continuation, geometric_path
 from .cooling_hump import (
     FULL_STEP_ITER,
@@ -55,7 +54,7 @@ from .cooling_newton import CLOSE_DAMPING, CoolingState, newton_cooling
 from .heated import FEMDiscretisation
 
 __all__ = ["BAND_EPS", "BAND_RESOLUTION", "BAND_EDGE", "BAND_GROWTH", "BAND_EFOLDS",
-           "BAND_INTORDER", "BAND_DECADES", "band_vertices", "in_band", "band_state"]
+           "BAND_INTORDER", "BAND_DECADES", "band_vertices", "band_rule", "in_band", "band_state"]
 
 logger = logging.getLogger(__name__)
 
@@ -129,24 +128,37 @@ def band_vertices(eps: float, log_f: Callable[[NDArray], NDArray], *,
     """
     if not 0.0 < eps < 1.0:
         raise ValueError(f"eps must be in (0, 1), got {eps!r}")
+    return log_drop_vertices(log_f, band_rule(eps, resolution=resolution, edge=edge,
+                                              growth=growth, efolds=efolds, decades=decades))
+
+
+def band_rule(eps: float, *, resolution: float = BAND_RESOLUTION, edge: float = BAND_EDGE,
+              growth: float = BAND_GROWTH, efolds: float = BAND_EFOLDS,
+              decades: float = BAND_DECADES) -> LogDropRule:
+    """The placement rule of :func:`band_vertices` at ``eps``: elements of ``resolution``
+    hump widths out to :math:`c = 1 +` ``edge`` :math:`w`, then at most ``efolds`` e-folds
+    each, growing by at most ``growth`` times their size per hump width.
+
+    Parameters
+    ----------
+    eps : float
+        Inelasticity :math:`1 - \\alpha`, in (0, 1); the hump width :math:`w =
+        \\varepsilon^{1/3}`.
+    resolution, edge, growth, efolds, decades : float
+        As for :func:`band_vertices`.
+
+    Returns
+    -------
+    LogDropRule
+
+    Examples
+    --------
+    >>> round(band_rule(0.064).bulk, 12)  # 1 + 2 w, w = 0.4
+    1.8
+    """
     w = eps ** (1.0 / 3.0)
-    h0 = resolution * w
-    probe = np.linspace(0.0, 40.0, 40001)
-    start = np.asarray(log_f(probe), dtype=float)
-    low = start < start[0] - decades * math.log(10.0)
-    cutoff = float(probe[np.argmax(low)]) if low.any() else float(probe[-1])
-    slope = np.maximum(-np.gradient(start, probe), 1e-300)
-    c1 = 1.0 + edge * w
-
-    def size(c: float) -> float:
-        if c <= c1:
-            return h0
-        # the tail: at most ``efolds`` e-folds of the start per element
-        return log_drop_size(float(np.interp(c, probe, slope)), efolds,
-                             largest=h0 * (1.0 + growth * (c - c1) / w), smallest=h0)
-
-    return march(size, cutoff)
-
+    return LogDropRule(efolds=efolds, smallest=resolution * w, bulk=1.0 + edge * w,
+                       growth=growth, scale=w, decades=decades)
 
 def in_band(eps: float, hump_eps: float) -> bool:
     """Whether the default state at ``eps`` is solved here.

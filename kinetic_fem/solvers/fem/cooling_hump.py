@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 
 from ...operators.adaptive import EDGE_EFOLDS, HUMP_DECADES, hump_vertices
+from ...options import option_group
 from .cooling_mesh import HUMP_INTORDER
 from .cooling_newton import CLOSE_DAMPING, MONITOR_LOG_F, CoolingState, newton_cooling
 from .heated import FEMDiscretisation
@@ -82,6 +83,7 @@ against P2 at 0.035: zeta 3e-14 ... 8e-13, a2 2e-12 ... 3e-11, ln f 6e-7 ... 4e-
 benchmarks/archive/results/fem_cooling_speed.md); below, and with ``resolution``, P2."""
 
 
+@option_group
 @dataclass(frozen=True)
 class HumpStepOptions:
     """The options of :func:`continued_state` that travel together.

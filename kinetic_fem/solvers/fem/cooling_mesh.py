@@ -19,7 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ...model import CoolingProblem
-from ...operators.mesher import march
+from ...operators.mesher import ScaleGrading
 from ..continuation import geometric_path
 from .cooling_tail import POWER_TAIL_CUTOFF, POWER_TAIL_SPACING, power_tail_vertices
 
@@ -209,9 +209,8 @@ def hcs_vertices(c_max: float, spacing: float, *, gamma: float,
     if gamma == 0.0:
         # --- the Maxwell model's c^-4 tail: kinetic_fem.solvers.fem.cooling_tail ---
         return power_tail_vertices(c_max, spacing)
-    kappa = (3.0 - gamma) / 3.0
     # the drop of ln f ~ -c^gamma spread evenly: h^3 (ln f)''' constant in the tail
-    return march(lambda c: spacing * max(1.0, c / bulk) ** kappa, c_max, end="snap")
+    return ScaleGrading(spacing, (3.0 - gamma) / 3.0, bulk).marched(c_max)
 
 
 def initial_log_f(c: NDArray, gamma: float, zeta: float) -> NDArray:

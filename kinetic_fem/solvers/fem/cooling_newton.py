@@ -33,6 +33,7 @@ from ...distribution import VelocityDistribution
 from ...error import ErrorEstimate, ErrorRecipe, richardson_factor
 from ...operators.adaptive import PSI_Y2, element_indicator
 from ...operators.fem_transport import TransportArrays
+from ...options import option_group
 from ...run_info import RunInfo
 from ..newton import PseudoTransient, newton
 from .cooling_forms import cooling_forms
@@ -353,6 +354,7 @@ def _step_size(delta: NDArray, x: NDArray, monitor: float = MONITOR_LOG_F) -> fl
     return max(du, abs(delta[-1]) / max(abs(x[-1]), 1e-3))
 
 
+@option_group
 @dataclass(frozen=True)
 class CoolingNewtonOptions:
     """The options of :func:`newton_cooling` that travel together.

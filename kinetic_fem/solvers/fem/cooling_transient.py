@@ -164,8 +164,9 @@ def check_free_cooling(gas: InelasticGas, protocol: Protocol) -> None:
 
 
 @register_solver("fem", problem="transient-cooling")
-def evolve_cooling_fem(gas: InelasticGas, *, times: NDArray, initial: VelocityDistribution | None,
-                       initial_temperature: float | None, protocol: Protocol | None,
+def evolve_cooling_fem(gas: InelasticGas, *, times: NDArray,
+                       initial: VelocityDistribution | None = None,
+                       initial_temperature: float | None = None, protocol: Protocol | None = None,
                        options: CoolingEvolveOptions | None = None, progress: bool = False,
                        **option_keywords: Any) -> Evolution:
     """Free cooling by adaptive BDF2 on segments of fixed velocity scale (see the module).

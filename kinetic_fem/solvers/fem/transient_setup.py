@@ -18,7 +18,7 @@ from numpy.typing import NDArray
 
 from ...distribution import VelocityDistribution
 from ...model import CollisionKernel, RestitutionLaw
-from ...operators.grid import symmetric_grid, uniform_grid
+from ...operators.mesher import ScaleGrading, march
 from .heated import FEMDiscretisation
 
 __all__ = ["MAX_RATIO", "MIN_EXPONENT", "retry_step", "CAP_GROWTH", "NOISE_FLOOR",
@@ -350,18 +350,20 @@ def build_mesh(v_max: float, h: float, thermal: float | None = None
         Vertices symmetric about 0.
     """
     if thermal is None:
-        half = max(2, int(math.ceil(v_max / h)))
-        return symmetric_grid(uniform_grid(v_max, half + 1))
+        return ScaleGrading(h, 0.0).stretched(v_max)
     temp = thermal * thermal
     v_tail = math.sqrt(-2.0 * LOG_TAIL) * thermal
-    edges, x, size = [0.0], 0.0, h
-    while x < v_max:
+    last = [h]
+
+    def element(x: float) -> float:
         if x < v_tail:   # the Gaussian's drop (x e + e^2/2)/T over [x, x + e] is MAX_DROP
-            size = min(h, math.sqrt(x * x + 2.0 * MAX_DROP * temp) - x)
+            last[0] = min(h, math.sqrt(x * x + 2.0 * MAX_DROP * temp) - x)
         else:
-            size = min(h, size * MESH_GROWTH)
-        x += size
-        edges.append(x)
+            last[0] = min(h, last[0] * MESH_GROWTH)
+        return last[0]
+
+    marched = march(element, v_max)
+    edges, size = marched[marched.size // 2:], last[0]
     pos = np.array(edges)
     pos *= v_max / pos[-1] if pos[-1] - v_max < 0.5 * size else 1.0
     if pos[-1] > v_max * (1.0 + 1e-12):   # a short last element: merge it

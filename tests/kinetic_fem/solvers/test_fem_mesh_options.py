@@ -68,3 +68,44 @@ def test_tail_grading_option(reference):
         steady_state(ALPHA, grading=-1.0)
     with pytest.raises(ValueError, match="grading=0.5: the cooling state's meshes"):
         solve_fem_cooling(None, grading=0.5)  # refused before the problem is read
+
+
+def test_a_mesh_from_a_coarse_state_resolves_it_with_fewer_vertices_than_the_default():
+    r"""Re-solving on ``mesh_from_state(coarse)`` (at most one e-fold of ln f per element,
+    elements 0.1 ... 0.3): hard rods, alpha = 0.5, P2.  Measured: the coarse state
+    (spacing 0.5, 174 vertices) has zeta 2.5e-6 and a2 3.1e-5 off the P3 default; the
+    re-solve on 225 vertices 3.0e-7 and 3.7e-6 (8 times smaller); the default P2 mesh
+    has 853 vertices (2.6e-10).  Reference here: P3 at spacing 0.5 (3.4e-9 off).  Not
+    better per vertex than the default's model-scale grading (spacing 0.3: 144 vertices,
+    3.3e-7): the drop of ln f is not the P2 error, h^3 (ln f)''' is."""
+    import kinetic_fem as kf
+    from kinetic_fem.solvers.fem.options import mesh_from_state
+
+    def solve(**options):
+        dist = kf.solve_cooling(0.5, **options)
+        return dist.info.extra["zeta"], dist.a2, dist
+
+    z_ref, a2_ref, _ = solve(order=3, spacing=0.5)
+    z_c, a2_c, coarse = solve(order=2, spacing=0.5)
+    mesh = mesh_from_state(coarse, MeshOptions(order=2))
+    z_m, a2_m, _ = solve(mesh=mesh)
+    n_default = 853  # vertices of the default P2 mesh at alpha = 0.5 (measured)
+    assert mesh.order == 2 and mesh.vertices.size <= n_default // 3
+    assert np.all(np.diff(mesh.vertices) > 0) and mesh.vertices[-1] == -mesh.vertices[0]
+    assert abs(z_m - z_ref) < abs(z_c - z_ref) / 5.0
+    assert abs(a2_m - a2_ref) < abs(a2_c - a2_ref) / 5.0
+
+
+def test_log_drop_rule_refuses_bad_input_and_mesh_from_state_bad_states():
+    from kinetic_fem.operators.mesher import LogDropRule
+    from kinetic_fem.solvers.fem.options import mesh_from_state
+
+    with pytest.raises(ValueError, match="efolds must be > 0, got 0.0"):
+        LogDropRule(efolds=0.0, smallest=0.1)
+    with pytest.raises(ValueError, match="largest"):
+        LogDropRule(efolds=1.0, smallest=0.5, largest=0.1)
+    with pytest.raises(TypeError, match="state must be a VelocityDistribution"):
+        mesh_from_state(3.0)
+    # a state that ends (f = 0 beyond |c| = 6): the mesh ends there
+    mesh = mesh_from_state(lambda c: np.where(c < 6.0, -0.5 * c**2, -np.inf))
+    assert 5.9 < mesh.vertices[-1] <= 6.0 + 0.3
