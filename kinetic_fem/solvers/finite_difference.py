@@ -100,7 +100,7 @@ from ..solve import register_solver
 from .fd_march import F_FLOOR, MarchOptions, MarchResult, even_moments, march
 from .fd_newton import FDOperator, newton_steady
 from .fd_scales import UnitModel, default_cutoff
-from .richardson import richardson_log
+from .richardson import RICHARDSON_METHOD, richardson_log
 
 __all__ = ["ConvergenceWarning", "default_cutoff", "march", "MarchResult", "solve_fd_heated",
            "FDScheme", "FDOperator", "MarchOptions", "F_FLOOR", "ORDER"]
@@ -271,15 +271,16 @@ def _refine(coarse: _UnitSolution) -> NDArray[np.float64]:
     return out
 
 
-def _error_estimate(grid: HalfGrid, best: NDArray[np.float64], prev: NDArray[np.float64]
+def _error_estimate(grid: HalfGrid, best: NDArray[np.float64], result: NDArray[np.float64]
                     ) -> dict[str, float]:
-    """Differences of T (relative), a2 (absolute) and f (max relative, f > 1e-30)."""
+    """Differences of T (relative), a2 (absolute) and f (max relative, f > 1e-30) of the
+    result from the more extrapolated level ``best``."""
     t_b, a2_b = even_moments(grid, best)
-    t_p, a2_p = even_moments(grid, prev)
-    keep = (math.sqrt(t_b) * best > F_FLOOR) & (prev > 0)
-    return {"estimated_error_temperature": float(abs(t_p / t_b - 1.0)),
-            "estimated_error_a2": float(abs(a2_p - a2_b)),
-            "estimated_error_f": float(np.max(np.abs(prev[keep] / best[keep] - 1.0)))}
+    t_r, a2_r = even_moments(grid, result)
+    keep = (math.sqrt(t_r) * result > F_FLOOR) & (best > 0)
+    return {"estimated_error_temperature": float(abs(t_b / t_r - 1.0)),
+            "estimated_error_a2": float(abs(a2_b - a2_r)),
+            "estimated_error_f": float(np.max(np.abs(result[keep] / best[keep] - 1.0)))}
 
 
 def _energy_residual(model: UnitModel, grid: HalfGrid, p: NDArray[np.float64],
@@ -415,8 +416,10 @@ def solve_fd_heated(problem: HeatedProblem, *, scheme: FDScheme | None = None,
     extra: dict[str, object] = {**sol.info.extra, "order": ORDER, "richardson": levels,
                                 "spacings": [spacing / 2**k for k in range(levels + 1)]}
     if levels:
-        p, prev = richardson_log([s.p for s in sols])
-        extra.update(_error_estimate(grid, p, prev))
+        # the result is the next-to-best level, whose error the best level measures
+        # (issue 29: the best one's own error has no estimate from these grids)
+        best, p = richardson_log([s.p for s in sols])
+        extra.update(_error_estimate(grid, best, p))
         extra["grids"] = [dict(s.info.extra) for s in sols[1:]]
     else:
         p = sol.p
@@ -443,15 +446,15 @@ def solve_fd_heated(problem: HeatedProblem, *, scheme: FDScheme | None = None,
     dist = VelocityDistribution.from_values(grid.v_full * u, grid.full(p) / u,
                                             weights=grid.weights * u, method="fd",
                                             params=params, info=info, series=series)
-    return dist.with_error(_richardson_recipe(grid, p, prev) if levels else None)
+    return dist.with_error(_richardson_recipe(grid, p, best) if levels else None)
 
 
-def _richardson_recipe(grid: HalfGrid, best: NDArray[np.float64], prev: NDArray[np.float64]
-                       ) -> ErrorRecipe:
-    """``dist.error``: the most extrapolated level against the one before (unit problem)."""
+def _richardson_recipe(grid: HalfGrid, result: NDArray[np.float64],
+                       best: NDArray[np.float64]) -> ErrorRecipe:
+    """``dist.error``: the result against the one more extrapolated level (unit problem)."""
     def pair() -> tuple[VelocityDistribution, VelocityDistribution]:
         return tuple(VelocityDistribution.from_values(grid.v_full, grid.full(q),  # type: ignore
                                                       weights=grid.weights)
-                     for q in (best, prev))
+                     for q in (result, best))
 
-    return comparison_recipe(pair, "Richardson levels (the best against the one before)")
+    return comparison_recipe(pair, RICHARDSON_METHOD)
