@@ -61,6 +61,7 @@ import math
 import time
 import warnings
 from dataclasses import replace
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -73,6 +74,7 @@ from ..model import UnsupportedModelError
 from ..model.scales import cooling_cutoff, cooling_rate_estimate
 from ..operators.collision import HalfGrid, half_grid
 from ..solve import register_solver
+from .finite_difference import refine_spacing
 from .hcs_newton import HCSSolution, drift_term, hcs_residual, newton_hcs
 from .richardson import RICHARDSON_METHOD, richardson_log, richardson_scalar
 
@@ -314,7 +316,8 @@ def _unsupported(problem: CoolingProblem) -> None:
 def solve_fd_cooling(problem: CoolingProblem, *, spacing: float | None = None,
                      cutoff: float | None = None, interpolation_order: int = 3,
                      tol: float = 1e-10, max_iter: int = 60,
-                     richardson: bool | int = 2) -> VelocityDistribution:
+                     richardson: bool | int = 2,
+                     accuracy: float | None = None) -> VelocityDistribution:
     """Homogeneous cooling state by Newton on the finite-difference grid (key ``"fd"``).
 
     A second-order scheme; by default the state is computed on three nested grids of
@@ -337,6 +340,13 @@ def solve_fd_cooling(problem: CoolingProblem, *, spacing: float | None = None,
         See :func:`solve_hcs`; the cut-off is rounded up to a multiple of ``spacing``.
     richardson : {2, 1, 0} or bool
         Levels of extrapolation (0/False: one grid, second order, no error estimate).
+    accuracy : float, optional
+        Target accuracy of T (relative, one by construction), a2 (absolute) and zeta
+        (relative): the spacing is refined at the observed rate (at most
+        :data:`~kinetic_fem.solvers.finite_difference.MAX_REFINEMENTS` times, not below
+        :data:`~kinetic_fem.solvers.finite_difference.MIN_SPACING`) until ``dist.error``
+        meets it, else :class:`~kinetic_fem.exceptions.ConvergenceError` says what was
+        reached (needs ``richardson`` 1 or 2).
 
     Returns
     -------
@@ -359,6 +369,11 @@ def solve_fd_cooling(problem: CoolingProblem, *, spacing: float | None = None,
         raise ValueError(f"richardson must be 0/False, 1/True or 2, got {richardson!r}")
     start = time.perf_counter()
     alpha = problem.gas.alpha
+    if accuracy is not None:
+        return _cooling_to_accuracy(problem, spacing, levels,
+                                    check_positive("accuracy", accuracy), cutoff=cutoff,
+                                    interpolation_order=interpolation_order, tol=tol,
+                                    max_iter=max_iter)
     if spacing is None:
         # coarsest grid 2h with two levels, except near elastic collisions, where the
         # outer edges of the humps need h (measured: ln f jumps by 1.8 per node at
@@ -421,6 +436,18 @@ def solve_fd_cooling(problem: CoolingProblem, *, spacing: float | None = None,
                             "cut-off grows by a quarter (its closure)")
 
     return dist.with_error(ErrorRecipe(compute, RICHARDSON_METHOD))
+
+
+def _cooling_to_accuracy(problem: CoolingProblem, spacing: float | None, levels: int,
+                         accuracy: float, **options: Any) -> VelocityDistribution:
+    """``accuracy=`` of :func:`solve_fd_cooling`."""
+    alpha = problem.gas.alpha
+    if spacing is None:
+        wide = levels == 2 and 1.0 - alpha >= 0.05
+        spacing = default_spacing(alpha) * (2.0 if wide else 1.0)
+    return refine_spacing(
+        lambda h: solve_fd_cooling(problem, spacing=h, richardson=levels, **options),
+        spacing, levels, accuracy, "T, a2 and zeta of the cooling state")
 
 
 def _closure_error(coarse: HCSSolution, alpha: float, interpolation_order: int, tol: float,

@@ -83,6 +83,7 @@ import logging
 import math
 import time
 import warnings
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -91,7 +92,7 @@ from numpy.typing import NDArray
 
 from ..distribution import RunInfo, VelocityDistribution
 from ..error import ErrorRecipe, comparison_recipe
-from ..exceptions import ConvergenceWarning
+from ..exceptions import ConvergenceError, ConvergenceWarning
 from ..gas import HeatedProblem, check_positive
 from ..model import FokkerPlanckBath, UnsupportedModelError, WhiteNoise
 from ..operators.collision import HalfGrid, half_grid, pair_moment
@@ -100,6 +101,7 @@ from ..solve import register_solver
 from .fd_march import F_FLOOR, MarchOptions, MarchResult, even_moments, march
 from .fd_newton import FDOperator, newton_steady
 from .fd_scales import UnitModel, default_cutoff
+from .fem.heated import refinement_factor
 from .richardson import RICHARDSON_METHOD, richardson_log
 
 __all__ = ["ConvergenceWarning", "default_cutoff", "march", "MarchResult", "solve_fd_heated",
@@ -308,7 +310,8 @@ def _richardson_levels(richardson: bool | int) -> int:
 @register_solver("fd", problem="heated")
 def solve_fd_heated(problem: HeatedProblem, *, scheme: FDScheme | None = None,
                     marching: MarchOptions | None = None, steady: str = "newton",
-                    initial_temperature: float = 1.0, **keywords: Any) -> VelocityDistribution:
+                    initial_temperature: float = 1.0, accuracy: float | None = None,
+                    **keywords: Any) -> VelocityDistribution:
     """Heated steady state by the paper's finite-difference scheme.
 
     A second-order method; the default extrapolates over three grids (module
@@ -333,6 +336,10 @@ def solve_fd_heated(problem: HeatedProblem, *, scheme: FDScheme | None = None,
         reach the same discrete steady state.
     initial_temperature : float
         Temperature of the Gaussian start in units of the estimate.
+    accuracy : float, optional
+        Target accuracy of T (relative) and a2 (absolute): the spacing is refined (at
+        most :data:`MAX_REFINEMENTS` times, at the observed rate, not below
+        :data:`MIN_SPACING`) until ``dist.error`` meets it (needs ``richardson`` 1 or 2).
     **keywords
         Any field of ``scheme`` or ``marching`` by keyword, over those objects
         (``kf.solve_heated(0.5, method="fd", spacing=0.1, richardson=0)``); an unknown
@@ -357,6 +364,9 @@ def solve_fd_heated(problem: HeatedProblem, *, scheme: FDScheme | None = None,
         ``steady`` or ``richardson``, or a time step that breaks positivity.
     UnsupportedModelError
         For a restitution law or a kernel other than gamma = 0, 1.
+    ConvergenceError
+        If ``accuracy`` is not met within :data:`MAX_REFINEMENTS` refinements down to
+        :data:`MIN_SPACING` (the message says what was reached).
 
     Examples
     --------
@@ -367,6 +377,9 @@ def solve_fd_heated(problem: HeatedProblem, *, scheme: FDScheme | None = None,
     """
     sch, marching = gather_groups(((FDScheme, scheme), (MarchOptions, marching)), keywords,
                                   "solve_fd_heated")
+    if accuracy is not None:
+        return _refine_to_accuracy(problem, sch, marching, steady, initial_temperature,
+                                   check_positive("accuracy", accuracy))
     if problem.gas.restitution.constant is None:
         raise UnsupportedModelError(
             f"the paper's FD method needs a constant restitution coefficient (its gain term "
@@ -447,6 +460,80 @@ def solve_fd_heated(problem: HeatedProblem, *, scheme: FDScheme | None = None,
                                             weights=grid.weights * u, method="fd",
                                             params=params, info=info, series=series)
     return dist.with_error(_richardson_recipe(grid, p, best) if levels else None)
+
+
+MAX_REFINEMENTS = 3
+"""Most refinements of the spacing with ``accuracy=`` (:func:`solve_fd_heated`)."""
+MIN_SPACING = 0.02
+"""The finest coarse spacing ``accuracy=`` tries (sqrt(T) units; its finest grid has a
+quarter of it): at 0.03 the solve takes about 6 times the default's CPU."""
+
+
+def _refine_to_accuracy(problem: HeatedProblem, sch: FDScheme, marching: MarchOptions,
+                        steady: str, initial_temperature: float, accuracy: float
+                        ) -> VelocityDistribution:
+    """``accuracy=`` of :func:`solve_fd_heated`."""
+    levels = _richardson_levels(sch.richardson)
+    spacing = UnitModel.from_problem(problem).spacing() if sch.spacing is None else sch.spacing
+    return refine_spacing(
+        lambda h: solve_fd_heated(problem, scheme=replace(sch, spacing=h), marching=marching,
+                                  steady=steady, initial_temperature=initial_temperature),
+        spacing, levels, accuracy, "T and a2")
+
+
+def refine_spacing(solve_at: Callable[[float], VelocityDistribution], spacing: float,
+                   levels: int, accuracy: float, what: str) -> VelocityDistribution:
+    """The result at ``spacing``, refined at the observed rate (the result is of order
+    ``2 * levels``) until its ``dist.error`` meets ``accuracy`` in T, a2 (and zeta where
+    it has one), at most :data:`MAX_REFINEMENTS` times, not below :data:`MIN_SPACING`.
+
+    Parameters
+    ----------
+    solve_at : callable
+        ``spacing -> VelocityDistribution``.
+    spacing : float
+        The first spacing.
+    levels : int
+        Richardson levels (1 or 2; 0 raises: no estimate).
+    accuracy : float
+        The target.
+    what : str
+        The quantities compared, for the message.
+
+    Returns
+    -------
+    VelocityDistribution
+
+    Raises
+    ------
+    ValueError
+        For ``levels`` 0.
+    ConvergenceError
+        If the target is not met (the message says what was reached).
+    """
+    if levels == 0:
+        raise ValueError("accuracy= needs the Richardson estimate: use richardson=1 or 2, "
+                         "got richardson=0")
+    history: list[tuple[float, float]] = []
+    for _ in range(MAX_REFINEMENTS + 1):
+        dist = solve_at(spacing)
+        est = dist.error
+        err = max(est.temperature, est.a2, est.zeta or 0.0)
+        logger.info("accuracy=%g: fd spacing %.4g, estimated error %.2e", accuracy, spacing,
+                    err)
+        if err <= accuracy:
+            return dist
+        history.append((spacing, err))
+        if spacing <= MIN_SPACING:
+            break
+        spacing = max(MIN_SPACING, spacing * refinement_factor(history, accuracy,
+                                                               2 * levels - 1))
+    zeta = "" if est.zeta is None else f", zeta {est.zeta:.2g}"
+    raise ConvergenceError(
+        f"FD did not reach accuracy={accuracy:g} ({what}) after {len(history)} spacings "
+        f"(the finest tried {MIN_SPACING:g} thermal velocities): at spacing "
+        f"{history[-1][0]:.3g} the estimated errors are T {est.temperature:.2g} "
+        f"(relative), a2 {est.a2:.2g}{zeta}; use method='fem'")
 
 
 def _richardson_recipe(grid: HalfGrid, result: NDArray[np.float64],

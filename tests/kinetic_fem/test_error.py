@@ -156,6 +156,44 @@ def test_fd_estimate_is_calibrated():
     assert e.a2 / 3 <= abs(d.a2 - FEM_A2) <= 3 * e.a2
 
 
+def test_fd_accuracy_refines_the_spacing_until_the_estimate_meets_it(monkeypatch):
+    """One Richardson level from spacing 0.15 (estimated a2 error 6.3e-4, true 6.3e-4)
+    refined until the estimate meets 4e-4; the true error against FEM within 3 times
+    that.  Below the
+    finest spacing it raises saying what it reached; no estimate, no target."""
+    from kinetic_fem.solvers import finite_difference as fd
+
+    opts = {"method": "fd", "richardson": 1, "spacing": 0.15, "cutoff": 20.0}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the coarse grids warn (ln P steps of 1.3)
+        d = kf.solve_heated(0.6, accuracy=4e-4, **opts)
+        assert d.error.meets(4e-4) and d.params["spacing"] < 0.15
+        assert abs(d.a2 - FEM_A2) <= 1.2e-3 and abs(d.temperature / FEM_T - 1) <= 1.2e-3
+        monkeypatch.setattr(fd, "MIN_SPACING", 0.15)
+        with pytest.raises(ConvergenceError, match="did not reach accuracy=1e-08.*a2"):
+            kf.solve_heated(0.6, accuracy=1e-8, **opts)
+    with pytest.raises(ValueError, match="richardson"):
+        kf.solve_heated(0.6, method="fd", richardson=0, accuracy=1e-6)
+
+
+def test_fd_cooling_accuracy_needs_the_richardson_estimate():
+    with pytest.raises(ValueError, match="richardson"):
+        kf.solve_cooling(0.6, method="fd", richardson=0, accuracy=1e-6)
+
+
+@pytest.mark.slow
+def test_fd_cooling_accuracy_refines_the_spacing():
+    """One level from spacing 0.09 (estimated zeta error 6.6e-5) refined until T, a2 and
+    zeta meet 5e-5 (measured 8 CPU s); the true errors against the FEM default state (its
+    estimate 1e-11) within 3 times that."""
+    d = kf.solve_cooling(0.6, method="fd", richardson=1, spacing=0.09, accuracy=5e-5)
+    e = d.error
+    assert max(e.temperature, e.a2, e.zeta) <= 5e-5 and d.info.extra["spacing"] < 0.09
+    ref = kf.solve_cooling(0.6)
+    assert abs(d.a2 - ref.a2) <= 1.5e-4
+    assert abs(d.info.extra["zeta"] / ref.info.extra["zeta"] - 1) <= 1.5e-4
+
+
 def test_estimate_survives_pickling_only_once_computed():
     d = kf.solve_heated(0.6, method="spectral")
     lost = pickle.loads(pickle.dumps(d))
