@@ -83,6 +83,7 @@ import logging
 import math
 import time
 import warnings
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -91,7 +92,7 @@ from numpy.typing import NDArray
 
 from ..distribution import RunInfo, VelocityDistribution
 from ..error import ErrorRecipe, comparison_recipe
-from ..exceptions import ConvergenceWarning
+from ..exceptions import ConvergenceError, ConvergenceWarning
 from ..gas import HeatedProblem, check_positive
 from ..model import FokkerPlanckBath, UnsupportedModelError, WhiteNoise
 from ..operators.collision import HalfGrid, half_grid, pair_moment
@@ -100,7 +101,8 @@ from ..solve import register_solver
 from .fd_march import F_FLOOR, MarchOptions, MarchResult, even_moments, march
 from .fd_newton import FDOperator, newton_steady
 from .fd_scales import UnitModel, default_cutoff
-from .richardson import richardson_log
+from .fem.heated import refinement_factor
+from .richardson import RICHARDSON_METHOD, richardson_log
 
 __all__ = ["ConvergenceWarning", "default_cutoff", "march", "MarchResult", "solve_fd_heated",
            "FDScheme", "FDOperator", "MarchOptions", "F_FLOOR", "ORDER"]
@@ -272,15 +274,16 @@ def _refine(coarse: _UnitSolution) -> NDArray[np.float64]:
     return out
 
 
-def _error_estimate(grid: HalfGrid, best: NDArray[np.float64], prev: NDArray[np.float64]
+def _error_estimate(grid: HalfGrid, best: NDArray[np.float64], result: NDArray[np.float64]
                     ) -> dict[str, float]:
-    """Differences of T (relative), a2 (absolute) and f (max relative, f > 1e-30)."""
+    """Differences of T (relative), a2 (absolute) and f (max relative, f > 1e-30) of the
+    result from the more extrapolated level ``best``."""
     t_b, a2_b = even_moments(grid, best)
-    t_p, a2_p = even_moments(grid, prev)
-    keep = (math.sqrt(t_b) * best > F_FLOOR) & (prev > 0)
-    return {"estimated_error_temperature": float(abs(t_p / t_b - 1.0)),
-            "estimated_error_a2": float(abs(a2_p - a2_b)),
-            "estimated_error_f": float(np.max(np.abs(prev[keep] / best[keep] - 1.0)))}
+    t_r, a2_r = even_moments(grid, result)
+    keep = (math.sqrt(t_r) * result > F_FLOOR) & (best > 0)
+    return {"estimated_error_temperature": float(abs(t_b / t_r - 1.0)),
+            "estimated_error_a2": float(abs(a2_b - a2_r)),
+            "estimated_error_f": float(np.max(np.abs(result[keep] / best[keep] - 1.0)))}
 
 
 def _energy_residual(model: UnitModel, grid: HalfGrid, p: NDArray[np.float64],
@@ -308,7 +311,8 @@ def _richardson_levels(richardson: bool | int) -> int:
 @register_solver("fd", problem="heated")
 def solve_fd_heated(problem: HeatedProblem, *, scheme: FDScheme | None = None,
                     marching: MarchOptions | None = None, steady: str = "newton",
-                    initial_temperature: float = 1.0, **keywords: Any) -> VelocityDistribution:
+                    initial_temperature: float = 1.0, accuracy: float | None = None,
+                    **keywords: Any) -> VelocityDistribution:
     """Heated steady state by the paper's finite-difference scheme.
 
     A second-order method; the default extrapolates over three grids (module
@@ -333,6 +337,10 @@ def solve_fd_heated(problem: HeatedProblem, *, scheme: FDScheme | None = None,
         reach the same discrete steady state.
     initial_temperature : float
         Temperature of the Gaussian start in units of the estimate.
+    accuracy : float, optional
+        Target accuracy of T (relative) and a2 (absolute): the spacing is refined (at
+        most :data:`MAX_REFINEMENTS` times, at the observed rate, not below
+        :data:`MIN_SPACING`) until ``dist.error`` meets it (needs ``richardson`` 1 or 2).
     **keywords
         Any field of ``scheme`` or ``marching`` by keyword, over those objects
         (``kf.solve_heated(0.5, method="fd", spacing=0.1, richardson=0)``); an unknown
@@ -357,6 +365,9 @@ def solve_fd_heated(problem: HeatedProblem, *, scheme: FDScheme | None = None,
         ``steady`` or ``richardson``, or a time step that breaks positivity.
     UnsupportedModelError
         For a restitution law or a kernel other than gamma = 0, 1.
+    ConvergenceError
+        If ``accuracy`` is not met within :data:`MAX_REFINEMENTS` refinements down to
+        :data:`MIN_SPACING` (the message says what was reached).
 
     Examples
     --------
@@ -367,6 +378,9 @@ def solve_fd_heated(problem: HeatedProblem, *, scheme: FDScheme | None = None,
     """
     sch, marching = gather_groups(((FDScheme, scheme), (MarchOptions, marching)), keywords,
                                   "solve_fd_heated")
+    if accuracy is not None:
+        return _refine_to_accuracy(problem, sch, marching, steady, initial_temperature,
+                                   check_positive("accuracy", accuracy))
     if problem.gas.restitution.constant is None:
         raise UnsupportedModelError(
             f"the paper's FD method needs a constant restitution coefficient (its gain term "
@@ -416,8 +430,10 @@ def solve_fd_heated(problem: HeatedProblem, *, scheme: FDScheme | None = None,
     extra: dict[str, object] = {**sol.info.extra, "order": ORDER, "richardson": levels,
                                 "spacings": [spacing / 2**k for k in range(levels + 1)]}
     if levels:
-        p, prev = richardson_log([s.p for s in sols])
-        extra.update(_error_estimate(grid, p, prev))
+        # the result is the next-to-best level, whose error the best level measures
+        # (issue 29: the best one's own error has no estimate from these grids)
+        best, p = richardson_log([s.p for s in sols])
+        extra.update(_error_estimate(grid, best, p))
         extra["grids"] = [dict(s.info.extra) for s in sols[1:]]
     else:
         p = sol.p
@@ -444,15 +460,89 @@ def solve_fd_heated(problem: HeatedProblem, *, scheme: FDScheme | None = None,
     dist = VelocityDistribution.from_values(grid.v_full * u, grid.full(p) / u,
                                             weights=grid.weights * u, method="fd",
                                             params=params, info=info, series=series)
-    return dist.with_error(_richardson_recipe(grid, p, prev) if levels else None)
+    return dist.with_error(_richardson_recipe(grid, p, best) if levels else None)
 
 
-def _richardson_recipe(grid: HalfGrid, best: NDArray[np.float64], prev: NDArray[np.float64]
-                       ) -> ErrorRecipe:
-    """``dist.error``: the most extrapolated level against the one before (unit problem)."""
+MAX_REFINEMENTS = 3
+"""Most refinements of the spacing with ``accuracy=`` (:func:`solve_fd_heated`)."""
+MIN_SPACING = 0.02
+"""The finest coarse spacing ``accuracy=`` tries (sqrt(T) units; its finest grid has a
+quarter of it): at 0.03 the solve takes about 6 times the default's CPU."""
+
+
+def _refine_to_accuracy(problem: HeatedProblem, sch: FDScheme, marching: MarchOptions,
+                        steady: str, initial_temperature: float, accuracy: float
+                        ) -> VelocityDistribution:
+    """``accuracy=`` of :func:`solve_fd_heated`."""
+    levels = _richardson_levels(sch.richardson)
+    spacing = UnitModel.from_problem(problem).spacing() if sch.spacing is None else sch.spacing
+    return refine_spacing(
+        lambda h: solve_fd_heated(problem, scheme=replace(sch, spacing=h), marching=marching,
+                                  steady=steady, initial_temperature=initial_temperature),
+        spacing, levels, accuracy, "T and a2")
+
+
+def refine_spacing(solve_at: Callable[[float], VelocityDistribution], spacing: float,
+                   levels: int, accuracy: float, what: str) -> VelocityDistribution:
+    """The result at ``spacing``, refined at the observed rate (the result is of order
+    ``2 * levels``) until its ``dist.error`` meets ``accuracy`` in T, a2 (and zeta where
+    it has one), at most :data:`MAX_REFINEMENTS` times, not below :data:`MIN_SPACING`.
+
+    Parameters
+    ----------
+    solve_at : callable
+        ``spacing -> VelocityDistribution``.
+    spacing : float
+        The first spacing.
+    levels : int
+        Richardson levels (1 or 2; 0 raises: no estimate).
+    accuracy : float
+        The target.
+    what : str
+        The quantities compared, for the message.
+
+    Returns
+    -------
+    VelocityDistribution
+
+    Raises
+    ------
+    ValueError
+        For ``levels`` 0.
+    ConvergenceError
+        If the target is not met (the message says what was reached).
+    """
+    if levels == 0:
+        raise ValueError("accuracy= needs the Richardson estimate: use richardson=1 or 2, "
+                         "got richardson=0")
+    history: list[tuple[float, float]] = []
+    for _ in range(MAX_REFINEMENTS + 1):
+        dist = solve_at(spacing)
+        est = dist.error
+        err = max(est.temperature, est.a2, est.zeta or 0.0)
+        logger.info("accuracy=%g: fd spacing %.4g, estimated error %.2e", accuracy, spacing,
+                    err)
+        if err <= accuracy:
+            return dist
+        history.append((spacing, err))
+        if spacing <= MIN_SPACING:
+            break
+        spacing = max(MIN_SPACING, spacing * refinement_factor(history, accuracy,
+                                                               2 * levels - 1))
+    zeta = "" if est.zeta is None else f", zeta {est.zeta:.2g}"
+    raise ConvergenceError(
+        f"FD did not reach accuracy={accuracy:g} ({what}) after {len(history)} spacings "
+        f"(the finest tried {MIN_SPACING:g} thermal velocities): at spacing "
+        f"{history[-1][0]:.3g} the estimated errors are T {est.temperature:.2g} "
+        f"(relative), a2 {est.a2:.2g}{zeta}; use method='fem'")
+
+
+def _richardson_recipe(grid: HalfGrid, result: NDArray[np.float64],
+                       best: NDArray[np.float64]) -> ErrorRecipe:
+    """``dist.error``: the result against the one more extrapolated level (unit problem)."""
     def pair() -> tuple[VelocityDistribution, VelocityDistribution]:
         return tuple(VelocityDistribution.from_values(grid.v_full, grid.full(q),  # type: ignore
                                                       weights=grid.weights)
-                     for q in (best, prev))
+                     for q in (result, best))
 
-    return comparison_recipe(pair, "Richardson levels (the best against the one before)")
+    return comparison_recipe(pair, RICHARDSON_METHOD)

@@ -144,16 +144,54 @@ def test_fem_accuracy_refines_until_the_estimate_meets_it():
         kf.solve_heated(0.2, accuracy=-1.0)
 
 
-def test_fd_estimate_is_an_upper_bound():
-    """The change between the last two Richardson levels bounds the error of the best
-    level (measured true/estimated 0.006-0.03 at the default spacing)."""
+def test_fd_estimate_is_calibrated():
+    """The result is the next-to-best Richardson level, its estimate the change to the
+    best one: true/estimated 1.07 (T) here, 0.86-2.0 over the calibration's FD rows."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the coarse grid warns (ln P steps of 1.3)
         d = kf.solve_heated(0.6, method="fd", spacing=0.2)
     e = d.error
     assert e.method.startswith("Richardson")
-    assert abs(d.temperature / FEM_T - 1) <= e.temperature
-    assert abs(d.a2 - FEM_A2) <= e.a2
+    assert e.temperature / 3 <= abs(d.temperature / FEM_T - 1) <= 3 * e.temperature
+    assert e.a2 / 3 <= abs(d.a2 - FEM_A2) <= 3 * e.a2
+
+
+def test_fd_accuracy_refines_the_spacing_until_the_estimate_meets_it(monkeypatch):
+    """One Richardson level from spacing 0.15 (estimated a2 error 6.3e-4, true 6.3e-4)
+    refined until the estimate meets 4e-4; the true error against FEM within 3 times
+    that.  Below the
+    finest spacing it raises saying what it reached; no estimate, no target."""
+    from kinetic_fem.solvers import finite_difference as fd
+
+    opts = {"method": "fd", "richardson": 1, "spacing": 0.15, "cutoff": 20.0}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the coarse grids warn (ln P steps of 1.3)
+        d = kf.solve_heated(0.6, accuracy=4e-4, **opts)
+        assert d.error.meets(4e-4) and d.params["spacing"] < 0.15
+        assert abs(d.a2 - FEM_A2) <= 1.2e-3 and abs(d.temperature / FEM_T - 1) <= 1.2e-3
+        monkeypatch.setattr(fd, "MIN_SPACING", 0.15)
+        with pytest.raises(ConvergenceError, match="did not reach accuracy=1e-08.*a2"):
+            kf.solve_heated(0.6, accuracy=1e-8, **opts)
+    with pytest.raises(ValueError, match="richardson"):
+        kf.solve_heated(0.6, method="fd", richardson=0, accuracy=1e-6)
+
+
+def test_fd_cooling_accuracy_needs_the_richardson_estimate():
+    with pytest.raises(ValueError, match="richardson"):
+        kf.solve_cooling(0.6, method="fd", richardson=0, accuracy=1e-6)
+
+
+@pytest.mark.slow
+def test_fd_cooling_accuracy_refines_the_spacing():
+    """One level from spacing 0.09 (estimated zeta error 6.6e-5) refined until T, a2 and
+    zeta meet 5e-5 (measured 8 CPU s); the true errors against the FEM default state (its
+    estimate 1e-11) within 3 times that."""
+    d = kf.solve_cooling(0.6, method="fd", richardson=1, spacing=0.09, accuracy=5e-5)
+    e = d.error
+    assert max(e.temperature, e.a2, e.zeta) <= 5e-5 and d.info.extra["spacing"] < 0.09
+    ref = kf.solve_cooling(0.6)
+    assert abs(d.a2 - ref.a2) <= 1.5e-4
+    assert abs(d.info.extra["zeta"] / ref.info.extra["zeta"] - 1) <= 1.5e-4
 
 
 def test_estimate_survives_pickling_only_once_computed():
@@ -193,7 +231,8 @@ def test_error_estimate_repr_and_dict():
 def test_calibration_over_the_benchmark_problems():
     """The whole calibration set (about 36 problems, ~10 CPU min): every FEM and spectral
     ratio true/estimated within [0.3, 3] in T, a2, zeta and [0.1, 10] in f, where the
-    reference is accurate enough; FD estimates are upper bounds."""
+    reference is accurate enough (FD rows included: the next-to-best Richardson level
+    with its change to the best, issue 29)."""
     path = Path(__file__).parents[2] / "benchmarks" / "calibrate_error_estimates.py"
     spec = importlib.util.spec_from_file_location("calibrate_error_estimates", path)
     assert spec is not None and spec.loader is not None
@@ -202,14 +241,15 @@ def test_calibration_over_the_benchmark_problems():
     spec.loader.exec_module(mod)
     rows = mod.main()
     assert len(rows) >= 30
+    # the one known miss (measured 0.21, docs/user_guide/methods.rst): the FD cooling
+    # state at alpha = 0.3 over-estimates its a2 error (its R2 level is not more accurate
+    # than R1(h/2) there); a conservative miss, bounded here
+    known = {("fd", "cooling", 0.3, "r_a2"): (0.15, 3.0)}
     for r in rows:
         assert "failed" not in r, r
-        if r["method"] == "fd":
-            if r["kind"] == "heated":  # an upper bound (measured 0.006-0.03)
-                assert not r["r_t"] > 1 and not r["r_a2"] > 1, r
-            continue
         for key, (lo, hi) in (("r_t", mod.TARGET), ("r_a2", mod.TARGET),
                               ("r_zeta", mod.TARGET)):
+            lo, hi = known.get((r["method"], r["kind"], r["alpha"], key), (lo, hi))
             if r["ref_ok"] and math.isfinite(r[key]):
                 assert lo <= r[key] <= hi, (key, r)
         if r["ref_f_ok"] and math.isfinite(r["r_f"]):

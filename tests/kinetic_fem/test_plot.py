@@ -100,3 +100,18 @@ def test_dist_plot_draws_the_error_band_of_sampled_results_only():
     assert band.min() >= 0 and band.max() == pytest.approx(top.max())
     assert len(_gaussian().plot().collections) == 0  # no estimate computed: no band
     assert len(d.plot(errors=False).collections) == 0
+
+
+def test_deterministic_sweep_plots_draw_its_estimates(ds):
+    """A deterministic sweep's a2_error (dist.error.a2, issue 29) gives error bars, its
+    f_error bands; a deterministic result draws its estimate's band when asked."""
+    line = ds.sel(density=1.0)
+    ax = plot_a2(line)
+    (container,) = ax.containers
+    assert container.has_yerr
+    segs = container.lines[2][0].get_segments()
+    assert [s[1, 1] - s[0, 1] for s in segs] == pytest.approx(2 * line.a2_error.values)
+    assert np.all(line.a2_error.values > 0)
+    assert len(plot_f(line).collections) == 3  # one band per point
+    d = kf.solve_heated(0.6, method="spectral")
+    assert len(d.plot(errors=True).collections) == 1

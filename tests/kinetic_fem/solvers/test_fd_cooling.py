@@ -138,8 +138,8 @@ ZETA_05 = 0.43556748342
 def test_richardson_cooling_rate():
     """One Richardson level from a coarse h = 0.0992: zeta(0.5) to ~1e-7.
 
-    Measured errors of zeta: 2.8e-4 (one grid, second order), 2.5e-7 (h, h/2; estimate
-    7.1e-5), 4.5e-11 (h, h/2, h/4; estimate 1.6e-8, the slow test below).
+    Measured errors of zeta: 2.8e-4 (one grid, second order), 7.12e-5 (h, h/2: the
+    result is the h/2 grid, estimate 7.09e-5 from R1(h); issue 29).
     """
     errors = []
     for levels in (0, 1):
@@ -149,15 +149,17 @@ def test_richardson_cooling_rate():
         errors.append(abs(d.info.extra["zeta"] / ZETA_05 - 1.0))
     assert math.isnan(kf.solve_cooling(0.5, method="fd", spacing=0.0992, richardson=0)
                       .info.extra["estimated_error_zeta"])
-    assert errors[1] < d.info.extra["estimated_error_zeta"]
-    assert errors[1] < 1e-6 < 1e-4 < errors[0]
+    est = d.info.extra["estimated_error_zeta"]
+    assert est / 3 <= errors[1] <= 3 * est
+    assert errors[1] < 1e-4 < errors[0]
 
 
 @pytest.mark.slow
 def test_richardson_two_levels_cooling_rate():
     d = kf.solve_cooling(0.5, method="fd", spacing=0.0992, richardson=2)
     err = abs(d.info.extra["zeta"] / ZETA_05 - 1.0)
-    assert err < d.info.extra["estimated_error_zeta"] and err < 1e-9
+    est = d.info.extra["estimated_error_zeta"]
+    assert est / 3 <= err <= 3 * est and err < 1e-7
 
 
 @pytest.mark.parametrize("alpha, zeta_error, f_error", [(0.5, 1e-8, 1e-6), (0.85, 1e-7, 1e-5),

@@ -23,10 +23,10 @@ Hard rods in a bath at :math:`\\alpha = 1`: collisions conserve energy and the b
 relaxes to the Gaussian at :math:`T = D/\\xi` (the discrete gain is then exactly the
 loss: the pre-collision velocity is the node itself).
 
-Tolerances: the FD errors are estimated by the solver from a Richardson pair
-(``info.extra["estimated_error_*"]``); the tests check that the true error against
-the exact value is below that estimate (which bounds it in the asymptotic regime)
-and below a fixed level measured here.
+Tolerances: the FD errors are estimated by the solver from its Richardson levels
+(``info.extra["estimated_error_*"]``, calibrated: true/estimated near 1, issue 29); the
+tests check that the true error against the exact value is within a factor 3 of that
+estimate and below a fixed level measured here.
 """
 
 import math
@@ -65,10 +65,11 @@ def test_maxwell_steady_state_exact(alpha, friction, density, diffusion):
     assert d.info.converged
     err_t = abs(d.temperature / t - 1.0)
     err_a2 = abs(d.a2 - a2)
-    # measured: 2.3e-8, 1.0e-8 (white noise), 2.2e-9, 1.5e-8 (bath); T converges at
-    # order 4 for this kernel, so only the a2 estimate is asymptotic and bounds the error
-    assert err_a2 < extra["estimated_error_a2"]
-    assert err_t < 2e-7 and err_a2 < 2e-7
+    # the result is R1(h/2) (issue 29), its estimate the change to R2(h); measured a2
+    # errors 1.28e-6 (white noise, estimate 1.27e-6) and 3.6e-7 (bath), T 1.1e-7; T
+    # converges at order 4 for this kernel, so only the a2 estimate is asymptotic
+    assert extra["estimated_error_a2"] / 3 <= err_a2 <= 3 * extra["estimated_error_a2"]
+    assert err_t < 3e-7 and err_a2 < 4e-6
 
 
 def test_maxwell_single_grid_second_order():
