@@ -155,8 +155,8 @@ def evolve_heated_fem(problem: HeatedProblem, *, times: NDArray, protocol: Proto
         (:class:`~kinetic_fem.solvers.fem.options.EvolveOptions`: ``rtol`` default 1e-4,
         ``order``, ``spacing`` default :func:`default_transient_spacing`, ``cutoff``,
         ``first_step``, ``max_step``, ``max_steps``, ``newton_tol`` default
-        :func:`default_newton_tol`, ``max_newton``, ``scheme``: ``"bdf2"`` by default,
-        ``"bdf3"`` or ``"bdf4"``).
+        :func:`default_newton_tol`, ``max_newton``, ``scheme``: ``"bdf4"`` by default,
+        ``"bdf3"`` or ``"bdf2"``).
     progress : bool
         Show a progress bar over time (tqdm).
     **option_keywords

@@ -16,9 +16,10 @@ integrator).
 :class:`TimeIntegrator` is the protocol (as SciPy's ``OdeSolver``): the public
 :meth:`~TimeIntegrator.step` keeps the status and the counters and calls the scheme's
 ``_step_impl``; :class:`BDF2` is the scheme.  With ``TransientOptions.scheme`` ``"bdf3"``
-or ``"bdf4"`` (opt-in) it raises the order to variable-step BDF3/BDF4 once enough levels
-are known (coefficients :func:`~.transient_setup.bdf_weights`, the predictor through one
-level more); the default ``"bdf2"`` is the scheme described below.
+or ``"bdf4"`` (the heated driver's default) it raises the order to variable-step
+BDF3/BDF4 once enough levels are known (coefficients :func:`~.transient_setup.bdf_weights`,
+the predictor through one level more; a level with no continuation is taken again by BDF2,
+``BACKTRACK_FAILURES``); ``"bdf2"`` is the scheme described below.
 
 Time stepping is variable-step BDF2 on :math:`m(P)`: with :math:`\\omega = h_k/h_{k-1}`
 
@@ -130,6 +131,14 @@ LOW_ORDER_STEPS = 10
 """After a Newton failure of a BDF3 step, this many accepted steps are BDF2: on a coarse
 mesh (spacing 0.6, rtol 1e-3, hard rods from T = 0.8) BDF3's failures cascaded down to
 steps of 1e-14, where BDF2 from the same levels went on."""
+
+BACKTRACK_FAILURES = 4
+"""After this many Newton failures of one step following a failure of a BDF3/BDF4 step,
+the last accepted level is dropped once and taken again by BDF2 (:meth:`BDF2._step_impl`):
+on a coarse mesh (spacing 0.6, cutoff 10, hard rods heated from T = 0.8, rtol 1e-3) a
+BDF4 step accepted on its T and a2 error left ln P non-monotone at the outermost dofs
+(-70, -71, -63 at 1e-27 of the peak), and no step from that level, down to 1e-14,
+converged; BDF2 from the level before went on."""
 
 HISTORY_FLOOR = 0.3
 """With ``positive_history``: a BDF2 history term below this fraction of ``c_new m^k``
@@ -697,6 +706,7 @@ class BDF2(TimeIntegrator):
         """
         hist, h = self.hist, self.h
         tries, rejected = 0, None
+        failures, high_order_failed, backtracked = 0, self.low_order > 0, False
         while True:
             tries += 1
             if tries > MAX_RETRIES:
@@ -721,8 +731,22 @@ class BDF2(TimeIntegrator):
             result = self.attempt(hist, h)
             if result is None:
                 self.stats.newton_failures += 1
+                failures += 1
                 if order >= 3:   # BDF2 for a while (BDF3's failures cascaded to 1e-14)
                     self.low_order = LOW_ORDER_STEPS
+                    high_order_failed = True
+                if high_order_failed and failures >= BACKTRACK_FAILURES and len(hist) >= 4 \
+                        and not backtracked:
+                    # the last level, taken by BDF3/BDF4, has no continuation: take it
+                    # again by BDF2 from the level before (a far-tail wiggle that T and
+                    # a2 do not see; see BACKTRACK_FAILURES)
+                    backtracked = True
+                    self.stats.backtracks += 1
+                    dropped = hist.pop()
+                    h = 0.5 * (dropped.s - hist[-1].s)
+                    self.step_cap = 0.7 * (dropped.s - hist[-1].s)
+                    logger.debug("backtrack from s=%.6g to s=%.6g", dropped.s, hist[-1].s)
+                    continue
                 # steps stay below the failed one a while (alpha 0.9 Kovacs quench)
                 self.step_cap = 0.7 * h
                 h = 0.5 * h if h > self.opt.min_step else 2.0 * h

@@ -147,6 +147,9 @@ class TransientStats:
         steps) and LU factorisations of the step matrix.
     slow_newton : int
         Simplified Newton iterations stopped for slow contraction or divergence.
+    backtracks : int
+        Levels dropped and taken again by BDF2 after a BDF3/BDF4 step had no
+        continuation (``transient.BACKTRACK_FAILURES``).
     """
 
     accepted: int = 0
@@ -159,6 +162,7 @@ class TransientStats:
     jacobians: int = 0
     factorisations: int = 0
     slow_newton: int = 0
+    backtracks: int = 0
 
     def as_dict(self) -> dict[str, int]:
         return dict(vars(self))
