@@ -67,6 +67,7 @@ BENCHMARKS: dict[str, tuple[str, bool]] = {
     "relaxation_dsmc": ("validation", False),
     "cooling_transient": ("validation", False),
     "calibrate_error_estimates": ("validation", True),
+    "calibrate_mixture_errors": ("validation", False),
     "regime_bitwise": ("validation", False),
     "fem_mixture_dsmc": ("validation", False),
     # studies

@@ -555,7 +555,19 @@ c = 11), so the estimate there is ``inf``."""
 
 
 def resolved_core(f_rel: NDArray[np.float64]) -> NDArray[np.float64]:
-    """``f_rel`` (symmetric nodes) with ``inf`` from the first node out of the trusted core."""
+    """``f_rel`` (symmetric nodes) with ``inf`` from the first node out of the trusted core.
+
+    Parameters
+    ----------
+    f_rel : ndarray
+        Relative errors of f at nodes symmetric about c = 0.
+
+    Returns
+    -------
+    ndarray
+        A copy, ``inf`` from the first node (outwards on each side) where the relative
+        error reaches :data:`SONINE_F_TRUST`.
+    """
     out = f_rel.copy()
     mid = out.size // 2
     for side in (slice(mid, None), slice(mid, None, -1)):
