@@ -83,14 +83,21 @@ def test_viscoelastic_velocity_scaling():
     np.testing.assert_allclose(hot.a2, unit.a2, atol=1e-9)
 
 
+# 33-37 s of the default run (two transients at rtol 1e-5); the saturating kernel's fast
+# checks in evolve_cooling: test_initial_cooling_rate_is_the_gaussian_loss[saturating-*]
+@pytest.mark.slow
 def test_saturating_kernel_tends_to_hard_rods():
-    """B(g) = g/(1 + g/g0) with g0 = 1e6: hard rods to first order in sqrt(T)/g0 (the
-    kernel is not homogeneous: allowed in physical variables, refused by solve_cooling)."""
+    """B(g) = g/(1 + g/g0) with g0 = 1e6: hard rods to first order in sqrt(T)/g0."""
     times = np.array([0.5, 2.0])
     rods = kf.evolve_cooling(0.5, times=times, spacing=0.5, rtol=1e-5)
     sat = kf.evolve_cooling(0.5, kernel=SaturatingKernel(1e6), times=times, spacing=0.5,
                             rtol=1e-5)
     np.testing.assert_allclose(sat.temperature, rods.temperature, rtol=2e-5)
+
+
+def test_saturating_kernel_has_no_scaled_cooling_state():
+    """The saturating kernel is not homogeneous: allowed in physical variables
+    (evolve_cooling), refused by solve_cooling."""
     with pytest.raises(UnsupportedModelError):
         kf.solve_cooling(0.5, kernel=SaturatingKernel(1.0))
 
