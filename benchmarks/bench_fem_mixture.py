@@ -21,20 +21,11 @@ import warnings
 from collections.abc import Callable
 from typing import Any
 
+from yardstick import best_cpu
+
 import kinetic_fem as kf
 from kinetic_fem.exceptions import ResolutionWarning
 from kinetic_fem.solvers.fem import mixture as fem_mixture
-
-
-def best(call: Callable[[], Any], repeats: int) -> tuple[float, Any]:
-    """Smallest CPU time of ``repeats`` calls and the last result."""
-    times = []
-    out = None
-    for _ in range(repeats):
-        cpu = time.process_time()
-        out = call()
-        times.append(time.process_time() - cpu)
-    return min(times), out
 
 
 def timed_collision(record: list[float]) -> Callable[..., Any]:
@@ -59,7 +50,7 @@ def main(spacing: float = 0.25, repeats: int = 3) -> None:
     for cooling in (False, True):
         name = "cooling" if cooling else "heated"
         solve = kf.solve_cooling if cooling else kf.solve_heated
-        one_t, one = best(lambda s=solve: s(0.7, order=3, spacing=spacing), repeats)
+        one_t, one = best_cpu(lambda s=solve: s(0.7, order=3, spacing=spacing), repeats)
         print(f"| {name}, one species | {one.info.extra['n_dofs']} | {one_t:.3f} | 1 | |")
         for masses in ((1.0, 1.0), (1.0, 3.0), (1.0, 10.0)):
             mix = (kf.Mixture(masses, (0.5, 0.5), alpha=0.7) if cooling else
@@ -68,7 +59,7 @@ def main(spacing: float = 0.25, repeats: int = 3) -> None:
             plain = fem_mixture.MixtureDiscretisation.collision
             fem_mixture.MixtureDiscretisation.collision = timed_collision(record)  # type: ignore[method-assign]
             try:
-                mix_t, state = best(lambda s=solve, m=mix: s(m, order=3, spacing=spacing),
+                mix_t, state = best_cpu(lambda s=solve, m=mix: s(m, order=3, spacing=spacing),
                                     repeats)
             except kf.exceptions.ConvergenceError as err:
                 print(f"| {name}, binary m {masses[0]:g}:{masses[1]:g} | | failed: "

@@ -25,6 +25,7 @@ import time
 import warnings
 
 import numpy as np
+from yardstick import best_cpu
 
 import kinetic_fem as kf
 from kinetic_fem.exceptions import ResolutionWarning
@@ -93,37 +94,27 @@ def cost(repeats: int = 3) -> None:
           "one species |")
     print("|---|---|---|---|---|---|")
     for spacing in (0.5, 0.25):
-        one_t, one = best(lambda h=spacing: kf.solve_heated(0.7, order=3, spacing=h), repeats)
+        one_t, one = best_cpu(lambda h=spacing: kf.solve_heated(0.7, order=3, spacing=h), repeats)
         print(f"| one species | {spacing} | {one.info.extra['n_dofs']} | {one_t:.3f} | 1 | |")
         same = kf.Mixture.white_noise((1.0, 1.0), (0.5, 0.5), alpha=0.7)
-        mix_t, state = best(lambda m=same, h=spacing: kf.solve_heated(m, order=3, spacing=h),
+        mix_t, state = best_cpu(lambda m=same, h=spacing: kf.solve_heated(m, order=3, spacing=h),
                               repeats)
         err = float(np.max(np.abs(state.temperatures / one.temperature - 1.0)))
         print(f"| binary, identical species | {spacing} | {state.info.extra['n_dofs']} | "
               f"{mix_t:.3f} | {mix_t / one_t:.2f} | {err:.1e} |")
         real = kf.Mixture.white_noise((1.0, 3.0), (0.5, 0.5), alpha=0.7)
-        mix_t, state = best(lambda m=real, h=spacing: kf.solve_heated(m, order=3, spacing=h),
+        mix_t, state = best_cpu(lambda m=real, h=spacing: kf.solve_heated(m, order=3, spacing=h),
                               repeats)
         print(f"| binary, m 1:3 | {spacing} | {state.info.extra['n_dofs']} | {mix_t:.3f} | "
               f"{mix_t / one_t:.2f} | |", flush=True)
     cool = kf.Mixture((1.0, 1.0), (0.5, 0.5), alpha=0.7)
-    one_t, one = best(lambda: kf.solve_cooling(0.7), repeats)
-    mix_t, state = best(lambda: kf.solve_cooling(cool, spacing=0.25), repeats)
+    one_t, one = best_cpu(lambda: kf.solve_cooling(0.7), repeats)
+    mix_t, state = best_cpu(lambda: kf.solve_cooling(cool, spacing=0.25), repeats)
     err = abs(state.zeta / one.info.extra["zeta"] - 1.0)
     print(f"| cooling: one species (default) / binary identical (P3, 0.25) | | "
           f"{one.info.extra['n_dofs']} / {state.info.extra['n_dofs']} | {one_t:.3f} / "
           f"{mix_t:.3f} | {mix_t / one_t:.2f} | zeta {err:.1e} |")
 
-
-def best(call, repeats: int):
-    """Smallest CPU time of ``repeats`` calls and the last result."""
-    times = []
-    out = None
-    for _ in range(repeats):
-        cpu = time.process_time()
-        out = call()
-        times.append(time.process_time() - cpu)
-    return min(times), out
 
 
 def sonine() -> None:
