@@ -34,8 +34,10 @@ class AsymptoticSeriesWarning(UserWarning):
     its error may be larger than the changes between approximations suggest.
 
     Warned by the Sonine solver when successive orders stop converging (the series is
-    asymptotic there); the result's ``info.extra['asymptotic_series']`` is True and
-    ``dist.error.asymptotic`` says so.
+    asymptotic there): by default when ``dist.error`` is first read (the check runs
+    with the estimate), with ``check_series=True`` by the solve itself (then the
+    result's ``info.extra['asymptotic_series']`` is True too); ``dist.error.asymptotic``
+    says so either way.
     """
 
 

@@ -102,26 +102,59 @@ def test_spectral_estimate_from_neighbouring_orders():
 def test_spectral_asymptotic_series_is_flagged():
     # hard rods at alpha = 0.8 converge (a2 changes 3.6e-3, 8.6e-4, 1.8e-4, 3e-5 from
     # order 6 up); at 0.9 the changes stop decreasing before order 14
+    d = kf.solve_cooling(0.9, method="spectral")
     with pytest.warns(AsymptoticSeriesWarning):
-        d = kf.solve_cooling(0.9, method="spectral")
-    assert d.error.asymptotic and "asymptotic" in d.error.note
-    assert d.error.zeta is not None and d.error.zeta > 0
+        e = d.error
+    assert e.asymptotic and "asymptotic" in e.note
+    assert e.zeta is not None and e.zeta > 0
 
 
-def test_spectral_asymptotic_series_warns_at_solve_and_says_so_in_info():
+def test_spectral_asymptotic_series_warns_on_first_read_of_the_estimate():
     """The issue's example: orders 6..12 change a2 by 2.1e-5, 5.2e-6, 8.3e-7 but T stops
-    converging; order 8 is 1.4e-5 from the FEM a2 (twice the estimate)."""
-    with pytest.warns(AsymptoticSeriesWarning, match="stop converging"):
+    converging; order 8 is 1.4e-5 from the FEM a2 (twice the estimate).  By default the
+    check runs with the estimate (issue 29 item 5: the solve costs nothing extra): the
+    solve is silent, the first read of ``dist.error`` warns (pointing at the caller's
+    line), later reads do not."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", AsymptoticSeriesWarning)
         d = kf.solve_heated(0.6, kernel=0.5, method="spectral")
+    assert "dist.error" in d.info.message and "asymptotic_series" not in d.info.extra
+    with pytest.warns(AsymptoticSeriesWarning, match="stop converging") as record:
+        e = d.error
+    assert record[0].filename == __file__
+    assert e.asymptotic and "stop converging" in e.note
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", AsymptoticSeriesWarning)
+        assert d.error is e
+        ok = kf.solve_heated(0.6, method="spectral")   # hard rods: orders 6..14 converge
+        assert not ok.error.asymptotic
+
+
+def test_spectral_series_check_at_solve_time_says_so_in_info():
+    """``check_series=True``: the solve checks and warns; same result and estimate as
+    the default (lazy) check; ``check_series=False`` skips it; other values are refused."""
+    with pytest.warns(AsymptoticSeriesWarning, match="stop converging") as record:
+        d = kf.solve_heated(0.6, kernel=0.5, method="spectral", check_series=True)
+    assert record[0].filename == __file__
     assert d.info.converged and d.info.extra["asymptotic_series"]
     assert "WARNING" in d.info.message and d.info.extra["series_orders"][:2] == [6, 8]
     assert d.error.asymptotic and "asymptotic" in d.error.note
+    lazy = kf.solve_heated(0.6, kernel=0.5, method="spectral")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AsymptoticSeriesWarning)
+        e = lazy.error
+    assert (e.a2, e.temperature, e.asymptotic, e.note) == (
+        d.error.a2, d.error.temperature, d.error.asymptotic, d.error.note)
+    assert np.array_equal(e.f_relative, d.error.f_relative, equal_nan=True)
+    assert lazy.a2 == d.a2 and lazy.temperature == d.temperature
+    assert np.array_equal(lazy.values, d.values)
     with warnings.catch_warnings():
         warnings.simplefilter("error", AsymptoticSeriesWarning)
         quiet = kf.solve_heated(0.6, kernel=0.5, method="spectral", check_series=False)
-        ok = kf.solve_heated(0.6, method="spectral")   # hard rods: orders 6..14 converge
+        assert not quiet.error.asymptotic   # orders 6, 8, 10 alone still converge
     assert quiet.a2 == d.a2 and "asymptotic_series" not in quiet.info.extra
-    assert not ok.info.extra["asymptotic_series"] and not ok.error.asymptotic
+    with pytest.raises(ValueError, match="check_series must be 'lazy', True or False"):
+        kf.solve_heated(0.6, method="spectral", check_series="yes")
 
 
 def test_spectral_accuracy_raises_with_what_it_reached():
