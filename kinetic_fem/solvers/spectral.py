@@ -781,7 +781,7 @@ def solve_spectral_heated(problem: HeatedProblem, *, order: int = 8,
         Solve orders ``P - 2 .. P + 6`` to find whether the series still converges there
         (:func:`series_check`; its solutions serve ``dist.error``).  ``"lazy"``
         (default): when ``dist.error`` is first read, with the estimate (the solve costs
-        nothing extra; the check costs 1.2 to 3.4 times the solve); if the series does
+        nothing extra; the check costs about 3 times the solve); if the series does
         not converge, that read issues an
         :class:`~kinetic_fem.exceptions.AsymptoticSeriesWarning` and
         ``dist.error.asymptotic`` is True (``info`` does not change).  True: at solve
