@@ -6,8 +6,11 @@ state (white noise) and the cooling state, one species (``kf.solve_heated(0.7)``
 ``kf.solve_cooling(0.7)``) against a binary mixture of identical species (x 0.5/0.5,
 equal masses: the accuracy is the one-species one) and of masses 1:3 and 1:10.  For the mixtures
 the CPU time is split into the pair sums (``MixtureDiscretisation.collision``, with and
-without Jacobian) and the rest (transport forms, LU solves, Newton driver).  Target of
-issue 27: a binary state at most 4 times one species.
+without Jacobian), the start (``_start_profiles``: the one-species state of each distinct
+restitution coefficient and thermostat, on the one-species default mesh) and the rest
+(transport forms, LU solves, Newton driver), with the number of pair-sum evaluations per
+solve (with Jacobian + residual only).  Target of issue 27: a binary state at most 4 times
+one species.
 
 Run with one BLAS thread::
 
@@ -19,6 +22,7 @@ from __future__ import annotations
 import time
 import warnings
 from collections.abc import Callable
+from functools import partial
 from typing import Any
 
 from yardstick import best_cpu
@@ -28,49 +32,77 @@ from kinetic_fem.exceptions import ResolutionWarning
 from kinetic_fem.solvers.fem import mixture as fem_mixture
 
 
-def timed_collision(record: list[float]) -> Callable[..., Any]:
-    """The pair sums of the mixture, their CPU time appended to ``record``."""
+def timed_collision(record: list[float], jacobians: list[bool]) -> Callable[..., Any]:
+    """The pair sums of the mixture, their CPU time appended to ``record`` (and whether
+    with Jacobian to ``jacobians``)."""
     plain = fem_mixture.MixtureDiscretisation.collision
 
     def collision(self, us, *, jacobian=False):
         cpu = time.process_time()
         out = plain(self, us, jacobian=jacobian)
         record.append(time.process_time() - cpu)
+        jacobians.append(jacobian)
         return out
 
     return collision
 
 
-def main(spacing: float = 0.25, repeats: int = 3) -> None:
-    """Print the table."""
+def timed_start(record: list[float]) -> Callable[..., Any]:
+    """The start profiles of the mixture, their CPU time appended to ``record``."""
+    plain = fem_mixture._start_profiles
+
+    def start(*args, **kwargs):
+        cpu = time.process_time()
+        out = plain(*args, **kwargs)
+        record.append(time.process_time() - cpu)
+        return out
+
+    return start
+
+
+def main(spacing: float = 0.25, repeats: int = 5) -> None:
+    """Print the table (``repeats``: calls per state, the smallest CPU time kept)."""
     warnings.simplefilter("ignore", ResolutionWarning)
     print(f"| state | dofs | CPU s (best of {repeats}) | ratio to one species | "
-          "pair sums share |")
-    print("|---|---|---|---|---|")
+          "pair sums share | start share | pair sums per solve (J + r) |")
+    print("|---|---|---|---|---|---|---|")
     for cooling in (False, True):
         name = "cooling" if cooling else "heated"
         solve = kf.solve_cooling if cooling else kf.solve_heated
-        one_t, one = best_cpu(lambda s=solve: s(0.7, order=3, spacing=spacing), repeats)
-        print(f"| {name}, one species | {one.info.extra['n_dofs']} | {one_t:.3f} | 1 | |")
+        one_t, one = best_cpu(partial(solve, 0.7, order=3, spacing=spacing), repeats)
+        print(f"| {name}, one species | {one.info.extra['n_dofs']} | {one_t:.3f} | 1 | | | |")
         for masses in ((1.0, 1.0), (1.0, 3.0), (1.0, 10.0)):
             mix = (kf.Mixture(masses, (0.5, 0.5), alpha=0.7) if cooling else
                    kf.Mixture.white_noise(masses, (0.5, 0.5), alpha=0.7))
             record: list[float] = []
+            jacobians: list[bool] = []
+            starts: list[float] = []
             plain = fem_mixture.MixtureDiscretisation.collision
-            fem_mixture.MixtureDiscretisation.collision = timed_collision(record)  # type: ignore[method-assign]
+            plain_start = fem_mixture._start_profiles
+            fem_mixture.MixtureDiscretisation.collision = timed_collision(record, jacobians)  # type: ignore[method-assign]
+            fem_mixture._start_profiles = timed_start(starts)
             try:
-                mix_t, state = best_cpu(lambda s=solve, m=mix: s(m, order=3, spacing=spacing),
-                                    repeats)
+                solve(mix, order=3, spacing=spacing)  # numba compiles outside the record
+                for kept in (record, jacobians, starts):
+                    kept.clear()
+                total = time.process_time()
+                mix_t, state = best_cpu(partial(solve, mix, order=3, spacing=spacing),
+                                        repeats)
             except kf.exceptions.ConvergenceError as err:
                 print(f"| {name}, binary m {masses[0]:g}:{masses[1]:g} | | failed: "
-                      f"{str(err)[:70]} | | |", flush=True)
+                      f"{str(err)[:70]} | | | | |", flush=True)
                 continue
             finally:
                 fem_mixture.MixtureDiscretisation.collision = plain  # type: ignore[method-assign]
-            share = sum(record) / repeats / mix_t
+                fem_mixture._start_profiles = plain_start
+            total = time.process_time() - total  # the shares: of all repeats
+            share = sum(record) / total
+            start_share = sum(starts) / total
+            n_jac = sum(jacobians) / repeats
+            n_res = (len(jacobians) - sum(jacobians)) / repeats
             print(f"| {name}, binary m {masses[0]:g}:{masses[1]:g} | "
                   f"{state.info.extra['n_dofs']} | {mix_t:.3f} | {mix_t / one_t:.2f} | "
-                  f"{share:.0%} |", flush=True)
+                  f"{share:.0%} | {start_share:.0%} | {n_jac:g} + {n_res:g} |", flush=True)
 
 
 if __name__ == "__main__":

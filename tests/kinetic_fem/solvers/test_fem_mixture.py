@@ -147,6 +147,26 @@ def test_failed_heated_newton_restarts_on_trimmed_meshes(caplog):
 
 
 @pytest.mark.slow
+def test_failed_cooling_newton_restarts_on_trimmed_meshes(caplog):
+    """Hard rods m 1:10, alpha 0.5 (free cooling): on the default meshes (cut-offs 36
+    thermal velocities, f_s sigma_s ~ 1e-46 at the light species' edge) Newton reaches a
+    residual of 4e-17 with steps stuck at 3e-4, and the continuation failed too; trimmed
+    where the iterate's f_s sigma_s < 1e-33 it converges.  Checked against an explicit
+    cut-off of 30 (no trim; measured differences 7.7e-12 in T1/T2, 6e-12 in zeta) and the
+    finer spacing 0.2 (5.4e-11 and 1.0e-10: the discretisation error; 32 s CPU)."""
+    mix = kf.Mixture((1.0, 10.0), (0.5, 0.5), alpha=0.5)
+    with caplog.at_level("INFO", logger=fem_mixture.__name__):
+        state = kf.solve_cooling(mix)
+    assert "cut-offs trimmed" in caplog.text
+    assert state.info.converged
+    explicit = kf.solve_cooling(mix, cutoff=30.0)
+    assert state.temperature_ratio() == pytest.approx(explicit.temperature_ratio(), rel=5e-11)
+    assert state.zeta == pytest.approx(explicit.zeta, rel=5e-11)
+    assert state.temperature_ratio() == pytest.approx(0.2289312706, rel=1e-9)
+    assert state.zeta == pytest.approx(0.1499123381, rel=1e-9)
+
+
+@pytest.mark.slow
 def test_same_power_light_species_heated_state_is_found():
     """same_power (D_s = 1/m_s), m2/m1 = 0.1, x 0.5/0.5, alpha 0.9, hard rods: Newton on
     the default meshes (cut-offs 14 thermal velocities, f_s sigma_s ~ 1e-63 at the light
