@@ -973,6 +973,8 @@ def _plus_cutoff(est: MixtureError, mdisc: MixtureDiscretisation, x: NDArray
     x : ndarray
         Its stacked even unknowns and :math:`\\zeta` last.
     """
+    from .error import interpolated_log
+
     mix = mdisc.mixture
     us = mdisc.split(x[:mdisc.offsets[-1]])
     states = []
@@ -983,7 +985,7 @@ def _plus_cutoff(est: MixtureError, mdisc: MixtureDiscretisation, x: NDArray
             mix, tuple(d.vertices[np.abs(d.vertices) <= c] for d, c in
                        zip(mdisc.discs, cuts, strict=True)), mdisc.density, mdisc.order,
             mdisc.intorder)
-        x0 = np.concatenate([short.stack([interpolated_restriction(d, u, e) for d, u, e in
+        x0 = np.concatenate([short.stack([interpolated_log(d, u, e) for d, u, e in
                                           zip(mdisc.discs, us, short.discs, strict=True)]),
                              x[-1:]])
         x_short, info = _solve(_System(short, True), x0, tol=1e-11, max_iter=40)
@@ -1015,22 +1017,3 @@ def _plus_cutoff(est: MixtureError, mdisc: MixtureDiscretisation, x: NDArray
                         None if est.zeta is None or cut.zeta is None else est.zeta + cut.zeta,
                         method=f"{BISECTED_MIXTURE} plus the cut-offs halved")
 
-
-def interpolated_restriction(disc: FEMDiscretisation, u: NDArray, short: FEMDiscretisation
-                             ) -> NDArray:
-    """``u`` at the dofs of ``short``, whose mesh is ``disc``'s cut shorter.
-
-    Parameters
-    ----------
-    disc : FEMDiscretisation
-        The discretisation of ``u``.
-    u : ndarray
-        Coefficients of :math:`\\ln f_h`.
-    short : FEMDiscretisation
-        A discretisation on a prefix of its vertices, same degree.
-    """
-    loc = short.dof_locations
-    order = np.argsort(loc)
-    out = np.empty_like(loc)
-    out[order] = np.log(disc.evaluate(u, loc[order]))
-    return out
