@@ -73,8 +73,6 @@ PROBLEMS: list[tuple[str, kf.Mixture, Callable[[kf.Mixture], Any], Any]] = [
      _mix(0.0, (1.0, 3.0), (0.3, 0.7), TABLE, True), _fem, "exact"),
     ("Maxwell cooling m 1:2 a 0.5, FEM P2 h 0.25",
      _mix(0.0, (1.0, 2.0), (0.5, 0.5), 0.5, True), lambda m: _fem(m, order=2), "exact"),
-    ("Maxwell cooling m 1:2 a 0.9, FEM P2 h 0.25",
-     _mix(0.0, (1.0, 2.0), (0.5, 0.5), 0.9, True), lambda m: _fem(m, order=2), "exact"),
     ("hard rods heated m 1:2 a 0.8, FEM P2 h 0.25",
      _mix(1.0, (1.0, 2.0), (0.5, 0.5), 0.8, False), lambda m: _fem(m, order=2),
      lambda m: _fem(m, spacing=0.125)),
