@@ -122,7 +122,7 @@ from .cooling_links import (
     HUMP_STEP_TOL,
     hump_chain,
 )
-from .cooling_maxwell import MaxwellTailState
+from .cooling_maxwell import MaxwellTailState, maxwell_tail_recipe
 from .cooling_mesh import (
     HUMP_INTORDER,
     MAXWELL_CUTOFF,
@@ -345,7 +345,8 @@ def cooling_distribution(problem: CoolingProblem, state: CoolingState) -> Veloci
                                       "n_dofs": int(state.u.size), "order": state.disc.order,
                                       "cutoff": float(state.disc.vertices[-1])})
     if isinstance(state, MaxwellTailState):
-        return state.distribution(method="fem", params=problem.as_dict(), info=info)
+        dist = state.distribution(method="fem", params=problem.as_dict(), info=info)
+        return dist.with_error(maxwell_tail_recipe(state))
     # the result of a state and its error estimate (kinetic_fem.solvers.fem.error)
     def plain(disc: FEMDiscretisation, u: NDArray, **kw: object) -> VelocityDistribution:
         return disc.distribution(u, **kw)
