@@ -21,8 +21,8 @@ kept to round-off, and the error measured on every :math:`T_s` (relative) and
 Meshes: each species' as the one-species heated transient's
 (:func:`~kinetic_fem.solvers.fem.transient_setup.build_mesh`), over the range of
 :math:`\\langle v^2\\rangle_s` that the Gaussian approximation of the same relaxation
-visits (:func:`kinetic_fem.mixture_evolution.evolve_mixture` ``method="gaussian"``) and
-the start.  A mixture of identical species is the one-species transient
+visits (:func:`kinetic_fem.mixture_evolution.evolve_mixture` ``method="gaussian"``), its
+steady state and the start.  A mixture of identical species is the one-species transient
 (``evolve_heated(alpha, method="fem")``) on the same mesh to round-off.
 
 Free cooling (no thermostat) is not implemented: the one-species cooling transient
@@ -46,7 +46,7 @@ from ...model.mixture import Mixture
 from ...options import gather
 from .evolution import default_transient_cutoff, default_transient_spacing
 from .heated import EquilibratedLU
-from .mixture import MixtureDiscretisation, _check_model, _check_vertices
+from .mixture import MixtureDiscretisation, _check_model, _check_vertices, _estimate
 from .options import EvolveOptions
 from .transient import BDF2, Forms, Level, TransientOptions
 from .transient_setup import LOG_SMALLEST, SCHEMES, build_mesh, default_newton_tol, floor_log
@@ -355,12 +355,14 @@ def _visited_variances(mixture: Mixture, density: float, var0: NDArray,
 
     t_end = float(times[-1])
     samples = np.union1d(np.linspace(0.0, t_end, 41), times)
+    # the Gaussian steady state too, as the one-species transient's mesh
+    steady = _estimate(mixture, density, False)[None, :]
     if t_end == 0.0:
-        return var0[None, :]
+        return np.vstack([var0[None, :], steady])
     gauss = evolve_mixture(mixture, times=samples, density=density,
                            initial_temperature=var0 * np.asarray(mixture.masses),
                            method="gaussian", rtol=1e-8)
-    return np.vstack([var0[None, :], gauss.temperatures / np.asarray(mixture.masses)])
+    return np.vstack([var0[None, :], steady, gauss.temperatures / np.asarray(mixture.masses)])
 
 
 def evolve_mixture_fem(mixture: Mixture, *, times: NDArray, density: float,
