@@ -36,7 +36,8 @@ from scipy.integrate import solve_ivp
 from .model.mixture import Mixture
 from .model.validation import UnsupportedModelError, check_positive, check_times
 
-__all__ = ["MixtureEvolution", "MixtureEvolutionError", "evolve_mixture", "MIXTURE_EVOLUTION_METHODS",
+__all__ = ["MixtureEvolution", "MixtureEvolutionError", "evolve_mixture",
+           "MIXTURE_EVOLUTION_METHODS",
            "initial_temperatures_of"]
 
 #: the methods of :func:`evolve_mixture`
