@@ -38,3 +38,18 @@ def test_fem_mixture_bad_options_name_the_argument():
         kf.evolve_heated(mix, times=[1.0], spacng=0.5)
     with pytest.raises(ValueError, match="order must be 1 or 2"):
         kf.evolve_heated(mix, times=[1.0], order=3)
+
+
+@pytest.mark.slow   # 28 s
+def test_hard_rods_relax_to_the_steady_fem_mixture():
+    # measured: at t = 15, rtol 1e-3, spacing 0.5: T_s within 2.1e-5 and the ratio within
+    # 8.2e-6 of the steady state, a2_s within 1.1e-6 (82 steps); the Gaussian ratio is 0.4 % off
+    mix = kf.Mixture.white_noise((1.0, 3.0), (0.5, 0.5), alpha=0.7, kernel=1.0)
+    steady = kf.solve_heated(mix)
+    ev = kf.evolve_heated(mix, times=[0.0, 5.0, 15.0], rtol=1e-3, spacing=0.5)
+    assert np.allclose(ev.temperatures[-1], steady.temperatures, rtol=1e-3, atol=0)
+    assert abs(ev.temperature_ratio()[-1] / steady.temperature_ratio() - 1.0) < 1e-3
+    assert np.allclose(ev.a2[-1], steady.a2, rtol=0, atol=1e-3)
+    gauss = kf.evolve_heated(mix, times=[0.0, 15.0], method="gaussian")
+    off = abs(gauss.temperature_ratio()[-1] / steady.temperature_ratio() - 1.0)
+    assert 1e-3 < off < 1e-2
