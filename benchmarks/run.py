@@ -38,6 +38,7 @@ BENCHMARKS: dict[str, tuple[str, bool]] = {
     "bench_md_yardstick": ("speed", False),
     "bench_md_mixture": ("speed", False),
     "bench_fem_mixture": ("speed", False),
+    "bench_mixture_transient": ("speed", True),
     "bench_transient_speed": ("speed", False),
     "bench_first_hour": ("speed", True),
     "error_estimate_cost": ("speed", False),

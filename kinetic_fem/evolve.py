@@ -52,12 +52,12 @@ def _evolve_mixture(mixture: Mixture, *, heated: bool, density: float, times: Ar
         if value is not default and value != default:
             raise ValueError(f"{name}={value!r} cannot be given with a Mixture (it carries its "
                              "kernel and a thermostat per species; Gaussian starts only)")
-    if method == "fem":
-        raise ValueError("method='fem' has no mixture transient; use method='maxwell' (exact "
-                         "moments, kernel 0) or 'gaussian' (any kernel), or "
-                         "particles.dsmc_mixture.evolve_mixture")
+    if method == "fem" and not heated:
+        raise ValueError("method='fem' has no free-cooling mixture transient yet (heated "
+                         "mixtures only); use method='maxwell' (exact moments, kernel 0) or "
+                         "'gaussian' (any kernel), or particles.dsmc_mixture.evolve_mixture")
     unknown = set(options) - {"rtol"}
-    if unknown:
+    if unknown and method != "fem":
         raise TypeError(f"unknown option(s) {sorted(unknown)} for a mixture (allowed: rtol)")
     return evolve_mixture(mixture, times=times, density=density,
                           initial_temperature=initial_temperature, method=method, **options)
@@ -104,8 +104,9 @@ def evolve_heated(alpha: float | RestitutionLaw, *, density: float = 1.0,
         heated :class:`~kinetic_fem.Mixture` returns a
         :class:`~kinetic_fem.mixture_evolution.MixtureEvolution` of the species
         temperatures from Gaussians at ``initial_temperature`` (a number or one per
-        species; default 1) with ``method="maxwell"`` (exact, kernel 0) or
-        ``"gaussian"`` (:func:`kinetic_fem.mixture_evolution.evolve_mixture`).
+        species; default 1) with ``method="fem"`` (the coupled FEM transient),
+        ``"maxwell"`` (exact, kernel 0) or ``"gaussian"``
+        (:func:`kinetic_fem.mixture_evolution.evolve_mixture`).
     density, diffusion, friction : float
         :math:`n`, :math:`D` and :math:`\\xi` (values at ``t = 0``, or throughout if the
         protocol leaves them alone).

@@ -9,7 +9,11 @@ physical units (free cooling is not rescaled).  Two methods, both cheap ODE syst
   up to order 4 are integrated exactly (to the ODE tolerance), so :math:`T_s(t)` and
   :math:`a_{2,s}(t)` are exact;
 * ``"gaussian"``: any kernel, every species kept Gaussian
-  (:func:`kinetic_fem.solvers.mixture_gaussian.variance_rates`), :math:`a_{2,s} = 0`.
+  (:func:`kinetic_fem.solvers.mixture_gaussian.variance_rates`), :math:`a_{2,s} = 0`;
+* ``"fem"`` (heated only): the coupled Galerkin system of the species integrated by the
+  one-species adaptive BDF integrator
+  (:mod:`kinetic_fem.solvers.fem.mixture_transient`), any compiled kernel;
+  ``ev.error`` reruns it at ``rtol / 100`` on the same meshes when first read.
 
 The DSMC time series of the same problem is
 :func:`particles.dsmc_mixture.evolve_mixture` (it returns a :class:`MixtureEvolution`
@@ -20,8 +24,9 @@ with standard errors).  :func:`kinetic_fem.evolve_heated` and
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-from dataclasses import dataclass, field
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field, replace
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -31,11 +36,12 @@ from scipy.integrate import solve_ivp
 from .model.mixture import Mixture
 from .model.validation import UnsupportedModelError, check_positive, check_times
 
-__all__ = ["MixtureEvolution", "evolve_mixture", "MIXTURE_EVOLUTION_METHODS",
+__all__ = ["MixtureEvolution", "MixtureEvolutionError", "evolve_mixture",
+           "MIXTURE_EVOLUTION_METHODS",
            "initial_temperatures_of"]
 
 #: the methods of :func:`evolve_mixture`
-MIXTURE_EVOLUTION_METHODS = ("maxwell", "gaussian")
+MIXTURE_EVOLUTION_METHODS = ("maxwell", "gaussian", "fem")
 
 
 @dataclass(frozen=True, eq=False)
@@ -64,6 +70,26 @@ class MixtureEvolution:
     temperature_errors: NDArray[np.float64] | None = None
     a2_errors: NDArray[np.float64] | None = None
     info: dict[str, Any] = field(default_factory=dict)
+    error_recipe: Callable[[MixtureEvolution], MixtureEvolution] | None = field(
+        default=None, repr=False, compare=False)
+
+    @cached_property
+    def error(self) -> MixtureEvolutionError | None:
+        """Estimated global errors of the time integration (``"fem"``), or None.
+
+        The same evolution at ``rtol / 100`` on the same meshes (computed when first
+        read), the difference times :math:`1/(1 - 1/100)`, as for one species
+        (:mod:`kinetic_fem.evolution_error`).
+        """
+        if self.error_recipe is None:
+            return None
+        better = self.error_recipe(self)
+        kappa = 1.0 / (1.0 - 1.0 / 100.0)
+        ratio = self.temperatures[:, :, None] / self.temperatures[:, None, :]
+        ratio_b = better.temperatures[:, :, None] / better.temperatures[:, None, :]
+        return MixtureEvolutionError(
+            kappa * np.abs(self.temperatures / better.temperatures - 1.0),
+            kappa * np.abs(self.a2 - better.a2), kappa * np.abs(ratio / ratio_b - 1.0))
 
     @property
     def temperature(self) -> NDArray[np.float64]:
@@ -81,6 +107,25 @@ class MixtureEvolution:
         rel = np.hypot(self.temperature_errors[:, s] / self.temperatures[:, s],
                        self.temperature_errors[:, r] / self.temperatures[:, r])
         return np.asarray(self.temperature_ratio(s, r) * rel)
+
+
+@dataclass(frozen=True)
+class MixtureEvolutionError:
+    """Estimated errors of a :class:`MixtureEvolution` (``ev.error``).
+
+    Parameters
+    ----------
+    temperatures : ndarray, shape (n_t, k)
+        Relative errors of :math:`T_s(t_i)`.
+    a2 : ndarray, shape (n_t, k)
+        Absolute errors of :math:`a_{2,s}(t_i)`.
+    ratios : ndarray, shape (n_t, k, k)
+        Relative errors of :math:`T_s/T_r`.
+    """
+
+    temperatures: NDArray[np.float64]
+    a2: NDArray[np.float64]
+    ratios: NDArray[np.float64]
 
 
 def initial_temperatures_of(mixture: Mixture, initial_temperature: object
@@ -123,7 +168,8 @@ def _times(times: ArrayLike) -> NDArray[np.float64]:
 
 def evolve_mixture(mixture: Mixture, *, times: ArrayLike, density: float = 1.0,
                    initial_temperature: float | Sequence[float] | None = None,
-                   method: str = "maxwell", rtol: float = 1e-10) -> MixtureEvolution:
+                   method: str = "maxwell", rtol: float | None = None,
+                   **fem_options: Any) -> MixtureEvolution:
     """Species temperatures of a mixture from Gaussian species at ``initial_temperature``.
 
     Parameters
@@ -136,11 +182,17 @@ def evolve_mixture(mixture: Mixture, *, times: ArrayLike, density: float = 1.0,
         Total number density :math:`n`.
     initial_temperature : float or sequence of float, optional
         :math:`T_s(0)`: one value for every species or one per species (default 1).
-    method : {"maxwell", "gaussian"}
-        Exact moments of the Maxwell mixture (kernel 0), or Gaussian species (any kernel).
-    rtol : float
+    method : {"maxwell", "gaussian", "fem"}
+        Exact moments of the Maxwell mixture (kernel 0), Gaussian species (any kernel),
+        or the FEM transient (heated mixtures; any compiled kernel).
+    rtol : float, optional
         Relative tolerance of the ODE integration (absolute: ``rtol`` times 1e-6 of the
-        initial moments).
+        initial moments; default 1e-10); ``"fem"``: the tolerance of the local error
+        per collision time on every :math:`T_s` and :math:`a_{2,s}` (default 1e-4).
+    **fem_options
+        ``"fem"`` only: ``vertices`` (explicit meshes) and the fields of
+        :class:`~kinetic_fem.solvers.fem.options.EvolveOptions` (``spacing``,
+        ``cutoff``, ``order``, ``scheme``, ...).
 
     Returns
     -------
@@ -149,7 +201,8 @@ def evolve_mixture(mixture: Mixture, *, times: ArrayLike, density: float = 1.0,
     Raises
     ------
     UnsupportedModelError
-        ``"maxwell"`` for a kernel other than 0; a velocity-dependent restitution law.
+        ``"maxwell"`` for a kernel other than 0; a velocity-dependent restitution law;
+        ``"fem"`` for a free-cooling mixture (not implemented).
     ValueError
         An unknown method, bad times or temperatures.
 
@@ -169,7 +222,12 @@ def evolve_mixture(mixture: Mixture, *, times: ArrayLike, density: float = 1.0,
                          f"(no FEM transient of mixtures), got {method!r}")
     t = _times(times)
     density = check_positive("density", density)
-    rtol = check_positive("rtol", rtol)
+    if fem_options and method != "fem":
+        raise TypeError(f"unknown option(s) {sorted(fem_options)} for method={method!r} "
+                        "(allowed: rtol)")
+    if method == "fem":
+        return _evolve_fem(mixture, t, density, initial_temperature, rtol, fem_options)
+    rtol = check_positive("rtol", 1e-10 if rtol is None else rtol)
     mixture.constant_alpha()
     var0 = initial_temperatures_of(mixture, initial_temperature) / np.asarray(mixture.masses)
     k = mixture.n_species
@@ -211,3 +269,30 @@ def evolve_mixture(mixture: Mixture, *, times: ArrayLike, density: float = 1.0,
         var, a2 = sol.y.T, np.zeros((t.size, k))
     return MixtureEvolution(mixture, t, var * masses[None, :], a2, method,
                             info={"nfev": int(sol.nfev), "rtol": rtol, "density": density})
+
+
+def _evolve_fem(mixture: Mixture, t: NDArray[np.float64], density: float,
+                initial_temperature: Any, rtol: float | None,
+                options: dict[str, Any]) -> MixtureEvolution:
+    """``method="fem"``: :func:`kinetic_fem.solvers.fem.mixture_transient.evolve_mixture_fem`
+    with its lazy error estimate (the same meshes at ``rtol / 100``)."""
+    from .solvers.fem.mixture_transient import evolve_mixture_fem
+
+    if not mixture.heated:
+        raise UnsupportedModelError(
+            "method='fem' has no free-cooling mixture transient yet (heated mixtures only); "
+            "use method='maxwell' (exact moments, kernel 0), 'gaussian' (any kernel) or "
+            "particles.dsmc_mixture.evolve_mixture")
+    t0 = initial_temperatures_of(mixture, initial_temperature)
+    if rtol is not None:
+        options = {**options, "rtol": check_positive("rtol", rtol)}
+    temps, a2, info = evolve_mixture_fem(mixture, times=t, density=density,
+                                         initial_temperatures=t0, **options)
+    tol = float(info["rtol"])
+
+    def recipe(ev: MixtureEvolution) -> MixtureEvolution:
+        opts = {**options, "rtol": tol / 100.0, "vertices": info["vertices"]}
+        return _evolve_fem(mixture, t, density, t0, None, opts)
+
+    ev = MixtureEvolution(mixture, t, temps, a2, "fem", info=info)
+    return replace(ev, error_recipe=recipe)

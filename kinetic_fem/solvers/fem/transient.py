@@ -685,18 +685,66 @@ class BDF2(TimeIntegrator):
         if u is None:
             return None
         # the mass to round-off (the step conserves it to the Newton tolerance)
-        u = u + math.log(float(last.m.sum()) / float(self.masses(u).sum()))
+        u = self.renormalised(u, last.m)
         level = self.level(s_new, u)
         # the estimate filtered by the step's Newton matrix (Shampine): the stiff
         # tail modes, which the corrector damps, do not count
-        diff = np.abs(self.moments_change(u, self.filtered(u - u_pred)))
-        err = max(diff[0] / level.obs[0], diff[1])
+        err = self.error_norm(level, np.abs(self.moments_change(u, self.filtered(u - u_pred))))
         # error per unit step: the local error per collision time, so that the global
         # error (local errors relaxing over a few collision times) is proportional to rtol
-        unit = 1.0 if self.collision_time is None else self.collision_time(float(level.obs[0]))
+        unit = self.time_unit(level)
         # below NOISE_FLOOR Newton tolerances a step's error is not resolved
         tol = max(self.opt.rtol * h / unit, NOISE_FLOOR * self.opt.newton_tol)
         return level, abs(ratio) * err / tol
+
+    def renormalised(self, u: NDArray, m_last: NDArray) -> NDArray:
+        """``u`` shifted so that its mass is that of the last level's masses ``m_last``
+        (a hook: the mixture integrator shifts each species).
+
+        Parameters
+        ----------
+        u : ndarray
+            The step's solution.
+        m_last : ndarray
+            Masses of the last level.
+
+        Returns
+        -------
+        ndarray
+        """
+        return u + math.log(float(m_last.sum()) / float(self.masses(u).sum()))
+
+    def error_norm(self, level: Level, diff: NDArray) -> float:
+        """The step's error from the filtered change of the observables (a hook):
+        relative on T, absolute on a2.
+
+        Parameters
+        ----------
+        level : Level
+            The new level.
+        diff : ndarray
+            Absolute change of :meth:`moments_change`'s quantities.
+
+        Returns
+        -------
+        float
+        """
+        return max(diff[0] / level.obs[0], diff[1])
+
+    def time_unit(self, level: Level) -> float:
+        """The time unit of the error per unit step at ``level`` (a hook): the collision
+        time at its temperature, 1 without ``collision_time``.
+
+        Parameters
+        ----------
+        level : Level
+            The new level.
+
+        Returns
+        -------
+        float
+        """
+        return 1.0 if self.collision_time is None else self.collision_time(float(level.obs[0]))
 
     def _step_impl(self, s_stop: float) -> bool:
         """Take one accepted step (retrying smaller ones) and set the next ``h``.

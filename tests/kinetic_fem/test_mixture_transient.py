@@ -1,0 +1,55 @@
+"""FEM transient of a heated mixture (kinetic_fem.solvers.fem.mixture_transient).
+
+Identical species must follow the one-species FEM transient: the meshes are built the
+same way, the operators are the one-species ones to round-off (5e-16 measured) and the
+integrator's decisions are the same, so the two agree to round-off, not merely to rtol.
+"""
+
+import numpy as np
+import pytest
+
+import kinetic_fem as kf
+
+
+@pytest.mark.slow   # 17 s
+def test_identical_species_follow_the_one_species_transient():
+    mix = kf.Mixture.white_noise((1.0, 1.0), (0.5, 0.5), alpha=0.6, kernel=1.0)
+    times = [0.0, 0.2, 0.5]
+    opts = {"initial_temperature": 0.8, "spacing": 0.5, "cutoff": 8.0, "rtol": 1e-3}
+    one = kf.evolve_heated(0.6, times=times, **opts)
+    ev = kf.evolve_heated(mix, times=times, **opts)
+    assert ev.method == "fem" and ev.temperatures.shape == (3, 2)
+    assert ev.info["n_dofs"][0] == one.info.extra["n_dofs"]
+    assert ev.info["accepted"] == one.info.extra["accepted"]
+    assert np.allclose(ev.temperatures[:, 0], ev.temperatures[:, 1], rtol=1e-13, atol=0)
+    assert np.allclose(ev.temperatures[:, 0], one.temperature, rtol=1e-11, atol=0)
+    assert np.allclose(ev.a2[:, 0], one.a2, rtol=0, atol=1e-11)
+
+
+def test_fem_refuses_free_cooling_mixtures():
+    mix = kf.Mixture((1.0, 3.0), (0.5, 0.5), alpha=0.8, kernel=1.0)
+    with pytest.raises(ValueError, match="no free-cooling mixture transient"):
+        kf.evolve_cooling(mix, times=[1.0], method="fem")
+
+
+def test_fem_mixture_bad_options_name_the_argument():
+    mix = kf.Mixture.white_noise((1.0, 3.0), (0.5, 0.5), alpha=0.8, kernel=1.0)
+    with pytest.raises(TypeError, match="spacng"):
+        kf.evolve_heated(mix, times=[1.0], spacng=0.5)
+    with pytest.raises(ValueError, match="order must be 1 or 2"):
+        kf.evolve_heated(mix, times=[1.0], order=3)
+
+
+@pytest.mark.slow   # 28 s
+def test_hard_rods_relax_to_the_steady_fem_mixture():
+    # measured: at t = 15, rtol 1e-3, spacing 0.5: T_s within 2.1e-5 and the ratio within
+    # 8.2e-6 of the steady state, a2_s within 1.1e-6 (82 steps); the Gaussian ratio is 0.4 % off
+    mix = kf.Mixture.white_noise((1.0, 3.0), (0.5, 0.5), alpha=0.7, kernel=1.0)
+    steady = kf.solve_heated(mix)
+    ev = kf.evolve_heated(mix, times=[0.0, 5.0, 15.0], rtol=1e-3, spacing=0.5)
+    assert np.allclose(ev.temperatures[-1], steady.temperatures, rtol=1e-3, atol=0)
+    assert abs(ev.temperature_ratio()[-1] / steady.temperature_ratio() - 1.0) < 1e-3
+    assert np.allclose(ev.a2[-1], steady.a2, rtol=0, atol=1e-3)
+    gauss = kf.evolve_heated(mix, times=[0.0, 15.0], method="gaussian")
+    off = abs(gauss.temperature_ratio()[-1] / steady.temperature_ratio() - 1.0)
+    assert 1e-3 < off < 1e-2
