@@ -106,6 +106,33 @@ sphinx_gallery_conf = {
     "only_warn_on_example_error": False,
 }
 
+
+def _gallery_jobs() -> int | bool:
+    """Processes running the examples: ``KINETIC_FEM_DOCS_JOBS``, default 2 (both cores of
+    the CI machine), never more than the cores; 1 (or joblib missing) runs them here."""
+    raw = os.environ.get("KINETIC_FEM_DOCS_JOBS", "2")
+    try:
+        jobs = int(raw)
+    except ValueError:
+        raise ValueError(f"KINETIC_FEM_DOCS_JOBS must be a whole number >= 1, got {raw!r}") \
+            from None
+    if jobs < 1:
+        raise ValueError(f"KINETIC_FEM_DOCS_JOBS must be a whole number >= 1, got {raw!r}")
+    jobs = min(jobs, os.cpu_count() or 1)
+    if jobs > 1:
+        try:
+            import joblib  # noqa: F401  (sphinx-gallery's parallel runs use it)
+        except ImportError:
+            print("docs: joblib is not installed, the examples run one at a time "
+                  "(pip install '.[docs]')", file=sys.stderr)
+            return False
+    return jobs if jobs > 1 else False
+
+
+# examples in parallel processes (sphinx-gallery >= 0.17, joblib): the longest examples
+# then no longer run one after the other
+sphinx_gallery_conf["parallel"] = _gallery_jobs()
+
 _HERE = Path(__file__).parent
 write_api_pages(_HERE)
 
