@@ -480,7 +480,7 @@ SLOW_HELP_EXAMPLES = [
     "md 0.99 -N 1000 --cooling --collisions 50 -o n_batches=4",
     "sweep --method fem --alpha 0.3,0.6,0.9 --kernel 0,1 --store a2-map",
     "sweep --method dsmc --alpha 0.5,0.9 --particles 10000 --replicas 8 "
-    "-o collisions_per_particle=50",
+    "-o collisions_per_particle=50 -o n_batches=4",
     "sweep --method spectral --problem cooling --alpha 0.7,0.9 -o order=4 --out hcs.nc",
     "mixture mix.toml --method dsmc -N 4000 --collisions 300 --seed 1",
 ]
