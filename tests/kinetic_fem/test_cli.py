@@ -448,15 +448,14 @@ def help_examples():
     return examples, mix_toml
 
 
-# The --help examples (top level first) cheap enough for the default run, in-process
-# (CPU s each, warm numba cache, 2-core machine under load: 0.1-1.5).
+# The --help examples cheap enough for the default run, in-process (0.2-2.7 s each with
+# --durations at load 10 on 2 cores, about 1.7 times their idle cost).
 FAST_HELP_EXAMPLES = [
     "reproduce --list",
     "solve-heated 0.9 --method fem --out a09.vtu",
     "solve-heated 0.8 --kernel 0 --friction 0.5",
     "solve-heated 0.7 --restitution threshold:0.1",
     "solve-heated --restitution viscoelastic:0.05",
-    "solve-cooling 0.9 --out hcs09.vtu",
     "solve-cooling 0.8 --method spectral -o order=4",
     "dsmc 0.9 -N 10000 --collisions 400 --seed 1 --out run.npz",
     "dsmc 0.9 -N 5000 -o n_batches=5",
@@ -464,13 +463,15 @@ FAST_HELP_EXAMPLES = [
     "md 0.9 -N 2000 -o sigma=0.25",
     "mixture mix.toml",
 ]
-# Run by the slow test (a subprocess each, under -W error): worker processes, long runs.
+# Run by the slow test (a subprocess each, under -W error): worker processes, long runs
+# (the FEM cooling solves: 3.3 s and more at load 10).
 SLOW_HELP_EXAMPLES = [
     "reproduce --quick --out reproduce-out",
     "sweep --alpha 0.3,0.6,0.9 --store s",
     "reproduce --quick --only F2,F3 --out out --seed 7",
     "solve-heated 0.5 --method fd -o cutoff=20.0",
     "solve-cooling 0.8 --kernel 0 --method fem",
+    "solve-cooling 0.9 --out hcs09.vtu",
     "dsmc 0.6 -N 100000 --progress --checkpoint run.ckpt --seed 1",
     "dsmc 0.6 -N 100000 --progress --checkpoint run.ckpt --seed 1 --resume",
     "dsmc 0.9 -N 5000 --cooling --collisions 50 -o n_batches=4",
