@@ -30,9 +30,9 @@ __all__ = ["add_parsers", "run", "interrupt_note"]
 EPILOG = """\
 examples:
   kinetic-fem {cmd} 0.9 -N 10000 --collisions 400 --seed 1 --out run.npz
-  kinetic-fem {cmd} 0.6 -N 100000 --progress --checkpoint run.ckpt      (Ctrl-C, then:)
-  kinetic-fem {cmd} 0.6 -N 100000 --progress --checkpoint run.ckpt --resume
-  kinetic-fem {cmd} 0.9 -N 5000 --cooling --collisions 50 -o n_batches=4
+  kinetic-fem {cmd} 0.6 -N 100000 --progress --checkpoint run.ckpt --seed 1   (Ctrl-C, then:)
+  kinetic-fem {cmd} 0.6 -N 100000 --progress --checkpoint run.ckpt --seed 1 --resume
+  kinetic-fem {cmd} {cooling} --cooling --collisions 50 -o n_batches=4
   kinetic-fem {cmd} 0.9 -N 5000 -o n_batches=5{extra}
 
 One line summarises the run: T, a2 with its batch error, collisions, wall time and
@@ -63,9 +63,11 @@ def add_parsers(sub: argparse._SubParsersAction) -> list[argparse.ArgumentParser
     parsers = []
     for cmd in ("dsmc", "md"):
         extra = "\n  kinetic-fem md 0.9 -N 2000 -o sigma=0.25" if cmd == "md" else ""
+        # free cooling MD collapses unless N (1 - alpha) is small (5000 rods at 0.9 did)
+        cooling = "0.99 -N 1000" if cmd == "md" else "0.9 -N 5000"
         p = sub.add_parser(cmd, help=COMMANDS[cmd][1],
                            description=_DESCRIPTION[cmd],
-                           epilog=EPILOG.format(cmd=cmd, extra=extra),
+                           epilog=EPILOG.format(cmd=cmd, extra=extra, cooling=cooling),
                            formatter_class=argparse.RawDescriptionHelpFormatter)
         add_model_arguments(p, heated=True)
         p.add_argument("-N", "--particles", dest="n_particles", type=int, required=True,

@@ -39,9 +39,9 @@ EPILOG = """\
 examples:
   kinetic-fem sweep --method fem --alpha 0.3,0.6,0.9 --kernel 0,1 --store a2-map
   kinetic-fem sweep --method dsmc --alpha 0.5,0.9 --particles 10000 --replicas 8 \\
-      -o collisions_per_particle=50
+      -o collisions_per_particle=50 -o n_batches=4
   kinetic-fem sweep --config grid.toml --scheduler tcp://10.0.0.1:8786
-  kinetic-fem sweep --method spectral --problem cooling --alpha 0.6,0.9 --out hcs.nc
+  kinetic-fem sweep --method spectral --problem cooling --alpha 0.7,0.9 -o order=4 --out hcs.nc
 
 A killed sweep rerun with the same --store computes only the missing points.  Grid
 file (TOML): method, problem, store, workers, scheduler, seed, out, a [grid] table

@@ -1,15 +1,20 @@
 """Tests of the kinetic-fem command (kinetic_fem.cli and python -m kinetic_fem)."""
 
+import contextlib
+import io
 import logging
+import re
+import shlex
 import subprocess
 import sys
+import textwrap
 import warnings
 
 import numpy as np
 import pytest
 
 from kinetic_fem import VelocityDistribution, reproduce, solve_heated
-from kinetic_fem.cli import build_parser, main, select_items
+from kinetic_fem.cli import COMMANDS, build_parser, main, select_items
 from kinetic_fem.io import read_distribution
 from kinetic_fem.solve import HEATED_SOLVERS, register_solver
 
@@ -419,19 +424,122 @@ def test_ctrl_c_on_a_sweep_says_what_was_kept(tmp_path):
     assert last.startswith("kinetic-fem: interrupted: ") and f"kept in {store}" in last
 
 
-@pytest.mark.parametrize("command", [
+def _help_text(args):
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out), pytest.raises(SystemExit):
+        main(args)
+    return out.getvalue()
+
+
+def help_examples():
+    """Every example command of ``kinetic-fem --help`` and of each sub-command's ``--help``,
+    without ``kinetic-fem`` and the comment after it, and the mix.toml the mixture
+    examples read (shown in that command's help)."""
+    examples = []
+    for args in (["--help"], *([cmd, "--help"] for cmd in COMMANDS)):
+        text = _help_text(args)
+        if args[0] == "mixture":
+            mix_toml = textwrap.dedent(text.split("mix.toml:\n", 1)[1])
+        block = text.split("examples:\n", 1)[1].split("\n\n", 1)[0]
+        for line in re.sub(r"\s*\\\n\s*", " ", block).splitlines():
+            command = re.split(r"\s{2,}", line.strip())[0]  # comments follow 2+ spaces
+            assert command.startswith("kinetic-fem "), line
+            examples.append(command.removeprefix("kinetic-fem "))
+    return examples, mix_toml
+
+
+# The --help examples cheap enough for the default run, in-process (0.2-2.7 s each with
+# --durations at load 10 on 2 cores, about 1.7 times their idle cost).
+FAST_HELP_EXAMPLES = [
+    "reproduce --list",
+    "solve-heated 0.9 --method fem --out a09.vtu",
+    "solve-heated 0.8 --kernel 0 --friction 0.5",
+    "solve-heated 0.7 --restitution threshold:0.1",
+    "solve-heated --restitution viscoelastic:0.05",
     "solve-cooling 0.8 --method spectral -o order=4",
     "dsmc 0.9 -N 10000 --collisions 400 --seed 1 --out run.npz",
-])
-def test_help_examples_run_without_a_warning(command, tmp_path, monkeypatch, capsys, caplog):
-    """Two cheap examples of the --help texts (they warned before: an asymptotic Sonine
-    order, DSMC batches shorter than the relaxation window) run with warnings as errors."""
-    args = command.split()
-    with pytest.raises(SystemExit):
-        main([args[0], "--help"])
-    assert f"kinetic-fem {command}" in capsys.readouterr().out
+    "dsmc 0.9 -N 5000 -o n_batches=5",
+    "md 0.9 -N 5000 -o n_batches=5",
+    "md 0.9 -N 2000 -o sigma=0.25",
+    "mixture mix.toml",
+]
+# Run by the slow test (a subprocess each, under -W error): worker processes, long runs
+# (the FEM cooling solves: 3.3 s and more at load 10).
+SLOW_HELP_EXAMPLES = [
+    "reproduce --quick --out reproduce-out",
+    "sweep --alpha 0.3,0.6,0.9 --store s",
+    "reproduce --quick --only F2,F3 --out out --seed 7",
+    "solve-heated 0.5 --method fd -o cutoff=20.0",
+    "solve-cooling 0.8 --kernel 0 --method fem",
+    "solve-cooling 0.9 --out hcs09.vtu",
+    "dsmc 0.6 -N 100000 --progress --checkpoint run.ckpt --seed 1",
+    "dsmc 0.6 -N 100000 --progress --checkpoint run.ckpt --seed 1 --resume",
+    "dsmc 0.9 -N 5000 --cooling --collisions 50 -o n_batches=4",
+    "md 0.9 -N 10000 --collisions 400 --seed 1 --out run.npz",
+    "md 0.6 -N 100000 --progress --checkpoint run.ckpt --seed 1",
+    "md 0.6 -N 100000 --progress --checkpoint run.ckpt --seed 1 --resume",
+    "md 0.99 -N 1000 --cooling --collisions 50 -o n_batches=4",
+    "sweep --method fem --alpha 0.3,0.6,0.9 --kernel 0,1 --store a2-map",
+    "sweep --method dsmc --alpha 0.5,0.9 --particles 10000 --replicas 8 "
+    "-o collisions_per_particle=50 -o n_batches=4",
+    "sweep --method spectral --problem cooling --alpha 0.7,0.9 -o order=4 --out hcs.nc",
+    "mixture mix.toml --method dsmc -N 4000 --collisions 300 --seed 1",
+]
+# Examples that another one runs with an --out added (the same computation, then saved).
+SAVED_BY_HELP_EXAMPLES = {
+    "solve-heated 0.9 --method fem": "solve-heated 0.9 --method fem --out a09.vtu",
+    "dsmc 0.9 -N 10000 --collisions 400 --seed 1":
+        "dsmc 0.9 -N 10000 --collisions 400 --seed 1 --out run.npz",
+}
+NOT_RUN_HELP_EXAMPLES = {
+    "<command> --help": "a placeholder (each command's --help is printed by the tests above)",
+    "reproduce --full --out paper-sizes": "the paper's sizes, hours",
+    "sweep --config grid.toml --scheduler tcp://10.0.0.1:8786":
+        "needs a grid file and a running dask scheduler",
+}
+
+
+def test_every_help_example_is_run_by_a_test():
+    """A new example in a --help text must be added to one of the lists above."""
+    examples, _ = help_examples()
+    listed = (FAST_HELP_EXAMPLES + SLOW_HELP_EXAMPLES + list(SAVED_BY_HELP_EXAMPLES)
+              + list(NOT_RUN_HELP_EXAMPLES))
+    assert sorted(set(examples)) == sorted(listed)
+    for short, saved in SAVED_BY_HELP_EXAMPLES.items():
+        assert saved.startswith(short + " --out ") and saved in FAST_HELP_EXAMPLES
+
+
+def _run_help_example(command, tmp_path, monkeypatch, caplog):
+    _, mix_toml = help_examples()
+    (tmp_path / "mix.toml").write_text(mix_toml)
     monkeypatch.chdir(tmp_path)
     with warnings.catch_warnings(), caplog.at_level(logging.WARNING):
-        warnings.simplefilter("error", UserWarning)
-        assert main([*args, "--quiet"]) == 0
+        warnings.simplefilter("error")
+        assert main([*shlex.split(command), "--quiet"]) == 0
     assert not [r for r in caplog.records if r.levelno >= logging.WARNING], caplog.text
+
+
+@pytest.mark.parametrize("command", FAST_HELP_EXAMPLES)
+def test_help_examples_run_without_a_warning(command, tmp_path, monkeypatch, caplog):
+    """The cheap examples of the --help texts run with warnings as errors and log no
+    warning (some warned before: an asymptotic Sonine order, DSMC batches shorter than
+    the relaxation window)."""
+    _run_help_example(command, tmp_path, monkeypatch, caplog)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("command", [
+    c for c in SLOW_HELP_EXAMPLES if not c.endswith("--resume")])
+def test_slow_help_examples_run_without_a_warning(command, tmp_path):
+    """The other --help examples, each as a command of its own under ``-W error`` (the
+    sweeps' worker processes inherit it); a checkpointed run is then resumed (``--resume``
+    example).  Minutes in all, ``reproduce --quick`` most of them."""
+    _, mix_toml = help_examples()
+    (tmp_path / "mix.toml").write_text(mix_toml)
+    commands = [command] + [c for c in SLOW_HELP_EXAMPLES if c == f"{command} --resume"]
+    for line in commands:
+        done = subprocess.run([sys.executable, "-W", "error", "-m", "kinetic_fem",
+                               *shlex.split(line), "--quiet"], cwd=tmp_path,
+                              capture_output=True, text=True, timeout=3600)
+        assert done.returncode == 0, done.stderr
+        assert "Warning" not in done.stderr and "WARNING" not in done.stderr, done.stderr

@@ -1,9 +1,12 @@
-"""The numba cache is dropped when any kernel source of the package changes."""
+"""numba's cache: dropped when any kernel source of the package changes, kept across a
+reinstall of the same sources, in a user folder when the package folder is read-only."""
 
 from __future__ import annotations
 
 import subprocess
 import sys
+
+import pytest
 
 from kinetic_fem.jit_cache import STAMP, ensure_fresh_cache, kernel_sources_digest
 
@@ -126,3 +129,116 @@ def test_the_compilation_notice_is_quiet_without_progress_but_logged(tmp_path):
     assert _NOTICE not in _first_and_second_run(tmp_path / "q", quiet + _KERNEL)[0].stderr
     err = _first_and_second_run(tmp_path / "l", logged + _KERNEL)[0].stderr
     assert err.count(_NOTICE) == 1 and err.count("LOG " + _NOTICE) == 1, err
+
+
+# A child of a virtual environment: which kinetic_fem kernels numba compiles (its
+# ``numba:compile`` event fires only when a kernel is not found in the cache) while one
+# kernel runs; with an argument, the installed package folder counts as read-only
+# (``os.access`` says so, as for a system-wide installation; root could write anyway).
+_PROBE = """\
+import json, os, sys
+from numba.core import event
+
+compiled = []
+
+
+class Compiled(event.Listener):
+    def on_start(self, ev):
+        func = getattr(ev.data.get("dispatcher"), "py_func", None)
+        if str(getattr(func, "__module__", "")).split(".")[0] == "kinetic_fem":
+            compiled.append(func.__module__ + "." + func.__name__)
+
+    def on_end(self, ev):
+        pass
+
+
+event.register("numba:compile", Compiled())
+if len(sys.argv) > 1:
+    access = os.access
+    os.access = lambda path, mode, *a, **k: (
+        False if mode & os.W_OK and str(path).startswith(sys.argv[1]) else
+        access(path, mode, *a, **k))
+import kinetic_fem
+from kinetic_fem.model.restitution import restitution_value
+
+restitution_value(0, 0.5, 0.0, 1.0)
+print(json.dumps({"file": kinetic_fem.__file__, "compiled": compiled,
+                  "cache_dir": os.environ.get("NUMBA_CACHE_DIR")}))
+"""
+
+
+@pytest.mark.slow
+def test_the_cache_survives_reinstalling_the_same_version(tmp_path):
+    """A real ``pip install`` (non-editable) into a virtual environment, twice: a kernel
+    compiled after the first install is loaded from numba's cache after the second (pip
+    rewrites the sources with new time stamps and keeps the cache files it did not
+    install), both with the cache beside the sources and, for a read-only package folder,
+    in the user cache folder.  About a minute (three wheel builds)."""
+    import json
+    import os
+    import shutil
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[2]
+    src = tmp_path / "src"  # a clean copy: pip builds in the tree it is given
+    src.mkdir()
+    for name in ("pyproject.toml", "README.md", "LICENSE"):
+        shutil.copy(root / name, src / name)
+    for pkg in ("kinetic_fem", "particles"):
+        shutil.copytree(root / pkg, src / pkg,
+                        ignore=shutil.ignore_patterns("__pycache__", "*.nbi", "*.nbc"))
+    venv = tmp_path / "venv"
+    subprocess.run([sys.executable, "-m", "venv", "--system-site-packages", str(venv)],
+                   check=True, timeout=300)
+    python = venv / "bin" / "python"
+    env = {k: v for k, v in os.environ.items()
+           if k not in ("PYTHONPATH", "NUMBA_CACHE_DIR", "NUMBA_DISABLE_JIT")}
+    env["XDG_CACHE_HOME"] = str(tmp_path / "xdg")
+    user_folder = tmp_path / "xdg" / "kinetic-fem" / "numba"
+
+    def install():
+        # --no-deps: the dependencies come from the system site; the build backend is
+        # fetched as for any user (--no-build-isolation needs the `wheel` package)
+        done = subprocess.run([python, "-m", "pip", "install", "--no-deps", "--quiet",
+                               str(src)], env=env, capture_output=True, text=True,
+                              timeout=900, cwd=tmp_path)
+        assert done.returncode == 0, done.stdout + done.stderr
+
+    def run(*read_only):
+        done = subprocess.run([python, "-c", _PROBE, *map(str, read_only)], env=env,
+                              capture_output=True, text=True, timeout=900, cwd=tmp_path)
+        assert done.returncode == 0, done.stderr
+        return json.loads(done.stdout.splitlines()[-1])
+
+    install()
+    first = run()
+    package = Path(first["file"]).parent
+    assert package.is_relative_to(venv)  # the installed copy, not a source tree
+    source = package / "model" / "restitution.py"
+    assert "kinetic_fem.model.restitution.restitution_value" in first["compiled"]
+    index = sorted(package.rglob("*.nbi"))
+    assert index and first["cache_dir"] is None
+    stamps = {p: p.stat().st_mtime_ns for p in index}
+    installed = source.stat().st_mtime_ns
+    install()  # the same version again
+    assert source.stat().st_mtime_ns != installed  # the sources were rewritten
+    second = run()
+    assert second["compiled"] == []
+    assert {p: p.stat().st_mtime_ns for p in index} == stamps  # loaded, not rewritten
+
+    # read-only package folder: the kernels go to the user cache folder and stay there
+    shutil.rmtree(user_folder, ignore_errors=True)
+    for path in index:  # nothing to load beside the sources
+        path.unlink()
+    for path in package.rglob("*.nbc"):
+        path.unlink()
+    third = run(package)
+    assert third["cache_dir"] == str(user_folder)
+    assert "kinetic_fem.model.restitution.restitution_value" in third["compiled"]
+    assert not list(package.rglob("*.nbi"))
+    user_index = sorted(user_folder.rglob("*.nbi"))
+    assert user_index
+    install()
+    fourth = run(package)
+    assert fourth["cache_dir"] == str(user_folder) and fourth["compiled"] == []
+    assert sorted(user_folder.rglob("*.nbi")) == user_index

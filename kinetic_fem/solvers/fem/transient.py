@@ -172,7 +172,7 @@ class Forms:
         for i, (phi,) in enumerate(basis.basis):
             ri.append(rows.ravel())
             ci.append(np.repeat(dofs[i], n_qp))
-            vals.append(np.asarray(phi.value).ravel())
+            vals.append(np.asarray(phi).ravel())
             ders.append(np.asarray(phi.grad)[0].ravel())
         shape = (n_el * n_qp, basis.N)
         r, c = np.concatenate(ri), np.concatenate(ci)
@@ -180,7 +180,7 @@ class Forms:
         self.d = scipy.sparse.csr_matrix((np.concatenate(ders), (r, c)), shape=shape)
         self.b_abs = abs(self.b)
         self.w = np.asarray(basis.dx).ravel()
-        self.x = np.asarray(basis.global_coordinates().value)[0].ravel()
+        self.x = np.asarray(basis.global_coordinates())[0].ravel()
 
     def weights(self, u: NDArray) -> NDArray:
         """:math:`p_q = w_q e^{u_h(x_q)}`."""
