@@ -123,6 +123,17 @@ def _keywords(args: argparse.Namespace, function: Any) -> dict[str, Any]:
     if args.resume and args.checkpoint is None:
         raise ValueError("--resume needs --checkpoint FILE")
     if args.checkpoint is not None:
+        if args.seed is None and args.command == "dsmc":
+            # a DSMC checkpoint belongs to its root seed: without --seed one is drawn here,
+            # so that the Ctrl-C line can name it for --resume (MD keeps an unseeded run's
+            # random state in the checkpoint and resumes without one)
+            if args.resume:
+                raise ValueError("--resume of a dsmc run needs the --seed of the run it "
+                                 "continues (the interrupted run's Ctrl-C line names it)")
+            import numpy as np
+
+            args.seed = int(np.random.SeedSequence().entropy)
+            kw["seed"] = args.seed
         if args.out is not None and (npz_path(args.out).resolve()
                                      == npz_path(args.checkpoint).resolve()):
             raise ValueError(f"--out {str(args.out)!r} and --checkpoint "
@@ -149,11 +160,12 @@ def interrupt_note(args: argparse.Namespace) -> str:
     if args.checkpoint is None:
         return ("nothing was kept (no --checkpoint); add --checkpoint FILE to keep the "
                 "state and resume with --resume")
-    path = args.checkpoint.with_suffix(".npz")
+    path = npz_path(args.checkpoint)
     if not path.exists():
         return (f"no checkpoint was written yet to {path} (one is written every "
                 "checkpoint_every seconds); run the command again")
-    return f"the state last written to {path} is kept; add --resume to continue from it"
+    seed = "" if args.seed is None else f" --seed {args.seed}"
+    return f"the state last written to {path} is kept; add{seed} --resume to continue from it"
 
 
 def run(args: argparse.Namespace) -> int:

@@ -263,6 +263,9 @@ def test_dsmc_command_checkpoint_resume_and_output(tmp_path, capsys):
         main(["dsmc", "0.6", "-N", "400", "--resume"])
     assert "--resume needs --checkpoint" in capsys.readouterr().err
     with pytest.raises(SystemExit):
+        main(["dsmc", "0.6", "-N", "400", "--checkpoint", str(ckpt), "--resume"])
+    assert "--resume of a dsmc run needs the --seed" in capsys.readouterr().err
+    with pytest.raises(SystemExit):
         main(["dsmc", "0.6", "-N", "400", "--cooling", "--friction", "1"])
     assert "--friction applies to the heated gas" in capsys.readouterr().err
     with pytest.raises(SystemExit):
@@ -543,3 +546,22 @@ def test_slow_help_examples_run_without_a_warning(command, tmp_path):
                               capture_output=True, text=True, timeout=3600)
         assert done.returncode == 0, done.stderr
         assert "Warning" not in done.stderr and "WARNING" not in done.stderr, done.stderr
+
+
+def test_dsmc_checkpoint_without_a_seed_names_the_drawn_seed_for_resume(tmp_path, capsys):
+    """An unseeded checkpointed DSMC run draws its root seed up front; the Ctrl-C line
+    names it, and resuming with that seed continues the same run (the final line agrees)."""
+    from kinetic_fem.cli import build_parser
+    from kinetic_fem.cli.cmd_particles import interrupt_note
+
+    ckpt = tmp_path / "run.ckpt"
+    argv = ["dsmc", "0.6", "-N", "400", "--collisions", "10", "-o", "n_batches=5",
+            "--checkpoint", str(ckpt), "--quiet"]
+    assert main(argv) == 0
+    first = capsys.readouterr().out
+    seed = first.split("seed=")[1].split(":")[0]
+    assert seed.isdigit()
+    args = build_parser().parse_args([*argv, "--seed", seed])
+    assert interrupt_note(args).endswith(f"add --seed {seed} --resume to continue from it")
+    assert main([*argv, "--seed", seed, "--resume"]) == 0
+    assert _summary_without_time(capsys.readouterr().out) == _summary_without_time(first)
