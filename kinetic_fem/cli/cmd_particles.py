@@ -132,7 +132,9 @@ def _keywords(args: argparse.Namespace, function: Any) -> dict[str, Any]:
                                  "continues (the interrupted run's Ctrl-C line names it)")
             import numpy as np
 
-            args.seed = int(np.random.SeedSequence().entropy)
+            entropy = np.random.SeedSequence().entropy
+            assert isinstance(entropy, int)  # drawn, not given: one int
+            args.seed = entropy
             kw["seed"] = args.seed
         if args.out is not None and (npz_path(args.out).resolve()
                                      == npz_path(args.checkpoint).resolve()):
