@@ -303,3 +303,15 @@ def test_bdf_weights_and_error_constants():
     # the variable-step order 2 generic formula equals the closed one
     from kinetic_fem.solvers.fem.transient_setup import _lte_ratio_generic
     assert _lte_ratio_generic((0.3, 0.2, 0.5), 2) == pytest.approx(lte_ratio((0.3, 0.2, 0.5), 2))
+
+
+def test_newton_norm_is_checked_and_reaches_the_integrator():
+    """``newton_norm`` names what the step Newton converges; a wrong name is refused
+    naming the option, and the driver's moment_norm follows it (heated default
+    "moments", free cooling "ln_p")."""
+    from kinetic_fem.solvers.fem.options import CoolingEvolveOptions, EvolveOptions
+
+    with pytest.raises(ValueError, match="newton_norm must be one of"):
+        EvolveOptions(newton_norm="max")
+    assert EvolveOptions().newton_norm == "moments"
+    assert CoolingEvolveOptions().newton_norm == "ln_p"

@@ -272,7 +272,7 @@ def evolve_cooling_fem(gas: InelasticGas, *, times: NDArray,
     tol = default_newton_tol(rtol, scheme) if o.newton_tol is None else o.newton_tol
     opt = TransientOptions(rtol, 1e-9 / rate_in_units(1.0), order, spacing, cutoff,
                            first_step, o.max_step, o.max_steps, tol, o.max_newton,
-                           moment_norm=False, scheme=scheme)
+                           moment_norm=o.newton_norm == "moments", scheme=scheme)
     # error per collision time (as evolve_heated): the mean free time at the segment's
     # temperature ``temp`` (in units V^2)
     integ = BDF2(discretise(build_mesh(c_cut, h_el), 0.0), coefficients, options=opt,

@@ -204,7 +204,8 @@ def evolve_heated_fem(problem: HeatedProblem, *, times: NDArray, protocol: Proto
     h0 = first_step if first_step is not None else rtol * t_coll
     tol = default_newton_tol(rtol, scheme) if newton_tol is None else newton_tol
     opt = TransientOptions(rtol, 0.0, order, spacing, cutoff, first_step, o.max_step,
-                           o.max_steps, tol, o.max_newton, scheme=scheme)
+                           o.max_steps, tol, o.max_newton,
+                           moment_norm=o.newton_norm == "moments", scheme=scheme)
     integ = BDF2(disc_at(0.0), coefficients, options=opt,
                  collision_time=lambda temp: 1.0 / (
                      gas.density * float(gas.kernel.rate(math.sqrt(temp)))))

@@ -423,7 +423,8 @@ def evolve_mixture_fem(mixture: Mixture, *, times: NDArray, density: float,
     mdisc = MixtureDiscretisation(mixture, verts, density, o.order)
     tol = default_newton_tol(o.rtol, o.scheme) if o.newton_tol is None else o.newton_tol
     opt = TransientOptions(o.rtol, 0.0, o.order, spacing, o.cutoff, o.first_step, o.max_step,
-                           o.max_steps, tol, o.max_newton, scheme=o.scheme)
+                           o.max_steps, tol, o.max_newton,
+                           moment_norm=o.newton_norm == "moments", scheme=o.scheme)
     integ = MixtureBDF(mdisc, options=opt)
     u = np.concatenate([floor_log(sp.x, -0.5 * sp.x**2 / v - 0.5 * math.log(2.0 * math.pi * v))
                         for sp, v in zip(integ.species, var0, strict=True)])

@@ -412,22 +412,28 @@ class BDF2(TimeIntegrator):
                           (n, d, xi))
         self._lu = None
 
-    def _factor(self, c_new: float, h: float, tail: tuple, u: NDArray) -> EquilibratedLU:
+    def _factor(self, c_new: float, h: float, tail: tuple, u: NDArray
+                ) -> EquilibratedLU | None:
         """LU of the reduced ``c_new M - h J`` at ``u`` with the tail rows (cached by its
-        key: a new step or state refactors, the Jacobian in P is kept)."""
+        key: a new step or state refactors, the Jacobian in P is kept); None if the
+        matrix is not finite (an iterate whose far tail overflows ``exp``: the step
+        fails and is retried smaller, as any Newton failure)."""
         key = (c_new, h, tail[0].tobytes(), tail[1], tail[2], u.tobytes())
         if self._lu is not None and self._lu[0] == key:
             return self._lu[1]
         assert self._jacobian is not None
         jac, mw, _ = self._jacobian
         sym = self.sym
-        red = sym.T @ (sym.T @ ((c_new * mw - h * jac) * np.exp(u)[None, :]).T).T
+        with np.errstate(over="ignore", invalid="ignore"):
+            red = sym.T @ (sym.T @ ((c_new * mw - h * jac) * np.exp(u)[None, :]).T).T
         idx, in1, in2, coef = tail
         if idx.size:
             red[idx, :] = 0.0
             red[idx, idx] = 1.0
             red[idx, in1] = -(1.0 + coef)
             red[idx, in2] = coef
+        if not np.all(np.isfinite(red)):
+            return None
         lu = EquilibratedLU(np.asarray(red))
         self.stats.factorisations += 1
         self._lu = (key, lu)
@@ -466,6 +472,8 @@ class BDF2(TimeIntegrator):
             if fresh:
                 self._evaluate_jacobian(u0, t_new)
             lu = self._factor(c_new, h, tail, u0 if fresh else u_start)
+            if lu is None:
+                continue
             u = sym @ on_line(u_start[self.keep].copy())
             prev, converged = math.inf, False
             with np.errstate(over="ignore", invalid="ignore"):
