@@ -31,7 +31,6 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.integrate import solve_ivp
 
 from .model.mixture import Mixture
 from .model.validation import UnsupportedModelError, check_positive, check_times
@@ -231,6 +230,8 @@ def evolve_mixture(mixture: Mixture, *, times: ArrayLike, density: float = 1.0,
     mixture.constant_alpha()
     var0 = initial_temperatures_of(mixture, initial_temperature) / np.asarray(mixture.masses)
     k = mixture.n_species
+    from .solvers import mixture_gaussian
+
     if method == "maxwell":
         from .solvers import maxwell_mixture
 
@@ -247,28 +248,16 @@ def evolve_mixture(mixture: Mixture, *, times: ArrayLike, density: float = 1.0,
         def rhs(_: float, y: NDArray[np.float64]) -> NDArray[np.float64]:
             return maxwell_mixture.moment_rates(mixture, y.reshape(k, 5), density).ravel()
 
-        y0 = m0.ravel()
-    else:
-        from .solvers import mixture_gaussian
-
-        def rhs(_: float, y: NDArray[np.float64]) -> NDArray[np.float64]:
-            return mixture_gaussian.variance_rates(mixture, y, density)
-
-        y0 = var0
-    atol = rtol * 1e-6 * np.maximum(np.abs(y0), float(np.max(np.abs(y0))))
-    sol = solve_ivp(rhs, (0.0, float(t[-1])), y0, method="DOP853", t_eval=t, rtol=rtol,
-                    atol=atol)
-    if not sol.success:
-        raise RuntimeError(f"the mixture's moment equations failed to integrate: "
-                           f"{sol.message}")
-    masses = np.asarray(mixture.masses)
-    if method == "maxwell":
-        mom = sol.y.T.reshape(t.size, k, 5)
+        y, nfev = mixture_gaussian.integrate(rhs, m0.ravel(), t, rtol)
+        mom = y.reshape(t.size, k, 5)
         var, a2 = mom[:, :, 2], mom[:, :, 4] / (3.0 * mom[:, :, 2]**2) - 1.0
     else:
-        var, a2 = sol.y.T, np.zeros((t.size, k))
+        var, nfev = mixture_gaussian.integrate(
+            lambda _, y: mixture_gaussian.variance_rates(mixture, y, density), var0, t, rtol)
+        a2 = np.zeros((t.size, k))
+    masses = np.asarray(mixture.masses)
     return MixtureEvolution(mixture, t, var * masses[None, :], a2, method,
-                            info={"nfev": int(sol.nfev), "rtol": rtol, "density": density})
+                            info={"nfev": nfev, "rtol": rtol, "density": density})
 
 
 def _evolve_fem(mixture: Mixture, t: NDArray[np.float64], density: float,

@@ -32,6 +32,7 @@ from collections.abc import Callable
 
 import numpy as np
 from numpy.typing import NDArray
+from scipy.integrate import solve_ivp
 from scipy.optimize import root
 
 from ..exceptions import ConvergenceError
@@ -39,7 +40,8 @@ from ..mixture_state import MixtureMoments
 from ..model.mixture import Mixture
 from ..model.validation import UnsupportedModelError, check_positive
 
-__all__ = ["variance_rates", "steady_state", "cooling_state", "solve_root", "relaxed"]
+__all__ = ["variance_rates", "steady_state", "cooling_state", "solve_root", "relaxed",
+           "integrate", "relaxation"]
 
 #: relative step tolerance of the root finder (it may stop with 'xtol too small' at round-off)
 _ROOT_TOL = 1e-14
@@ -85,6 +87,61 @@ def variance_rates(mixture: Mixture, variances: np.ndarray, density: float = 1.0
             g2 = kernel.gaussian_mean(0.5 * total, 2.0)
             rates[s] += density * mixture.fractions[r] * g2 * (a * a - 2.0 * a * var[s] / total)
     return rates
+
+
+def integrate(rhs: Callable[[float, NDArray[np.float64]], NDArray[np.float64]],
+              y0: NDArray[np.float64], times: NDArray[np.float64], rtol: float
+              ) -> tuple[NDArray[np.float64], int]:
+    """A mixture's moment equations from ``t = 0`` to the output ``times`` (DOP853).
+
+    Parameters
+    ----------
+    rhs : callable
+        ``rhs(t, y)``.
+    y0 : ndarray
+        The moments at ``t = 0``.
+    times : ndarray
+        Increasing output times, ``times[0] >= 0``.
+    rtol : float
+        Relative tolerance (the absolute one ``rtol * 1e-6`` of the largest moment).
+
+    Returns
+    -------
+    y : ndarray, shape (n_t, y0.size)
+    nfev : int
+    """
+    atol = rtol * 1e-6 * np.maximum(np.abs(y0), float(np.max(np.abs(y0))))
+    sol = solve_ivp(rhs, (0.0, float(times[-1])), y0, method="DOP853", t_eval=times,
+                    rtol=rtol, atol=atol)
+    if not sol.success:
+        raise RuntimeError(f"the mixture's moment equations failed to integrate: "
+                           f"{sol.message}")
+    return sol.y.T, int(sol.nfev)
+
+
+def relaxation(mixture: Mixture, variances: NDArray[np.float64], times: NDArray[np.float64],
+               *, density: float = 1.0, rtol: float = 1e-10) -> NDArray[np.float64]:
+    """:math:`\\sigma_s^2(t)` of Gaussian species from ``variances`` at ``t = 0``.
+
+    Parameters
+    ----------
+    mixture : Mixture
+        Any kernel, constant restitution per pair.
+    variances : ndarray, shape (k,)
+        :math:`\\sigma_s^2(0) > 0`.
+    times : ndarray
+        Increasing output times.
+    density : float
+        Total number density.
+    rtol : float
+        Tolerance of :func:`integrate`.
+
+    Returns
+    -------
+    ndarray, shape (n_t, k)
+    """
+    return integrate(lambda _, y: variance_rates(mixture, y, density),
+                     np.asarray(variances, dtype=float), times, rtol)[0]
 
 
 def relaxed(drift: Callable[[NDArray[np.float64]], NDArray[np.float64]],

@@ -85,7 +85,8 @@ from .grading import graded_vertices
 from .newton import CHORD_LEVEL, CHORD_RATE, STALL_LEVEL, EquilibratedLU, EvenFold, log_update
 
 __all__ = ["MixtureDiscretisation", "solve_mixture_heated", "solve_mixture_cooling",
-           "mixture_meshes", "DEFAULT_ORDER", "DEFAULT_SPACING"]
+           "mixture_meshes", "check_mixture_model", "check_mixture_vertices",
+           "gaussian_variances", "DEFAULT_ORDER", "DEFAULT_SPACING"]
 
 logger = logging.getLogger(__name__)
 
@@ -290,7 +291,23 @@ def _fold_block(jac: NDArray, rows: EvenFold, cols: EvenFold) -> NDArray:
 
 
 # ---------------------------------------------------------------- checks and meshes
-def _check_model(mixture: object, what: str, *, cooling: bool) -> Mixture:
+def check_mixture_model(mixture: object, what: str, *, cooling: bool) -> Mixture:
+    """``mixture`` if the FEM solvers can take it (a constant restitution per pair; a
+    power-law kernel in free cooling; forced species exactly when not ``cooling``).
+
+    Parameters
+    ----------
+    mixture : object
+        The argument to check.
+    what : str
+        The caller's name, for the error.
+    cooling : bool
+        Free cooling (True) or heated.
+
+    Returns
+    -------
+    Mixture
+    """
     if not isinstance(mixture, Mixture):
         raise TypeError(f"mixture must be a kinetic_fem.Mixture, got {mixture!r}")
     for s, row in enumerate(mixture.laws):
@@ -405,8 +422,21 @@ def mixture_meshes(mixture: Mixture, variances: Sequence[float] | NDArray,
     return tuple(out)
 
 
-def _estimate(mixture: Mixture, density: float, cooling: bool) -> NDArray[np.float64]:
-    """:math:`\\langle v^2\\rangle_s` of the Gaussian theory (the start and the meshes)."""
+def gaussian_variances(mixture: Mixture, density: float, cooling: bool) -> NDArray[np.float64]:
+    """:math:`\\langle v^2\\rangle_s` of the Gaussian theory (the start and the meshes).
+
+    Parameters
+    ----------
+    mixture : Mixture
+    density : float
+    cooling : bool
+        The homogeneous cooling state (True) or the heated steady state.
+
+    Returns
+    -------
+    ndarray, shape (k,)
+        Equal temperatures (``1/m_s``) if the Gaussian theory has no solution.
+    """
     from .. import mixture_gaussian
 
     try:
@@ -559,7 +589,21 @@ def _solve(system: _System, x0: NDArray, *, tol: float, max_iter: int
     return out.x, info
 
 
-def _check_vertices(vertices: object, k: int) -> tuple[NDArray[np.float64], ...]:
+def check_mixture_vertices(vertices: object, k: int) -> tuple[NDArray[np.float64], ...]:
+    """One sorted mesh per species from one symmetric mesh or ``k`` of them.
+
+    Parameters
+    ----------
+    vertices : object
+        An array (the same mesh for every species) or a sequence of ``k`` arrays, each
+        increasing, symmetric about 0 and including 0.
+    k : int
+        Number of species.
+
+    Returns
+    -------
+    tuple of ndarray
+    """
     if isinstance(vertices, np.ndarray) and vertices.ndim == 1:
         vertices = [vertices] * k
     if not isinstance(vertices, Sequence | np.ndarray) or len(vertices) != k:
@@ -628,13 +672,13 @@ def _solve_state(mixture: Mixture, density: float, cooling: bool, *, order: int,
     cpu = time.process_time()
     k = mixture.n_species
     if start is None:
-        variances = _estimate(mixture, density, cooling)
+        variances = gaussian_variances(mixture, density, cooling)
         profiles = _start_profiles(mixture, density, variances, cooling, one_species)
     else:
         variances, profiles = _profiles_of(start)
     fixed = vertices is not None or cutoff is not None
     if vertices is not None:
-        verts = _check_vertices(vertices, k)
+        verts = check_mixture_vertices(vertices, k)
     else:
         if cutoff is not None:
             cuts = [check_positive("cutoff", cutoff) * math.sqrt(v) for v in variances]
@@ -794,7 +838,7 @@ def solve_mixture_heated(mixture: Mixture, *, density: float = 1.0,
     >>> round(float(state.temperatures[0]), 6)      # 4D/(n(1 - alpha^2)) = 6.25
     6.25
     """
-    mixture = _check_model(mixture, "the heated steady state", cooling=False)
+    mixture = check_mixture_model(mixture, "the heated steady state", cooling=False)
     density = check_positive("density", density)
     # first from the one-species states for kernels growing at least linearly (hard rods:
     # the gain lifts the tail far above the WKB one), from Gaussians with WKB tails for
@@ -838,7 +882,7 @@ def solve_mixture_cooling(mixture: Mixture, *, density: float = 1.0,
     ConvergenceError
         If Newton's method does not converge.
     """
-    mixture = _check_model(mixture, "the homogeneous cooling state", cooling=True)
+    mixture = check_mixture_model(mixture, "the homogeneous cooling state", cooling=True)
     density = check_positive("density", density)
     options = {"order": order, "spacing": spacing, "cutoff": cutoff, "vertices": vertices,
                "tol": tol, "max_iter": max_iter}

@@ -21,7 +21,7 @@ kept to round-off, and the error measured on every :math:`T_s` (relative) and
 Meshes: each species' as the one-species heated transient's
 (:func:`~kinetic_fem.solvers.fem.transient_setup.build_mesh`), over the range of
 :math:`\\langle v^2\\rangle_s` that the Gaussian approximation of the same relaxation
-visits (:func:`kinetic_fem.mixture_evolution.evolve_mixture` ``method="gaussian"``), its
+visits (:func:`kinetic_fem.solvers.mixture_gaussian.relaxation`), its
 steady state and the start.  A mixture of identical species is the one-species transient
 (``evolve_heated(alpha, method="fem")``) on the same mesh to round-off.
 
@@ -44,9 +44,15 @@ from numpy.typing import NDArray
 
 from ...model.mixture import Mixture
 from ...options import gather
+from .. import mixture_gaussian
 from .evolution import default_transient_cutoff, default_transient_spacing
 from .heated import EquilibratedLU
-from .mixture import MixtureDiscretisation, _check_model, _check_vertices, _estimate
+from .mixture import (
+    MixtureDiscretisation,
+    check_mixture_model,
+    check_mixture_vertices,
+    gaussian_variances,
+)
 from .options import EvolveOptions
 from .transient import BDF2, Forms, Level, TransientOptions
 from .transient_setup import LOG_SMALLEST, SCHEMES, build_mesh, default_newton_tol, floor_log
@@ -351,18 +357,14 @@ def _visited_variances(mixture: Mixture, density: float, var0: NDArray,
                        times: NDArray) -> NDArray:
     """:math:`\\langle v^2\\rangle_s` of the Gaussian approximation of the relaxation
     (41 samples and the output times) and the start."""
-    from ...mixture_evolution import evolve_mixture
-
     t_end = float(times[-1])
     samples = np.union1d(np.linspace(0.0, t_end, 41), times)
     # the Gaussian steady state too, as the one-species transient's mesh
-    steady = _estimate(mixture, density, False)[None, :]
+    steady = gaussian_variances(mixture, density, False)[None, :]
     if t_end == 0.0:
         return np.vstack([var0[None, :], steady])
-    gauss = evolve_mixture(mixture, times=samples, density=density,
-                           initial_temperature=var0 * np.asarray(mixture.masses),
-                           method="gaussian", rtol=1e-8)
-    return np.vstack([var0[None, :], steady, gauss.temperatures / np.asarray(mixture.masses)])
+    gauss = mixture_gaussian.relaxation(mixture, var0, samples, density=density, rtol=1e-8)
+    return np.vstack([var0[None, :], steady, gauss])
 
 
 def evolve_mixture_fem(mixture: Mixture, *, times: NDArray, density: float,
@@ -405,7 +407,7 @@ def evolve_mixture_fem(mixture: Mixture, *, times: NDArray, density: float,
         For a restitution law.
     """
     cpu = time.process_time()
-    mixture = _check_model(mixture, "the FEM mixture transient (method='fem')",
+    mixture = check_mixture_model(mixture, "the FEM mixture transient (method='fem')",
                            cooling=False)
     o = gather(EvolveOptions, options, option_keywords, "evolve_heated")
     if o.order not in (1, 2):
@@ -417,7 +419,7 @@ def evolve_mixture_fem(mixture: Mixture, *, times: NDArray, density: float,
     spacing = default_transient_spacing(o.rtol) if o.spacing is None else o.spacing
     visited = _visited_variances(mixture, density, var0, times)
     if vertices is not None:
-        verts = _check_vertices(vertices, mixture.n_species)
+        verts = check_mixture_vertices(vertices, mixture.n_species)
     else:
         verts = transient_meshes(mixture, visited, spacing=spacing, cutoff=o.cutoff)
     mdisc = MixtureDiscretisation(mixture, verts, density, o.order)
