@@ -291,16 +291,12 @@ def test_calibration_over_the_benchmark_problems():
     spec.loader.exec_module(mod)
     rows = mod.main()
     assert len(rows) >= 30
-    # the one known miss (measured 0.21, docs/user_guide/methods.rst): the FD cooling
-    # state at alpha = 0.3 over-estimates its a2 error (its R2 level is not more accurate
-    # than R1(h/2) there); a conservative miss, bounded here
-    known = {("fd", "cooling", 0.3, 1.0, "r_a2"): (0.15, 3.0)}
+    # (the FD cooling state at alpha = 0.3 read 0.21 in a2 before its levels were
+    # compared on the even coarse nodes only; 0.96 since, docs/user_guide/methods.rst)
     for r in rows:
         assert "failed" not in r, r
         for key, (lo, hi) in (("r_t", mod.TARGET), ("r_a2", mod.TARGET),
                               ("r_zeta", mod.TARGET), ("r_f", mod.TARGET_F)):
-            lo, hi = known.get((r["method"], r["kind"], r["alpha"], r["kernel"], key),
-                               (lo, hi))
             ok = r["ref_f_ok"] if key == "r_f" else r["ref_ok"]
             if ok and math.isfinite(r[key]):
                 assert lo <= r[key] <= hi, (key, r)

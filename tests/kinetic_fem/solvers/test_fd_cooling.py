@@ -152,6 +152,19 @@ def test_richardson_cooling_rate():
     est = d.info.extra["estimated_error_zeta"]
     assert est / 3 <= errors[1] <= 3 * est
     assert errors[1] < 1e-4 < errors[0]
+    # the levels are compared on the even coarse nodes: an even number of intervals
+    assert (d.info.extra["n_v_half"] - 1) % 2 == 0
+
+
+def test_levels_compared_on_the_even_coarse_nodes():
+    """The even nodes of the coarsest grid are Simpson panel boundaries on every grid
+    (issue 29: on the odd ones R2(h) kept an O(h^4) error; a2 true/estimated 0.21 at
+    alpha = 0.3 became 0.96); an odd number of intervals is refused."""
+    from kinetic_fem.operators.collision import half_grid
+    even = cooling._even_nodes(half_grid(8.0, 81))
+    assert even.n == 41 and even.h == pytest.approx(0.2)
+    with pytest.raises(ValueError, match="even number of intervals"):
+        cooling._even_nodes(half_grid(8.0, 80))
 
 
 @pytest.mark.slow
