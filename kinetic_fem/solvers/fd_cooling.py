@@ -357,8 +357,9 @@ def solve_fd_cooling(problem: CoolingProblem, *, spacing: float | None = None,
         identity ``zeta_energy`` of the coarsest grid (equal to its ``zeta`` up to the
         discretisation error), ``order`` (2), ``richardson`` (levels),
         ``estimated_error_zeta`` (relative), ``estimated_error_a2`` (absolute),
-        ``estimated_error_f`` (max relative where f > 1e-30), NaN without
-        extrapolation, the mass-defect rate, the spacings and the cut-off.
+        ``estimated_error_f`` (max relative where f > 1e-30; a2 and f from the even
+        nodes of the coarse grid, as ``dist.error``), NaN without extrapolation, the
+        mass-defect rate, the spacings and the cut-off.
     """
     _unsupported(problem)
     problem.require("fd", gammas=(1.0,), constant_restitution=True)

@@ -15,7 +15,9 @@ The solvers return the next-to-best value (:math:`Q_{h/2}` with two grids,
 error estimate: in the asymptotic regime that difference *is* the error of the
 next-to-best value (the most extrapolated one is far more accurate), so the estimate is
 calibrated (true/estimated 0.86-1.37 in T, a2 and f over five heated problems against
-FEM P3, ``benchmarks/calibrate_error_estimates.py``).  The most extrapolated value
+FEM P3, ``benchmarks/calibrate_error_estimates.py``; the cooling solver compares the
+levels on the even coarse nodes only, :func:`kinetic_fem.solvers.fd_cooling.solve_fd_cooling`).
+The most extrapolated value
 itself has no estimate from these grids: measured at alpha = 0.6 (hard rods, white
 noise) :math:`|R_2(h) - R_1(h/2)|` overstates the error of :math:`R_2(h)` by 100-170
 times, and a fourth, coarser grid (:math:`R_3(2h)` against :math:`R_2(h)`) misses it by
