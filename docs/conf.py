@@ -26,7 +26,22 @@ import signal
 import sys
 from pathlib import Path
 
-import matplotlib
+# One BLAS/OpenMP/numba thread for every example, in this process and in the gallery's
+# worker processes (which inherit the environment; joblib's loky would otherwise pick
+# cores // jobs itself).  Set before numpy is first imported (matplotlib below imports
+# it; sphinx does not): the examples' matrices are small, and idle BLAS threads spin on
+# a loaded machine (evolve_cooling alpha 0.5 to t = 20 cost 60.4 CPU s with the default
+# threads against 16.3 single-threaded at load ~11).
+_THREAD_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS",
+                "BLIS_NUM_THREADS", "VECLIB_MAXIMUM_THREADS", "NUMEXPR_NUM_THREADS",
+                "NUMBA_NUM_THREADS")
+if "numpy" in sys.modules:  # sphinx run from a Python session: too late for BLAS here
+    print("docs: numpy was imported before conf.py, its BLAS keeps its threads in this "
+          "process (the gallery's worker processes run single-threaded)", file=sys.stderr)
+for _var in _THREAD_VARS:
+    os.environ[_var] = "1"
+
+import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")
 sys.path.insert(0, str(Path(__file__).parent / "sphinxext"))
