@@ -75,7 +75,7 @@ from ...model.kernel_base import FAMILY_POWER_LAW
 from ...model.mixture import Mixture
 from ...model.validation import UnsupportedModelError, check_positive
 from ...operators.fem_discretisation import LAGRANGE_ELEMENTS, FEMDiscretisation
-from ...operators.fem_pair_mixture import cross_collision
+from ...operators.fem_pair_mixture import cross_collision, self_collision
 from ...operators.fem_transport import TransportArrays
 from ...solve import register_solver
 from ..newton import newton
@@ -263,12 +263,25 @@ class MixtureDiscretisation:
         loss = np.zeros((k, k))
         ref_x, ref_w = self.discs[0].basis.quadrature
         ref_x = np.ascontiguousarray(ref_x[0])
+        alphas = self.mixture.constant_alpha()
         for o in range(k):
             verts_o, dofs_o = self.discs[o].mesh_arrays
             xq, wq, eq = self.discs[o].points
             for i in range(k):
                 verts_i, dofs_i = self.discs[i].mesh_arrays
                 a, b = self.rules[o, i]
+                alpha = float(alphas[o, i])
+                if o == i and self.order >= 2 and alpha < 1.0:
+                    # the one-species bracket at density n x_o, by its P2/P3 kernel
+                    r_s, j_s, lo = self_collision(
+                        verts_o, dofs_o, np.ascontiguousarray(us[o]), xq, wq, eq, ref_x,
+                        ref_w, alpha, n * x[o], self._kernel_argument, jacobian)
+                    res_full[o] += r_s
+                    loss[o, o] = 2.0 * lo
+                    if jacobian:
+                        jac_full[o][o] = j_s if jac_full[o][o] is None \
+                            else jac_full[o][o] + j_s
+                    continue
                 r_o, r_i, jxo, joi, jxi, jii, lo = cross_collision(
                     verts_o, dofs_o, np.ascontiguousarray(us[o]), xq, wq, eq, verts_i, dofs_i,
                     np.ascontiguousarray(us[i]), self.order, ref_x, ref_w, float(a), float(b),
