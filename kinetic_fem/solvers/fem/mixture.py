@@ -114,11 +114,13 @@ TAIL_FLOOR = 1e-30
 MAX_WIDENINGS = 4
 START_ORDER = 3
 START_SPACING = 0.25
-HEATED_START_SPACING = 0.4
 """The one-species cooling state of the start is solved with P3 at this bulk spacing
-(thermal velocities) on an interval reaching beyond the mixture's cut-off (the default
-one-species mesh cost 2.5 - 3 one-species states at this spacing; the mixture's states
-equal to 1e-13, :mod:`benchmarks.bench_fem_mixture`)."""
+(thermal velocities) on an interval reaching past the mixture's cut-off (the default
+mesh cost 2.5 - 3 one-species states at this spacing; at 0.5 its far tail is off by
+30 decades, f 5e-64 at the cut-off, and the mixture's Newton wandered); the states equal to 1.2e-15
+(``benchmarks/results/fem_mixture_cost.md``)."""
+HEATED_START_SPACING = 0.4
+"""The same for the heated start (0.04 s against 0.1 - 0.15 s on the default mesh)."""
 COOLING_MONITOR_LOG_F = math.log(1e-25)
 """The cooling state's Newton step is measured where :math:`f_s > 10^{-25}` (and on
 :math:`\\zeta`): with the outflow at the cut-offs the drift-dominated outer decades carry
