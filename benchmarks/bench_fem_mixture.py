@@ -7,7 +7,8 @@ state (white noise) and the cooling state, one species (``kf.solve_heated(0.7)``
 equal masses: the accuracy is the one-species one) and of masses 1:3 and 1:10.  For the mixtures
 the CPU time is split into the pair sums (``MixtureDiscretisation.collision``, with and
 without Jacobian), the start (``_start_profiles``: the one-species state of each distinct
-restitution coefficient and thermostat, on the one-species default mesh) and the rest
+restitution coefficient and thermostat, P3 at spacing 0.4 heated and 0.25 cooling on an
+interval past the mixture's cut-off) and the rest
 (transport forms, LU solves, Newton driver), with the number of pair-sum evaluations per
 solve (with Jacobian + residual only).  Target of issue 27: a binary state at most 4 times
 one species.

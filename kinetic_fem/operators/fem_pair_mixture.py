@@ -33,6 +33,12 @@ A heavier partner gives :math:`b > 1`: :math:`x'` then leaves the interval betwe
 end (mass is conserved exactly; the pieces where that happens start at the pre-images
 of the end vertices, so the rule stays exact on each piece, and they carry only the
 product of two far tails).
+
+The pairs of one species with itself (:math:`a = (1 - \\alpha)/2`, one mesh) are the
+one-species reduced bracket: :func:`self_collision` sums them with the one-species P2/P3
+kernel (:func:`~kinetic_fem.operators.fem_pair_fast.pair_sweep`, per-piece sums in
+scalars; the same sums as :func:`cross_collision` with ``o = i`` to round-off, a quarter
+less CPU per pair).
 """
 
 from __future__ import annotations
@@ -42,9 +48,10 @@ import numpy as np
 from .._jit import jit
 from .fem_kernels import shape_values
 from .fem_pair_breaks import GRADING_LEVELS, kernel_graded, kernel_rate, pieces
-from .fem_pair_sums import locate
+from .fem_pair_fast import pair_sweep
+from .fem_pair_sums import locate, visited_points, work_arrays
 
-__all__ = ["cross_breaks", "cross_collision"]
+__all__ = ["cross_breaks", "cross_collision", "self_collision"]
 
 
 @jit
@@ -255,3 +262,59 @@ def cross_collision(verts_o: np.ndarray, dofs_o: np.ndarray, coef_o: np.ndarray,
             bqi[:] = 0.0
             cy[:] = 0.0
     return res_o, res_i, jxo, jac_oi, jxi, jac_ii, loss
+
+
+@jit
+def self_collision(verts: np.ndarray, dofs: np.ndarray, coef: np.ndarray, xq: np.ndarray,
+                   wq: np.ndarray, eq: np.ndarray, ref_x: np.ndarray, ref_w: np.ndarray,
+                   alpha: float, density: float, kernel: float | tuple[int, float],
+                   with_jacobian: bool) -> tuple[np.ndarray, np.ndarray, float]:
+    """The pairs of a species with itself, even sums, P2 or P3.
+
+    :func:`cross_collision` for ``o = i`` with ``even``, ``a = (1 - alpha)/2`` and the
+    weights ``w_gain = density``, ``w_lossx = w_lossy = density / 2``, summed by the
+    one-species kernel (:func:`~kinetic_fem.operators.fem_pair_fast.pair_sweep`).
+
+    Parameters
+    ----------
+    verts, dofs, coef : ndarray
+        Mesh vertices, element dofs (3 or 4 columns), coefficients of :math:`\\ln P`.
+    xq, wq, eq : ndarray
+        Outer quadrature points, weights and elements.
+    ref_x, ref_w : ndarray
+        Reference rule on [0, 1] for the inner pieces.
+    alpha : float
+        Restitution coefficient of the pair, ``alpha < 1``.
+    density : float
+        :math:`n x_s`.
+    kernel : float or tuple of (int, float)
+        As for :func:`cross_collision`.
+    with_jacobian : bool
+        Also the Jacobian (else a (1, 1) placeholder).
+
+    Returns
+    -------
+    res : ndarray, shape (N,)
+        The residual of the visited half (outer points at :math:`x > 0`).
+    jac : ndarray, shape (N, N)
+        Its Jacobian :math:`\\partial R/\\partial u`.
+    loss : float
+        :math:`\\sum c\\,g^2` of the visited half (as ``cross_collision``).
+    """
+    n_dof = coef.size
+    res, jac, bq, cy, jac_x = work_arrays(n_dof, with_jacobian)
+    buf = np.empty(3 * verts.size + 3)
+    starts = np.empty(buf.size + 2 * (GRADING_LEVELS + 1))
+    lengths = np.empty(starts.size)
+    visit = visited_points(xq, np.zeros(1, dtype=np.int64))
+    none = np.zeros(1, dtype=np.int64)
+    runs = np.zeros((1, 3), dtype=np.int64)
+    chains = np.zeros(2)
+    pair_sweep(visit, visit.size, verts, dofs, coef, xq, wq, eq, ref_x, ref_w, alpha, density,
+               with_jacobian, 0, kernel, kernel_graded(kernel), -1, none, none, runs, buf,
+               starts, lengths, np.empty(3 * ref_x.size), np.zeros((1, 1), dtype=np.int64),
+               np.zeros((1, 1)), np.zeros((1, 1, 1, 2), dtype=np.int64),
+               np.zeros((1, 1, 1, 1)), res, jac, bq, cy, jac_x, chains)
+    if with_jacobian:
+        jac += jac_x.T
+    return res, jac, chains[1] / (1.0 - alpha * alpha)

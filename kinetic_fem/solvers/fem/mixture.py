@@ -75,14 +75,22 @@ from ...model.kernel_base import FAMILY_POWER_LAW
 from ...model.mixture import Mixture
 from ...model.validation import UnsupportedModelError, check_positive
 from ...operators.fem_discretisation import LAGRANGE_ELEMENTS, FEMDiscretisation
-from ...operators.fem_pair_mixture import cross_collision
+from ...operators.fem_pair_mixture import cross_collision, self_collision
 from ...operators.fem_transport import TransportArrays
 from ...solve import register_solver
 from ..newton import newton
 from .cooling_forms import cooling_forms
 from .cooling_newton import MONITOR_LOG_F
 from .grading import graded_vertices
-from .newton import CHORD_LEVEL, CHORD_RATE, STALL_LEVEL, EquilibratedLU, EvenFold, log_update
+from .newton import (
+    CHORD_LEVEL,
+    CHORD_RATE,
+    PREDICT_MARGIN,
+    STALL_LEVEL,
+    EquilibratedLU,
+    EvenFold,
+    log_update,
+)
 
 __all__ = ["MixtureDiscretisation", "solve_mixture_heated", "solve_mixture_cooling",
            "mixture_meshes", "check_mixture_model", "check_mixture_vertices",
@@ -104,6 +112,15 @@ CUTOFF_MARGIN = 2.0
 TAIL_FLOOR = 1e-30
 """:math:`f_s(V)\\sigma_s` at the cut-off must be below this (else the interval widens)."""
 MAX_WIDENINGS = 4
+START_ORDER = 3
+START_SPACING = 0.25
+"""The one-species cooling state of the start is solved with P3 at this bulk spacing
+(thermal velocities) on an interval reaching past the mixture's cut-off (the default
+mesh cost 2.5 - 3 one-species states at this spacing; at 0.5 its far tail is off by
+30 decades, f 5e-64 at the cut-off, and the mixture's Newton wandered); the states equal to 1.2e-15
+(``benchmarks/results/fem_mixture_cost.md``)."""
+HEATED_START_SPACING = 0.4
+"""The same for the heated start (0.04 s against 0.1 - 0.15 s on the default mesh)."""
 COOLING_MONITOR_LOG_F = math.log(1e-25)
 """The cooling state's Newton step is measured where :math:`f_s > 10^{-25}` (and on
 :math:`\\zeta`): with the outflow at the cut-offs the drift-dominated outer decades carry
@@ -248,12 +265,25 @@ class MixtureDiscretisation:
         loss = np.zeros((k, k))
         ref_x, ref_w = self.discs[0].basis.quadrature
         ref_x = np.ascontiguousarray(ref_x[0])
+        alphas = self.mixture.constant_alpha()
         for o in range(k):
             verts_o, dofs_o = self.discs[o].mesh_arrays
             xq, wq, eq = self.discs[o].points
             for i in range(k):
                 verts_i, dofs_i = self.discs[i].mesh_arrays
                 a, b = self.rules[o, i]
+                alpha = float(alphas[o, i])
+                if o == i and self.order >= 2 and alpha < 1.0:
+                    # the one-species bracket at density n x_o, by its P2/P3 kernel
+                    r_s, j_s, lo = self_collision(
+                        verts_o, dofs_o, np.ascontiguousarray(us[o]), xq, wq, eq, ref_x,
+                        ref_w, alpha, n * x[o], self._kernel_argument, jacobian)
+                    res_full[o] += r_s
+                    loss[o, o] = 2.0 * lo
+                    if jacobian:
+                        jac_full[o][o] = j_s if jac_full[o][o] is None \
+                            else jac_full[o][o] + j_s
+                    continue
                 r_o, r_i, jxo, joi, jxi, jii, lo = cross_collision(
                     verts_o, dofs_o, np.ascontiguousarray(us[o]), xq, wq, eq, verts_i, dofs_i,
                     np.ascontiguousarray(us[i]), self.order, ref_x, ref_w, float(a), float(b),
@@ -359,8 +389,6 @@ def _start_profiles(mixture: Mixture, density: float, variances: NDArray, coolin
     for s in range(mixture.n_species):
         sigma = math.sqrt(variances[s])
         v = np.linspace(0.0, 60.0 * sigma, 30001)
-        from ...solve import solve_cooling, solve_heated
-
         if not one_species:  # heated: the Gaussian lifted to the WKB tail
             therm = mixture.thermostats[s]  # type: ignore[index]
             log_f = np.maximum(-0.5 * v**2 / variances[s], -_tail_action(
@@ -371,13 +399,13 @@ def _start_profiles(mixture: Mixture, density: float, variances: NDArray, coolin
         if cooling:
             key: tuple[float, ...] = (float(alpha[s, s]),)
             if key not in solved:
-                solved[key] = solve_cooling(key[0], kernel=mixture.collision_kernel)
+                solved[key] = _one_species_cooling(key[0], mixture.collision_kernel)
         else:
             therm = mixture.thermostats[s]  # type: ignore[index]
             key = (float(alpha[s, s]), float(therm.diffusion), float(therm.friction))
             if key not in solved:
-                solved[key] = solve_heated(key[0], density=density, diffusion=key[1],
-                                           friction=key[2], kernel=mixture.collision_kernel)
+                solved[key] = _one_species_heated(key[0], density, key[1], key[2],
+                                                  mixture.collision_kernel)
         one = solved[key]
         keep = one.v > 0
         c = one.v[keep] / math.sqrt(one.moment(2, central=False))
@@ -390,6 +418,54 @@ def _start_profiles(mixture: Mixture, density: float, variances: NDArray, coolin
         log_f -= math.log(2.0 * np.trapezoid(np.exp(log_f), v))
         out.append((v, log_f))
     return out
+
+
+def _one_species_heated(alpha: float, density: float, diffusion: float, friction: float,
+                        kernel: Any) -> VelocityDistribution:
+    """The one-species heated state of the start: as :func:`_one_species_cooling`, out to
+    :data:`CUTOFF_MARGIN` + 1 thermal velocities beyond the default cut-off
+    (:func:`~kinetic_fem.solvers.fem.defaults.model_cutoff`) for
+    :math:`1 - \\alpha \\ge` ``HUMP_EPS``; else, or if that fails, the default state."""
+    from ...model import HeatedProblem
+    from ...solve import solve_heated
+    from .cooling_links import HUMP_EPS
+    from .defaults import model_cutoff, scaled_model
+
+    options = {"density": density, "diffusion": diffusion, "friction": friction,
+               "kernel": kernel}
+    if 1.0 - alpha >= HUMP_EPS:
+        problem = HeatedProblem.from_parameters(alpha, **options)
+        try:
+            return solve_heated(alpha, order=START_ORDER, spacing=HEATED_START_SPACING,
+                                cutoff=model_cutoff(scaled_model(problem)) + CUTOFF_MARGIN,
+                                **options)
+        except ConvergenceError as err:  # pragma: no cover - fallback
+            logger.info("one-species start at spacing %g failed (%s); the default mesh",
+                        START_SPACING, err)
+    return solve_heated(alpha, **options)
+
+
+def _one_species_cooling(alpha: float, kernel: Any) -> VelocityDistribution:
+    """The one-species cooling state of the start: P3 at :data:`START_SPACING` out to
+    :data:`CUTOFF_MARGIN` + 1 thermal velocities beyond the default cut-off (the start's
+    33 decades and the margin of the mixture's cut-off inside the solved interval, no
+    extrapolation), where the default mesh is not the near-elastic one (and the kernel
+    not the Maxwell one, whose default mesh carries the tail closure); else, or if that
+    solve fails, the default one-species state."""
+    from ...model import CoolingProblem
+    from ...solve import solve_cooling
+    from .cooling_links import HUMP_EPS
+    from .cooling_mesh import hcs_cutoff
+
+    problem = CoolingProblem.from_parameters(alpha, kernel=kernel)
+    if problem.gas.gamma > 0.0 and problem.gas.epsilon >= HUMP_EPS:
+        try:
+            return solve_cooling(alpha, kernel=kernel, order=START_ORDER, spacing=START_SPACING,
+                                 cutoff=hcs_cutoff(problem) + CUTOFF_MARGIN + 1.0)
+        except ConvergenceError as err:  # pragma: no cover - fallback
+            logger.info("one-species start at spacing %g failed (%s); the default mesh",
+                        START_SPACING, err)
+    return solve_cooling(alpha, kernel=kernel)
 
 
 def mixture_meshes(mixture: Mixture, variances: Sequence[float] | NDArray,
@@ -543,11 +619,27 @@ def _solve(system: _System, x0: NDArray, *, tol: float, max_iter: int
            ) -> tuple[NDArray, RunInfo]:
     start = time.perf_counter()
     n_jac = 0
+    # the cooling Newton's line search evaluates the residual at the full step, and the
+    # driver then asks for the Jacobian there (the residual again): for a step too large
+    # for a chord step the trial is evaluated with its Jacobian, kept for that request
+    speculate = False
+    kept: tuple[NDArray, NDArray, NDArray | None] | None = None
 
     def fun(x: NDArray, jacobian: bool) -> tuple[NDArray, NDArray | None]:
-        nonlocal n_jac
-        n_jac += int(jacobian)
-        return system(x, jacobian)
+        nonlocal n_jac, speculate, kept
+        if jacobian and kept is not None and np.array_equal(kept[0], x):
+            r, jac = kept[1], kept[2]
+            kept = None
+            return r, jac
+        ahead = speculate and not jacobian
+        speculate = False
+        kept = None
+        n_jac += int(jacobian or ahead)
+        r, jac = system(x, jacobian or ahead)
+        if ahead:
+            kept = (x.copy(), r, jac)
+            return r, None
+        return r, jac
 
     n_u = int(system.mdisc.offsets[-1])
 
@@ -567,10 +659,13 @@ def _solve(system: _System, x0: NDArray, *, tol: float, max_iter: int
         # where f > 1e-40 (and zeta, relative): the far edge of the cooling state carries
         # a near-null mode of the Jacobian whose step stays large at a round-off residual
         # (as for one species, kinetic_fem.solvers.fem.cooling_newton.MONITOR_LOG_F)
+        nonlocal speculate
         seen = x[:n_u] > monitor
         size = float(np.max(np.abs(d[:n_u][seen]))) if np.any(seen) else math.inf
         if system.cooling:
             size = max(size, abs(float(d[-1])) / max(abs(float(x[-1])), 1e-300))
+        # the next call is the trial of this step (a Newton or a chord step)
+        speculate = system.cooling and CHORD_LEVEL <= size < math.inf
         return size
 
     with warnings.catch_warnings():
@@ -578,7 +673,8 @@ def _solve(system: _System, x0: NDArray, *, tol: float, max_iter: int
         out = newton(fun, x0, tol=tol, max_iter=max_iter, criterion="step", update=update,
                      step_norm=step_norm,
                      line_search=system.cooling, stall_level=STALL_LEVEL, factorize=factorize,
-                     chord=CHORD_LEVEL, chord_rate=CHORD_RATE, name="FEM mixture Newton")
+                     chord=CHORD_LEVEL, chord_rate=CHORD_RATE, predict=PREDICT_MARGIN,
+                     name="FEM mixture Newton")
     history = list(out.history)
     text = f"Newton max|du| history {['%.1e' % h for h in history]}; {n_jac} Jacobians"
     if not out.converged:
