@@ -66,7 +66,13 @@ MIN_EXTENT = 4.0
 
 
 class HasMasses(Protocol):
-    """What :func:`normalise` reads: the dof locations and the Galerkin masses."""
+    """What :func:`normalise` reads: the dof locations and the Galerkin masses.
+
+    Attributes
+    ----------
+    x : ndarray
+        The dof locations.
+    """
 
     x: NDArray
 
