@@ -92,3 +92,20 @@ def test_maxwell_mixture_follows_the_exact_moments_across_remaps():
     ratio = np.abs(ev.temperature_ratio()[1:] / exact.temperature_ratio()[1:] - 1.0)
     est = ev.error.ratios[1:, 0, 1]
     assert np.all((0.5 * ratio < est) & (est < 2.0 * ratio))
+
+
+@pytest.mark.slow
+def test_hard_rods_reach_the_fem_homogeneous_cooling_state():
+    # measured (masses 1:3, alpha 0.7, rtol 1e-4, spacing 0.7, from T_s = 1): at t = 26.8
+    # (T = 0.022, 6 segments) the ratio within 3.8e-5 of kf.solve_cooling's, a2_s within
+    # 2.9e-4 and 3.6e-4, zeta within 6.7e-5; at t = 100 (T = 2e-3, 11 segments, 664 steps,
+    # 218 CPU s = 80 steady solves) 2.0e-5, 2.0e-4, 2.5e-4 and 3.5e-5
+    mix = kf.Mixture((1.0, 3.0), (0.5, 0.5), alpha=0.7, kernel=1.0)
+    hcs = kf.solve_cooling(mix)
+    ev = kf.evolve_cooling(mix, times=[26.8], rtol=1e-4, spacing=0.7)
+    assert ev.temperature[-1] < 0.03 and ev.info["segments"] > 3
+    assert abs(ev.temperature_ratio()[-1] / hcs.temperature_ratio() - 1.0) < 1.5e-4
+    assert np.allclose(ev.a2[-1], hcs.a2, rtol=0, atol=1e-3)
+    assert abs(ev.series["zeta"][-1] / hcs.zeta - 1.0) < 2.5e-4
+    rates = ev.series["species_cooling_rates"][-1]
+    assert abs(rates[0] / rates[1] - 1.0) < 1e-3
