@@ -72,7 +72,7 @@ def test_identical_species_follow_the_one_species_cooling_transient():
     assert np.allclose(ev.series["zeta"], one.series["zeta"], rtol=1e-10, atol=0)
 
 
-@pytest.mark.slow
+@pytest.mark.slow   # 280 s (loaded machine; 14 + 48 CPU s with ev.error)
 def test_maxwell_mixture_follows_the_exact_moments_across_remaps():
     # measured (spacing 0.7, cutoff 10, rtol 1e-4; 169 and 161 dofs, 3 segments by t = 2,
     # 14 CPU s to t = 2): at t = 1 T_s relative 7.2e-5 and 5.5e-5, the ratio 1.3e-4, a2_s
@@ -94,7 +94,7 @@ def test_maxwell_mixture_follows_the_exact_moments_across_remaps():
     assert np.all((0.5 * ratio < est) & (est < 2.0 * ratio))
 
 
-@pytest.mark.slow
+@pytest.mark.slow   # 212 s (loaded machine)
 def test_hard_rods_reach_the_fem_homogeneous_cooling_state():
     # measured (masses 1:3, alpha 0.7, rtol 1e-4, spacing 0.7, from T_s = 1): at t = 26.8
     # (T = 0.022, 6 segments) the ratio within 3.8e-5 of kf.solve_cooling's, a2_s within
