@@ -52,10 +52,6 @@ def _evolve_mixture(mixture: Mixture, *, heated: bool, density: float, times: Ar
         if value is not default and value != default:
             raise ValueError(f"{name}={value!r} cannot be given with a Mixture (it carries its "
                              "kernel and a thermostat per species; Gaussian starts only)")
-    if method == "fem" and not heated:
-        raise ValueError("method='fem' has no free-cooling mixture transient yet (heated "
-                         "mixtures only); use method='maxwell' (exact moments, kernel 0) or "
-                         "'gaussian' (any kernel), or particles.dsmc_mixture.evolve_mixture")
     unknown = set(options) - {"rtol"}
     if unknown and method != "fem":
         raise TypeError(f"unknown option(s) {sorted(unknown)} for a mixture (allowed: rtol)")

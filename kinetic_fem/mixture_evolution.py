@@ -10,10 +10,13 @@ physical units (free cooling is not rescaled).  Two methods, both cheap ODE syst
   :math:`a_{2,s}(t)` are exact;
 * ``"gaussian"``: any kernel, every species kept Gaussian
   (:func:`kinetic_fem.solvers.mixture_gaussian.variance_rates`), :math:`a_{2,s} = 0`;
-* ``"fem"`` (heated only): the coupled Galerkin system of the species integrated by the
-  one-species adaptive BDF integrator
-  (:mod:`kinetic_fem.solvers.fem.mixture_transient`), any compiled kernel;
-  ``ev.error`` reruns it at ``rtol / 100`` on the same meshes when first read.
+* ``"fem"``: the coupled Galerkin system of the species integrated by the one-species
+  adaptive BDF integrator; heated (:mod:`kinetic_fem.solvers.fem.mixture_transient`, any
+  compiled kernel) or free cooling on segments of fixed velocity unit, remapped as the
+  temperatures fall (:mod:`kinetic_fem.solvers.fem.mixture_cooling_transient`, power-law
+  kernels; it also keeps every species' distribution at the output times and the
+  cooling rates); ``ev.error`` reruns it at ``rtol / 100`` (heated: on the same meshes;
+  cooling: with the same options) when first read.
 
 The DSMC time series of the same problem is
 :func:`particles.dsmc_mixture.evolve_mixture` (it returns a :class:`MixtureEvolution`
@@ -32,6 +35,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .distribution import VelocityDistribution
 from .model.mixture import Mixture
 from .model.validation import UnsupportedModelError, check_positive, check_times
 
@@ -59,6 +63,13 @@ class MixtureEvolution:
     temperature_errors, a2_errors : ndarray, shape (n_t, k), optional
         Standard errors (sampling methods).
     info : dict
+    distributions : tuple of tuple of VelocityDistribution, optional
+        ``distributions[i][s]``: species ``s`` at ``times[i]`` (FEM free cooling).
+    series : dict of ndarray
+        More series over ``times`` (FEM free cooling: ``"zeta"``,
+        :math:`dT/dt = -2\\zeta n T^{1+\\gamma/2}` of the mixture temperature,
+        ``"cooling_rate"`` :math:`-d\\ln T/dt`, ``"species_cooling_rates"``
+        :math:`-d\\ln T_s/dt` of shape (n_t, k), ``"segments"``).
     """
 
     mixture: Mixture
@@ -71,6 +82,9 @@ class MixtureEvolution:
     info: dict[str, Any] = field(default_factory=dict)
     error_recipe: Callable[[MixtureEvolution], MixtureEvolution] | None = field(
         default=None, repr=False, compare=False)
+    distributions: tuple[tuple[VelocityDistribution, ...], ...] | None = field(
+        default=None, repr=False)
+    series: dict[str, NDArray[np.float64]] = field(default_factory=dict, repr=False)
 
     @cached_property
     def error(self) -> MixtureEvolutionError | None:
@@ -183,15 +197,18 @@ def evolve_mixture(mixture: Mixture, *, times: ArrayLike, density: float = 1.0,
         :math:`T_s(0)`: one value for every species or one per species (default 1).
     method : {"maxwell", "gaussian", "fem"}
         Exact moments of the Maxwell mixture (kernel 0), Gaussian species (any kernel),
-        or the FEM transient (heated mixtures; any compiled kernel).
+        or the FEM transient (heated: any compiled kernel; free cooling: power laws).
     rtol : float, optional
         Relative tolerance of the ODE integration (absolute: ``rtol`` times 1e-6 of the
         initial moments; default 1e-10); ``"fem"``: the tolerance of the local error
-        per collision time on every :math:`T_s` and :math:`a_{2,s}` (default 1e-4).
+        per collision time on every :math:`T_s` and :math:`a_{2,s}` (default 1e-4
+        heated, 1e-6 free cooling).
     **fem_options
-        ``"fem"`` only: ``vertices`` (explicit meshes) and the fields of
+        ``"fem"`` only.  Heated: ``vertices`` (explicit meshes) and the fields of
         :class:`~kinetic_fem.solvers.fem.options.EvolveOptions` (``spacing``,
-        ``cutoff``, ``order``, ``scheme``, ...).
+        ``cutoff``, ``order``, ``scheme``, ...); free cooling: the fields of
+        :class:`~kinetic_fem.solvers.fem.options.CoolingEvolveOptions` (also
+        ``rescale``).
 
     Returns
     -------
@@ -201,7 +218,7 @@ def evolve_mixture(mixture: Mixture, *, times: ArrayLike, density: float = 1.0,
     ------
     UnsupportedModelError
         ``"maxwell"`` for a kernel other than 0; a velocity-dependent restitution law;
-        ``"fem"`` for a free-cooling mixture (not implemented).
+        ``"fem"`` for a free-cooling mixture with a kernel that is not a power law.
     ValueError
         An unknown method, bad times or temperatures.
 
@@ -217,8 +234,8 @@ def evolve_mixture(mixture: Mixture, *, times: ArrayLike, density: float = 1.0,
     if not isinstance(mixture, Mixture):
         raise TypeError(f"mixture must be a kinetic_fem.Mixture, got {mixture!r}")
     if method not in MIXTURE_EVOLUTION_METHODS:
-        raise ValueError(f"method must be one of {MIXTURE_EVOLUTION_METHODS} for a mixture "
-                         f"(no FEM transient of mixtures), got {method!r}")
+        raise ValueError(f"method must be one of {MIXTURE_EVOLUTION_METHODS} for a mixture, "
+                         f"got {method!r}")
     t = _times(times)
     density = check_positive("density", density)
     if fem_options and method != "fem":
@@ -264,24 +281,30 @@ def _evolve_fem(mixture: Mixture, t: NDArray[np.float64], density: float,
                 initial_temperature: Any, rtol: float | None,
                 options: dict[str, Any]) -> MixtureEvolution:
     """``method="fem"``: :func:`kinetic_fem.solvers.fem.mixture_transient.evolve_mixture_fem`
-    with its lazy error estimate (the same meshes at ``rtol / 100``)."""
-    from .solvers.fem.mixture_transient import evolve_mixture_fem
-
-    if not mixture.heated:
-        raise UnsupportedModelError(
-            "method='fem' has no free-cooling mixture transient yet (heated mixtures only); "
-            "use method='maxwell' (exact moments, kernel 0), 'gaussian' (any kernel) or "
-            "particles.dsmc_mixture.evolve_mixture")
+    (heated) or
+    :func:`kinetic_fem.solvers.fem.mixture_cooling_transient.evolve_mixture_cooling_fem`
+    (free cooling), with the lazy error estimate (the same run at ``rtol / 100``)."""
     t0 = initial_temperatures_of(mixture, initial_temperature)
     if rtol is not None:
         options = {**options, "rtol": check_positive("rtol", rtol)}
-    temps, a2, info = evolve_mixture_fem(mixture, times=t, density=density,
+    if not mixture.heated:
+        from .solvers.fem.mixture_cooling_transient import evolve_mixture_cooling_fem
+
+        run = evolve_mixture_cooling_fem(mixture, times=t, density=density,
                                          initial_temperatures=t0, **options)
-    tol = float(info["rtol"])
+        ev = MixtureEvolution(mixture, t, run.temperatures, run.a2, "fem", info=run.info,
+                              distributions=run.distributions, series=run.series)
+        rerun = options
+    else:
+        from .solvers.fem.mixture_transient import evolve_mixture_fem
+
+        temps, a2, info = evolve_mixture_fem(mixture, times=t, density=density,
+                                             initial_temperatures=t0, **options)
+        ev = MixtureEvolution(mixture, t, temps, a2, "fem", info=info)
+        rerun = {**options, "vertices": info["vertices"]}
+    tol = float(ev.info["rtol"])
 
     def recipe(ev: MixtureEvolution) -> MixtureEvolution:
-        opts = {**options, "rtol": tol / 100.0, "vertices": info["vertices"]}
-        return _evolve_fem(mixture, t, density, t0, None, opts)
+        return _evolve_fem(mixture, t, density, t0, None, {**rerun, "rtol": tol / 100.0})
 
-    ev = MixtureEvolution(mixture, t, temps, a2, "fem", info=info)
     return replace(ev, error_recipe=recipe)

@@ -26,12 +26,6 @@ def test_identical_species_follow_the_one_species_transient():
     assert np.allclose(ev.a2[:, 0], one.a2, rtol=0, atol=1e-11)
 
 
-def test_fem_refuses_free_cooling_mixtures():
-    mix = kf.Mixture((1.0, 3.0), (0.5, 0.5), alpha=0.8, kernel=1.0)
-    with pytest.raises(ValueError, match="no free-cooling mixture transient"):
-        kf.evolve_cooling(mix, times=[1.0], method="fem")
-
-
 def test_fem_mixture_bad_options_name_the_argument():
     mix = kf.Mixture.white_noise((1.0, 3.0), (0.5, 0.5), alpha=0.8, kernel=1.0)
     with pytest.raises(TypeError, match="spacng"):

@@ -1,8 +1,10 @@
 """Segments of the free-cooling transient: remaps and mesh extents.
 
-Helpers of :mod:`kinetic_fem.solvers.fem.cooling_transient` (see there for the method):
-:func:`remap_log_density`, :func:`remap_vertices` and :func:`normalise` (the state in a
-new velocity unit on a new mesh, unit mass and temperature restored),
+Helpers of :mod:`kinetic_fem.solvers.fem.cooling_transient` (see there for the method)
+and of the mixture's :mod:`kinetic_fem.solvers.fem.mixture_cooling_transient` (one
+species at a time): :func:`segment_vertices`, :func:`remap_log_density`,
+:func:`remap_vertices` and :func:`normalise` (the state in a new velocity unit on a new
+mesh, unit mass and its temperature restored),
 :func:`usable_extent` and :func:`steepest_drop` (where a mesh may end and when a segment
 must end), :func:`padded_outputs` (outputs of different meshes as one array).
 """
@@ -10,17 +12,18 @@ must end), :func:`padded_outputs` (outputs of different meshes as one array).
 from __future__ import annotations
 
 import math
+from typing import Protocol
 
 import numpy as np
 from numpy.typing import NDArray
 
+from ...exceptions import ConvergenceError
 from ...operators.fem_discretisation import FEMDiscretisation
 from ...operators.fem_kernels import evaluate_field
-from .transient import BDF2
 
-__all__ = ["normalise", "remap_log_density", "usable_extent",
-           "steepest_drop", "remap_vertices", "padded_outputs", "TAIL_LEVEL", "EDGE_DROP",
-           "MAX_ELEMENT_DROP", "GRADE_DROP",
+__all__ = ["normalise", "remap_log_density", "usable_extent", "segment_vertices",
+           "steepest_drop", "remap_vertices", "padded_outputs", "HasMasses", "TAIL_LEVEL",
+           "EDGE_DROP", "MAX_ELEMENT_DROP", "GRADE_DROP",
            "CONTINUE_WIDTH", "EDGE_ELEMENTS", "MIN_EXTENT"]
 
 TAIL_LEVEL = 1e-30
@@ -62,15 +65,33 @@ MIN_EXTENT = 4.0
 """Smallest mesh half-width (thermal velocities) a remap may leave."""
 
 
-def normalise(integ: BDF2, u: NDArray) -> NDArray:
-    """``u + a + b x^2`` with unit mass and unit temperature (Newton on ``b``).
+class HasMasses(Protocol):
+    """What :func:`normalise` reads: the dof locations and the Galerkin masses.
+
+    Attributes
+    ----------
+    x : ndarray
+        The dof locations.
+    """
+
+    x: NDArray
+
+    def masses(self, u: NDArray) -> NDArray:
+        """:math:`\\int\\varphi_i e^u`."""
+
+
+def normalise(integ: HasMasses, u: NDArray, temperature: float = 1.0) -> NDArray:
+    """``u + a + b x^2`` with unit mass and the variance ``temperature`` (Newton on ``b``).
 
     Parameters
     ----------
-    integ : BDF2
-        Holds the discretisation (masses).
+    integ : HasMasses
+        Holds the discretisation (masses): a
+        :class:`~kinetic_fem.solvers.fem.transient.BDF2`, or one species' view.
     u : ndarray
         ln P at the dofs.
+    temperature : float
+        :math:`\\langle x^2\\rangle` to restore (units of the mesh).
 
     Returns
     -------
@@ -81,9 +102,9 @@ def normalise(integ: BDF2, u: NDArray) -> NDArray:
         m = integ.masses(u)
         m0, m2, m4 = m.sum(), x2 @ m, (x2 * x2) @ m
         u = u - math.log(m0)
-        if abs(m2 / m0 - 1.0) < 1e-15:
+        if abs(m2 / m0 - temperature) < 1e-15 * temperature:
             break
-        u = u - (m2 / m0 - 1.0) / (m4 / m0 - (m2 / m0) ** 2) * x2
+        u = u - (m2 / m0 - temperature) / (m4 / m0 - (m2 / m0) ** 2) * x2
     return u - math.log(integ.masses(u).sum())
 
 
@@ -158,6 +179,66 @@ def usable_extent(disc: FEMDiscretisation, u: NDArray) -> float:
     if steep.size:
         limit = min(limit, float(xs[steep[0]]))
     return limit
+
+
+def segment_vertices(old: FEMDiscretisation, u: NDArray, ratio: float, *, cutoff: float,
+                     h: float, t: float, spacing: float, scale: float = 1.0
+                     ) -> tuple[NDArray, float]:
+    """The mesh of the next segment (unit ``ratio`` times the old one) and where the old
+    state stops being resolved.
+
+    Inside the resolved part of the old mesh (:func:`usable_extent`) the Galerkin field
+    itself; beyond, out to the old mesh's end or the tail level, its linear continuation
+    in ln P: the mesh keeps its physical extent, which the cut of the unresolved edge
+    would otherwise erode remap after remap (nearly elastic states, whose segments end by
+    the edge before T has fallen much).
+
+    Parameters
+    ----------
+    old : FEMDiscretisation
+        The mesh of ``u``.
+    u : ndarray
+        ln P at the dofs of ``old``.
+    ratio : float
+        New velocity unit over the old one.
+    cutoff : float
+        Largest half-width of the new mesh (thermal velocities).
+    h : float
+        Nominal element size (thermal velocities).
+    t : float
+        Time of the remap (for the error).
+    spacing : float
+        The run's ``spacing`` (for the error).
+    scale : float
+        The thermal velocity in the new unit (1 for one species; a mixture's species
+        differ).
+
+    Returns
+    -------
+    vertices : ndarray
+        Symmetric vertices (new unit).
+    resolved : float
+        Old units, for :func:`remap_log_density`.
+
+    Raises
+    ------
+    ConvergenceError
+        If the new mesh would end before :data:`MIN_EXTENT` thermal velocities.
+    """
+    resolved = usable_extent(old, u)
+    end = float(old.mesh_arrays[0][-1])
+    if resolved < end:
+        probe = np.array([resolved - CONTINUE_WIDTH, resolved])
+        lo, hi = remap_log_density(old, u, probe, 1.0)
+        fall = (lo - hi) / CONTINUE_WIDTH
+        if fall > 0.0:
+            end = min(end, resolved + (hi - float(u.max()) - math.log(TAIL_LEVEL)) / fall)
+    extent = min(cutoff * scale, max(end, resolved) / ratio)
+    if extent < MIN_EXTENT * scale:
+        raise ConvergenceError(
+            f"the cooling state at t={t:.6g} is resolved only to {extent / scale:.3g} thermal "
+            f"velocities: refine the mesh (spacing={spacing:g})")
+    return remap_vertices(old, u, ratio, extent, h * scale, resolved), resolved
 
 
 def steepest_drop(disc: FEMDiscretisation, u: NDArray) -> float:

@@ -67,23 +67,19 @@ from numpy.typing import NDArray
 
 from ...distribution import RunInfo, VelocityDistribution
 from ...evolution import Evolution
-from ...exceptions import ConvergenceError
-from ...model import InelasticGas, RestitutionLaw
+from ...model import CollisionKernel, InelasticGas, RestitutionLaw
 from ...model.protocol import Protocol
 from ...operators.fem_discretisation import FEMDiscretisation
 from ...options import gather
 from ...solve import register_solver
 from .cooling_segments import (
-    CONTINUE_WIDTH,
     EDGE_DROP,
     MIN_EXTENT,
-    TAIL_LEVEL,
     normalise,
     padded_outputs,
     remap_log_density,
-    remap_vertices,
+    segment_vertices,
     steepest_drop,
-    usable_extent,
 )
 from .options import CoolingEvolveOptions
 from .transient import (
@@ -97,7 +93,7 @@ from .transient import (
 from .transient_setup import default_newton_tol, distribution_log_density, progress_bar
 
 __all__ = ["evolve_cooling_fem", "default_cooling_cutoff", "check_free_cooling",
-           "DEFAULT_RESCALE"]
+           "cooling_settings", "DEFAULT_RESCALE"]
 
 logger = logging.getLogger(__name__)
 
@@ -161,6 +157,41 @@ def check_free_cooling(gas: InelasticGas, protocol: Protocol) -> None:
     if all(law.is_elastic for law in protocol.restitution_laws(gas.restitution)):
         raise ValueError("elastic collisions (alpha = 1) do not change the distribution of "
                          "a one-dimensional gas: nothing cools; take alpha < 1")
+
+
+def cooling_settings(o: CoolingEvolveOptions, kernel: CollisionKernel) -> tuple[float, float]:
+    """The checked element size and cut-off of a free-cooling FEM transient.
+
+    Parameters
+    ----------
+    o : CoolingEvolveOptions
+        The numerical options.
+    kernel : CollisionKernel
+        Its growth sets the default cut-off (:func:`default_cooling_cutoff`).
+
+    Returns
+    -------
+    spacing, cutoff : float
+
+    Raises
+    ------
+    ValueError
+        Naming the option: ``order`` not 1 or 2, ``rescale`` not > 1, ``spacing`` or
+        ``rtol`` not positive, ``cutoff`` not above
+        :data:`~kinetic_fem.solvers.fem.cooling_segments.MIN_EXTENT`.
+    """
+    if o.order not in (1, 2):
+        raise ValueError(f"order must be 1 or 2, got {o.order!r}")
+    if not (math.isfinite(o.rescale) and o.rescale > 1.0):
+        raise ValueError(f"rescale must be a finite number > 1, got {o.rescale!r}")
+    for name, val in (("spacing", o.spacing), ("rtol", o.rtol)):
+        if val is None or not (math.isfinite(val) and val > 0.0):
+            raise ValueError(f"{name} must be a finite positive number, got {val!r}")
+    c_cut = default_cooling_cutoff(kernel.tail_growth[1]) if o.cutoff is None \
+        else float(o.cutoff)
+    if not (math.isfinite(c_cut) and c_cut > MIN_EXTENT):
+        raise ValueError(f"cutoff must be a finite number > {MIN_EXTENT}, got {o.cutoff!r}")
+    return float(o.spacing or 0.0), c_cut
 
 
 @register_solver("fem", problem="transient-cooling")
@@ -227,19 +258,9 @@ def evolve_cooling_fem(gas: InelasticGas, *, times: NDArray,
     scheme = o.scheme
     protocol = Protocol() if protocol is None else protocol
     check_free_cooling(gas, protocol)
-    if order not in (1, 2):
-        raise ValueError(f"order must be 1 or 2, got {order!r}")
-    if not (math.isfinite(rescale) and rescale > 1.0):
-        raise ValueError(f"rescale must be a finite number > 1, got {rescale!r}")
-    for name, val in (("spacing", o.spacing), ("rtol", rtol)):
-        if val is None or not (math.isfinite(val) and val > 0.0):
-            raise ValueError(f"{name} must be a finite positive number, got {val!r}")
-    spacing = float(o.spacing or 0.0)  # checked above: a positive number
     kernel = gas.kernel
     degree = float(kernel.scale_degree)
-    c_cut = default_cooling_cutoff(kernel.tail_growth[1]) if cutoff is None else float(cutoff)
-    if not (math.isfinite(c_cut) and c_cut > MIN_EXTENT):
-        raise ValueError(f"cutoff must be a finite number > {MIN_EXTENT}, got {cutoff!r}")
+    spacing, c_cut = cooling_settings(o, kernel)
     h_el = spacing / math.sqrt(rescale)
     t_end = float(times[-1])
     # restitution changes (also one at the last output time: right-continuous outputs)
@@ -284,30 +305,12 @@ def evolve_cooling_fem(gas: InelasticGas, *, times: NDArray,
     else:
         u = floor_log(x, -0.5 * x**2 - 0.5 * math.log(2.0 * math.pi))
     def remap(u: NDArray, ratio: float, t: float) -> NDArray:
-        """The state in the unit ``ratio V`` on a new mesh.
-
-        Inside the resolved part of the old mesh (:func:`usable_extent`) the Galerkin
-        field itself; beyond, out to the old mesh's end or the tail level, its linear
-        continuation in ln P: the mesh keeps its physical extent, which the cut of the
-        unresolved edge would otherwise erode remap after remap (nearly elastic states,
-        whose segments end by the edge before T has fallen much).
-        """
+        """The state in the unit ``ratio V`` on a new mesh (:func:`segment_vertices`)."""
         old = integ.disc
-        resolved = usable_extent(old, u)
-        end = float(old.mesh_arrays[0][-1])
-        if resolved < end:
-            probe = np.array([resolved - CONTINUE_WIDTH, resolved])
-            lo, hi = remap_log_density(old, u, probe, 1.0)
-            fall = (lo - hi) / CONTINUE_WIDTH
-            if fall > 0.0:
-                end = min(end, resolved + (hi - float(u.max()) - math.log(TAIL_LEVEL)) / fall)
-        extent = min(c_cut, max(end, resolved) / ratio)
-        if extent < MIN_EXTENT:
-            raise ConvergenceError(
-                f"the cooling state at t={t:.6g} is resolved only to {extent:.3g} thermal "
-                f"velocities: refine the mesh (spacing={spacing:g})")
+        verts, resolved = segment_vertices(old, u, ratio, cutoff=c_cut, h=h_el, t=t,
+                                           spacing=spacing)
         unit[0] *= ratio
-        integ.set_disc(discretise(remap_vertices(old, u, ratio, extent, h_el, resolved), t))
+        integ.set_disc(discretise(verts, t))
         return normalise(integ, remap_log_density(old, u, integ.x, ratio, resolved))
 
     def first_h() -> float:

@@ -25,8 +25,8 @@ visits (:func:`kinetic_fem.solvers.mixture_gaussian.relaxation`), its
 steady state and the start.  A mixture of identical species is the one-species transient
 (``evolve_heated(alpha, method="fem")``) on the same mesh to round-off.
 
-Free cooling (no thermostat) is not implemented: the one-species cooling transient
-remaps its velocity unit as T falls, per species here, which is not done.
+Free cooling (no thermostat) is this integrator on segments of fixed velocity unit:
+:mod:`kinetic_fem.solvers.fem.mixture_cooling_transient`.
 """
 
 from __future__ import annotations
