@@ -54,7 +54,7 @@ from .mixture import (
     gaussian_variances,
 )
 from .options import EvolveOptions
-from .transient import BDF2, Forms, Level, TransientOptions
+from .transient import BDF2, Level, MeshView, TransientOptions
 from .transient_setup import LOG_SMALLEST, SCHEMES, build_mesh, default_newton_tol, floor_log
 
 __all__ = ["MixtureBDF", "evolve_mixture_fem", "transient_meshes"]
@@ -62,18 +62,12 @@ __all__ = ["MixtureBDF", "evolve_mixture_fem", "transient_meshes"]
 logger = logging.getLogger(__name__)
 
 
-class _Species:
+class _Species(MeshView):
     """One species' view of the stacked system: what :class:`BDF2`'s per-state methods
     (``moments``, ``moments_change``, ``newton_weights``, ``tail_closure``) read."""
 
     def __init__(self, disc: Any) -> None:
-        self.disc = disc
-        self.forms = Forms(disc)
-        self.sym = disc.symmetry
-        self.x = disc.dof_locations
-        self.xq, self.wq, _ = disc.points
-        self.keep = np.flatnonzero(self.x >= 0)
-        self.outward = self.keep[np.argsort(self.x[self.keep], kind="stable")]
+        self.bind_mesh(disc)
 
 
 class _StackedForms:

@@ -100,7 +100,7 @@ from .transient_setup import (
 )
 
 __all__ = ["TransientOptions", "TransientStats", "EquilibratedLU", "log_update", "build_mesh",
-           "make_discretisation", "TimeIntegrator", "BDF2", "Forms", "Level",
+           "make_discretisation", "TimeIntegrator", "MeshView", "BDF2", "Forms", "Level",
            "lagrange_weights", "lte_ratio", "INITIAL_FLOOR", "ConvergenceError", "floor_log"]
 
 logger = logging.getLogger(__name__)
@@ -311,7 +311,42 @@ class TimeIntegrator:
         raise NotImplementedError
 
 
-class BDF2(TimeIntegrator):
+class MeshView:
+    """What :class:`BDF2`'s per-state methods (``moments``, ``moments_change``,
+    ``newton_weights``, ``tail_closure``) read of one mesh: its discretisation, forms,
+    symmetry, dof locations, outer quadrature, reduced dofs and their outward order.
+
+    The attributes are declared here, so that :meth:`bind_mesh` sets them for the
+    integrator and for each species of the mixture integrator alike.
+    """
+
+    disc: FEMDiscretisation
+    forms: Forms
+    sym: scipy.sparse.csr_matrix
+    x: NDArray
+    xq: NDArray
+    wq: NDArray
+    keep: NDArray
+    outward: NDArray
+
+    def bind_mesh(self, disc: FEMDiscretisation) -> None:
+        """Set the attributes of ``disc``.
+
+        Parameters
+        ----------
+        disc : FEMDiscretisation
+            The mesh's discretisation.
+        """
+        self.disc = disc
+        self.forms = Forms(disc)
+        self.sym = disc.symmetry
+        self.x = disc.dof_locations
+        self.xq, self.wq, _ = disc.points
+        self.keep = np.flatnonzero(self.x >= 0)   # the reduced dofs (u = sym @ u[keep])
+        self.outward = self.keep[np.argsort(self.x[self.keep], kind="stable")]
+
+
+class BDF2(TimeIntegrator, MeshView):
     """Adaptive BDF2 on the Galerkin masses (see the module docstring).
 
     Parameters
@@ -348,13 +383,7 @@ class BDF2(TimeIntegrator):
 
     def set_disc(self, disc: FEMDiscretisation) -> None:
         """Use ``disc`` (a new mesh, or the same after a change of restitution)."""
-        self.disc = disc
-        self.forms = Forms(disc)
-        self.sym = disc.symmetry
-        self.x = disc.dof_locations
-        self.xq, self.wq, _ = disc.points
-        self.keep = np.flatnonzero(self.x >= 0)   # the reduced dofs (u = sym @ u[keep])
-        self.outward = self.keep[np.argsort(self.x[self.keep], kind="stable")]
+        self.bind_mesh(disc)
         self._jacobian: tuple | None = None      # (collision, mass, thermostat parts)
         self._lu: tuple | None = None            # (key, EquilibratedLU)
 
