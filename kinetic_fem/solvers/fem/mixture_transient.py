@@ -238,8 +238,11 @@ class MixtureBDF(BDF2):
         self._jacobian = (jac * inv, self._reduced_mass(u).toarray() * inv, None)
         self._lu = None
 
-    def _factor(self, c_new: float, h: float, tail: tuple, u: NDArray) -> EquilibratedLU:
-        """LU of the reduced ``c_new M - h J`` with the tail rows (cached by its key)."""
+    def _factor(self, c_new: float, h: float, tail: tuple, u: NDArray
+                ) -> EquilibratedLU | None:
+        """LU of the reduced ``c_new M - h J`` with the tail rows (cached by its key);
+        None if it is not finite (the step fails and is retried smaller, as
+        :meth:`BDF2._factor`)."""
         idx, in1, in2, coef = tail
         key = (c_new, h, idx.tobytes(), in1.tobytes() + in2.tobytes(), coef.tobytes(),
                u.tobytes())
@@ -247,12 +250,16 @@ class MixtureBDF(BDF2):
             return self._lu[1]
         assert self._jacobian is not None
         jac, mw, _ = self._jacobian
-        red = (c_new * mw - h * jac) * np.exp(np.maximum(u[self.keep], LOG_SMALLEST))[None, :]
+        with np.errstate(over="ignore", invalid="ignore"):
+            red = (c_new * mw - h * jac) * np.exp(np.maximum(u[self.keep],
+                                                             LOG_SMALLEST))[None, :]
         if idx.size:
             red[idx, :] = 0.0
             red[idx, idx] = 1.0
             red[idx, in1] = -(1.0 + coef)
             red[idx, in2] = coef
+        if not np.all(np.isfinite(red)):
+            return None
         lu = EquilibratedLU(red)
         self.stats.factorisations += 1
         self._lu = (key, lu)
