@@ -47,3 +47,27 @@ def test_hard_rods_relax_to_the_steady_fem_mixture():
     gauss = kf.evolve_heated(mix, times=[0.0, 15.0], method="gaussian")
     off = abs(gauss.temperature_ratio()[-1] / steady.temperature_ratio() - 1.0)
     assert 1e-3 < off < 1e-2
+
+
+def test_start_from_floored_gaussian_tails_at_rtol_1e6():
+    # The Gaussian start is floored (ln P continued linearly to -691 at the mesh's edge),
+    # the first step closes the far tail on its line (-1022 and -1310 on the default
+    # Maxwell meshes); the quadratic extrapolation through three such levels put the third
+    # step's Newton start at ln P = +1628 and its stale matrix overflowed (ValueError from
+    # scipy; rtol 1e-6 failed on the default meshes, and so did ev.error at rtol 1e-4).
+    # Here the meshes are the default ones inside 12 and coarse beyond (cheap): before the
+    # fix the same ValueError in the third step, now 6 steps without failure.
+    from kinetic_fem.solvers.fem.transient_setup import build_mesh
+
+    def mesh(var):
+        half = build_mesh(12.0, 0.5 * np.sqrt(var), np.sqrt(var))
+        half = np.concatenate([half[half >= 0], np.arange(20.0, 93.0, 8.0)])
+        return np.concatenate([-half[:0:-1], half])
+
+    mix = kf.Mixture.white_noise((1.0, 3.0), (0.5, 0.5), alpha=0.7, kernel=0.0)
+    times = [0.0, 3e-5]
+    ev = kf.evolve_heated(mix, times=times, initial_temperature=1.0, rtol=1e-6,
+                          vertices=[mesh(1.0), mesh(1.0 / 3.0)])
+    exact = kf.evolve_heated(mix, times=times, initial_temperature=1.0, method="maxwell")
+    assert ev.info["newton_failures"] == 0
+    assert np.allclose(ev.temperatures, exact.temperatures, rtol=1e-6, atol=0)

@@ -54,7 +54,7 @@ from .mixture import (
     gaussian_variances,
 )
 from .options import EvolveOptions
-from .transient import BDF2, Forms, Level, TransientOptions
+from .transient import BDF2, Level, MeshView, TransientOptions
 from .transient_setup import LOG_SMALLEST, SCHEMES, build_mesh, default_newton_tol, floor_log
 
 __all__ = ["MixtureBDF", "evolve_mixture_fem", "transient_meshes"]
@@ -62,18 +62,12 @@ __all__ = ["MixtureBDF", "evolve_mixture_fem", "transient_meshes"]
 logger = logging.getLogger(__name__)
 
 
-class _Species:
+class _Species(MeshView):
     """One species' view of the stacked system: what :class:`BDF2`'s per-state methods
     (``moments``, ``moments_change``, ``newton_weights``, ``tail_closure``) read."""
 
     def __init__(self, disc: Any) -> None:
-        self.disc = disc
-        self.forms = Forms(disc)
-        self.sym = disc.symmetry
-        self.x = disc.dof_locations
-        self.xq, self.wq, _ = disc.points
-        self.keep = np.flatnonzero(self.x >= 0)
-        self.outward = self.keep[np.argsort(self.x[self.keep], kind="stable")]
+        self.bind_mesh(disc)
 
 
 class _StackedForms:
@@ -244,8 +238,11 @@ class MixtureBDF(BDF2):
         self._jacobian = (jac * inv, self._reduced_mass(u).toarray() * inv, None)
         self._lu = None
 
-    def _factor(self, c_new: float, h: float, tail: tuple, u: NDArray) -> EquilibratedLU:
-        """LU of the reduced ``c_new M - h J`` with the tail rows (cached by its key)."""
+    def _factor(self, c_new: float, h: float, tail: tuple, u: NDArray
+                ) -> EquilibratedLU | None:
+        """LU of the reduced ``c_new M - h J`` with the tail rows (cached by its key);
+        None if it is not finite (the step fails and is retried smaller, as
+        :meth:`BDF2._factor`)."""
         idx, in1, in2, coef = tail
         key = (c_new, h, idx.tobytes(), in1.tobytes() + in2.tobytes(), coef.tobytes(),
                u.tobytes())
@@ -253,12 +250,16 @@ class MixtureBDF(BDF2):
             return self._lu[1]
         assert self._jacobian is not None
         jac, mw, _ = self._jacobian
-        red = (c_new * mw - h * jac) * np.exp(np.maximum(u[self.keep], LOG_SMALLEST))[None, :]
+        with np.errstate(over="ignore", invalid="ignore"):
+            red = (c_new * mw - h * jac) * np.exp(np.maximum(u[self.keep],
+                                                             LOG_SMALLEST))[None, :]
         if idx.size:
             red[idx, :] = 0.0
             red[idx, idx] = 1.0
             red[idx, in1] = -(1.0 + coef)
             red[idx, in2] = coef
+        if not np.all(np.isfinite(red)):
+            return None
         lu = EquilibratedLU(red)
         self.stats.factorisations += 1
         self._lu = (key, lu)
