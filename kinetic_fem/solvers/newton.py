@@ -361,12 +361,13 @@ def newton(fun: System, x0: ArrayLike, options: NewtonOptions | None = None,
         ``residual`` is then the previous iterate's); likewise a final Newton step below
         ``tol`` without a line search.  0 (the default): off.
     predict_newton : bool
-        With ``predict`` and ``criterion="step"``: a full Newton step that contracts the
-        previous full step by ``chord_rate`` or more and whose size times that contraction
-        (``step**2 / previous``, the chord prediction) is below ``predict * tol`` is
-        taken without line search or residual, and the iteration stops, converged.  A
-        line search cannot judge such a step once the residual is at round-off (it
-        backtracks on noise).  False (the default): off.
+        With ``predict``, ``stall_level`` and ``criterion="step"``: a Newton step below
+        ``stall_level`` that contracts the previous full step by ``chord_rate`` or more
+        and whose size times that contraction (``step**2 / previous``, the chord
+        prediction) is below ``predict * tol`` is taken in full without line search or
+        residual, and the iteration stops, converged.  A line search cannot judge such a
+        step once the residual is at round-off (it backtracks on noise).  False (the
+        default): off.
     pseudo_time : PseudoTransient, optional
         Pseudo-transient globalisation in place of the line search (its docstring); the
         other options but ``step_norm``, ``update``, ``factorize``/``linear_solver``,
@@ -501,7 +502,7 @@ def newton(fun: System, x0: ArrayLike, options: NewtonOptions | None = None,
         newton_step = step_norm_(delta, x)
         small = criterion == "step" and newton_step < tol
         if (predict_newton and predict > 0.0 and criterion == "step" and last_full
-                and newton_step <= chord_rate * last_step
+                and newton_step < stall_level and newton_step <= chord_rate * last_step
                 and newton_step * newton_step / last_step < predict * tol):
             x_try = update_(x, delta)
             if bool(np.all(np.isfinite(x_try))):
