@@ -143,6 +143,12 @@ def _add(x: Array, dx: Array) -> Array:
     return x + dx
 
 
+def _prediction(step: float, last_step: float, chord_rate: float) -> float:
+    """The next step a chord iteration predicts after ``step``: ``step**2 / last_step``,
+    or inf when ``step`` contracts ``last_step`` by less than ``chord_rate``."""
+    return step * step / last_step if step <= chord_rate * last_step else math.inf
+
+
 def _solve_default(jac: Jacobian, rhs: Array) -> Array:
     """``J^{-1} rhs`` by the solver that fits the Jacobian's type."""
     if isinstance(jac, np.ndarray):
@@ -451,9 +457,9 @@ def newton(fun: System, x0: ArrayLike, options: NewtonOptions | None = None,
                 delta = delta * cols_f
             chord_step = step_norm_(delta, x)
             x_try = update_(x, delta)
-            predicted = chord_step * chord_step / last_step
-            if (criterion == "step" and chord_step <= chord_rate * last_step
-                    and predicted < predict * tol and bool(np.all(np.isfinite(x_try)))):
+            predicted = _prediction(chord_step, last_step, chord_rate)
+            if (criterion == "step" and predicted < predict * tol
+                    and bool(np.all(np.isfinite(x_try)))):
                 # the chord iteration contracts at a nearly constant rate: the step still
                 # to come is about `predicted`, far below tol; no residual to confirm it
                 x, jac, step_size = x_try, None, chord_step
@@ -501,17 +507,15 @@ def newton(fun: System, x0: ArrayLike, options: NewtonOptions | None = None,
         # backtracking with the row scales of x frozen
         newton_step = step_norm_(delta, x)
         small = criterion == "step" and newton_step < tol
+        predicted = _prediction(newton_step, last_step, chord_rate)
         if (predict_newton and predict > 0.0 and criterion == "step" and last_full
-                and newton_step < stall_level and newton_step <= chord_rate * last_step
-                and newton_step * newton_step / last_step < predict * tol):
+                and newton_step < stall_level and predicted < predict * tol):
             x_try = update_(x, delta)
             if bool(np.all(np.isfinite(x_try))):
                 # the residual may be at round-off: no line search on it, no residual
-                x, jac, step_size = x_try, None, newton_step
+                x, jac, step_size, converged = x_try, None, newton_step, True
                 history.append(step_size)
-                converged = True
-                message = (f"{name} converged: Newton-predicted step "
-                           f"{newton_step * newton_step / last_step:.2e} < {predict:g} tol")
+                message = f"{name} converged: Newton-predicted step {predicted:.2e}"
                 break
         theta, accepted = 1.0, False
         x_t, r_t, jac_t = x, r, None
