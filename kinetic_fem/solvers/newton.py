@@ -143,6 +143,12 @@ def _add(x: Array, dx: Array) -> Array:
     return x + dx
 
 
+def _prediction(step: float, last_step: float, chord_rate: float) -> float:
+    """The next step a chord iteration predicts after ``step``: ``step**2 / last_step``,
+    or inf when ``step`` contracts ``last_step`` by less than ``chord_rate``."""
+    return step * step / last_step if step <= chord_rate * last_step else math.inf
+
+
 def _solve_default(jac: Jacobian, rhs: Array) -> Array:
     """``J^{-1} rhs`` by the solver that fits the Jacobian's type."""
     if isinstance(jac, np.ndarray):
@@ -254,7 +260,7 @@ class NewtonOptions:
     ----------
     tol, max_iter, criterion, norm, step_norm, update, linear_solver, row_scale, \
 column_scale, line_search, armijo, min_damping, on_failure, stall_level, factorize, \
-chord, chord_rate, predict, pseudo_time, name
+chord, chord_rate, predict, predict_newton, pseudo_time, name
         As in :func:`newton` (``tol`` required).
 
     Examples
@@ -282,6 +288,7 @@ chord, chord_rate, predict, pseudo_time, name
     chord: float = 0.0
     chord_rate: float = 0.1
     predict: float = 0.0
+    predict_newton: bool = False
     pseudo_time: PseudoTransient | None = None
     name: str = "Newton"
 
@@ -359,6 +366,14 @@ def newton(fun: System, x0: ArrayLike, options: NewtonOptions | None = None,
         stop, converged, without the residual that would confirm it (the result's
         ``residual`` is then the previous iterate's); likewise a final Newton step below
         ``tol`` without a line search.  0 (the default): off.
+    predict_newton : bool
+        With ``predict``, ``stall_level`` and ``criterion="step"``: a Newton step below
+        ``stall_level`` that contracts the previous full step by ``chord_rate`` or more
+        and whose size times that contraction (``step**2 / previous``, the chord
+        prediction) is below ``predict * tol`` is taken in full without line search or
+        residual, and the iteration stops, converged.  A line search cannot judge such a
+        step once the residual is at round-off (it backtracks on noise).  False (the
+        default): off.
     pseudo_time : PseudoTransient, optional
         Pseudo-transient globalisation in place of the line search (its docstring); the
         other options but ``step_norm``, ``update``, ``factorize``/``linear_solver``,
@@ -391,7 +406,7 @@ def newton(fun: System, x0: ArrayLike, options: NewtonOptions | None = None,
     row_scale, column_scale, line_search = o.row_scale, o.column_scale, o.line_search
     armijo, min_damping, on_failure = o.armijo, o.min_damping, o.on_failure
     stall_level, factorize, chord = o.stall_level, o.factorize, o.chord
-    chord_rate, predict = o.chord_rate, o.predict
+    chord_rate, predict, predict_newton = o.chord_rate, o.predict, o.predict_newton
     if o.pseudo_time is not None:
         return _pseudo_transient(fun, x0, o)
     _check_options(tol, max_iter, criterion, armijo, min_damping, on_failure, stall_level)
@@ -424,7 +439,7 @@ def newton(fun: System, x0: ArrayLike, options: NewtonOptions | None = None,
     converged = False
     # chord steps: the last factorisation, the scales it was made with, the last step
     factors: tuple[Callable[[Array], Array], Array | None, Array | None] | None = None
-    use_chord, last_step = False, math.inf
+    use_chord, last_step, last_full = False, math.inf, False
     while True:
         if criterion == "residual" and res < tol:
             converged = True
@@ -442,9 +457,9 @@ def newton(fun: System, x0: ArrayLike, options: NewtonOptions | None = None,
                 delta = delta * cols_f
             chord_step = step_norm_(delta, x)
             x_try = update_(x, delta)
-            predicted = chord_step * chord_step / last_step
-            if (criterion == "step" and chord_step <= chord_rate * last_step
-                    and predicted < predict * tol and bool(np.all(np.isfinite(x_try)))):
+            predicted = _prediction(chord_step, last_step, chord_rate)
+            if (criterion == "step" and predicted < predict * tol
+                    and bool(np.all(np.isfinite(x_try)))):
                 # the chord iteration contracts at a nearly constant rate: the step still
                 # to come is about `predicted`, far below tol; no residual to confirm it
                 x, jac, step_size = x_try, None, chord_step
@@ -460,7 +475,7 @@ def newton(fun: System, x0: ArrayLike, options: NewtonOptions | None = None,
                     and res_try < res):
                 x, r, jac, rows, res = x_try, r_try, None, rows_try, res_try
                 use_chord = chord_step <= chord_rate * last_step
-                step_size, last_step = chord_step, chord_step
+                step_size, last_step, last_full = chord_step, chord_step, True
                 measure = res if criterion == "residual" else step_size
                 history.append(measure)
                 logger.debug("%s %d: residual %.3e, chord step %.3e", name, it, res,
@@ -492,6 +507,16 @@ def newton(fun: System, x0: ArrayLike, options: NewtonOptions | None = None,
         # backtracking with the row scales of x frozen
         newton_step = step_norm_(delta, x)
         small = criterion == "step" and newton_step < tol
+        predicted = _prediction(newton_step, last_step, chord_rate)
+        if (predict_newton and predict > 0.0 and criterion == "step" and last_full
+                and newton_step < stall_level and predicted < predict * tol):
+            x_try = update_(x, delta)
+            if bool(np.all(np.isfinite(x_try))):
+                # the residual may be at round-off: no line search on it, no residual
+                x, jac, step_size, converged = x_try, None, newton_step, True
+                history.append(step_size)
+                message = f"{name} converged: Newton-predicted step {predicted:.2e}"
+                break
         theta, accepted = 1.0, False
         x_t, r_t, jac_t = x, r, None
         while True:
@@ -526,7 +551,7 @@ def newton(fun: System, x0: ArrayLike, options: NewtonOptions | None = None,
             break
         step_size = newton_step
         use_chord = chord > 0.0 and theta == 1.0 and newton_step < chord
-        last_step = newton_step
+        last_step, last_full = newton_step, theta == 1.0
         x_old = x
         x, r, jac = x_t, r_t, jac_t
         rows = row_scale(x) if row_scale is not None else None

@@ -674,7 +674,7 @@ def _solve(system: _System, x0: NDArray, *, tol: float, max_iter: int
                      step_norm=step_norm,
                      line_search=system.cooling, stall_level=STALL_LEVEL, factorize=factorize,
                      chord=CHORD_LEVEL, chord_rate=CHORD_RATE, predict=PREDICT_MARGIN,
-                     name="FEM mixture Newton")
+                     predict_newton=True, name="FEM mixture Newton")
     history = list(out.history)
     text = f"Newton max|du| history {['%.1e' % h for h in history]}; {n_jac} Jacobians"
     if not out.converged:

@@ -268,3 +268,32 @@ def test_pseudo_transient_reaches_the_root_of_a_stiff_system():
     assert len(steps) > 3 and steps[-1] < 1e-13
     plain = newton(fun, [0.1], tol=1e-13, max_iter=1, line_search=False)
     assert plain.x[0] > 50.0  # the undamped Newton step overshoots
+
+
+def test_predicted_newton_step_is_taken_when_the_residual_is_at_round_off():
+    """The second equation's residual (scale 1e-7) falls below the first's round-off
+    (4e-16) while its step is still 9e-10 (> tol): the line search backtracks on noise
+    and the stall rule ends 9e-10 away from the root; ``predict_newton`` takes the step,
+    whose chord prediction (9e-10**2 / 3e-3 = 3e-16) is far below tol."""
+
+    def fun(x, jacobian):
+        e = x[1] - 3.0
+        r = np.array([x[0] ** 2 - 2.0, 1e-7 * (e + 1e-4 * e * e)])
+        jac = np.array([[2.0 * x[0], 0.0], [0.0, 1e-7 * (1.0 + 2e-4 * e)]])
+        return r, jac if jacobian else None
+
+    def factorize(jac):
+        lu = scipy.linalg.lu_factor(jac)
+        return lambda b: scipy.linalg.lu_solve(lu, b)
+
+    options = NewtonOptions(tol=1e-11, criterion="step", factorize=factorize, chord=1e-3,
+                            predict=0.01, stall_level=1e-8)
+    stalled = newton(fun, [math.sqrt(2.0), 3.003], options)
+    assert stalled.converged and "stalled" in stalled.message
+    assert abs(stalled.x[1] - 3.0) > 1e-10
+    taken = newton(fun, [math.sqrt(2.0), 3.003], options, predict_newton=True)
+    assert taken.converged and "Newton-predicted" in taken.message
+    assert abs(taken.x[1] - 3.0) < 1e-15 and taken.iterations == 2
+    # the first step (no previous full step to predict from) is never taken blindly
+    first = newton(fun, [math.sqrt(2.0), 3.0 + 1e-9], options, predict_newton=True)
+    assert "Newton-predicted" not in first.message
