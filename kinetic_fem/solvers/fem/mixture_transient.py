@@ -54,7 +54,7 @@ from .mixture import (
     gaussian_variances,
 )
 from .options import EvolveOptions
-from .transient import BDF2, Level, MeshView, TransientOptions
+from .transient import BDF2, Level, MeshView, TransientOptions, factor_with_tail
 from .transient_setup import LOG_SMALLEST, SCHEMES, build_mesh, default_newton_tol, floor_log
 
 __all__ = ["MixtureBDF", "evolve_mixture_fem", "transient_meshes"]
@@ -253,16 +253,10 @@ class MixtureBDF(BDF2):
         with np.errstate(over="ignore", invalid="ignore"):
             red = (c_new * mw - h * jac) * np.exp(np.maximum(u[self.keep],
                                                              LOG_SMALLEST))[None, :]
-        if idx.size:
-            red[idx, :] = 0.0
-            red[idx, idx] = 1.0
-            red[idx, in1] = -(1.0 + coef)
-            red[idx, in2] = coef
-        if not np.all(np.isfinite(red)):
-            return None
-        lu = EquilibratedLU(red)
-        self.stats.factorisations += 1
-        self._lu = (key, lu)
+        lu = factor_with_tail(red, tail)
+        if lu is not None:
+            self.stats.factorisations += 1
+            self._lu = (key, lu)
         return lu
 
     def filtered(self, du: NDArray) -> NDArray:

@@ -100,8 +100,9 @@ from .transient_setup import (
 )
 
 __all__ = ["TransientOptions", "TransientStats", "EquilibratedLU", "log_update", "build_mesh",
-           "make_discretisation", "TimeIntegrator", "MeshView", "BDF2", "Forms", "Level",
-           "lagrange_weights", "lte_ratio", "INITIAL_FLOOR", "ConvergenceError", "floor_log"]
+           "factor_with_tail", "make_discretisation", "TimeIntegrator", "MeshView", "BDF2",
+           "Forms", "Level", "lagrange_weights", "lte_ratio", "INITIAL_FLOOR", "ConvergenceError",
+           "floor_log"]
 
 logger = logging.getLogger(__name__)
 
@@ -143,6 +144,28 @@ converged; BDF2 from the level before went on."""
 HISTORY_FLOOR = 0.3
 """With ``positive_history``: a BDF2 history term below this fraction of ``c_new m^k``
 is replaced by backward Euler's (:meth:`BDF2.history_target`)."""
+
+
+def factor_with_tail(red: NDArray, tail: tuple) -> EquilibratedLU | None:
+    """LU of a reduced step matrix whose far-tail rows are replaced by the tail closure
+    ``u[idx] = (1 + coef) u[in1] - coef u[in2]`` (in place); None if it is not finite.
+
+    Parameters
+    ----------
+    red : ndarray
+        The reduced matrix ``c_new M - h J`` (overwritten in the tail rows).
+    tail : tuple
+        ``(idx, in1, in2, coef)`` of :meth:`BDF2.tail_closure`.
+    """
+    idx, in1, in2, coef = tail
+    if idx.size:
+        red[idx, :] = 0.0
+        red[idx, idx] = 1.0
+        red[idx, in1] = -(1.0 + coef)
+        red[idx, in2] = coef
+    if not np.all(np.isfinite(red)):
+        return None
+    return EquilibratedLU(red)
 
 
 class Forms:
@@ -455,17 +478,10 @@ class BDF2(TimeIntegrator, MeshView):
         sym = self.sym
         with np.errstate(over="ignore", invalid="ignore"):
             red = sym.T @ (sym.T @ ((c_new * mw - h * jac) * np.exp(u)[None, :]).T).T
-        idx, in1, in2, coef = tail
-        if idx.size:
-            red[idx, :] = 0.0
-            red[idx, idx] = 1.0
-            red[idx, in1] = -(1.0 + coef)
-            red[idx, in2] = coef
-        if not np.all(np.isfinite(red)):
-            return None
-        lu = EquilibratedLU(np.asarray(red))
-        self.stats.factorisations += 1
-        self._lu = (key, lu)
+        lu = factor_with_tail(np.asarray(red), tail)
+        if lu is not None:
+            self.stats.factorisations += 1
+            self._lu = (key, lu)
         return lu
 
     def solve_step(self, u0: NDArray, u_start: NDArray, c_new: float, c_old: NDArray,
