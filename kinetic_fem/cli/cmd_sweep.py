@@ -173,6 +173,26 @@ def _executor(workers: int | None, scheduler: str | None,
     return pool, pool
 
 
+def _stop_workers(pool: ProcessPoolExecutor) -> None:
+    """Cancel the queued points and end the workers now (after Ctrl-C).
+
+    The workers ignore SIGINT, so a point they are computing would run on, and the
+    interpreter's exit would wait for it (once seen: a sweep that printed its interrupt
+    line and did not exit within 120 s); its result would not be stored anyway.
+
+    Parameters
+    ----------
+    pool : ProcessPoolExecutor
+        The sweep's pool (``_executor``).
+    """
+    workers = list((getattr(pool, "_processes", None) or {}).values())
+    pool.shutdown(wait=False, cancel_futures=True)
+    for proc in workers:
+        proc.terminate()
+    for proc in workers:
+        proc.join(timeout=5)
+
+
 def _settings(args: argparse.Namespace) -> dict[str, Any]:
     config = read_config(args.config) if args.config is not None else {}
     grid = dict(config.get("grid", {}))
@@ -236,8 +256,8 @@ def run(args: argparse.Namespace) -> int:
         ds = sweep(function, s["grid"], store=s["store"], executor=executor,
                    progress=args.progress or not args.quiet, **fixed, **s["options"])
     except KeyboardInterrupt:
-        if isinstance(closing, ProcessPoolExecutor):  # no wait for the queued points
-            closing.shutdown(wait=False, cancel_futures=True)
+        if isinstance(closing, ProcessPoolExecutor):
+            _stop_workers(closing)
             closing = None
         raise
     finally:
