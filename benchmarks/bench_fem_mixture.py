@@ -1,9 +1,10 @@
 """CPU time of a binary FEM mixture state against one species, and where it goes.
 
-Hard rods, alpha = 0.7, P3, the same bulk spacing in thermal velocities (0.25, the
-mixture's default; at 0.5 the heated Newton of masses 1:3 and 1:10 does not converge): the heated
-state (white noise) and the cooling state, one species (``kf.solve_heated(0.7)``,
-``kf.solve_cooling(0.7)``) against a binary mixture of identical species (x 0.5/0.5,
+Hard rods, alpha = 0.7 (then 0.5 and 0.9), P3, the same bulk spacing in thermal
+velocities (0.25, the mixture's default; at 0.5 the heated Newton of masses 1:3 and
+1:10 does not converge): the heated state (white noise) and the cooling state, one
+species (``kf.solve_heated(alpha)``, ``kf.solve_cooling(alpha)``) against a binary
+mixture of identical species (x 0.5/0.5,
 equal masses: the accuracy is the one-species one) and of masses 1:3 and 1:10.  For the mixtures
 the CPU time is split into the pair sums (``MixtureDiscretisation.collision``, with and
 without Jacobian), the start (``_start_profiles``: the one-species state of each distinct
@@ -61,49 +62,57 @@ def timed_start(record: list[float]) -> Callable[..., Any]:
     return start
 
 
-def main(spacing: float = 0.25, repeats: int = 5) -> None:
+def main(spacing: float = 0.25, repeats: int = 5, alphas: tuple[float, ...] = (0.7, 0.5, 0.9)
+         ) -> None:
     """Print the table (``repeats``: calls per state, the smallest CPU time kept)."""
     warnings.simplefilter("ignore", ResolutionWarning)
     print(f"| state | dofs | CPU s (best of {repeats}) | ratio to one species | "
           "pair sums share | start share | pair sums per solve (J + r) |")
     print("|---|---|---|---|---|---|---|")
-    for cooling in (False, True):
-        name = "cooling" if cooling else "heated"
-        solve = kf.solve_cooling if cooling else kf.solve_heated
-        one_t, one = best_cpu(partial(solve, 0.7, order=3, spacing=spacing), repeats)
-        print(f"| {name}, one species | {one.info.extra['n_dofs']} | {one_t:.3f} | 1 | | | |")
-        for masses in ((1.0, 1.0), (1.0, 3.0), (1.0, 10.0)):
-            mix = (kf.Mixture(masses, (0.5, 0.5), alpha=0.7) if cooling else
-                   kf.Mixture.white_noise(masses, (0.5, 0.5), alpha=0.7))
-            record: list[float] = []
-            jacobians: list[bool] = []
-            starts: list[float] = []
-            plain = fem_mixture.MixtureDiscretisation.collision
-            plain_start = fem_mixture._start_profiles
-            fem_mixture.MixtureDiscretisation.collision = timed_collision(record, jacobians)  # type: ignore[method-assign]
-            fem_mixture._start_profiles = timed_start(starts)
-            try:
-                solve(mix, order=3, spacing=spacing)  # numba compiles outside the record
-                for kept in (record, jacobians, starts):
-                    kept.clear()
-                total = time.process_time()
-                mix_t, state = best_cpu(partial(solve, mix, order=3, spacing=spacing),
-                                        repeats)
-            except kf.exceptions.ConvergenceError as err:
-                print(f"| {name}, binary m {masses[0]:g}:{masses[1]:g} | | failed: "
-                      f"{str(err)[:70]} | | | | |", flush=True)
-                continue
-            finally:
-                fem_mixture.MixtureDiscretisation.collision = plain  # type: ignore[method-assign]
-                fem_mixture._start_profiles = plain_start
-            total = time.process_time() - total  # the shares: of all repeats
-            share = sum(record) / total
-            start_share = sum(starts) / total
-            n_jac = sum(jacobians) / repeats
-            n_res = (len(jacobians) - sum(jacobians)) / repeats
-            print(f"| {name}, binary m {masses[0]:g}:{masses[1]:g} | "
-                  f"{state.info.extra['n_dofs']} | {mix_t:.3f} | {mix_t / one_t:.2f} | "
-                  f"{share:.0%} | {start_share:.0%} | {n_jac:g} + {n_res:g} |", flush=True)
+    for alpha in alphas:
+        for cooling in (False, True):
+            table_rows(alpha, cooling, spacing, repeats)
+
+
+def table_rows(alpha: float, cooling: bool, spacing: float, repeats: int) -> None:
+    """The rows of one restitution coefficient and problem: one species, then binary
+    mixtures of masses 1:1, 1:3 and 1:10."""
+    name = f"{'cooling' if cooling else 'heated'} alpha {alpha:g}"
+    solve = kf.solve_cooling if cooling else kf.solve_heated
+    one_t, one = best_cpu(partial(solve, alpha, order=3, spacing=spacing), repeats)
+    print(f"| {name}, one species | {one.info.extra['n_dofs']} | {one_t:.3f} | 1 | | | |")
+    for masses in ((1.0, 1.0), (1.0, 3.0), (1.0, 10.0)):
+        mix = (kf.Mixture(masses, (0.5, 0.5), alpha=alpha) if cooling else
+               kf.Mixture.white_noise(masses, (0.5, 0.5), alpha=alpha))
+        record: list[float] = []
+        jacobians: list[bool] = []
+        starts: list[float] = []
+        plain = fem_mixture.MixtureDiscretisation.collision
+        plain_start = fem_mixture._start_profiles
+        fem_mixture.MixtureDiscretisation.collision = timed_collision(record, jacobians)  # type: ignore[method-assign]
+        fem_mixture._start_profiles = timed_start(starts)
+        try:
+            solve(mix, order=3, spacing=spacing)  # numba compiles outside the record
+            for kept in (record, jacobians, starts):
+                kept.clear()
+            total = time.process_time()
+            mix_t, state = best_cpu(partial(solve, mix, order=3, spacing=spacing),
+                                    repeats)
+        except kf.exceptions.ConvergenceError as err:
+            print(f"| {name}, binary m {masses[0]:g}:{masses[1]:g} | | failed: "
+                  f"{str(err)[:70]} | | | | |", flush=True)
+            continue
+        finally:
+            fem_mixture.MixtureDiscretisation.collision = plain  # type: ignore[method-assign]
+            fem_mixture._start_profiles = plain_start
+        total = time.process_time() - total  # the shares: of all repeats
+        share = sum(record) / total
+        start_share = sum(starts) / total
+        n_jac = sum(jacobians) / repeats
+        n_res = (len(jacobians) - sum(jacobians)) / repeats
+        print(f"| {name}, binary m {masses[0]:g}:{masses[1]:g} | "
+              f"{state.info.extra['n_dofs']} | {mix_t:.3f} | {mix_t / one_t:.2f} | "
+              f"{share:.0%} | {start_share:.0%} | {n_jac:g} + {n_res:g} |", flush=True)
 
 
 if __name__ == "__main__":

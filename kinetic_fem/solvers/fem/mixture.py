@@ -109,6 +109,13 @@ DECADES = 33.0
 CUTOFF_MARGIN = 2.0
 """Thermal velocities added to that cut-off (the gain lifts the tail above
 :math:`e^{-S}`)."""
+COOLING_MARGIN_DECADES = 3.0
+"""In free cooling with a growing kernel (:math:`B(g) \\sim g^p`, p > 0) the margin is
+these decades of the start instead of :data:`CUTOFF_MARGIN` thermal velocities.  The
+scaled state's tail falls by about :math:`1/\\zeta` e-folds per velocity unit, so that two
+thermal velocities were 9 decades at alpha 0.9 (identical species: f 1e-45 at the
+edge, where Newton stagnated for 40 iterations before the trimmed restart: 7.7 s, now
+0.44 s against 0.16 s for one species; ``benchmarks/results/fem_mixture_cost.md``)."""
 TAIL_FLOOR = 1e-30
 """:math:`f_s(V)\\sigma_s` at the cut-off must be below this (else the interval widens)."""
 MAX_WIDENINGS = 4
@@ -119,6 +126,11 @@ START_SPACING = 0.25
 mesh cost 2.5 - 3 one-species states at this spacing; at 0.5 its far tail is off by
 30 decades, f 5e-64 at the cut-off, and the mixture's Newton wandered); the states equal to 1.2e-15
 (``benchmarks/results/fem_mixture_cost.md``)."""
+START_EPS = 0.05
+"""The cooling start is solved on that P3 mesh down to this inelasticity (the default
+one-species mesh follows the near-elastic humps below ``HUMP_EPS`` = 0.1: measured at
+alpha 0.9, 0.93, 0.95, the P3 state in 0.21, 0.24, 0.29 s against 0.42, 0.36, 0.42 s,
+zeta equal to 3e-9; at alpha 0.97 the P3 Newton fails)."""
 HEATED_START_SPACING = 0.4
 """The same for the heated start (0.04 s against 0.1 - 0.15 s on the default mesh)."""
 COOLING_MONITOR_LOG_F = math.log(1e-25)
@@ -138,6 +150,26 @@ directly (not a step of the continuation) is trimmed the same way (measured: har
 1:10 alpha 0.5, residual 4e-17 with steps 3e-4 at the monitor's edge, c = 21, for 36
 iterations on cut-offs of 36 thermal velocities, :math:`f_s\\sigma_s \\sim 10^{-46}` at the
 light species' edge)."""
+STAGNATION_STEPS = 2
+STAGNATION_LEVEL = 1e-2
+STAGNATION_RATIO = 0.5
+"""Newton stops, not converged, once its last ``STAGNATION_STEPS`` step sizes are each below
+``STAGNATION_LEVEL`` (and above the round-off stall level, 1e-8, where the driver's stall
+rule judges) and at least ``STAGNATION_RATIO`` times the one before: where Newton
+converges its steps there contract quadratically, and a run of steps that do not is the
+near-null mode of a mesh reaching too far into the tail (:data:`TRIM_LEVEL`), which the
+remaining iterations do not fix (measured: hard rods m 1:1 alpha 0.9, steps 2.8e-6,
+2.3e-5, 3.8e-4, then 1.1e-6 for 30 iterations at a residual of 3e-17; m 1:10 alpha 0.5,
+2.7e-4 for 36).  The trimmed meshes are then tried at once instead of after
+``max_iter`` Jacobians."""
+WANDER_STEPS = 8
+"""Newton also stops, not converged, when none of its first ``WANDER_STEPS`` steps is
+below 1 (in ln f where it is measured): it wanders from a start far from the state and
+the next start (or the trimmed meshes) is tried at once (measured: the heated hard-rod
+mixture m 1:10 at alpha 0.9 from the one-species start, steps 9.3e8, 6.5e4, 1e4, ... for
+40 iterations, then 40 more on the trimmed meshes, before the Gaussian start converged
+in 6; every converging run of ``benchmarks/results/fem_mixture_cost.md`` took a step
+below 1 by its fourth)."""
 CONTINUATION_TOL = 1e-6
 """Newton tolerance of the intermediate states of the cooling continuation."""
 MIN_CONTINUATION_STEP = 1.0 / 256.0
@@ -425,15 +457,16 @@ def _one_species_heated(alpha: float, density: float, diffusion: float, friction
     """The one-species heated state of the start: as :func:`_one_species_cooling`, out to
     :data:`CUTOFF_MARGIN` + 1 thermal velocities beyond the default cut-off
     (:func:`~kinetic_fem.solvers.fem.defaults.model_cutoff`) for
-    :math:`1 - \\alpha \\ge` ``HUMP_EPS``; else, or if that fails, the default state."""
+    :math:`1 - \\alpha \\ge` :data:`START_EPS`; else, or if that fails, the default state
+    (measured at alpha 0.9, 0.93, 0.95: 0.04 s against 0.12 - 0.16 s, <v^2> equal to
+    6e-9; at 0.97 the P3 mesh at spacing 0.4 is refused as too coarse)."""
     from ...model import HeatedProblem
     from ...solve import solve_heated
-    from .cooling_links import HUMP_EPS
     from .defaults import model_cutoff, scaled_model
 
     options = {"density": density, "diffusion": diffusion, "friction": friction,
                "kernel": kernel}
-    if 1.0 - alpha >= HUMP_EPS:
+    if 1.0 - alpha >= START_EPS:
         problem = HeatedProblem.from_parameters(alpha, **options)
         try:
             return solve_heated(alpha, order=START_ORDER, spacing=HEATED_START_SPACING,
@@ -449,16 +482,15 @@ def _one_species_cooling(alpha: float, kernel: Any) -> VelocityDistribution:
     """The one-species cooling state of the start: P3 at :data:`START_SPACING` out to
     :data:`CUTOFF_MARGIN` + 1 thermal velocities beyond the default cut-off (the start's
     33 decades and the margin of the mixture's cut-off inside the solved interval, no
-    extrapolation), where the default mesh is not the near-elastic one (and the kernel
-    not the Maxwell one, whose default mesh carries the tail closure); else, or if that
+    extrapolation), for inelasticities down to :data:`START_EPS` (and a kernel other than
+    the Maxwell one, whose default mesh carries the tail closure); else, or if that
     solve fails, the default one-species state."""
     from ...model import CoolingProblem
     from ...solve import solve_cooling
-    from .cooling_links import HUMP_EPS
     from .cooling_mesh import hcs_cutoff
 
     problem = CoolingProblem.from_parameters(alpha, kernel=kernel)
-    if problem.gas.gamma > 0.0 and problem.gas.epsilon >= HUMP_EPS:
+    if problem.gas.gamma > 0.0 and problem.gas.epsilon >= START_EPS:
         try:
             return solve_cooling(alpha, kernel=kernel, order=START_ORDER, spacing=START_SPACING,
                                  cutoff=hcs_cutoff(problem) + CUTOFF_MARGIN + 1.0)
@@ -496,6 +528,16 @@ def mixture_meshes(mixture: Mixture, variances: Sequence[float] | NDArray,
         sigma = math.sqrt(var)
         out.append(sigma * graded_vertices(cut / sigma, spacing, grading=max(grading, 0.0)))
     return tuple(out)
+
+
+def _gaussian_zeta(mixture: Mixture, density: float) -> float:
+    """The cooling rate of the Gaussian theory (0.25 if it has no solution)."""
+    from .. import mixture_gaussian
+
+    try:
+        return float(mixture_gaussian.cooling_state(mixture, density=density).zeta or 0.25)
+    except (ConvergenceError, ValueError):  # pragma: no cover - fallback
+        return 0.25
 
 
 def gaussian_variances(mixture: Mixture, density: float, cooling: bool) -> NDArray[np.float64]:
@@ -654,6 +696,8 @@ def _solve(system: _System, x0: NDArray, *, tol: float, max_iter: int
         return EquilibratedLU(jac).solve
 
     monitor = COOLING_MONITOR_LOG_F if system.cooling else MONITOR_LOG_F
+    sizes: list[float] = []
+    last = [x0]
 
     def step_norm(d: NDArray, x: NDArray) -> float:
         # where f > 1e-40 (and zeta, relative): the far edge of the cooling state carries
@@ -666,23 +710,56 @@ def _solve(system: _System, x0: NDArray, *, tol: float, max_iter: int
             size = max(size, abs(float(d[-1])) / max(abs(float(x[-1])), 1e-300))
         # the next call is the trial of this step (a Newton or a chord step)
         speculate = system.cooling and CHORD_LEVEL <= size < math.inf
+        if sizes and x is last[0]:  # a failed chord step, then Newton's from the same x
+            sizes[-1] = size
+        else:
+            sizes.append(size)
+        last[0] = x
+        if _stagnated(sizes):
+            raise _Stagnation
         return size
 
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
-        out = newton(fun, x0, tol=tol, max_iter=max_iter, criterion="step", update=update,
-                     step_norm=step_norm,
-                     line_search=system.cooling, stall_level=STALL_LEVEL, factorize=factorize,
-                     chord=CHORD_LEVEL, chord_rate=CHORD_RATE, predict=PREDICT_MARGIN,
-                     predict_newton=True, name="FEM mixture Newton")
-    history = list(out.history)
-    text = f"Newton max|du| history {['%.1e' % h for h in history]}; {n_jac} Jacobians"
-    if not out.converged:
-        text = f"{out.message}; {text}"
-    info = RunInfo(converged=out.converged, iterations=out.iterations,
-                   residual=history[-1] if history else math.inf,
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
+            out = newton(fun, x0, tol=tol, max_iter=max_iter, criterion="step",
+                         update=update, step_norm=step_norm, line_search=system.cooling,
+                         stall_level=STALL_LEVEL, factorize=factorize, chord=CHORD_LEVEL,
+                         chord_rate=CHORD_RATE, predict=PREDICT_MARGIN, predict_newton=True,
+                         name="FEM mixture Newton")
+    except _Stagnation:
+        text = (f"FEM mixture Newton stopped: no step below 1 in {WANDER_STEPS}"
+                if min(sizes) > 1.0 else
+                f"FEM mixture Newton stagnated: the last {STAGNATION_STEPS} steps below "
+                f"{STAGNATION_LEVEL:g} did not contract")
+        converged, iterations, x_out = False, len(sizes), last[0]
+    else:
+        text = "" if out.converged else out.message
+        converged, iterations, x_out = out.converged, out.iterations, out.x
+        sizes = list(out.history)
+    history = f"Newton max|du| history {['%.1e' % h for h in sizes]}; {n_jac} Jacobians"
+    text = f"{text}; {history}" if text else history
+    info = RunInfo(converged=converged, iterations=iterations,
+                   residual=sizes[-1] if sizes else math.inf,
                    wall_time=time.perf_counter() - start, message=text)
-    return out.x, info
+    return x_out, info
+
+
+class _Stagnation(Exception):
+    """Raised by the step measure of :func:`_solve` when Newton stagnates."""
+
+
+def _stagnated(sizes: Sequence[float]) -> bool:
+    """The last :data:`STAGNATION_STEPS` steps, all below :data:`STAGNATION_LEVEL`, each
+    at least :data:`STAGNATION_RATIO` times the one before (no Newton contraction), or
+    no step below 1 in the first :data:`WANDER_STEPS`."""
+    if len(sizes) >= WANDER_STEPS and min(sizes) > 1.0:
+        return True
+    if len(sizes) <= STAGNATION_STEPS:
+        return False
+    tail = sizes[-STAGNATION_STEPS - 1:]
+    return all(STALL_LEVEL <= b < STAGNATION_LEVEL and b >= STAGNATION_RATIO * a
+               for a, b in zip(tail[:-1], tail[1:], strict=False))
 
 
 def check_mixture_vertices(vertices: object, k: int) -> tuple[NDArray[np.float64], ...]:
@@ -767,8 +844,11 @@ def _solve_state(mixture: Mixture, density: float, cooling: bool, *, order: int,
                  one_species: bool = True) -> MixtureState:
     cpu = time.process_time()
     k = mixture.n_species
+    zeta0 = None
     if start is None:
         variances = gaussian_variances(mixture, density, cooling)
+        if cooling:
+            zeta0 = _gaussian_zeta(mixture, density)
         profiles = _start_profiles(mixture, density, variances, cooling, one_species)
     else:
         variances, profiles = _profiles_of(start)
@@ -780,10 +860,14 @@ def _solve_state(mixture: Mixture, density: float, cooling: bool, *, order: int,
             cuts = [check_positive("cutoff", cutoff) * math.sqrt(v) for v in variances]
         else:
             cuts = []
+            # an exponential cooling tail: the margin in decades (a power law: in velocities)
+            steep = cooling and mixture.collision_kernel.tail_growth[1] > 0.0
+            decades = DECADES + COOLING_MARGIN_DECADES if steep else DECADES
+            margin = 0.0 if steep else CUTOFF_MARGIN
             for (v, log_f), var in zip(profiles, variances, strict=True):
-                below = np.flatnonzero(log_f - log_f[0] < -DECADES * math.log(10.0))
+                below = np.flatnonzero(log_f - log_f[0] < -decades * math.log(10.0))
                 reach = v[below[0]] if below.size else v[-1]
-                cuts.append(float(reach) + CUTOFF_MARGIN * math.sqrt(var))
+                cuts.append(float(reach) + margin * math.sqrt(var))
         verts = mixture_meshes(mixture, variances, cuts, spacing=spacing)
     mdisc = MixtureDiscretisation(mixture, verts, density, order)
     us0 = [np.interp(np.abs(d.dof_locations), v, lf) for d, (v, lf) in
@@ -792,13 +876,6 @@ def _solve_state(mixture: Mixture, density: float, cooling: bool, *, order: int,
     if cooling and start is not None:
         x0 = np.concatenate([x0, [start.zeta]])
     elif cooling:
-        from .. import mixture_gaussian
-
-        try:
-            zeta0 = float(mixture_gaussian.cooling_state(mixture, density=density).zeta
-                          or 0.25)
-        except (ConvergenceError, ValueError):  # pragma: no cover - fallback
-            zeta0 = 0.25
         x0 = np.concatenate([x0, [zeta0]])
     system = _System(mdisc, cooling)
     trimmed = False
@@ -811,7 +888,7 @@ def _solve_state(mixture: Mixture, density: float, cooling: bool, *, order: int,
                 else _trimmed_cutoffs(mdisc, us)
             if trim is None:
                 raise ConvergenceError(f"the FEM mixture Newton did not converge in "
-                                       f"{max_iter} iterations ({info.message}); refine the "
+                                       f"{info.iterations} iterations ({info.message}); refine the "
                                        "mesh (spacing) or increase max_iter")
             logger.info("Newton failed (%s); cut-offs trimmed to %s", info.message, trim)
             trimmed = True

@@ -212,3 +212,30 @@ def test_self_pairs_by_the_one_species_kernel_equal_the_cross_kernel(order, gamm
         assert np.max(np.abs(res - r_o - r_i)) < 1e-13 * np.max(np.abs(res))
         assert np.max(np.abs(jac - full)) < 1e-13 * np.max(np.abs(jac))
         assert fast_loss == pytest.approx(loss, rel=1e-13)
+
+
+def test_near_elastic_cooling_mixture_needs_no_trimmed_restart(caplog):
+    """Identical hard rods at alpha 0.9 (the start's tail falls 10 e-folds per thermal
+    velocity): the default cut-offs end 3 decades past the start's 33 (not 2 thermal
+    velocities, 9 decades, where Newton stagnated for 40 iterations before the trimmed
+    restart, 8 s), Newton converges at once, and zeta is the one-species one (measured
+    6.4e-11 relative: the cut-offs at 10.9 against 13.5 thermal velocities)."""
+    mix = kf.Mixture((1.0, 1.0), (0.5, 0.5), alpha=0.9)
+    with caplog.at_level("INFO", logger="kinetic_fem.solvers.fem.mixture"):
+        state = kf.solve_cooling(mix)
+    assert not [r for r in caplog.records if "Newton failed" in r.getMessage()]
+    one = kf.solve_cooling(0.9, order=3, spacing=0.25)
+    assert state.zeta == pytest.approx(one.info.extra["zeta"], rel=1e-9)
+
+
+@pytest.mark.slow
+def test_stagnating_cooling_newton_stops_early():
+    """On a mesh reaching far below the tail's 1e-40 (alpha 0.9, 13 thermal velocities,
+    f ~ 1e-48 at the edge) the cooling Newton's steps stop contracting at ~1e-7 with the
+    residual at round-off; it stops after two such steps and says so (it took the 40
+    iterations of ``max_iter`` before), and with the cut-off fixed by the caller that is
+    the error (after the continuation from identical species, which stagnates too).
+    Slow: 6.6 s."""
+    mix = kf.Mixture((1.0, 1.0), (0.5, 0.5), alpha=0.9)
+    with pytest.raises(kf.exceptions.ConvergenceError, match="stagnated"):
+        fem_mixture.solve_mixture_cooling(mix, cutoff=13.0)
