@@ -109,13 +109,19 @@ DECADES = 33.0
 CUTOFF_MARGIN = 2.0
 """Thermal velocities added to that cut-off (the gain lifts the tail above
 :math:`e^{-S}`)."""
-COOLING_MARGIN_DECADES = 3.0
+COOLING_MARGIN_DECADES = 5.0
 """In free cooling with a growing kernel (:math:`B(g) \\sim g^p`, p > 0) the margin is
 these decades of the start instead of :data:`CUTOFF_MARGIN` thermal velocities.  The
 scaled state's tail falls by about :math:`1/\\zeta` e-folds per velocity unit, so that two
 thermal velocities were 9 decades at alpha 0.9 (identical species: f 1e-45 at the
-edge, where Newton stagnated for 40 iterations before the trimmed restart: 7.7 s, now
-0.44 s against 0.16 s for one species; ``benchmarks/results/fem_mixture_cost.md``)."""
+edge, where Newton stagnated for 40 iterations before the trimmed restart: 8 s) and 15
+for the light species of masses 1:10 at alpha 0.5 (25 s).  With 3 decades the heavy
+species of masses 1:5 (x 0.3/0.7, alpha 0.8) fell short, widened, and Newton diverged
+on the wider mesh; with 5 it converges at once.  Only from the P3 starts
+(:data:`START_EPS`): the near-elastic ones continue their tails from the humps' steep
+edge, and 38 decades of them fell 20 decades short (hard rods alpha 0.95, m 1:2, x
+0.3/0.7: edges 6e-18, two widenings, then Newton stagnated).  Measured before and after in
+``benchmarks/results/fem_mixture_cost.md``."""
 TAIL_FLOOR = 1e-30
 """:math:`f_s(V)\\sigma_s` at the cut-off must be below this (else the interval widens)."""
 MAX_WIDENINGS = 4
@@ -126,11 +132,13 @@ START_SPACING = 0.25
 mesh cost 2.5 - 3 one-species states at this spacing; at 0.5 its far tail is off by
 30 decades, f 5e-64 at the cut-off, and the mixture's Newton wandered); the states equal to 1.2e-15
 (``benchmarks/results/fem_mixture_cost.md``)."""
-START_EPS = 0.05
-"""The cooling start is solved on that P3 mesh down to this inelasticity (the default
-one-species mesh follows the near-elastic humps below ``HUMP_EPS`` = 0.1: measured at
-alpha 0.9, 0.93, 0.95, the P3 state in 0.21, 0.24, 0.29 s against 0.42, 0.36, 0.42 s,
-zeta equal to 3e-9; at alpha 0.97 the P3 Newton fails)."""
+START_EPS = 0.1 - 1e-12
+"""The starts are solved on those P3 meshes down to this inelasticity: the near-elastic
+default one-species meshes begin at ``HUMP_EPS`` = 0.1, which alpha = 0.9 missed by
+round-off (1 - 0.9 = 0.09999999999999998) and so took the near-elastic path (cooling:
+0.42 s against 0.21 s, zeta equal to 3e-9; heated 0.12 s against 0.04 s).  Below it
+the P3 start diverged in the mixture's first Newton step (hard rods alpha 0.95, m 1:2,
+x 0.3/0.7, ``inf`` step; the near-elastic start converges)."""
 HEATED_START_SPACING = 0.4
 """The same for the heated start (0.04 s against 0.1 - 0.15 s on the default mesh)."""
 COOLING_MONITOR_LOG_F = math.log(1e-25)
@@ -150,18 +158,20 @@ directly (not a step of the continuation) is trimmed the same way (measured: har
 1:10 alpha 0.5, residual 4e-17 with steps 3e-4 at the monitor's edge, c = 21, for 36
 iterations on cut-offs of 36 thermal velocities, :math:`f_s\\sigma_s \\sim 10^{-46}` at the
 light species' edge)."""
-STAGNATION_STEPS = 2
+STAGNATION_STEPS = 3
 STAGNATION_LEVEL = 1e-2
 STAGNATION_RATIO = 0.5
 """Newton stops, not converged, once its last ``STAGNATION_STEPS`` step sizes are each below
 ``STAGNATION_LEVEL`` (and above the round-off stall level, 1e-8, where the driver's stall
-rule judges) and at least ``STAGNATION_RATIO`` times the one before: where Newton
-converges its steps there contract quadratically, and a run of steps that do not is the
+rule judges) and within a factor ``1/STAGNATION_RATIO`` of the one before: where Newton
+converges its steps there contract quadratically, and a run of flat steps is the
 near-null mode of a mesh reaching too far into the tail (:data:`TRIM_LEVEL`), which the
 remaining iterations do not fix (measured: hard rods m 1:1 alpha 0.9, steps 2.8e-6,
 2.3e-5, 3.8e-4, then 1.1e-6 for 30 iterations at a residual of 3e-17; m 1:10 alpha 0.5,
-2.7e-4 for 36).  The trimmed meshes are then tried at once instead of after
-``max_iter`` Jacobians."""
+2.7e-4 for 36).  A converging Newton may take one flat step (hard rods m 1:2, x 0.3/0.7,
+alpha 0.95: 2.7e-6, 2.0e-6, 4.2e-12), hence three; growing steps are left to the line
+search.  The trimmed meshes are then tried at once instead of after ``max_iter``
+Jacobians."""
 WANDER_STEPS = 8
 """Newton also stops, not converged, when none of its first ``WANDER_STEPS`` steps is
 below 1 (in ln f where it is measured): it wanders from a start far from the state and
@@ -458,8 +468,7 @@ def _one_species_heated(alpha: float, density: float, diffusion: float, friction
     :data:`CUTOFF_MARGIN` + 1 thermal velocities beyond the default cut-off
     (:func:`~kinetic_fem.solvers.fem.defaults.model_cutoff`) for
     :math:`1 - \\alpha \\ge` :data:`START_EPS`; else, or if that fails, the default state
-    (measured at alpha 0.9, 0.93, 0.95: 0.04 s against 0.12 - 0.16 s, <v^2> equal to
-    6e-9; at 0.97 the P3 mesh at spacing 0.4 is refused as too coarse)."""
+    (measured at alpha 0.9: 0.04 s against 0.12 s, <v^2> equal to 6e-9)."""
     from ...model import HeatedProblem
     from ...solve import solve_heated
     from .defaults import model_cutoff, scaled_model
@@ -758,7 +767,8 @@ def _stagnated(sizes: Sequence[float]) -> bool:
     if len(sizes) <= STAGNATION_STEPS:
         return False
     tail = sizes[-STAGNATION_STEPS - 1:]
-    return all(STALL_LEVEL <= b < STAGNATION_LEVEL and b >= STAGNATION_RATIO * a
+    return all(STALL_LEVEL <= b < STAGNATION_LEVEL
+               and STAGNATION_RATIO * a <= b <= a / STAGNATION_RATIO
                for a, b in zip(tail[:-1], tail[1:], strict=False))
 
 
@@ -860,8 +870,11 @@ def _solve_state(mixture: Mixture, density: float, cooling: bool, *, order: int,
             cuts = [check_positive("cutoff", cutoff) * math.sqrt(v) for v in variances]
         else:
             cuts = []
-            # an exponential cooling tail: the margin in decades (a power law: in velocities)
-            steep = cooling and mixture.collision_kernel.tail_growth[1] > 0.0
+            # an exponential cooling tail from the P3 starts: the margin in decades (a power
+            # law, or the near-elastic starts' tails continued from the humps' steep edge:
+            # in velocities)
+            steep = (cooling and mixture.collision_kernel.tail_growth[1] > 0.0
+                     and float(np.min(1.0 - np.diag(mixture.constant_alpha()))) >= START_EPS)
             decades = DECADES + COOLING_MARGIN_DECADES if steep else DECADES
             margin = 0.0 if steep else CUTOFF_MARGIN
             for (v, log_f), var in zip(profiles, variances, strict=True):
