@@ -80,6 +80,7 @@ from ...operators.fem_transport import TransportArrays
 from ...solve import register_solver
 from ..newton import newton
 from .cooling_forms import cooling_forms
+from .cooling_mesh import BULK_EPS
 from .cooling_newton import MONITOR_LOG_F
 from .grading import graded_vertices
 from .newton import (
@@ -141,11 +142,19 @@ the P3 start diverged in the mixture's first Newton step (hard rods alpha 0.95, 
 x 0.3/0.7, ``inf`` step; the near-elastic start converges)."""
 HEATED_START_SPACING = 0.4
 """The same for the heated start (0.04 s against 0.1 - 0.15 s on the default mesh)."""
-COOLING_MONITOR_LOG_F = math.log(1e-25)
-"""The cooling state's Newton step is measured where :math:`f_s > 10^{-25}` (and on
+COOLING_MONITOR_LOG_F = math.log(1e-15)
+"""The cooling state's Newton step is measured where :math:`f_s > 10^{-15}` (and on
 :math:`\\zeta`): with the outflow at the cut-offs the drift-dominated outer decades carry
 near-null modes of the Jacobian whose steps stay of order one at residuals of 1e-17
-(measured, m 1:3 hard rods), changing nothing where f is above them."""
+(measured, m 1:3 hard rods), changing nothing where f is above them.  It was
+:math:`10^{-25}`; on the meshes graded like the one-species ones (:func:`mixture_meshes`)
+the modes reach :math:`10^{-25}` (hard rods m 1:10 alpha 0.5: steps halving from 1.5e-7
+to 1.9e-8 at c = 20, f = 1e-25, then flat, 10 Jacobians and the trimmed restart; with
+:math:`10^{-15}` 4 Jacobians on the first meshes).  Where f is below the monitor the
+tail is the one-species one's accuracy: ln f against spacing 0.125 within 4.5e-5 to
+2.5e-4 where f > 1e-15 and 4e-4 to 1.5e-3 where f > 1e-25 (hard rods, alpha 0.5 and 0.7,
+m 1:3 and 1:10; one species 2.9e-5 to 1.2e-4 and 3e-4 to 1.1e-3); T_s and zeta moved by
+at most 3e-11 (``benchmarks/results/fem_mixture_cost.md``)."""
 TRIM_LEVEL = 1e-33
 """When the heated state's Newton fails on the default meshes, each mesh is cut where the
 last iterate's :math:`f_s\\sigma_s` falls below this and Newton restarts from that iterate
@@ -513,8 +522,17 @@ def _one_species_cooling(alpha: float, kernel: Any) -> VelocityDistribution:
 
 def mixture_meshes(mixture: Mixture, variances: Sequence[float] | NDArray,
                    cutoffs: Sequence[float],
-                   *, spacing: float = DEFAULT_SPACING) -> tuple[NDArray[np.float64], ...]:
+                   *, spacing: float = DEFAULT_SPACING, cooling: bool = False
+                   ) -> tuple[NDArray[np.float64], ...]:
     """Symmetric meshes, graded in each species' thermal velocity.
+
+    The element size grows as :math:`\\max(1, c/3)^\\kappa` with :math:`\\kappa = (3 - p)/3`
+    for a tail :math:`\\ln f \\sim -c^p` (the P2 error, :math:`h^3` times the third
+    derivative of :math:`\\ln f`, even in the tail): :math:`p = 1 + \\gamma/2` for the heated
+    state of a kernel growing as :math:`g^\\gamma`.  The cooling state's tail
+    :math:`p = \\gamma` (the one-species rule,
+    :func:`~kinetic_fem.solvers.fem.cooling_mesh.hcs_vertices`) is used down to the
+    inelasticity :data:`~kinetic_fem.solvers.fem.cooling_mesh.BULK_EPS` of every species.
 
     Parameters
     ----------
@@ -526,6 +544,8 @@ def mixture_meshes(mixture: Mixture, variances: Sequence[float] | NDArray,
         Half-widths :math:`V_s` (physical velocities).
     spacing : float
         Bulk element size in thermal velocities.
+    cooling : bool
+        The meshes of the cooling state.
 
     Returns
     -------
@@ -533,7 +553,9 @@ def mixture_meshes(mixture: Mixture, variances: Sequence[float] | NDArray,
     """
     check_positive("spacing", spacing)
     growth = mixture.collision_kernel.tail_growth[1]
-    grading = (3.0 - (1.0 + 0.5 * growth)) / 3.0
+    steep = (cooling and growth > 0.0
+             and float(np.min(1.0 - np.diag(mixture.constant_alpha()))) >= BULK_EPS)
+    grading = (3.0 - (growth if steep else 1.0 + 0.5 * growth)) / 3.0
     out = []
     for var, cut in zip(variances, cutoffs, strict=True):
         sigma = math.sqrt(var)
@@ -883,7 +905,7 @@ def _solve_state(mixture: Mixture, density: float, cooling: bool, *, order: int,
                 below = np.flatnonzero(log_f - log_f[0] < -decades * math.log(10.0))
                 reach = v[below[0]] if below.size else v[-1]
                 cuts.append(float(reach) + margin * math.sqrt(var))
-        verts = mixture_meshes(mixture, variances, cuts, spacing=spacing)
+        verts = mixture_meshes(mixture, variances, cuts, spacing=spacing, cooling=cooling)
     mdisc = MixtureDiscretisation(mixture, verts, density, order)
     us0 = [np.interp(np.abs(d.dof_locations), v, lf) for d, (v, lf) in
            zip(mdisc.discs, profiles, strict=True)]
@@ -909,7 +931,7 @@ def _solve_state(mixture: Mixture, density: float, cooling: bool, *, order: int,
                                        "mesh (spacing) or increase max_iter")
             logger.info("Newton failed (%s); cut-offs trimmed to %s", info.message, trim)
             trimmed = True
-            mdisc, x0 = _remeshed(mdisc, us, trim, spacing, x[mdisc.offsets[-1]:])
+            mdisc, x0 = _remeshed(mdisc, us, trim, spacing, x[mdisc.offsets[-1]:], cooling)
             system = _System(mdisc, cooling)
             continue
         edges = _edges(mdisc, us)
@@ -919,7 +941,7 @@ def _solve_state(mixture: Mixture, density: float, cooling: bool, *, order: int,
         logger.info("f_s sigma_s = %s at the cut-offs; widening", edges)
         grow = [1.15 if e >= TAIL_FLOOR else 1.0 for e in edges]
         cuts = [float(v[-1]) * g for v, g in zip(mdisc.vertices, grow, strict=True)]
-        mdisc, x0 = _remeshed(mdisc, us, cuts, spacing, x[mdisc.offsets[-1]:])
+        mdisc, x0 = _remeshed(mdisc, us, cuts, spacing, x[mdisc.offsets[-1]:], cooling)
         system = _System(mdisc, cooling)
     if max(edges) >= TAIL_FLOOR:
         warnings.warn(f"f_s sigma_s = {max(edges):.2e} at a cut-off is above {TAIL_FLOOR}: "
@@ -935,11 +957,12 @@ def _variance(disc: FEMDiscretisation, u: NDArray) -> float:
 
 
 def _remeshed(mdisc: MixtureDiscretisation, us: Sequence[NDArray], cuts: Sequence[float],
-              spacing: float, tail: NDArray) -> tuple[MixtureDiscretisation, NDArray]:
+              spacing: float, tail: NDArray, cooling: bool
+              ) -> tuple[MixtureDiscretisation, NDArray]:
     """New meshes with the cut-offs ``cuts`` (graded on the variances of ``us``) and the
     stacked start on them (``us`` carried over by :func:`_extend`, ``tail`` appended)."""
     variances = np.array([_variance(d, u) for d, u in zip(mdisc.discs, us, strict=True)])
-    verts = mixture_meshes(mdisc.mixture, variances, cuts, spacing=spacing)
+    verts = mixture_meshes(mdisc.mixture, variances, cuts, spacing=spacing, cooling=cooling)
     new = MixtureDiscretisation(mdisc.mixture, verts, mdisc.density, mdisc.order)
     us0 = [_extend(old, u, d) for old, u, d in zip(mdisc.discs, us, new.discs, strict=True)]
     return new, np.concatenate([new.stack(us0), tail])
