@@ -43,7 +43,10 @@ with one common cooling rate :math:`\\zeta` (:math:`dT/dt = -2\\zeta n T^{1+\\ga
 the unknowns are the :math:`u_s` and :math:`\\zeta`, the equations those above with
 :math:`\\int P_s = 1` for each species and :math:`T = 1` (homogeneous kernels
 :math:`|g|^\\gamma` only: the scaling state needs :math:`B(\\lambda g) = \\lambda^\\gamma
-B(g)`).
+B(g)`).  The meshes end where the one-species start has fallen 38 decades and, for
+inelasticities of at least 0.2, grade the tail as the one-species HCS meshes do
+(:func:`mixture_meshes`); Newton's step is measured where :math:`f_s > 10^{-15}`
+(:data:`COOLING_MONITOR_LOG_F`; heated: :math:`10^{-30}`, :data:`HEATED_MONITOR_LOG_F`).
 
 Constant restitution per pair and kernels with a compiled rate (power laws, the
 saturating kernel; the cooling state power laws) only; a restitution law raises
@@ -58,7 +61,7 @@ import time
 import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
-from functools import cached_property
+from functools import cached_property, lru_cache
 from typing import Any
 
 import numpy as np
@@ -140,6 +143,11 @@ round-off (1 - 0.9 = 0.09999999999999998) and so took the near-elastic path (coo
 the P3 start diverged in the mixture's first Newton step (hard rods alpha 0.95, m 1:2,
 x 0.3/0.7, ``inf`` step; the near-elastic start converges)."""
 HEATED_START_SPACING = 0.4
+START_CACHE = 64
+"""The one-species states of the starts are kept for this many (restitution, thermostat,
+kernel) combinations: a sweep over masses or fractions at one restitution coefficient
+solves its start once (13-70 % of a binary state's CPU time,
+``benchmarks/results/fem_mixture_cost.md``).  They are read, never changed."""
 """The same for the heated start (0.04 s against 0.1 - 0.15 s on the default mesh)."""
 COOLING_MONITOR_LOG_F = math.log(1e-15)
 """The cooling state's Newton step is measured where :math:`f_s > 10^{-15}` (and on
@@ -481,6 +489,7 @@ def _start_profiles(mixture: Mixture, density: float, variances: NDArray, coolin
     return out
 
 
+@lru_cache(maxsize=START_CACHE)
 def _one_species_heated(alpha: float, density: float, diffusion: float, friction: float,
                         kernel: Any) -> VelocityDistribution:
     """The one-species heated state of the start: as :func:`_one_species_cooling`, out to
@@ -506,6 +515,7 @@ def _one_species_heated(alpha: float, density: float, diffusion: float, friction
     return solve_heated(alpha, **options)
 
 
+@lru_cache(maxsize=START_CACHE)
 def _one_species_cooling(alpha: float, kernel: Any) -> VelocityDistribution:
     """The one-species cooling state of the start: P3 at :data:`START_SPACING` out to
     :data:`CUTOFF_MARGIN` + 1 thermal velocities beyond the default cut-off (the start's

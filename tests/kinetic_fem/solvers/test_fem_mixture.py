@@ -249,3 +249,24 @@ def test_cooling_mixture_meshes_are_graded_like_one_species(caplog):
         mix, [1.0, 1.0], [30.0, 30.0], spacing=0.25, cooling=True)
     assert cooling_grading[0].size < heated_grading[0].size
     assert state.temperature_ratio() == pytest.approx(0.2289312705819, rel=1e-9)
+
+
+def test_one_species_start_is_solved_once_per_restitution_coefficient():
+    """A sweep over masses at one alpha solves the one-species start once (kept by
+    ``START_CACHE``), and a state from the kept start is the state from a fresh one bit
+    for bit (the start is read, never changed)."""
+    fem_mixture._one_species_heated.cache_clear()
+    first = kf.solve_heated(kf.Mixture.white_noise((1.0, 3.0), (0.5, 0.5), alpha=0.6),
+                            spacing=0.4)
+    second = kf.solve_heated(kf.Mixture.white_noise((1.0, 2.0), (0.5, 0.5), alpha=0.6),
+                             spacing=0.4)
+    info = fem_mixture._one_species_heated.cache_info()
+    assert (info.misses, info.hits) == (1, 1)
+    again = kf.solve_heated(kf.Mixture.white_noise((1.0, 3.0), (0.5, 0.5), alpha=0.6),
+                            spacing=0.4)
+    fem_mixture._one_species_heated.cache_clear()
+    fresh = kf.solve_heated(kf.Mixture.white_noise((1.0, 3.0), (0.5, 0.5), alpha=0.6),
+                            spacing=0.4)
+    assert np.array_equal(again.temperatures, fresh.temperatures)
+    assert np.array_equal(again.temperatures, first.temperatures)
+    assert second.temperature_ratio() != first.temperature_ratio()
