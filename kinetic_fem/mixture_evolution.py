@@ -64,7 +64,8 @@ class MixtureEvolution:
         Standard errors (sampling methods).
     info : dict
     distributions : tuple of tuple of VelocityDistribution, optional
-        ``distributions[i][s]``: species ``s`` at ``times[i]`` (FEM free cooling).
+        ``distributions[i][s]``: species ``s`` at ``times[i]`` (FEM, heated and free
+        cooling).
     series : dict of ndarray
         More series over ``times`` (FEM free cooling: ``"zeta"``,
         :math:`dT/dt = -2\\zeta n T^{1+\\gamma/2}` of the mixture temperature,
@@ -298,9 +299,9 @@ def _evolve_fem(mixture: Mixture, t: NDArray[np.float64], density: float,
     else:
         from .solvers.fem.mixture_transient import evolve_mixture_fem
 
-        temps, a2, info = evolve_mixture_fem(mixture, times=t, density=density,
-                                             initial_temperatures=t0, **options)
-        ev = MixtureEvolution(mixture, t, temps, a2, "fem", info=info)
+        temps, a2, dists, info = evolve_mixture_fem(mixture, times=t, density=density,
+                                                    initial_temperatures=t0, **options)
+        ev = MixtureEvolution(mixture, t, temps, a2, "fem", info=info, distributions=dists)
         rerun = {**options, "vertices": info["vertices"]}
     tol = float(ev.info["rtol"])
 

@@ -49,6 +49,15 @@ def test_hard_rods_relax_to_the_steady_fem_mixture():
     assert 1e-3 < off < 1e-2
 
 
+def _cheap_mesh(var):
+    """The default Maxwell transient mesh inside 12 thermal velocities, coarse beyond."""
+    from kinetic_fem.solvers.fem.transient_setup import build_mesh
+
+    half = build_mesh(12.0, 0.5 * np.sqrt(var), np.sqrt(var))
+    half = np.concatenate([half[half >= 0], np.arange(20.0, 93.0, 8.0)])
+    return np.concatenate([-half[:0:-1], half])
+
+
 def test_start_from_floored_gaussian_tails_at_rtol_1e6():
     # The Gaussian start is floored (ln P continued linearly to -691 at the mesh's edge),
     # the first step closes the far tail on its line (-1022 and -1310 on the default
@@ -57,17 +66,28 @@ def test_start_from_floored_gaussian_tails_at_rtol_1e6():
     # scipy; rtol 1e-6 failed on the default meshes, and so did ev.error at rtol 1e-4).
     # Here the meshes are the default ones inside 12 and coarse beyond (cheap): before the
     # fix the same ValueError in the third step, now 6 steps without failure.
-    from kinetic_fem.solvers.fem.transient_setup import build_mesh
-
-    def mesh(var):
-        half = build_mesh(12.0, 0.5 * np.sqrt(var), np.sqrt(var))
-        half = np.concatenate([half[half >= 0], np.arange(20.0, 93.0, 8.0)])
-        return np.concatenate([-half[:0:-1], half])
-
     mix = kf.Mixture.white_noise((1.0, 3.0), (0.5, 0.5), alpha=0.7, kernel=0.0)
     times = [0.0, 3e-5]
     ev = kf.evolve_heated(mix, times=times, initial_temperature=1.0, rtol=1e-6,
-                          vertices=[mesh(1.0), mesh(1.0 / 3.0)])
+                          vertices=[_cheap_mesh(1.0), _cheap_mesh(1.0 / 3.0)])
     exact = kf.evolve_heated(mix, times=times, initial_temperature=1.0, method="maxwell")
     assert ev.info["newton_failures"] == 0
     assert np.allclose(ev.temperatures, exact.temperatures, rtol=1e-6, atol=0)
+
+
+def test_heated_fem_transient_returns_each_species_distribution():
+    # f_s at every output time (the free-cooling FEM transient had them, the heated one
+    # did not): normalised, with the run's T_s = m_s <v^2>_s and a2_s (the same quadrature)
+    mix = kf.Mixture.white_noise((1.0, 3.0), (0.5, 0.5), alpha=0.7, kernel=0.0)
+    times = [0.0, 1e-5, 3e-5]
+    ev = kf.evolve_heated(mix, times=times, initial_temperature=1.0, rtol=1e-4,
+                          vertices=[_cheap_mesh(1.0), _cheap_mesh(1.0 / 3.0)])
+    assert len(ev.distributions) == 3 and all(len(d) == 2 for d in ev.distributions)
+    for i in range(3):
+        for s, dist in enumerate(ev.distributions[i]):
+            var = dist.moment(2, central=False)
+            assert dist.moment(0, central=False) == pytest.approx(1.0, rel=1e-12)
+            assert mix.masses[s] * var == pytest.approx(ev.temperatures[i, s], rel=1e-12)
+            kurt = dist.moment(4, central=False) / (3.0 * var**2) - 1.0
+            assert kurt == pytest.approx(ev.a2[i, s], abs=1e-12)
+    assert ev.distributions[0][0].moment(2, central=False) == pytest.approx(1.0, rel=1e-3)

@@ -42,6 +42,7 @@ import scipy.sparse
 import scipy.sparse.linalg
 from numpy.typing import NDArray
 
+from ...distribution import VelocityDistribution
 from ...model.mixture import Mixture
 from ...options import gather
 from .. import mixture_gaussian
@@ -365,8 +366,10 @@ def _visited_variances(mixture: Mixture, density: float, var0: NDArray,
 def evolve_mixture_fem(mixture: Mixture, *, times: NDArray, density: float,
                        initial_temperatures: NDArray, vertices: object = None,
                        options: EvolveOptions | None = None, **option_keywords: Any
-                       ) -> tuple[NDArray, NDArray, dict[str, Any]]:
-    """Species temperatures and :math:`a_{2,s}` of a heated mixture from Gaussians.
+                       ) -> tuple[NDArray, NDArray, tuple[tuple[VelocityDistribution, ...], ...],
+                                  dict[str, Any]]:
+    """Species temperatures, :math:`a_{2,s}` and distributions of a heated mixture from
+    Gaussians.
 
     Parameters
     ----------
@@ -390,6 +393,9 @@ def evolve_mixture_fem(mixture: Mixture, *, times: NDArray, density: float,
     Returns
     -------
     temperatures, a2 : ndarray, shape (n_t, k)
+    distributions : tuple of tuple of VelocityDistribution
+        ``distributions[i][s]``: species ``s`` at ``times[i]`` (quadrature points and
+        weights of its mesh).
     info : dict
         The integrator's counters, ``rtol``, the meshes (``vertices``), ``n_dofs``,
         ``cpu_time``.
@@ -431,11 +437,17 @@ def evolve_mixture_fem(mixture: Mixture, *, times: NDArray, density: float,
     h0 = o.first_step if o.first_step is not None else o.rtol * collision_time(
         mdisc, np.min(visited, axis=0))
     integ.start(integ.level(0.0, u), h0)
-    outputs = []
+    outputs, dists = [], []
+    params = {"problem": "mixture heated transient", "density": density,
+              "masses": list(mixture.masses), "fractions": list(mixture.fractions)}
     for stop in times:
         if stop > 0.0:
             integ.advance_to(float(stop))
-        outputs.append(integ.species_moments(integ.hist[-1].u))
+        u_out = integ.hist[-1].u
+        outputs.append(integ.species_moments(u_out))
+        dists.append(tuple(VelocityDistribution.from_values(
+            sp.xq, sp.disc.values(us), weights=sp.wq, method="fem", params=params)
+            for sp, us in zip(integ.species, integ.split(u_out), strict=True)))
     mom = np.array(outputs)
     st = integ.stats
     info = {**st.as_dict(), "rtol": o.rtol, "order": o.order, "scheme": o.scheme,
@@ -445,4 +457,4 @@ def evolve_mixture_fem(mixture: Mixture, *, times: NDArray, density: float,
     logger.info("FEM mixture transient, rtol=%g: %d steps (%d rejected, %d Newton failures), "
                 "%d Jacobians", o.rtol, st.accepted, st.rejected, st.newton_failures,
                 st.jacobians)
-    return mom[:, :, 1] * masses[None, :], mom[:, :, 2], info
+    return mom[:, :, 1] * masses[None, :], mom[:, :, 2], tuple(dists), info
