@@ -143,12 +143,12 @@ round-off (1 - 0.9 = 0.09999999999999998) and so took the near-elastic path (coo
 the P3 start diverged in the mixture's first Newton step (hard rods alpha 0.95, m 1:2,
 x 0.3/0.7, ``inf`` step; the near-elastic start converges)."""
 HEATED_START_SPACING = 0.4
+"""The same for the heated start (0.04 s against 0.1 - 0.15 s on the default mesh)."""
 START_CACHE = 64
 """The one-species states of the starts are kept for this many (restitution, thermostat,
 kernel) combinations: a sweep over masses or fractions at one restitution coefficient
 solves its start once (13-70 % of a binary state's CPU time,
 ``benchmarks/results/fem_mixture_cost.md``).  They are read, never changed."""
-"""The same for the heated start (0.04 s against 0.1 - 0.15 s on the default mesh)."""
 COOLING_MONITOR_LOG_F = math.log(1e-15)
 """The cooling state's Newton step is measured where :math:`f_s > 10^{-15}` (and on
 :math:`\\zeta`): with the outflow at the cut-offs the drift-dominated outer decades carry
