@@ -246,10 +246,16 @@ def steady_state(mixture: Mixture, *, density: float = 1.0) -> MixtureMoments:
         var = np.exp(log_var)
         return variance_rates(mixture, var, density) / var
 
-    # start: each species alone with its own forcing, at the mixture's mean restitution
+    # start: equal variances at the scale of the mean forcing; the root finder from
+    # there, or after relaxing along the dynamics if it fails (the relaxation took 50-400
+    # evaluations of the rates, the root finder alone 10-20)
     scale = float(np.mean(mixture.diffusions()) / density)
-    x0 = relaxed(fun, np.full(mixture.n_species, np.log(max(scale, 1e-300))))
-    log_var = solve_root(fun, x0, "Gaussian approximation of the mixture's steady state")
+    x0 = np.full(mixture.n_species, np.log(max(scale, 1e-300)))
+    what = "Gaussian approximation of the mixture's steady state"
+    try:
+        log_var = solve_root(fun, x0, what)
+    except ConvergenceError:
+        log_var = solve_root(fun, relaxed(fun, x0), what)
     return _result(mixture, density, np.exp(log_var), None)
 
 

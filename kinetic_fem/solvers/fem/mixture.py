@@ -93,6 +93,7 @@ from .newton import (
     EquilibratedLU,
     EvenFold,
     log_update,
+    power_of_two_scales,
 )
 
 __all__ = ["MixtureDiscretisation", "solve_mixture_heated", "solve_mixture_cooling",
@@ -144,6 +145,10 @@ the P3 start diverged in the mixture's first Newton step (hard rods alpha 0.95, 
 x 0.3/0.7, ``inf`` step; the near-elastic start converges)."""
 HEATED_START_SPACING = 0.4
 """The same for the heated start (0.04 s against 0.1 - 0.15 s on the default mesh)."""
+START_TOL = 1e-2
+"""Newton tolerance of the heated one-species start (its state only starts the
+mixture's Newton, as the coarse state of the one-species mesh sequencing,
+:data:`~kinetic_fem.solvers.fem.heated.SEQUENCE_TOL`): one Jacobian fewer."""
 START_CACHE = 64
 """The one-species states of the starts are kept for this many (restitution, thermostat,
 kernel) combinations: a sweep over masses or fractions at one restitution coefficient
@@ -171,6 +176,17 @@ zero-flux layer at the edge, absent from the start, took one more Jacobian (hard
 alpha 0.5 / 0.7 / 0.9, m 1:1 / 1:3 / 1:10: 2-3 Jacobians instead of 3-4 in 8 of 9
 states).  The states agree with those of :math:`10^{-40}` to 8e-13 in ln f where f >
 1e-30, 3.5e-9 where f > 1e-35, and T_1/T_2 to round-off."""
+HEATED_CHORD_LEVEL = 1e-2
+"""The heated Newton reuses the Jacobian's factors below this update (chord steps in
+:math:`P`, with the row scales of the Jacobian, as the one-species
+:func:`~kinetic_fem.solvers.fem.newton.newton_steady`; a chord step that does not
+contract by :data:`~kinetic_fem.solvers.fem.newton.CHORD_RATE` refreshes the Jacobian).
+Measured against 1e-3 (hard rods, P3, spacing 0.25, masses 1:1, 1:3 and 1:10 at alpha 0.5,
+0.7 and 0.9): one Jacobian fewer at alpha 0.7 m 1:1 and alpha 0.5 m 1:3, the same count
+elsewhere, T_s equal to 1e-15.  0.1 saved one more at alpha 0.7 m 1:3 but lost two
+states at spacing 0.5 (m 1:2 and 1:3, alpha 0.9).  The cooling Newton keeps
+:data:`~kinetic_fem.solvers.fem.newton.CHORD_LEVEL` (its line search and speculative
+Jacobians, :func:`_solve`)."""
 TRIM_LEVEL = 1e-33
 """When the heated state's Newton fails on the default meshes, each mesh is cut where the
 last iterate's :math:`f_s\\sigma_s` falls below this and Newton restarts from that iterate
@@ -506,9 +522,11 @@ def _one_species_heated(alpha: float, density: float, diffusion: float, friction
     if 1.0 - alpha >= START_EPS:
         problem = HeatedProblem.from_parameters(alpha, **options)
         try:
-            return solve_heated(alpha, order=START_ORDER, spacing=HEATED_START_SPACING,
-                                cutoff=model_cutoff(scaled_model(problem)) + CUTOFF_MARGIN,
-                                **options)
+            with warnings.catch_warnings():  # a start, coarser than a result should be
+                warnings.simplefilter("ignore", ResolutionWarning)
+                return solve_heated(alpha, order=START_ORDER, spacing=HEATED_START_SPACING,
+                                    cutoff=model_cutoff(scaled_model(problem))
+                                    + CUTOFF_MARGIN, tol=START_TOL, **options)
         except ConvergenceError as err:  # pragma: no cover - fallback
             logger.info("one-species start at spacing %g failed (%s); the default mesh",
                         START_SPACING, err)
@@ -718,8 +736,17 @@ def _solve(system: _System, x0: NDArray, *, tol: float, max_iter: int,
     speculate = False
     kept: tuple[NDArray, NDArray, NDArray | None] | None = None
 
+    # heated: chord steps in P (the points of the last Jacobian and of the last residual)
+    # and the Jacobian's row scales for their decrease test, as for one species
+    # (kinetic_fem.solvers.fem.newton.newton_steady)
+    at: dict[str, NDArray] = {}
+    scales = [np.ones(system.size)]
+
     def fun(x: NDArray, jacobian: bool) -> tuple[NDArray, NDArray | None]:
         nonlocal n_jac, speculate, kept
+        at["r"] = x
+        if jacobian:
+            at["J"] = x
         if jacobian and kept is not None and np.array_equal(kept[0], x):
             r, jac = kept[1], kept[2]
             kept = None
@@ -729,6 +756,8 @@ def _solve(system: _System, x0: NDArray, *, tol: float, max_iter: int,
         kept = None
         n_jac += int(jacobian or ahead)
         r, jac = system(x, jacobian or ahead)
+        if jac is not None and not system.cooling:
+            scales[0] = power_of_two_scales(jac)
         if ahead:
             kept = (x.copy(), r, jac)
             return r, None
@@ -744,7 +773,23 @@ def _solve(system: _System, x0: NDArray, *, tol: float, max_iter: int,
         return out
 
     def factorize(jac: NDArray):
-        return EquilibratedLU(jac).solve
+        lu = EquilibratedLU(jac)
+        if system.cooling:
+            return lu.solve
+        base = at["J"]
+
+        def solve(rhs: NDArray) -> NDArray:
+            # a chord step: the factorised step on P relative to the Jacobian's point,
+            # times P_J / P of this iterate (exact for the equations linear in P: the tail)
+            step = lu.solve(rhs)
+            here = at["r"]
+            if here is base:
+                return step
+            out = step.copy()
+            out[:n_u] *= np.exp(base[:n_u] - here[:n_u])
+            return out
+
+        return solve
 
     monitor = COOLING_MONITOR_LOG_F if system.cooling else HEATED_MONITOR_LOG_F
     sizes: list[float] = []
@@ -775,9 +820,11 @@ def _solve(system: _System, x0: NDArray, *, tol: float, max_iter: int,
             warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
             out = newton(fun, x0, tol=tol, max_iter=max_iter, criterion="step",
                          update=update, step_norm=step_norm, line_search=system.cooling,
-                         stall_level=STALL_LEVEL, factorize=factorize, chord=CHORD_LEVEL,
+                         stall_level=STALL_LEVEL, factorize=factorize,
+                         chord=CHORD_LEVEL if system.cooling else HEATED_CHORD_LEVEL,
                          chord_rate=CHORD_RATE, predict=PREDICT_MARGIN, predict_newton=True,
-                         name="FEM mixture Newton")
+                         name="FEM mixture Newton",
+                         row_scale=None if system.cooling else (lambda x: scales[0]))
     except _Stagnation:
         text = (f"FEM mixture Newton stopped: no step below 1 in {WANDER_STEPS}"
                 if min(sizes) > 1.0 else

@@ -270,3 +270,25 @@ def test_one_species_start_is_solved_once_per_restitution_coefficient():
     assert np.array_equal(again.temperatures, fresh.temperatures)
     assert np.array_equal(again.temperatures, first.temperatures)
     assert second.temperature_ratio() != first.temperature_ratio()
+
+
+def test_heated_chord_steps_in_p_give_the_plain_newton_state(monkeypatch):
+    """The heated Newton's chord steps in P (``HEATED_CHORD_LEVEL``) and the loose
+    one-species start (``START_TOL``) end at the state of plain Newton from the fully
+    converged start: T_s and a2_s equal to the Newton tolerance (1e-11; measured 3e-16),
+    with no more Jacobians (alpha 0.7, m 1:1, spacing 0.4: two instead of four)."""
+    mix = kf.Mixture.white_noise((1.0, 1.0), (0.5, 0.5), alpha=0.7)
+    fem_mixture._one_species_heated.cache_clear()
+    fast = kf.solve_heated(mix, spacing=0.4)
+    monkeypatch.setattr(fem_mixture, "HEATED_CHORD_LEVEL", 0.0)
+    monkeypatch.setattr(fem_mixture, "START_TOL", 1e-11)
+    fem_mixture._one_species_heated.cache_clear()
+    plain = kf.solve_heated(mix, spacing=0.4)
+    fem_mixture._one_species_heated.cache_clear()
+    np.testing.assert_allclose(fast.temperatures, plain.temperatures, rtol=1e-11, atol=0)
+    np.testing.assert_allclose(fast.a2, plain.a2, rtol=0, atol=1e-11)
+
+    def jacobians(state: MixtureState) -> int:
+        return int(state.info.message.rsplit(";", 1)[1].split()[0])
+
+    assert jacobians(fast) <= jacobians(plain)
