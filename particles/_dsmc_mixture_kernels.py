@@ -7,20 +7,24 @@ seed gives the same run with or without the JIT.
 
 from __future__ import annotations
 
+from kinetic_fem.model.restitution import restitution_value
+
+from ._dsmc_model import KERNEL_MAXWELL, kernel_majorant, kernel_value
 from ._jit import jit
 
 __all__ = ["collide_block"]
 
 
 @jit
-def collide_block(v, species, masses, alpha, gamma, g_max, first, second, accept,
-                  counts):  # pragma: no cover - compiled
+def collide_block(v, species, masses, lcode, p0, p1, kcode, kparam, g_max, first, second,
+                  accept, counts):  # pragma: no cover - compiled
     """Collide the accepted candidate pairs of one time step, in order.
 
     Candidate ``c`` is the pair ``(first[c], second[c])`` (distinct rods); it collides
-    with probability :math:`(|g|/g_{max})^\\gamma` (``accept[c]`` uniform in [0, 1)), by
-    :math:`v_s' = v_s - \\mu_{sr}(1+\\alpha_{sr})g`, :math:`v_r' = v_r + \\mu_{rs}
-    (1+\\alpha_{sr})g`.
+    with probability :math:`B(|g|)/B(g_{max})` (``accept[c]`` uniform in [0, 1); every
+    candidate for the Maxwell kernel), by :math:`v_s' = v_s - \\mu_{sr}(1+\\alpha_{sr})g`,
+    :math:`v_r' = v_r + \\mu_{rs}(1+\\alpha_{sr})g` with :math:`\\alpha_{sr}` the pair's
+    restitution law at :math:`|g|` (:func:`kinetic_fem.model.restitution_value`).
 
     Parameters
     ----------
@@ -28,10 +32,14 @@ def collide_block(v, species, masses, alpha, gamma, g_max, first, second, accept
         Velocities, updated in place.
     species : ndarray of int64, shape (N,)
     masses : ndarray, shape (k,)
-    alpha : ndarray, shape (k, k)
-        Constant restitution coefficients per pair.
-    gamma : float
-        Kernel exponent of :math:`|g|^\\gamma`.
+    lcode : ndarray of int64, shape (k, k)
+        Restitution law code of each pair.
+    p0, p1 : ndarray, shape (k, k)
+        The laws' parameters (``p0`` the coefficient of a constant law).
+    kcode : int
+        Kernel code (:mod:`particles._dsmc_model`).
+    kparam : float
+        Kernel parameter (exponent of a power law, :math:`g_0` of the saturating kernel).
     g_max : float
         Majorant of :math:`|g|` used for the acceptance.
     first, second : ndarray of int64, shape (M,)
@@ -50,6 +58,7 @@ def collide_block(v, species, masses, alpha, gamma, g_max, first, second, accept
     """
     loss = 0.0
     g_seen = 0.0
+    b_max = kernel_majorant(kcode, kparam, g_max)
     for c in range(first.size):
         i = first[c]
         j = second[c]
@@ -57,13 +66,13 @@ def collide_block(v, species, masses, alpha, gamma, g_max, first, second, accept
         ag = abs(g)
         if ag > g_seen:
             g_seen = ag
-        if gamma > 0.0 and accept[c] * g_max**gamma >= ag**gamma:
+        if kcode != KERNEL_MAXWELL and accept[c] * b_max >= kernel_value(kcode, kparam, ag):
             continue
         s = species[i]
         r = species[j]
         mi = masses[s]
         mj = masses[r]
-        a = alpha[s, r]
+        a = restitution_value(lcode[s, r], p0[s, r], p1[s, r], ag)
         share = (1.0 + a) * g / (mi + mj)
         v[i] -= mj * share
         v[j] += mi * share
@@ -72,4 +81,3 @@ def collide_block(v, species, masses, alpha, gamma, g_max, first, second, accept
         if r != s:
             counts[r, s] += 1
     return loss, g_seen
-

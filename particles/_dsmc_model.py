@@ -20,7 +20,7 @@ from ._jit import jit
 
 __all__ = ["KERNEL_MAXWELL", "KERNEL_HARD_RODS", "KERNEL_SQUARE", "KERNEL_POWER",
            "KERNEL_SATURATING", "kernel_code", "kernel_model", "kernel_majorant",
-           "saturating_rate"]
+           "kernel_value", "saturating_rate"]
 
 KERNEL_MAXWELL = 0
 """Kernel code of :math:`\\gamma = 0` (no rejection)."""
@@ -108,3 +108,11 @@ def kernel_majorant(kcode, kparam, g_max):  # pragma: no cover - compiled
     if kcode == KERNEL_SATURATING:
         return saturating_rate(g_max, kparam)
     return g_max**kparam
+
+
+@jit
+def kernel_value(kcode, kparam, g):  # pragma: no cover - compiled
+    """:math:`B(g)` for ``g >= 0`` (the kernel codes 0, 1, 2 by exact multiplications, so
+    that :math:`B(g) \\le` :func:`kernel_majorant` at :math:`g \\le g_{max}` holds in
+    floating point too)."""
+    return kernel_majorant(kcode, kparam, g)

@@ -8,9 +8,12 @@ half a step of forcing, a collision phase, half a step of forcing.
   uniformly, whatever their species (a rod of species :math:`s` then meets species
   :math:`r` in proportion to :math:`x_r`, as the equations ask); with the majorant
   :math:`g_{max}` of the relative speed (the velocity range at the start of the step),
-  :math:`N n\\,dt\\,g_{max}^\\gamma/2` candidates per step (the remainder carried over),
-  each accepted with probability :math:`(|g|/g_{max})^\\gamma`
-  (:func:`particles._dsmc_mixture_kernels.collide_block`).
+  :math:`N n\\,dt\\,B(g_{max})/2` candidates per step (the remainder carried over),
+  each accepted with probability :math:`B(|g|)/B(g_{max})` for any kernel the DSMC has an
+  acceptance rule for (power laws, the saturating kernel; :mod:`particles._dsmc_model`),
+  and colliding with the pair's restitution law at :math:`|g|` (any law of
+  :mod:`kinetic_fem.model`; a run whose relative speeds leave a law's range stops with a
+  ``ValueError``) (:func:`particles._dsmc_mixture_kernels.collide_block`).
 * **Forcing** per species: white noise :math:`v \\mathrel{+}= \\sqrt{2D_s\\,\\delta t}\\,\\xi`;
   a bath by its exact Ornstein-Uhlenbeck step.  Under white noise alone the
   centre-of-mass velocity performs a random walk that has nothing to do with the
@@ -19,7 +22,9 @@ half a step of forcing, a collision phase, half a step of forcing.
   Without forcing, collisions conserve the momentum, but the rescaling below multiplies
   its round-off by :math:`e^{\\zeta n t}` (:math:`10^{30}` after 250 mean free times at
   :math:`\alpha = 0.7`): it is removed after every step there too.
-* **Free cooling** in scaled variables: after every step the velocities are rescaled to
+* **Free cooling** in scaled variables (power-law kernels, constant restitution: the
+  scaled state exists only for them; :func:`evolve_mixture` follows any kernel and law in
+  physical time): after every step the velocities are rescaled to
   the mixture temperature :math:`T = \\sum_i m_i v_i^2 / N = 1`; the cooling rate of the
   convention :math:`dT/dt = -2\\zeta n T^{1+\\gamma/2}` is the energy lost in the
   collisions of a step, :math:`\\zeta = \\Delta E_{coll}/(N n\\,dt\\,\\bar T^{1+\\gamma/2})`
@@ -46,11 +51,12 @@ from kinetic_fem.distribution import MAX_MOMENT, RunInfo, VelocityDistribution
 from kinetic_fem.evolve import check_times
 from kinetic_fem.mixture_evolution import MixtureEvolution, initial_temperatures_of
 from kinetic_fem.mixture_state import SpeciesTemperatures
-from kinetic_fem.model import check_positive
+from kinetic_fem.model import UnsupportedModelError, check_positive
 from kinetic_fem.model.mixture import Mixture
 from kinetic_fem.progress import resolve_progress
 
 from ._dsmc_mixture_kernels import collide_block
+from ._dsmc_model import KERNEL_SATURATING, kernel_majorant, kernel_model
 
 __all__ = ["MixtureRun", "simulate_mixture", "simulate_binary", "evolve_mixture", "species_counts",
            "MixtureDSMCOptions"]
@@ -162,15 +168,28 @@ def species_counts(mixture: Mixture, n_particles: object) -> NDArray[np.int64]:
 
 
 def _mean_rate(v: NDArray[np.float64], species: NDArray[np.int64], mixture: Mixture,
-               gamma: float) -> float:
-    """:math:`\\langle|g|^\\gamma\\rangle` of Gaussian species at the current variances."""
+               gamma: float | None) -> float:
+    """:math:`\\langle B(|g|)\\rangle` of Gaussian species at the current variances
+    (``gamma`` the exponent of a power law, None for another kernel)."""
     if gamma == 0.0:
         return 1.0
     var = np.array([np.mean(v[species == s]**2) for s in range(mixture.n_species)])
     x = np.asarray(mixture.fractions)
     total = var[:, None] + var[None, :]
-    pair = (2.0 * total)**(0.5 * gamma) * math.gamma(0.5 * (gamma + 1.0)) / math.sqrt(math.pi)
+    if gamma is None:
+        kernel = mixture.collision_kernel
+        pair = np.vectorize(lambda t: kernel.gaussian_mean(0.5 * t))(total)
+    else:
+        pair = (2.0 * total)**(0.5 * gamma) * math.gamma(0.5 * (gamma + 1.0)) \
+            / math.sqrt(math.pi)
     return float(x @ pair @ x)
+
+
+def _power(mixture: Mixture) -> float | None:
+    """The exponent of a power-law kernel, None for another kernel (checked: one the DSMC
+    has an acceptance rule for)."""
+    code, parameter = kernel_model(mixture.collision_kernel)
+    return None if code == KERNEL_SATURATING else parameter
 
 
 def simulate_mixture(mixture: Mixture, n_particles: int, *, density: float = 1.0,
@@ -183,7 +202,9 @@ def simulate_mixture(mixture: Mixture, n_particles: int, *, density: float = 1.0
     Parameters
     ----------
     mixture : Mixture
-        Power-law kernel, constant restitution per pair (:class:`kinetic_fem.Mixture`).
+        Any kernel with a DSMC acceptance rule and any restitution law per pair
+        (:class:`kinetic_fem.Mixture`); free cooling (the scaled state): power laws and
+        constant coefficients.
     n_particles : int
         Rods in all; ``n_particles * x_s`` must be whole numbers, at least 2 each.
     density : float
@@ -218,18 +239,22 @@ def simulate_mixture(mixture: Mixture, n_particles: int, *, density: float = 1.0
     if total / opts.collisions_per_step > 1e8:
         raise ValueError(f"relax + collisions_per_particle = {total:g} collisions per rod at "
                          f"{opts.collisions_per_step:g} per step is more than 1e8 steps")
-    gamma = mixture.collision_kernel.gamma
-    alpha = mixture.constant_alpha()
+    gamma = _power(mixture)
+    if not mixture.heated and (gamma is None or any(
+            law.constant is None for row in mixture.laws for law in row)):
+        raise UnsupportedModelError(
+            "the scaled cooling state of simulate_mixture needs a power-law kernel and "
+            "constant restitution coefficients (no scaled state exists otherwise); "
+            "particles.dsmc_mixture.evolve_mixture follows free cooling with any kernel and "
+            f"law in physical time; got kernel {mixture.collision_kernel!r} and alpha "
+            f"{mixture.alpha!r}")
     masses = np.asarray(mixture.masses, dtype=float)
     rng = np.random.default_rng(seed)
     n = int(n_particles)
     species = np.repeat(np.arange(mixture.n_species, dtype=np.int64), counts)
     mass = masses[species]
-    diffusion = mixture.diffusions()[species]
-    friction = mixture.frictions()[species]
     heated = mixture.heated
-    rods = _Rods(species, masses, mass, alpha, float(gamma), diffusion, friction, heated,
-                 density)
+    rods = _Rods.of(mixture, species, density)
     # initial Gaussians: the Gaussian-approximation temperatures would be closer; unit
     # variance per species is enough, the relaxation does the rest
     v = rng.standard_normal(n)
@@ -267,7 +292,8 @@ def simulate_mixture(mixture: Mixture, n_particles: int, *, density: float = 1.0
             # T drops from 1 to 1 - 2 loss/N over the step: the loss rate at its midpoint
             # temperature (an O(dt) bias of zeta otherwise, 1.8 % at 0.05 collisions per
             # step for hard rods at alpha = 0.7)
-            batch_loss[batch] += loss / (1.0 - loss / n) ** (1.0 + 0.5 * gamma)
+            if gamma is not None:  # free cooling: a power law (checked above)
+                batch_loss[batch] += loss / (1.0 - loss / n) ** (1.0 + 0.5 * gamma)
             batch_time[batch] += dt
             if done >= next_sample:
                 if not edges:
@@ -306,12 +332,32 @@ class _Rods:
     species: NDArray[np.int64]
     masses: NDArray[np.float64]
     mass: NDArray[np.float64]
-    alpha: NDArray[np.float64]
-    gamma: float
     diffusion: NDArray[np.float64]
     friction: NDArray[np.float64]
     heated: bool
     density: float
+    kcode: int
+    kparam: float
+    lcode: NDArray[np.int64]
+    p0: NDArray[np.float64]
+    p1: NDArray[np.float64]
+    #: the largest relative speed every pair's restitution law allows
+    g_limit: float
+
+    @classmethod
+    def of(cls, mixture: Mixture, species: NDArray[np.int64], density: float) -> _Rods:
+        """The rods of ``mixture`` (``species[i]`` of rod i) at total density ``density``."""
+        masses = np.asarray(mixture.masses, dtype=float)
+        kcode, kparam = kernel_model(mixture.collision_kernel)
+        k = mixture.n_species
+        lcode = np.array([[law.code for law in row] for row in mixture.laws], dtype=np.int64)
+        params = np.array([[law.parameters for law in row] for row in mixture.laws],
+                          dtype=float).reshape(k, k, 2)
+        g_limit = min(float(law.max_speed) for row in mixture.laws for law in row)
+        return cls(species, masses, masses[species], mixture.diffusions()[species],
+                   mixture.frictions()[species], mixture.heated, density, kcode, kparam,
+                   lcode, np.ascontiguousarray(params[..., 0]),
+                   np.ascontiguousarray(params[..., 1]), g_limit)
 
     def step(self, v: NDArray[np.float64], dt: float, carry: float,
              pair_counts: NDArray[np.int64], rng: np.random.Generator
@@ -321,14 +367,22 @@ class _Rods:
         The centre-of-mass velocity is removed (unless a bath holds it).  Returns the
         energy lost in collisions, the number of collisions and the carried fraction of
         a candidate pair.
+
+        Raises
+        ------
+        ValueError
+            If the relative speeds leave the range of a restitution law.
         """
         n = v.size
-        gamma = self.gamma
         if self.heated:
             _force(v, self.diffusion, self.friction, 0.5 * dt, rng)
         g_max = float(v.max() - v.min())
-        expected = 0.5 * n * self.density * dt * (g_max**gamma if gamma > 0.0 else 1.0) \
-            + carry
+        if g_max > self.g_limit:
+            raise ValueError(f"a relative speed {g_max:.4g} exceeds {self.g_limit:.4g}, the "
+                             "largest a restitution law of the mixture allows (its "
+                             "max_speed); lower the temperature or widen the law's range")
+        expected = 0.5 * n * self.density * dt * kernel_majorant(self.kcode, self.kparam,
+                                                                 g_max) + carry
         m = int(expected)
         carry = expected - m
         first = rng.integers(0, n, size=m)
@@ -336,8 +390,9 @@ class _Rods:
         second += second >= first
         accept = rng.random(m)
         before = pair_counts.sum()
-        loss, _ = collide_block(v, self.species, self.masses, self.alpha, gamma, g_max, first,
-                                second, accept, pair_counts)
+        loss, _ = collide_block(v, self.species, self.masses, self.lcode, self.p0, self.p1,
+                                self.kcode, self.kparam, g_max, first, second, accept,
+                                pair_counts)
         new = int(pair_counts.sum() - before)
         if self.heated:
             _force(v, self.diffusion, self.friction, 0.5 * dt, rng)
@@ -412,7 +467,8 @@ def evolve_mixture(mixture: Mixture, n_particles: int, *, times: Any, density: f
     Parameters
     ----------
     mixture : Mixture
-        Power-law kernel, constant restitution per pair.
+        Any kernel with a DSMC acceptance rule (power laws, the saturating kernel), any
+        restitution law per pair, forced or freely cooling (physical time).
     n_particles : int
         Rods per run; ``n_particles * x_s`` whole numbers, at least 2 each.
     times : array_like, shape (n_t,)
@@ -442,13 +498,11 @@ def evolve_mixture(mixture: Mixture, n_particles: int, *, times: Any, density: f
         raise ValueError(f"n_runs must be an integer >= 2 (for the error bars), got "
                          f"{n_runs!r}")
     temps0 = initial_temperatures_of(mixture, initial_temperature)
-    gamma = float(mixture.collision_kernel.gamma)
+    gamma = _power(mixture)
     masses = np.asarray(mixture.masses, dtype=float)
     species = np.repeat(np.arange(mixture.n_species, dtype=np.int64), counts)
     mass = masses[species]
-    rods = _Rods(species, masses, mass, mixture.constant_alpha(), gamma,
-                 mixture.diffusions()[species], mixture.frictions()[species], mixture.heated,
-                 density)
+    rods = _Rods.of(mixture, species, density)
     k = mixture.n_species
     temps = np.zeros((n_runs, t_out.size, k))
     a2 = np.zeros((n_runs, t_out.size, k))

@@ -10,10 +10,16 @@ import numpy as np
 import pytest
 
 import kinetic_fem as kf
-from kinetic_fem.model import FokkerPlanckBath
+from kinetic_fem.model import (
+    FokkerPlanckBath,
+    SaturatingKernel,
+    ThresholdRestitution,
+    UnsupportedModelError,
+    ViscoelasticRestitution,
+)
 from kinetic_fem.model.mixture import Mixture
 from kinetic_fem.solvers import maxwell_mixture as mm
-from particles.dsmc_mixture import MixtureDSMCOptions, simulate_mixture
+from particles.dsmc_mixture import MixtureDSMCOptions, evolve_mixture, simulate_mixture
 
 Z_MAX = 4.0
 
@@ -90,3 +96,46 @@ def test_bad_options_are_refused():
         MixtureDSMCOptions(collisions_per_step=2.0)
     with pytest.raises(ValueError, match="n_batches"):
         MixtureDSMCOptions(n_batches=1)
+
+
+@pytest.mark.parametrize(("alpha", "kernel"), [
+    (ViscoelasticRestitution(0.1), 1.0), (ThresholdRestitution(0.6, 0.5), 1.0),
+    (0.7, SaturatingKernel(1.0))])
+def test_identical_species_with_a_law_or_the_saturating_kernel_are_the_one_species_gas(
+        alpha, kernel):
+    """Restitution laws (at the pair's |g|) and kernels other than power laws: two
+    identical species are the one-species gas, T_s and a2_s against the one-species FEM
+    state with |z| < 4 (measured over seeds 1-6: |z| <= 3.1; seed 1 <= 1.6; 0.5 s each)."""
+    mix = Mixture.white_noise((1.0, 1.0), (0.5, 0.5), alpha=alpha, kernel=kernel)
+    ref = kf.solve_heated(alpha, kernel=kernel)
+    run = simulate_mixture(mix, 1000, seed=1, collisions_per_particle=200, relax=30)
+    assert np.all(_z(run.temperatures, run.temperature_errors, ref.temperature) < Z_MAX)
+    assert np.all(_z(run.a2, run.a2_errors, ref.a2) < Z_MAX)
+
+
+def test_a_law_path_with_a_constant_value_is_the_constant_run_bit_for_bit():
+    """A threshold law whose threshold no relative speed reaches (1e-200) takes the law
+    path of the collision kernel with the value of the constant coefficient: unequal
+    masses, heated and free cooling in physical time, the same runs bit for bit."""
+    tables = (0.7, [[ThresholdRestitution(0.7, 1e-200), 0.7], [0.7, 0.7]])
+    heated = [simulate_mixture(Mixture.white_noise((1.0, 3.0), (0.5, 0.5), alpha=a), 100,
+                               seed=4, collisions_per_particle=20, relax=5)
+              for a in tables]
+    assert np.array_equal(heated[0].batch_temperatures, heated[1].batch_temperatures)
+    cooling = [evolve_mixture(Mixture((1.0, 3.0), (0.5, 0.5), alpha=a), 100,
+                              times=[0.5, 1.0], seed=4, n_runs=2) for a in tables]
+    assert np.array_equal(cooling[0].temperatures, cooling[1].temperatures)
+
+
+def test_scaled_cooling_state_needs_a_power_law_and_constant_coefficients():
+    """No scaled cooling state exists for a velocity-dependent law or a kernel that is
+    not a power law: the error names evolve_mixture; a law beyond its speed range stops
+    with a ValueError that says so."""
+    for mix in (Mixture((1.0, 2.0), (0.5, 0.5), alpha=ViscoelasticRestitution(0.1)),
+                Mixture((1.0, 2.0), (0.5, 0.5), alpha=0.8, kernel=SaturatingKernel(1.0))):
+        with pytest.raises(UnsupportedModelError, match="evolve_mixture"):
+            simulate_mixture(mix, 100, seed=1, collisions_per_particle=10)
+    fast = Mixture.white_noise((1.0, 2.0), (0.5, 0.5), alpha=ViscoelasticRestitution(1.0),
+                               diffusion=100.0)
+    with pytest.raises(ValueError, match="max_speed"):
+        simulate_mixture(fast, 100, seed=1, collisions_per_particle=10)
