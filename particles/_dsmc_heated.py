@@ -53,8 +53,8 @@ from ._dsmc_model import kernel_majorant as majorant_power
 from ._jit import jit, prefetch
 from .rng import WYRAND_WORD, mul128, normal_slow, wyrand
 
-__all__ = ["ONE_DRAW_MAX_N", "kick", "collide_heated", "heated_segment", "majorant_power",
-           "measure_centred", "scaled_sums"]
+__all__ = ["ONE_DRAW_MAX_N", "candidate", "kick", "collide_heated", "heated_segment",
+           "majorant_power", "measure_centred", "scaled_sums"]
 
 ONE_DRAW_MAX_N = 1 << 22
 """Largest ``N`` for which a hard-rod candidate of :func:`collide_heated` is one draw
@@ -130,7 +130,7 @@ def _kick_ou(v, decay, amp, s, ki, wi, fi):  # pragma: no cover - compiled
 
 
 @jit
-def _candidate(w, n, n1, scale, one_draw):  # pragma: no cover - compiled
+def candidate(w, n, n1, scale, one_draw):  # pragma: no cover - compiled
     """One hard-rod candidate: ``(i, j, threshold, w)``.
 
     One draw ``r``: ``i`` is the high word of ``r N``, ``j`` the high word of
@@ -159,7 +159,7 @@ def collide_heated(v, n_candidates, alpha, g_max, s, batch=-1):  # pragma: no co
 
     The thinning of :func:`particles._dsmc_kernels.collide` (accept with probability
     ``|v_i - v_j| / g_max``, branch-free update), each candidate from one wyrand draw
-    (:func:`_candidate`; two for ``N > ONE_DRAW_MAX_N``).  ``batch``: as in
+    (:func:`candidate`; two for ``N > ONE_DRAW_MAX_N``).  ``batch``: as in
     :func:`particles._dsmc_kernels.collide` (candidates drawn and their velocities
     prefetched ``batch`` ahead for ``N >= PREFETCH_MIN_N``; bit-identical to the plain
     loop).
@@ -198,7 +198,7 @@ def collide_heated(v, n_candidates, alpha, g_max, s, batch=-1):  # pragma: no co
     w = s[WYRAND_WORD]
     if batch == 0:
         for _ in range(n_candidates):
-            i, j, threshold, w = _candidate(w, n, n1, scale, one_draw)
+            i, j, threshold, w = candidate(w, n, n1, scale, one_draw)
             vi = v[i]
             vj = v[j]
             g = vi - vj
@@ -215,7 +215,7 @@ def collide_heated(v, n_candidates, alpha, g_max, s, batch=-1):  # pragma: no co
     bij = np.empty(batch, np.uint64)
     bt = np.empty(batch)
     for b in range(min(batch, n_candidates)):
-        i, j, threshold, w = _candidate(w, n, n1, scale, one_draw)
+        i, j, threshold, w = candidate(w, n, n1, scale, one_draw)
         prefetch(v, i)
         prefetch(v, j)
         bij[b] = i | (j << high)
@@ -228,7 +228,7 @@ def collide_heated(v, n_candidates, alpha, g_max, s, batch=-1):  # pragma: no co
             ij = bij[b]
             threshold = bt[b]
             if b < ahead:
-                i2, j2, t2, w = _candidate(w, n, n1, scale, one_draw)
+                i2, j2, t2, w = candidate(w, n, n1, scale, one_draw)
                 prefetch(v, i2)
                 prefetch(v, j2)
                 bij[b] = i2 | (j2 << high)

@@ -20,7 +20,7 @@ from ._jit import jit
 
 __all__ = ["KERNEL_MAXWELL", "KERNEL_HARD_RODS", "KERNEL_SQUARE", "KERNEL_POWER",
            "KERNEL_SATURATING", "kernel_code", "kernel_model", "kernel_majorant",
-           "kernel_value", "saturating_rate"]
+           "kernel_value", "power_exponent", "saturating_rate"]
 
 KERNEL_MAXWELL = 0
 """Kernel code of :math:`\\gamma = 0` (no rejection)."""
@@ -116,3 +116,15 @@ def kernel_value(kcode, kparam, g):  # pragma: no cover - compiled
     that :math:`B(g) \\le` :func:`kernel_majorant` at :math:`g \\le g_{max}` holds in
     floating point too)."""
     return kernel_majorant(kcode, kparam, g)
+
+
+def power_exponent(kernel: float | CollisionKernel) -> float | None:
+    """The exponent of a power-law kernel, None for another family the DSMC accepts
+    (:func:`kernel_model`, which raises for the others).
+
+    >>> from kinetic_fem.model import SaturatingKernel
+    >>> power_exponent(1.0), power_exponent(SaturatingKernel(2.0))
+    (1.0, None)
+    """
+    code, parameter = kernel_model(kernel)
+    return None if code == KERNEL_SATURATING else parameter
