@@ -37,6 +37,7 @@ BENCHMARKS: dict[str, tuple[str, bool]] = {
     "bench_sweep": ("speed", True),
     "bench_md_yardstick": ("speed", False),
     "bench_md_mixture": ("speed", False),
+    "bench_dsmc_mixture": ("speed", False),
     "bench_fem_mixture": ("speed", False),
     "bench_mixture_transient": ("speed", True),
     "bench_transient_speed": ("speed", False),
