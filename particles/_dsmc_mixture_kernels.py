@@ -4,16 +4,18 @@ A segment is ``n_steps`` steps of the time step ``dt`` (:func:`mixture_segment`)
 :math:`K(\\Delta t/2)\\,C(\\Delta t)\\,K(\\Delta t/2)` with the consecutive half kicks
 merged into one full kick (exact for white noise and for the Ornstein-Uhlenbeck step of a
 bath, as in :mod:`particles._dsmc_heated`), each rod kicked with its species' factors;
-free cooling, collisions only, the velocities rescaled to :math:`T = 1` before every
-collision stage by the temperature the stage before left (tracked from the energy lost,
-so no pass over the rods is needed for it).  A collision stage of ``dt`` has
+free cooling in physical velocities (:func:`particles.dsmc_mixture.evolve_mixture`),
+collisions only.  A collision stage of ``dt`` has
 :math:`\\lfloor \\text{debt} + \\Delta t\\,nN B(g_{max})/2\\rfloor` candidates (the
-fraction carried over), ``g_max = max - min`` measured in the pass that kicks or
-rescales; a candidate is two distinct rods, whatever their species, accepted with
+fraction carried over), ``g_max = max - min`` measured in the pass that kicks (or
+scans) the rods; a candidate is two distinct rods, whatever their species, accepted with
 probability :math:`B(|g|)/B(g_{max})` (every one for the Maxwell kernel), colliding by
 :math:`v_s' = v_s - \\mu_{sr}(1+\\alpha_{sr})g`, :math:`v_r' = v_r + \\mu_{rs}
 (1+\\alpha_{sr})g` with the pair's restitution law at :math:`|g|`
-(:func:`kinetic_fem.model.restitution_value`).
+(:func:`kinetic_fem.model.restitution_value`).  The scaled free cooling of
+:func:`particles.dsmc_mixture.simulate_mixture` has no splitting: :func:`cooling_segment`
+runs its collisions on a clock that ticks once per candidate, with a majorant widened by
+the collisions, and no pass over the rods.
 
 Random numbers (:mod:`particles.rng`, the 5-word state of
 :func:`~particles.rng.heated_state`): the kicks' normals and the candidates (pair and
@@ -35,7 +37,7 @@ from ._dsmc_model import KERNEL_HARD_RODS, KERNEL_MAXWELL, kernel_majorant, kern
 from ._jit import jit
 from .rng import WYRAND_WORD
 
-__all__ = ["mixture_segment", "measure", "mean_squares", "recentre"]
+__all__ = ["mixture_segment", "cooling_segment", "measure", "mean_squares", "recentre"]
 
 _INV53 = 1.0 / 9007199254740992.0  # 2^-53
 
@@ -110,16 +112,14 @@ def _collide(v, species, mu, reduced, lcode, p0, p1, kcode, kparam, g_max, m, s,
 
 @jit
 def mixture_segment(v, species, bounds, mu, reduced, lcode, p0, p1, kcode, kparam, decay, amp,
-                    half_decay, half_amp, heated, scaled, rate, dt, n_steps, g_limit,
-                    debt, gamma, s, ki, wi, fi, counts,
-                    max_collisions):  # pragma: no cover - compiled
+                    half_decay, half_amp, heated, rate, dt, n_steps, g_limit, debt, s, ki,
+                    wi, fi, counts, max_collisions):  # pragma: no cover - compiled
     """``n_steps`` steps of the module text.
 
     Parameters
     ----------
     v : ndarray of float64, shape (N,)
-        Velocities, updated in place (free cooling: at :math:`T = 1` on entry, returned
-        after the last collision stage, not rescaled).
+        Velocities, updated in place.
     species : ndarray of int64, shape (N,)
         Sorted: the rods of species ``s`` are ``bounds[s] <= i < bounds[s + 1]``.
     bounds : ndarray of int64, shape (k + 1,)
@@ -133,10 +133,7 @@ def mixture_segment(v, species, bounds, mu, reduced, lcode, p0, p1, kcode, kpara
     decay, amp, half_decay, half_amp : ndarray, shape (k,)
         Each species' kick of a full and of a half step (heated).
     heated : bool
-        Forced species.
-    scaled : bool
-        Free cooling in scaled variables (rescaled to :math:`T = 1` before every stage);
-        else in physical velocities.
+        Forced species (else free cooling in physical velocities).
     rate : float
         :math:`nN/2`.
     dt : float
@@ -146,8 +143,6 @@ def mixture_segment(v, species, bounds, mu, reduced, lcode, p0, p1, kcode, kpara
         stage whose ``g_max`` exceeds it.
     debt : float
         Fraction of a candidate carried over.
-    gamma : float
-        Free cooling: the power-law exponent of the midpoint weight of the loss.
     s : ndarray of uint64, shape (5,)
     ki, wi, fi : ndarray
         Ziggurat tables.
@@ -159,23 +154,19 @@ def mixture_segment(v, species, bounds, mu, reduced, lcode, p0, p1, kcode, kpara
 
     Returns
     -------
-    (collisions, loss, weighted, debt, steps_done, g_max, exceeded)
-        ``loss`` the energy lost, ``weighted`` (free cooling) the sum over the stages of
-        the loss over :math:`T_{mid}^{1+\\gamma/2}` (the temperature at the middle of the
-        stage, :math:`T = 1` at its start); ``exceeded``: the segment stopped before a
-        stage whose ``g_max`` exceeds a law's range (``g_max`` then the offending value).
+    (collisions, loss, debt, steps_done, g_max, exceeded)
+        ``loss`` the energy lost; ``exceeded``: the segment stopped before a stage whose
+        ``g_max`` exceeds a law's range (``g_max`` then the offending value).
     """
-    n = v.shape[0]
     collisions = 0
     loss = 0.0
-    weighted = 0.0
     if heated:
         lo, hi = _kick(v, bounds, half_decay, half_amp, s, ki, wi, fi)
     else:
         lo, hi = _rescale(v, 1.0)
     for step in range(n_steps):
         if hi - lo > g_limit:
-            return collisions, loss, weighted, debt, step, hi - lo, True
+            return collisions, loss, debt, step, hi - lo, True
         x = debt + dt * rate * kernel_majorant(kcode, kparam, hi - lo)
         m = int(math.floor(x))
         debt = x - m
@@ -187,16 +178,11 @@ def mixture_segment(v, species, bounds, mu, reduced, lcode, p0, p1, kcode, kpara
         if heated:
             lo, hi = _kick(v, bounds, half_decay if last else decay,
                            half_amp if last else amp, s, ki, wi, fi)
-        elif scaled:
-            # T drops from 1 to 1 - 2 dloss/N over the stage: the loss at its midpoint
-            weighted += dloss / (1.0 - dloss / n) ** (1.0 + 0.5 * gamma)
-            if not last:
-                lo, hi = _rescale(v, 1.0 / math.sqrt(1.0 - 2.0 * dloss / n))
         else:
             lo, hi = _rescale(v, 1.0)
         if last:
-            return collisions, loss, weighted, debt, step + 1, hi - lo, False
-    return collisions, loss, weighted, debt, n_steps, hi - lo, False
+            return collisions, loss, debt, step + 1, hi - lo, False
+    return collisions, loss, debt, n_steps, hi - lo, False
 
 
 @jit
@@ -259,3 +245,107 @@ def recentre(v, bounds, masses, centre, scaled):  # pragma: no cover - compiled
         factor = 1.0 / math.sqrt(energy / n)
         for i in range(n):
             v[i] *= factor
+
+
+@jit
+def cooling_segment(v, species, mu, reduced, p0, kcode, kparam, rate, gamma, s, counts,
+                    max_collisions):  # pragma: no cover - compiled
+    """Free cooling in scaled variables until ``max_collisions`` collisions, one clock tick
+    per candidate (no pass over the rods).
+
+    The velocities start at :math:`T = 1` (unit mixture temperature); the majorant is
+    the range ``[lo, hi]``, measured every ``N`` candidates and widened by every
+    post-collision velocity outside it in between (a heavier partner can throw a rod
+    beyond the range), so it always bounds the relative speeds.  Each candidate advances
+    the clock by :math:`1/(\\mathrm{rate}\\,B(hi - lo))` (``rate`` :math:`= nN/2`; the
+    expected spacing, as the one-species free cooling of :mod:`particles._dsmc_kernels`)
+    and is
+    accepted with probability :math:`B(|g|)/B(hi - lo)`.  The temperature falls by
+    :math:`2\\Delta E/N` per collision; ``weighted``, the energy lost weighted by
+    :math:`T^{-(1+\\gamma/2)}`, is :math:`(N/2)\\int_{T_{end}}^1 dT/T^{1+\\gamma/2}`, so
+    that ``weighted / (N n time)`` estimates :math:`\\zeta` of
+    :math:`dT/dt = -2\\zeta n T^{1+\\gamma/2}`.
+
+    Parameters
+    ----------
+    v : ndarray of float64, shape (N,)
+        Velocities at :math:`T = 1`, updated in place (not rescaled at the end).
+    species, mu, reduced, p0 : ndarray
+        As :func:`mixture_segment`; ``p0`` the constant restitution coefficients.
+    kcode, kparam : int, float
+        A power-law kernel (:func:`particles._dsmc_model.kernel_model`).
+    rate : float
+        :math:`nN/2`.
+    gamma : float
+        The kernel's exponent.
+    s : ndarray of uint64, shape (5,)
+    counts : ndarray of int64, shape (k, k)
+    max_collisions : int
+
+    Returns
+    -------
+    (collisions, loss, weighted, time)
+    """
+    n = v.shape[0]
+    un = np.uint64(n)
+    n1 = un - np.uint64(1)
+    one_draw = n <= ONE_DRAW_MAX_N
+    hard_rods = kcode == KERNEL_HARD_RODS
+    lo, hi = _rescale(v, 1.0)
+    b_max = kernel_majorant(kcode, kparam, hi - lo)
+    scale = b_max * _INV53
+    w = s[WYRAND_WORD]
+    time = 0.0
+    ticks = 0  # candidates since the majorant last changed
+    collisions = 0
+    loss = 0.0
+    while collisions < max_collisions:
+        if ticks >= n:  # the exact range again (the widened one only grows)
+            time += ticks / (rate * b_max)
+            ticks = 0
+            lo, hi = _rescale(v, 1.0)
+            b_max = kernel_majorant(kcode, kparam, hi - lo)
+            scale = b_max * _INV53
+        i, j, threshold, w = candidate(w, un, n1, scale, one_draw)
+        ticks += 1
+        vi = v[i]
+        vj = v[j]
+        g = vi - vj
+        ag = abs(g)
+        if hard_rods:
+            if not ag > threshold:
+                continue
+        elif kcode != KERNEL_MAXWELL and not kernel_value(kcode, kparam, ag) > threshold:
+            continue
+        sa = species[i]
+        sb = species[j]
+        a = p0[sa, sb]
+        share = (1.0 + a) * g
+        vi -= mu[sa, sb] * share
+        vj += mu[sb, sa] * share
+        v[i] = vi
+        v[j] = vj
+        loss += reduced[sa, sb] * (1.0 - a * a) * g * g
+        counts[sa, sb] += 1
+        if sb != sa:
+            counts[sb, sa] += 1
+        collisions += 1
+        if vi < lo or vj < lo or vi > hi or vj > hi:
+            time += ticks / (rate * b_max)
+            ticks = 0
+            lo = min(lo, min(vi, vj))
+            hi = max(hi, max(vi, vj))
+            b_max = kernel_majorant(kcode, kparam, hi - lo)
+            scale = b_max * _INV53
+    s[WYRAND_WORD] = w
+    time += ticks / (rate * b_max)
+    # sum over the collisions of dE / T_mid^p, T falling by 2 dE / N from 1: the
+    # integral (N/2) int dT / T^p between the two temperatures (equal to the sum up to
+    # O((dE/N)^3) per collision; no power per collision)
+    power = 1.0 + 0.5 * gamma
+    end = 1.0 - 2.0 * loss / n
+    if power == 1.0:
+        weighted = 0.5 * n * math.log(1.0 / end)
+    else:
+        weighted = 0.5 * n * (end ** (1.0 - power) - 1.0) / (power - 1.0)
+    return collisions, loss, weighted, time

@@ -24,24 +24,29 @@ half a step of forcing, a collision phase, half a step of forcing.
   :math:`\alpha = 0.7`): it is removed there too.
 * **Free cooling** in scaled variables (power-law kernels, constant restitution: the
   scaled state exists only for them; :func:`evolve_mixture` follows any kernel and law in
-  physical time): before every collision stage the velocities are rescaled to
-  the mixture temperature :math:`T = \\sum_i m_i v_i^2 / N = 1`; the cooling rate of the
-  convention :math:`dT/dt = -2\\zeta n T^{1+\\gamma/2}` is the energy lost in the
-  collisions of a step, :math:`\\zeta = \\Delta E_{coll}/(N n\\,dt\\,\\bar T^{1+\\gamma/2})`
-  with :math:`\\bar T = 1 - \\Delta E_{coll}/N` the temperature at the middle of the step.
+  physical time, by the steps above without forcing): no splitting, so no time step; the
+  collisions between two measurements run on a clock that advances by the expected
+  candidate spacing :math:`2/(N n B(g_{max}))` per candidate, with the velocity range
+  measured every ``N`` candidates and widened by every collision that leaves it
+  (:func:`particles._dsmc_mixture_kernels.cooling_segment`); the velocities are then
+  rescaled to the mixture temperature :math:`T = \\sum_i m_i v_i^2 / N = 1`.  The
+  cooling rate of the convention :math:`dT/dt = -2\\zeta n T^{1+\\gamma/2}` is the
+  energy lost weighted by :math:`T^{-(1+\\gamma/2)}` over :math:`N n` times the time, the
+  temperature falling by :math:`2\\Delta E/N` per collision (the sum over the
+  collisions is the integral :math:`(N/2)\\int dT/T^{1+\\gamma/2}`).
 
-The time step puts ``collisions_per_step`` collisions per rod per step on average
-(default 0.05; the splitting error is :math:`O(dt^2)`).  Measurements (per-species power
-sums and histograms) are taken every ``sample_every`` collisions per rod after
-``relax`` collisions per rod, in ``n_batches`` consecutive batches: the error bars are
-standard errors of the batch means.
+The time step of the forced runs puts ``collisions_per_step`` collisions per rod per step
+on average (default 0.05; the splitting error is :math:`O(dt^2)`).  Measurements
+(per-species power sums and histograms) are taken every ``sample_every`` collisions per
+rod after ``relax`` collisions per rod, in ``n_batches`` consecutive batches: the error
+bars are standard errors of the batch means.
 
-The steps between two measurements run in one call of the compiled
-:func:`particles._dsmc_mixture_kernels.mixture_segment` (random numbers from its own
-stream, :mod:`particles.rng`; the initial velocities from ``numpy.random``, both from
-``seed``): 8.6 million collisions per CPU second heated and 14.7 million cooling against
-0.52 and 0.84 million when every step went through numpy (N = 5000, masses 1:2, hard
-rods, alpha 0.9; ``benchmarks/bench_dsmc_mixture.py``).
+The collisions between two measurements run in one call of a compiled kernel
+(:mod:`particles._dsmc_mixture_kernels`; random numbers from its own stream,
+:mod:`particles.rng`, the initial velocities from ``numpy.random``, both from ``seed``):
+8.7 million collisions per CPU second heated and 21 million cooling against 0.51 and 0.80
+million when every step went through numpy (N = 5000, masses 1:2, hard rods, alpha 0.9;
+0.72 and 0.48 of the one-species DSMC; ``benchmarks/bench_dsmc_mixture.py``).
 """
 
 from __future__ import annotations
@@ -63,7 +68,13 @@ from kinetic_fem.model import UnsupportedModelError, check_positive
 from kinetic_fem.model.mixture import Mixture
 from kinetic_fem.progress import resolve_progress
 
-from ._dsmc_mixture_kernels import mean_squares, measure, mixture_segment, recentre
+from ._dsmc_mixture_kernels import (
+    cooling_segment,
+    mean_squares,
+    measure,
+    mixture_segment,
+    recentre,
+)
 from ._dsmc_model import kernel_model, power_exponent
 from .rng import heated_state, ziggurat_tables
 
@@ -284,11 +295,14 @@ def simulate_mixture(mixture: Mixture, n_particles: int, *, density: float = 1.0
     bar = tqdm(total=total, disable=not resolve_progress(progress), unit="coll/rod",
                leave=False)
     while done < total:
-        dt = rods.time_step(v, opts.collisions_per_step, mixture, gamma)
         target = max(1, math.ceil(0.5 * n * (min(next_sample, total) - done)))
-        new, _, weighted, debt, taken = rods.segment(
-            v, dt, steps, debt, pair_counts, state, scaled=not heated, gamma=gamma or 0.0,
-            max_collisions=target)
+        if heated:
+            dt = rods.time_step(v, opts.collisions_per_step, mixture, gamma)
+            new, _, debt, taken = rods.segment(v, dt, steps, debt, pair_counts, state,
+                                               max_collisions=target)
+            weighted, elapsed = 0.0, taken * dt
+        else:  # gamma: a power law (checked above)
+            new, weighted, elapsed = rods.cool(v, float(gamma), pair_counts, state, target)
         n_collisions += new
         step = 2.0 * new / n
         done += step
@@ -296,11 +310,10 @@ def simulate_mixture(mixture: Mixture, n_particles: int, *, density: float = 1.0
         if done >= relax:
             batch = min(int((done - relax) / collisions_per_particle * opts.n_batches),
                         opts.n_batches - 1)
-            # the loss of each stage over the temperature at its midpoint (an O(dt) bias
-            # of zeta otherwise, 1.8 % at 0.05 collisions per step for hard rods at
-            # alpha = 0.7): ``weighted`` of the kernel
+            # free cooling: each collision's loss over the temperature at the middle of
+            # its drop (the kernel's ``weighted``)
             batch_loss[batch] += weighted
-            batch_time[batch] += taken * dt
+            batch_time[batch] += elapsed
             if done >= next_sample:
                 if not np.any(widths):
                     for s in range(mixture.n_species):
@@ -406,19 +419,16 @@ class _Rods:  # (cached properties: frozen, not slotted)
 
     def segment(self, v: NDArray[np.float64], dt: float, n_steps: int, debt: float,
                 pair_counts: NDArray[np.int64], state: NDArray[np.uint64], *,
-                scaled: bool = False, gamma: float = 0.0, max_collisions: int = 2**62
-                ) -> tuple[int, float, float, float, int]:
+                max_collisions: int = 2**62) -> tuple[int, float, float, int]:
         """``n_steps`` Strang steps of ``dt`` (:func:`particles._dsmc_mixture_kernels.
-        mixture_segment`), then the centre-of-mass velocity removed (unless a bath holds
-        it) and, with ``scaled`` (free cooling in scaled variables), the velocities
-        rescaled to :math:`T = 1`; it ends early after the step in which the collisions
-        reach ``max_collisions``.
+        mixture_segment`; free cooling in physical velocities), then the centre-of-mass
+        velocity removed (unless a bath holds it); it ends early after the step in which
+        the collisions reach ``max_collisions``.
 
         Returns
         -------
-        (collisions, loss, weighted, debt, steps)
-            The energy lost and its midpoint-weighted sum (``scaled``), the carried
-            fraction of a candidate, the steps taken.
+        (collisions, loss, debt, steps)
+            The energy lost, the carried fraction of a candidate, the steps taken.
 
         Raises
         ------
@@ -427,20 +437,35 @@ class _Rods:  # (cached properties: frozen, not slotted)
         """
         decay, amp, half_decay, half_amp = self.kicks(dt)
         ki, wi, fi = _ZIGGURAT
-        n = v.size
         out = mixture_segment(v, self.species, self.bounds, self.mu, self.reduced,
-                              self.lcode, self.p0, self.p1,
-                              self.kcode, self.kparam, decay, amp, half_decay, half_amp,
-                              self.heated, scaled,
-                              0.5 * n * self.density, dt, n_steps, self.g_limit, debt, gamma,
+                              self.lcode, self.p0, self.p1, self.kcode, self.kparam, decay,
+                              amp, half_decay, half_amp, self.heated,
+                              0.5 * v.size * self.density, dt, n_steps, self.g_limit, debt,
                               state, ki, wi, fi, pair_counts, max_collisions)
-        collisions, loss, weighted, debt, steps, g_max, exceeded = out
+        collisions, loss, debt, steps, g_max, exceeded = out
         if exceeded:
             raise ValueError(f"a relative speed {g_max:.4g} exceeds {self.g_limit:.4g}, the "
                              "largest a restitution law of the mixture allows (its "
                              "max_speed); lower the temperature or widen the law's range")
-        recentre(v, self.bounds, self.masses, not np.any(self.frictions > 0.0), scaled)
-        return int(collisions), float(loss), float(weighted), float(debt), int(steps)
+        recentre(v, self.bounds, self.masses, not np.any(self.frictions > 0.0), False)
+        return int(collisions), float(loss), float(debt), int(steps)
+
+    def cool(self, v: NDArray[np.float64], gamma: float, pair_counts: NDArray[np.int64],
+             state: NDArray[np.uint64], max_collisions: int) -> tuple[int, float, float]:
+        """Scaled free cooling (``v`` at :math:`T = 1`) for ``max_collisions`` collisions
+        (:func:`particles._dsmc_mixture_kernels.cooling_segment`), then recentred and
+        rescaled to :math:`T = 1`.
+
+        Returns
+        -------
+        (collisions, weighted loss, time)
+            ``weighted / (N n time)`` is the cooling rate's estimate.
+        """
+        collisions, _, weighted, time = cooling_segment(
+            v, self.species, self.mu, self.reduced, self.p0, self.kcode, self.kparam,
+            0.5 * v.size * self.density, gamma, state, pair_counts, max_collisions)
+        recentre(v, self.bounds, self.masses, True, True)
+        return int(collisions), float(weighted), float(time)
 
 
 _ZIGGURAT = ziggurat_tables()
@@ -453,7 +478,8 @@ class MixtureDSMCOptions:
     Parameters
     ----------
     collisions_per_step : float
-        Mean collisions per rod per time step, in (0, 0.5].
+        Mean collisions per rod per time step of the forced runs, in (0, 0.5] (free
+        cooling in scaled variables has no time step).
     sample_every : float
         Collisions per rod between measurements.
     n_batches : int
@@ -558,7 +584,7 @@ def evolve_mixture(mixture: Mixture, n_particles: int, *, times: Any, density: f
                     dt, t = (t_next - t) / n_steps, t_next
                 else:
                     t += n_steps * dt
-                debt = rods.segment(v, dt, n_steps, debt, pair_counts, state)[3]
+                debt = rods.segment(v, dt, n_steps, debt, pair_counts, state)[2]
             for s in range(k):
                 m2, m4 = np.mean(v[sel[s]]**2), np.mean(v[sel[s]]**4)
                 temps[run, i, s] = masses[s] * m2
