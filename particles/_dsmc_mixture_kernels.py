@@ -70,6 +70,27 @@ def _rescale(v, factor):  # pragma: no cover - compiled
 
 
 @jit
+def _accepted(ag, threshold, hard_rods, kcode, kparam):  # pragma: no cover - compiled
+    """The thinning test of a candidate at relative speed ``ag`` (hard rods without the
+    kernel's dispatch; every candidate for the Maxwell kernel)."""
+    if hard_rods:
+        return ag > threshold
+    return kcode == KERNEL_MAXWELL or kernel_value(kcode, kparam, ag) > threshold
+
+
+@jit
+def _pair(v, i, j, vi, vj, a, sa, sb, mu, reduced, counts):  # pragma: no cover - compiled
+    """The collision of rods ``i`` and ``j`` (velocities ``vi``, ``vj``, species ``sa``,
+    ``sb``) with coefficient ``a``, the pair counted (branch-free); the energy lost."""
+    share = (1.0 + a) * (vi - vj)
+    v[i] = vi - mu[sa, sb] * share
+    v[j] = vj + mu[sb, sa] * share
+    counts[sa, sb] += 1
+    counts[sb, sa] += sb != sa
+    return reduced[sa, sb] * (1.0 - a * a) * (vi - vj) ** 2
+
+
+@jit
 def _collide(v, species, mu, reduced, lcode, p0, p1, kcode, kparam, g_max, m, s,
              counts):  # pragma: no cover - compiled
     """``m`` candidates (module text; ``mu[s, r]`` :math:`= m_r/(m_s + m_r)`,
@@ -88,23 +109,13 @@ def _collide(v, species, mu, reduced, lcode, p0, p1, kcode, kparam, g_max, m, s,
         i, j, threshold, w = candidate(w, n, n1, scale, one_draw)
         vi = v[i]
         vj = v[j]
-        g = vi - vj
-        ag = abs(g)
-        if hard_rods:  # (without the kernel's dispatch)
-            if not ag > threshold:
-                continue
-        elif kcode != KERNEL_MAXWELL and not kernel_value(kcode, kparam, ag) > threshold:
+        ag = abs(vi - vj)
+        if not _accepted(ag, threshold, hard_rods, kcode, kparam):
             continue
         sa = species[i]
         sb = species[j]
         a = restitution_value(lcode[sa, sb], p0[sa, sb], p1[sa, sb], ag)
-        share = (1.0 + a) * g
-        v[i] = vi - mu[sa, sb] * share
-        v[j] = vj + mu[sb, sa] * share
-        loss += reduced[sa, sb] * (1.0 - a * a) * g * g
-        counts[sa, sb] += 1
-        if sb != sa:
-            counts[sb, sa] += 1
+        loss += _pair(v, i, j, vi, vj, a, sa, sb, mu, reduced, counts)
         accepted += 1
     s[WYRAND_WORD] = w
     return accepted, loss
@@ -310,25 +321,13 @@ def cooling_segment(v, species, mu, reduced, p0, kcode, kparam, rate, gamma, s, 
         ticks += 1
         vi = v[i]
         vj = v[j]
-        g = vi - vj
-        ag = abs(g)
-        if hard_rods:
-            if not ag > threshold:
-                continue
-        elif kcode != KERNEL_MAXWELL and not kernel_value(kcode, kparam, ag) > threshold:
+        if not _accepted(abs(vi - vj), threshold, hard_rods, kcode, kparam):
             continue
         sa = species[i]
         sb = species[j]
-        a = p0[sa, sb]
-        share = (1.0 + a) * g
-        vi -= mu[sa, sb] * share
-        vj += mu[sb, sa] * share
-        v[i] = vi
-        v[j] = vj
-        loss += reduced[sa, sb] * (1.0 - a * a) * g * g
-        counts[sa, sb] += 1
-        if sb != sa:
-            counts[sb, sa] += 1
+        loss += _pair(v, i, j, vi, vj, p0[sa, sb], sa, sb, mu, reduced, counts)
+        vi = v[i]
+        vj = v[j]
         collisions += 1
         if vi < lo or vj < lo or vi > hi or vj > hi:
             time += ticks / (rate * b_max)

@@ -44,9 +44,9 @@ bars are standard errors of the batch means.
 The collisions between two measurements run in one call of a compiled kernel
 (:mod:`particles._dsmc_mixture_kernels`; random numbers from its own stream,
 :mod:`particles.rng`, the initial velocities from ``numpy.random``, both from ``seed``):
-8.7 million collisions per CPU second heated and 21 million cooling against 0.51 and 0.80
-million when every step went through numpy (N = 5000, masses 1:2, hard rods, alpha 0.9;
-0.72 and 0.48 of the one-species DSMC; ``benchmarks/bench_dsmc_mixture.py``).
+8.9 million collisions per CPU second heated and 23.6 million cooling against 0.51 and
+0.80 million when every step went through numpy (N = 5000, masses 1:2, hard rods, alpha
+0.9; 0.76 and 0.53 of the one-species DSMC; ``benchmarks/bench_dsmc_mixture.py``).
 """
 
 from __future__ import annotations
