@@ -301,8 +301,9 @@ def simulate_mixture(mixture: Mixture, n_particles: int, *, density: float = 1.0
             new, _, debt, taken = rods.segment(v, dt, steps, debt, pair_counts, state,
                                                max_collisions=target)
             weighted, elapsed = 0.0, taken * dt
-        else:  # gamma: a power law (checked above)
-            new, weighted, elapsed = rods.cool(v, float(gamma), pair_counts, state, target)
+        else:
+            assert gamma is not None  # a power law in free cooling (checked above)
+            new, weighted, elapsed = rods.cool(v, gamma, pair_counts, state, target)
         n_collisions += new
         step = 2.0 * new / n
         done += step
