@@ -197,22 +197,27 @@ def mixture_segment(v, species, bounds, mu, reduced, lcode, p0, p1, kcode, kpara
 
 
 @jit
-def measure(v, species, lows, widths, sums, hist):  # pragma: no cover - compiled
+def measure(v, bounds, lows, widths, sums, hist):  # pragma: no cover - compiled
     """Add each rod's powers :math:`v^0 \\dots v^K` to ``sums[s]`` (shape (k, K + 1)) and
     its bin (``lows[s] + widths[s] * [b, b + 1)``, inside ``hist.shape[1]`` bins) to
-    ``hist[s]``, ``s`` its species."""
+    ``hist[s]``, ``s`` its species (rods ``bounds[s] <= i < bounds[s + 1]``)."""
     bins = hist.shape[1]
     top = sums.shape[1]
-    for i in range(v.shape[0]):
-        sp = species[i]
-        x = v[i]
-        p = 1.0
+    acc = np.zeros(top)
+    for sp in range(bounds.shape[0] - 1):
+        acc[:] = 0.0
+        inv = 1.0 / widths[sp]
+        for i in range(bounds[sp], bounds[sp + 1]):
+            x = v[i]
+            p = 1.0
+            for k in range(top):
+                acc[k] += p
+                p *= x
+            b = math.floor((x - lows[sp]) * inv)
+            if 0 <= b < bins:
+                hist[sp, int(b)] += 1.0
         for k in range(top):
-            sums[sp, k] += p
-            p *= x
-        b = math.floor((x - lows[sp]) / widths[sp])
-        if 0 <= b < bins:
-            hist[sp, int(b)] += 1.0
+            sums[sp, k] += acc[k]
 
 
 @jit
