@@ -6,6 +6,8 @@ The file holds a ``[mixture]`` table::
     masses = [1.0, 4.0]
     fractions = [0.5, 0.5]
     alpha = 0.9                 # or a symmetric table [[0.9, 0.8], [0.8, 0.7]]
+    # a restitution law in place of a number (here or in the table; particle methods):
+    # "viscoelastic:DELTA", or "threshold:ALPHA:SPEED" (elastic below |g| = SPEED)
     kernel = 1.0                # gamma of |g|^gamma
     forcing = "same_diffusion"  # "same_power", "cooling" or "baths"
     diffusion = 1.0             # D (white noise)
@@ -22,6 +24,7 @@ from pathlib import Path
 from typing import Any
 
 from .model.mixture import FORCING_CONVENTIONS, Mixture
+from .model.restitution import ThresholdRestitution, ViscoelasticRestitution
 from .model.thermostat import FokkerPlanckBath
 from .model.validation import check_positive
 
@@ -80,7 +83,11 @@ def mixture_from_table(table: dict[str, Any], where: str = "[mixture]"
         density = check_positive("density", table.get("density", 1.0))
     except (TypeError, ValueError) as exc:
         raise ValueError(f"{where} density: {exc}") from None
-    args = {"alpha": table.get("alpha", 0.9), "kernel": table.get("kernel", 1.0)}
+    try:
+        alpha = _laws(table.get("alpha", 0.9))
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"{where} alpha: {exc}") from None
+    args = {"alpha": alpha, "kernel": table.get("kernel", 1.0)}
     key = "masses"
     try:
         if forcing in FORCING_CONVENTIONS:
@@ -99,6 +106,26 @@ def mixture_from_table(table: dict[str, Any], where: str = "[mixture]"
     except (TypeError, ValueError) as exc:
         raise ValueError(f"{where} {key}: {exc}" if key else f"{where}: {exc}") from None
     return mix, density
+
+
+def _laws(alpha: Any) -> Any:
+    """``alpha`` with every ``"viscoelastic:DELTA"`` or ``"threshold:ALPHA:SPEED"``
+    string (alone or in a table) replaced by its restitution law."""
+    if isinstance(alpha, list):
+        return [_laws(entry) for entry in alpha]
+    if not isinstance(alpha, str):
+        return alpha
+    kind, *values = [part.strip() for part in alpha.split(":")]
+    try:
+        numbers = [float(value) for value in values]
+    except ValueError:
+        numbers = []
+    if kind == "viscoelastic" and len(numbers) == 1:
+        return ViscoelasticRestitution(numbers[0])
+    if kind == "threshold" and len(numbers) == 2:
+        return ThresholdRestitution(numbers[0], numbers[1])
+    raise ValueError(f"a restitution coefficient, \"viscoelastic:DELTA\" or "
+                     f"\"threshold:ALPHA:SPEED\", got {alpha!r}")
 
 
 def _bath(i: int, entry: Any) -> FokkerPlanckBath:

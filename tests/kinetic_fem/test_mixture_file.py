@@ -5,6 +5,7 @@ import pytest
 from kinetic_fem.cli import main
 from kinetic_fem.mixture_file import mixture_from_table, read_mixture
 from kinetic_fem.mixture_solve import solve_mixture
+from kinetic_fem.model import ThresholdRestitution, ViscoelasticRestitution
 
 GOOD = """[mixture]
 masses = [1.0, 4.0]
@@ -71,3 +72,25 @@ def test_a_method_that_cannot_do_the_mixture_is_a_clear_cli_error(tmp_path, caps
     with pytest.raises(SystemExit):
         main(["mixture", str(bad)])
     assert "[mixture]" in capsys.readouterr().err
+
+
+def test_restitution_laws_in_a_mixture_file(tmp_path, capsys):
+    """Laws as strings, alone or in the alpha table: the DSMC runs them; a deterministic
+    method names what it cannot do; a malformed law names the key and the forms."""
+    path = tmp_path / "laws.toml"
+    path.write_text('[mixture]\nmasses = [1.0, 3.0]\nfractions = [0.5, 0.5]\n'
+                    'alpha = [[0.8, "viscoelastic:0.1"], ["viscoelastic:0.1", '
+                    '"threshold:0.6:0.5"]]\n')
+    mix, _ = read_mixture(path)
+    assert mix.laws[0][1] == ViscoelasticRestitution(0.1)
+    assert mix.laws[1][1] == ThresholdRestitution(0.6, 0.5)
+    assert main(["mixture", str(path), "--method", "dsmc", "-N", "200", "--collisions",
+                 "40", "--seed", "1", "--quiet"]) == 0
+    assert "T_1/T_2" in capsys.readouterr().out
+    with pytest.raises(SystemExit) as info:
+        main(["mixture", str(path), "--method", "fem", "--quiet"])
+    assert info.value.code == 2
+    assert "constant restitution coefficient" in capsys.readouterr().err
+    with pytest.raises(ValueError, match=r"alpha: .*threshold:ALPHA:SPEED"):
+        mixture_from_table({"masses": [1, 2], "fractions": [0.5, 0.5],
+                            "alpha": "threshold:0.6"})
