@@ -91,8 +91,11 @@ class MixtureRods:
     species : ndarray of int64, shape (N,)
         The species of each rod (in ring order).
     masses : ndarray, shape (k,)
-    alphas : ndarray, shape (k, k)
-        Constant restitution coefficient of each pair (symmetric).
+    lcodes, lp0, lp1 : ndarray, shape (k, k)
+        The restitution law of each pair (symmetric): its code and parameters
+        (:func:`kinetic_fem.model.restitution_value`).
+    max_speed : float
+        The smallest relative speed range of those laws.
     kick_scale : ndarray, shape (N,)
         Each rod's kick amplitude over :attr:`Kicks.amplitude`
         (:math:`\\sqrt{D_s/D}`).
@@ -100,11 +103,28 @@ class MixtureRods:
 
     species: NDArray[np.int64]
     masses: NDArray[np.float64]
-    alphas: NDArray[np.float64]
+    lcodes: NDArray[np.int64]
+    lp0: NDArray[np.float64]
+    lp1: NDArray[np.float64]
     kick_scale: NDArray[np.float64]
+    max_speed: float = math.inf
+
+    @classmethod
+    def of(cls, species: NDArray[np.int64], masses: NDArray[np.float64],
+           laws: tuple[tuple[RestitutionLaw, ...], ...],
+           kick_scale: NDArray[np.float64]) -> MixtureRods:
+        """The rods of a mixture with the symmetric table of restitution ``laws``."""
+        k = len(laws)
+        params = np.array([[law.parameters for law in row] for row in laws],
+                          dtype=float).reshape(k, k, 2)
+        return cls(species, masses,
+                   np.array([[law.code for law in row] for row in laws], dtype=np.int64),
+                   np.ascontiguousarray(params[..., 0]), np.ascontiguousarray(params[..., 1]),
+                   kick_scale, min(float(law.max_speed) for row in laws for law in row))
 
 
-_NO_SPECIES = MixtureRods(np.zeros(0, np.int64), np.zeros(0), np.zeros((0, 0)), np.zeros(0))
+_NO_SPECIES = MixtureRods(np.zeros(0, np.int64), np.zeros(0), np.zeros((0, 0), np.int64),
+                          np.zeros((0, 0)), np.zeros((0, 0)), np.zeros(0))
 
 
 @dataclass(frozen=True)
@@ -186,12 +206,14 @@ class MDEngine:
         self.free_length, self.sigma = o.free_length, o.sigma
         self.kick_dt = kick_dt
         law = o.restitution
-        self._law = (law.code, *law.parameters, law.max_speed, o.elastic_below)
         mix = o.species or _NO_SPECIES
+        self._law = (law.code, *law.parameters, min(law.max_speed, mix.max_speed),
+                     o.elastic_below)
         k = mix.masses.size
         #: collisions per ordered pair of species (the kernel counts the left rod first)
         self.pair_counts = np.zeros((k, k), np.int64)
-        self._species = (mix.species, mix.masses, mix.alphas, mix.kick_scale)
+        self._species = (mix.species, mix.masses, mix.lcodes, mix.lp0, mix.lp1,
+                         mix.kick_scale)
         self._temp_key: tuple[int, int] | None = None
         self._moments = (math.nan, math.nan, math.nan)
         # free cooling: calendar epochs of about N collisions, the first from T
@@ -273,8 +295,13 @@ class MDEngine:
         if status == K.STATUS_LAW_RANGE:
             p = int(self.istate[K.I_BAD_PAIR])
             g = float(self.v[p] - self.v[(p + 1) % self.v.size])
-            self.options.restitution.check_speed(
-                g, where=f"a collision of the MD run at t={self.fstate[K.F_T]:.6g}")
+            where = f"a collision of the MD run at t={self.fstate[K.F_T]:.6g}"
+            mix = self.options.species
+            if mix is not None and g > mix.max_speed:
+                raise ValueError(f"{where}: relative speed {g:.4g} exceeds {mix.max_speed:.4g}, "
+                                 "the largest a restitution law of the mixture allows (its "
+                                 "max_speed); lower the temperature or widen the law's range")
+            self.options.restitution.check_speed(g, where=where)
         self._collapse(status)
 
     def _collapse(self, status: int) -> NoReturn:

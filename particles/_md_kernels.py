@@ -217,7 +217,7 @@ def rod_positions_at(t, x, v, tl, sigma, big_l, out):  # pragma: no cover - comp
 @jit
 def run_events(x, v, tl, heap, hkey, where, ptime, head, nxt, prv, bkt, fstate, istate, rng,
                normals, free_length, law, p0, p1, max_speed, threshold, kick_dt,
-               kick_decay, kick_amp, species, masses, alphas, kick_scale, pair_counts,
+               kick_decay, kick_amp, species, masses, lcodes, lp0, lp1, kick_scale, pair_counts,
                speed_floor, max_stall, t_stop, coll_stop):  # pragma: no cover - compiled
     """Advance the event-driven dynamics until a stop condition; return a status code.
 
@@ -251,10 +251,11 @@ def run_events(x, v, tl, heap, hkey, where, ptime, head, nxt, prv, bkt, fstate, 
     kick_dt, kick_decay, kick_amp : float
         Interval between kicks (inf: free cooling) and the kick
         ``v -> kick_decay * v + kick_amp * xi``.
-    species, masses, alphas, kick_scale, pair_counts : ndarray
+    species, masses, lcodes, lp0, lp1, kick_scale, pair_counts : ndarray
         A mixture (:mod:`particles.md_mixture`): the species of each rod (int64, shape
-        (N,)), the species' masses (shape (k,)), constant restitution per pair (shape
-        (k, k), replacing ``law``), the factor of each rod's kick normal (shape (N,)) and
+        (N,)), the species' masses (shape (k,)), the restitution law of each pair (code
+        and parameters, shapes (k, k), replacing ``law``; ``max_speed`` then the smallest
+        of their ranges), the factor of each rod's kick normal (shape (N,)) and
         the collisions per pair of species (int64, shape (k, k), incremented).  One
         species: all of size 0, and the one-species rule below runs unchanged.
     speed_floor : float
@@ -402,7 +403,9 @@ def run_events(x, v, tl, heap, hkey, where, ptime, head, nxt, prv, bkt, fstate, 
             status = STATUS_LAW_RANGE
             break
         elif mixture:
-            a = alphas[species[i], species[j]]
+            si = species[i]
+            sj = species[j]
+            a = restitution_value(lcodes[si, sj], lp0[si, sj], lp1[si, sj], g)
         else:
             a = restitution_value(law, p0, p1, g)
         if tc - t <= 1e-13 * abs(tc):

@@ -12,7 +12,8 @@ and ``j`` at relative velocity :math:`g = v_i - v_j > 0` is the mixture rule of
     v_i' = v_i - \\mu_{ij}(1 + a)\\,g, \\qquad v_j' = v_j + \\mu_{ji}(1 + a)\\,g,
     \\qquad \\mu_{ij} = \\frac{m_j}{m_i + m_j},
 
-with :math:`a = \\alpha_{s_i s_j}` (a constant per pair), or :math:`a = 1` below
+with :math:`a = \\alpha_{s_i s_j}(g)` (the pair's restitution law, a constant or any law
+of :mod:`kinetic_fem.model` in the heated state), or :math:`a = 1` below
 ``threshold`` (the Ben-Naim et al. regularisation, as in :mod:`particles.md`).  Momentum
 :math:`\\sum_i m_i v_i` is conserved and each collision loses
 :math:`\\tfrac12 m_{ij}(1 - a^2) g^2` (:math:`m_{ij} = m_i m_j/(m_i + m_j)`).
@@ -36,8 +37,8 @@ distribution per species (in free cooling of the scaled velocities), the species
 temperatures :math:`T_s = m_s\\langle (v - u)^2\\rangle_s` per batch (consecutive
 stretches of the sampling period) with their standard errors.  The kernel is the one of
 :mod:`particles.md` (:func:`particles._md_kernels.run_events`), given the species
-arrays; the one-species MD is unchanged by them.  Hard rods only (:math:`\\gamma = 1`)
-and constant restitution per pair.
+arrays; the one-species MD is unchanged by them.  Hard rods only (:math:`\\gamma = 1`);
+a run whose relative speeds leave a law's range stops with a ``ValueError``.
 """
 
 from __future__ import annotations
@@ -77,6 +78,27 @@ def _mean_relative_speed(mixture: Mixture, temperatures: NDArray[np.float64]) ->
     return float(x @ pair @ x)
 
 
+def _estimate(mixture: Mixture, density: float) -> NDArray[np.float64]:
+    """The species' temperatures of the Gaussian theory (the time scales and default
+    threshold of a run): with restitution laws, each pair's law at the mean relative
+    speed of a first estimate at the laws' values at unit speed, then once more."""
+    if not mixture.heated:
+        return mixture_gaussian.cooling_state(mixture, density=density).temperatures
+    if all(law.constant is not None for row in mixture.laws for law in row):
+        return mixture_gaussian.steady_state(mixture, density=density).temperatures
+    masses = np.asarray(mixture.masses)
+    speed = np.ones((mixture.n_species,) * 2)
+    for _ in range(2):
+        table = [[float(law(min(speed[s, r], 0.5 * law.max_speed)))
+                  for r, law in enumerate(row)] for s, row in enumerate(mixture.laws)]
+        surrogate = Mixture(mixture.masses, mixture.fractions, alpha=table,
+                            kernel=mixture.collision_kernel, thermostats=mixture.thermostats)
+        temps = mixture_gaussian.steady_state(surrogate, density=density).temperatures
+        var = temps / masses
+        speed = np.sqrt(2.0 * (var[:, None] + var[None, :]) / math.pi)
+    return temps
+
+
 def simulate_mixture(mixture: Mixture, n_particles: int, *, density: float = 1.0,
                      sigma: float | None = None, seed: Any = None,
                      collisions_per_particle: float = 200.0, warmup: float | None = None,
@@ -89,8 +111,9 @@ def simulate_mixture(mixture: Mixture, n_particles: int, *, density: float = 1.0
     Parameters
     ----------
     mixture : Mixture
-        Hard rods (kernel 1), constant restitution per pair; white noise per species, or a
-        bath with one friction for all species; or free cooling.
+        Hard rods (kernel 1), a restitution law per pair (constant coefficients in free
+        cooling); white noise per species, or a bath with one friction for all species;
+        or free cooling.
     n_particles : int
         Rods in all; ``n_particles * x_s`` must be whole numbers, at least 2 each.
     density, sigma : float
@@ -126,8 +149,8 @@ def simulate_mixture(mixture: Mixture, n_particles: int, *, density: float = 1.0
     Raises
     ------
     UnsupportedModelError
-        For a kernel other than hard rods, a velocity-dependent restitution law, or baths
-        of different frictions.
+        For a kernel other than hard rods, a velocity-dependent restitution law in free
+        cooling, or baths of different frictions.
     ValueError, TypeError
         For invalid parameters (naming the parameter).
     InelasticCollapseError
@@ -144,7 +167,12 @@ def simulate_mixture(mixture: Mixture, n_particles: int, *, density: float = 1.0
     if not isinstance(mixture, Mixture):
         raise TypeError(f"mixture must be a kinetic_fem.Mixture, got {mixture!r}")
     hard_rods(mixture.collision_kernel)
-    alphas = mixture.constant_alpha()
+    constant = all(law.constant is not None for row in mixture.laws for law in row)
+    if not (constant or mixture.heated):
+        raise UnsupportedModelError(
+            "MD of a freely cooling mixture samples its scaled state, which exists only for "
+            "constant restitution coefficients; particles.dsmc_mixture.evolve_mixture "
+            f"follows a restitution law in physical time; got alpha {mixture.alpha!r}")
     counts = species_counts(mixture, n_particles)
     n, sig = check_geometry(n_particles, density, sigma)
     density = float(density)
@@ -167,9 +195,7 @@ def simulate_mixture(mixture: Mixture, n_particles: int, *, density: float = 1.0
             f"MD of a mixture kicks every rod at once: the species must share one friction "
             f"(white noise, or one bath friction), got frictions {frictions.tolist()}")
     n_f = density / (1.0 - density * sig)  # collision density of the reduced ring
-    estimate = (mixture_gaussian.steady_state(mixture, density=n_f) if heated
-                else mixture_gaussian.cooling_state(mixture, density=n_f))
-    temps = estimate.temperatures
+    temps = _estimate(mixture, n_f)
     tau = 1.0 / (n_f * _mean_relative_speed(mixture, temps))
     speed = float(np.sqrt(np.max(temps / masses)))
     rng = np.random.default_rng(check_seed(seed))  # type: ignore[arg-type]
@@ -192,8 +218,8 @@ def simulate_mixture(mixture: Mixture, n_particles: int, *, density: float = 1.0
     else:
         kicks, scale = Kicks(), np.zeros(0)
         thr = 0.0 if threshold is None else check_positive("threshold", threshold)
-    rods = MixtureRods(species, masses, alphas, np.ascontiguousarray(scale))
-    law = ConstantRestitution(float(np.max(alphas)))
+    rods = MixtureRods.of(species, masses, mixture.laws, np.ascontiguousarray(scale))
+    law = ConstantRestitution(1.0)  # (the laws of the pairs are the rods')
     options = EngineOptions(n / density - n * sig, sig, law, thr, kicks,
                             max_stall=100 * n + 100_000, species=rods)
     engine = MDEngine(y, v, options, rng)
