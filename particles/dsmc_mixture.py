@@ -44,9 +44,9 @@ bars are standard errors of the batch means.
 The collisions between two measurements run in one call of a compiled kernel
 (:mod:`particles._dsmc_mixture_kernels`; random numbers from its own stream,
 :mod:`particles.rng`, the initial velocities from ``numpy.random``, both from ``seed``):
-9.5 million collisions per CPU second heated and 25 million cooling against 0.51 and
+9.6 million collisions per CPU second heated and 25 million cooling against 0.51 and
 0.80 million when every step went through numpy (N = 5000, masses 1:2, hard rods, alpha
-0.9; 0.78 and 0.55 of the one-species DSMC; ``benchmarks/bench_dsmc_mixture.py``).
+0.9; 0.79 and 0.54 of the one-species DSMC; ``benchmarks/bench_dsmc_mixture.py``).
 """
 
 from __future__ import annotations
