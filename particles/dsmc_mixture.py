@@ -77,6 +77,7 @@ from ._dsmc_mixture_kernels import (
 )
 from ._dsmc_model import kernel_model, power_exponent
 from .rng import heated_state, ziggurat_tables
+from .run import check_seed
 
 __all__ = ["MixtureRun", "simulate_mixture", "simulate_binary", "evolve_mixture", "species_counts",
            "MixtureDSMCOptions"]
@@ -264,8 +265,15 @@ def simulate_mixture(mixture: Mixture, n_particles: int, *, density: float = 1.0
             "particles.dsmc_mixture.evolve_mixture follows free cooling with any kernel and "
             f"law in physical time; got kernel {mixture.collision_kernel!r} and alpha "
             f"{mixture.alpha!r}")
+    if collisions_per_particle < opts.n_batches * opts.sample_every:
+        raise ValueError(f"collisions_per_particle={collisions_per_particle:g} is too short "
+                         f"for n_batches={opts.n_batches} measured every "
+                         f"{opts.sample_every:g} collisions per rod (at least "
+                         f"{opts.n_batches * opts.sample_every:g})")
     masses = np.asarray(mixture.masses, dtype=float)
-    root = seed if isinstance(seed, np.random.SeedSequence) else np.random.SeedSequence(seed)
+    checked = check_seed(seed)
+    root = checked if isinstance(checked, np.random.SeedSequence) \
+        else np.random.SeedSequence(checked)  # type: ignore[arg-type]
     start_seq, kernel_seq = root.spawn(2)
     rng = np.random.default_rng(start_seq)
     n = int(n_particles)
@@ -599,7 +607,9 @@ def evolve_mixture(mixture: Mixture, n_particles: int, *, times: Any, density: f
     a2 = np.zeros((n_runs, t_out.size, k))
     sel = [species == s for s in range(k)]
     pair_counts = np.zeros((k, k), dtype=np.int64)
-    ss = seed if isinstance(seed, np.random.SeedSequence) else np.random.SeedSequence(seed)
+    checked = check_seed(seed)
+    ss = checked if isinstance(checked, np.random.SeedSequence) \
+        else np.random.SeedSequence(checked)  # type: ignore[arg-type]
     steps = max(1, int(round(1.0 / collisions_per_step)))  # about a collision per rod
     for run, child in enumerate(ss.spawn(n_runs)):
         start_seq, kernel_seq = child.spawn(2)

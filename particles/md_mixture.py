@@ -136,7 +136,8 @@ def simulate_mixture(mixture: Mixture, n_particles: int, *, density: float = 1.0
         Heated: time between samples, in mean free times (measured over the warm-up;
         without one, the Gaussian estimate).
     n_samples : int
-        Free cooling: samples (evenly spaced in collisions from ``warmup`` to the end).
+        Free cooling: samples (evenly spaced in collisions from ``warmup`` to the end), more
+        than ``n_batches`` (each batch's cooling rate needs an interval between samples).
     n_batches, n_bins, c_max : int, int, float
         Batches of the error bars (>= 2), histogram bins per species and the histogram
         range in units of the species' standard deviation at the first sample.
@@ -177,7 +178,10 @@ def simulate_mixture(mixture: Mixture, n_particles: int, *, density: float = 1.0
     n, sig = check_geometry(n_particles, density, sigma)
     density = float(density)
     cpp = check_positive("collisions_per_particle", collisions_per_particle)
-    for name, val, least in (("n_samples", n_samples, n_batches), ("n_batches", n_batches, 2),
+    # free cooling: zeta comes from the intervals between samples, at least one per batch
+    fewest = n_batches + (0 if mixture.heated else 1) \
+        if isinstance(n_batches, (int, np.integer)) else 2
+    for name, val, least in (("n_samples", n_samples, fewest), ("n_batches", n_batches, 2),
                              ("n_bins", n_bins, 1)):
         if isinstance(val, bool) or not isinstance(val, (int, np.integer)) or val < least:
             raise ValueError(f"{name} must be an integer >= {least}, got {val!r}")
@@ -294,6 +298,10 @@ def simulate_mixture(mixture: Mixture, n_particles: int, *, density: float = 1.0
     dists = tuple(acc.distribution(method="md-mixture",
                                    params={**params, "species": s, "mass": float(masses[s])},
                                    info=info) for s, acc in enumerate(accs))
+    if not heated and not np.all(zeta_time > 0.0):
+        raise ValueError(f"no time passed between the samples of a batch (N={n}, "
+                         f"collisions_per_particle={cpp:g}, n_samples={n_samples}): the "
+                         "cooling rate is undefined; run longer or take fewer samples")
     batch_zeta = None if heated else zeta_sum / zeta_time
     return MixtureRun(mixture, dists, batch_temps / batch_rows[:, None], batch_zeta, n,
                       n_coll, pair_counts, info)

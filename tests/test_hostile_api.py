@@ -21,7 +21,8 @@ import kinetic_fem as kf
 from kinetic_fem import io
 from kinetic_fem.distribution import VelocityDistribution
 from kinetic_fem.exceptions import FileFormatError
-from particles import dsmc, md
+from kinetic_fem.mixture_file import mixture_from_table
+from particles import dsmc, dsmc_mixture, md, md_mixture
 from particles.sampling import load_checkpoint
 
 OURS = (f"{os.sep}kinetic_fem{os.sep}", f"{os.sep}particles{os.sep}")
@@ -117,6 +118,51 @@ md_args = (st.floats(0.5, 0.99), st.one_of(st.integers(-2, 40), st.just(True)), 
            st.lists(st.integers(-2, 10**10), max_size=3), seeds)
 
 
+def _mixture_particles(entry, mass, n, cpp, seed, forced, method):
+    """A binary mixture from a mixture-file table whose alpha is ``entry`` (a number, a
+    law string, junk), run by the mixture DSMC or MD."""
+    def call():
+        table = {"masses": [1.0, mass], "fractions": [0.5, 0.5], "alpha": entry,
+                 "forcing": "same_diffusion" if forced else "cooling"}
+        mix, density = mixture_from_table(table)
+        if method == "md":
+            return md_mixture.simulate_mixture(mix, n, seed=seed, collisions_per_particle=cpp,
+                                               n_samples=3, n_batches=2, threshold=1e-3)
+        return dsmc_mixture.simulate_mixture(
+            mix, n, density=density, seed=seed, collisions_per_particle=cpp, relax=0.5,
+            options=dsmc_mixture.MixtureDSMCOptions(n_batches=2, bins=10))
+
+    run = outcome(call)
+    if run is not None:
+        assert np.all(np.isfinite(run.temperatures)) and np.all(run.temperatures > 0)
+
+
+law_entry = st.one_of(
+    st.floats(0.0, 0.99), st.builds("viscoelastic:{}".format, st.floats(0.01, 0.5)),
+    st.builds("threshold:{}:{}".format, st.floats(0.0, 0.99), st.floats(0.01, 5.0)),
+    st.lists(st.lists(st.sampled_from([0.7, "viscoelastic:0.1", "threshold:0.6:0.5"]),
+                      min_size=2, max_size=2), min_size=2, max_size=2),
+    alpha, st.builds("viscoelastic:{}".format, st.floats(-1.0, 5.0)),
+    st.builds("threshold:{}:{}".format, st.floats(-0.5, 1.5), st.floats(-1.0, 10.0)),
+    st.lists(st.lists(st.sampled_from([0.7, "threshold:0.6", "x", float("nan")]),
+                      min_size=1, max_size=3), max_size=3))
+valid_n = st.integers(2, 30).map(lambda k: 2 * k)
+long_enough = st.floats(3.0, 12.0)
+mixture_args = (law_entry,
+                st.one_of(st.sampled_from([0.5, 1.0, 3.0]), st.sampled_from([0.5, 1.0, 3.0]),
+                          st.sampled_from([0.0, -1.0, float("nan")])),
+                st.one_of(valid_n, valid_n, st.integers(-2, 60), st.just(True)),
+                st.one_of(long_enough, long_enough, st.floats(0.0, 3.0)),
+                st.one_of(st.integers(0, 100), seeds), st.sampled_from([True, True, False]),
+                st.sampled_from(["dsmc", "md"]))
+
+
+@FAST
+@given(*mixture_args)
+def test_mixture_particles_with_laws_tiny(entry, mass, n, cpp, seed, forced, method):
+    _mixture_particles(entry, mass, n, cpp, seed, forced, method)
+
+
 @FAST
 @given(*dsmc_args)
 def test_dsmc_heated_tiny(a, n, cpp, every, seed):
@@ -191,6 +237,13 @@ def test_solve_heated_spectral_many(a, density, diffusion, friction):
 @given(*dsmc_args)
 def test_dsmc_heated_many(a, n, cpp, every, seed):
     _dsmc(a, n, cpp, every, seed)
+
+
+@pytest.mark.slow
+@MANY
+@given(*mixture_args)
+def test_mixture_particles_with_laws_many(entry, mass, n, cpp, seed, forced, method):
+    _mixture_particles(entry, mass, n, cpp, seed, forced, method)
 
 
 @pytest.mark.slow

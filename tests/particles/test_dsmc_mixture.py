@@ -134,7 +134,8 @@ def test_a_law_path_with_a_constant_value_is_the_constant_run_bit_for_bit():
 def test_scaled_cooling_state_needs_a_power_law_and_constant_coefficients():
     """No scaled cooling state exists for a velocity-dependent law or a kernel that is
     not a power law: the error names evolve_mixture; a law beyond its speed range stops
-    with a ValueError that says so."""
+    with a ValueError that says so; a run too short for its batches (here a denormal
+    length, which overflowed the batch index) and a negative seed are refused up front."""
     for mix in (Mixture((1.0, 2.0), (0.5, 0.5), alpha=ViscoelasticRestitution(0.1)),
                 Mixture((1.0, 2.0), (0.5, 0.5), alpha=0.8, kernel=SaturatingKernel(1.0))):
         with pytest.raises(UnsupportedModelError, match="evolve_mixture"):
@@ -142,7 +143,12 @@ def test_scaled_cooling_state_needs_a_power_law_and_constant_coefficients():
     fast = Mixture.white_noise((1.0, 2.0), (0.5, 0.5), alpha=ViscoelasticRestitution(1.0),
                                diffusion=100.0)
     with pytest.raises(ValueError, match="max_speed"):
-        simulate_mixture(fast, 100, seed=1, collisions_per_particle=10)
+        simulate_mixture(fast, 100, seed=1, collisions_per_particle=20)
+    with pytest.raises(ValueError, match="too short for n_batches=20"):
+        simulate_mixture(Mixture.white_noise((1.0, 2.0), (0.5, 0.5)), 100, seed=1,
+                         collisions_per_particle=5e-324)
+    with pytest.raises(ValueError, match="seed"):
+        simulate_mixture(Mixture.white_noise((1.0, 2.0), (0.5, 0.5)), 100, seed=-1)
 
 
 def test_mixture_runs_without_jit_are_bit_identical():

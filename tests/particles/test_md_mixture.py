@@ -113,6 +113,14 @@ def test_md_mixture_rejects_what_it_cannot_do():
         simulate_mixture(Mixture((1.0, 2.0), (0.3, 0.7)), 101)
     with pytest.raises(ValueError, match="warmup"):
         simulate_mixture(Mixture((1.0, 2.0), (0.5, 0.5)), 100, warmup=300.0)
+    # free cooling: every batch needs an interval between samples for its cooling rate
+    # (n_samples = n_batches gave a NaN zeta), and time must pass within it
+    with pytest.raises(ValueError, match="n_samples"):
+        simulate_mixture(Mixture((1.0, 2.0), (0.5, 0.5)), 100, n_samples=2, n_batches=2)
+    with pytest.raises(ValueError, match="no time passed"):
+        simulate_mixture(Mixture((1.0, 2.0), (0.5, 0.5)), 4, seed=1,
+                         collisions_per_particle=1e-3, n_samples=3, n_batches=2,
+                         threshold=1e-3)
 
 
 #: MD at n = 0.2, n sigma = 0.1 collides at the density of the points on the reduced ring,
