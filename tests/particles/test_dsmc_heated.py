@@ -9,9 +9,6 @@ steady state uses the spread of the seeds.
 from __future__ import annotations
 
 import math
-import os
-import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -201,20 +198,15 @@ def test_old_heated_checkpoint_is_refused(tmp_path):
         dsmc.simulate_heated(0.8, 200, resume=True, **kw)
 
 
-def test_heated_run_without_jit_is_bit_identical():
+def test_heated_run_without_jit_is_bit_identical(jit_and_plain):
     """A tiny heated run under NUMBA_DISABLE_JIT=1 equals the compiled one bit for bit."""
     kw = "collisions_per_particle=3, relax=1.0, n_batches=3, seed=4"
     code = ("import numpy as np; from particles import dsmc;"
             f"r = dsmc.simulate_heated(0.6, 60, {kw});"
             "print(repr(r.n_collisions), repr(r.series['a2'].tolist()),"
             " repr(r.counts.sum()), repr(r.power_sums.tolist()))")
-    out = []
-    for jit_off in ("0", "1"):
-        env = dict(os.environ, NUMBA_DISABLE_JIT=jit_off)
-        out.append(subprocess.run([sys.executable, "-W", "ignore", "-c", code], check=True,
-                                  env=env, timeout=300, capture_output=True,
-                                  text=True).stdout)
-    assert out[0] == out[1] and out[0].strip()
+    compiled, plain = jit_and_plain(code)
+    assert compiled == plain and compiled.strip()
 
 
 # ----------------------------------------------------------------------------- statistics

@@ -6,9 +6,6 @@ conventions, a bath), and identical species against the one-species FEM solution
 and the cooling rate of the homogeneous cooling state).
 """
 
-import os
-import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -151,7 +148,7 @@ def test_scaled_cooling_state_needs_a_power_law_and_constant_coefficients():
         simulate_mixture(Mixture.white_noise((1.0, 2.0), (0.5, 0.5)), 100, seed=-1)
 
 
-def test_mixture_runs_without_jit_are_bit_identical():
+def test_mixture_runs_without_jit_are_bit_identical(jit_and_plain):
     """The compiled steps (heated, scaled free cooling, free cooling in physical time, a
     restitution law) run as plain Python under NUMBA_DISABLE_JIT=1 give the same numbers
     bit for bit: the random numbers come from the kernels' own integer streams."""
@@ -170,10 +167,5 @@ def test_mixture_runs_without_jit_are_bit_identical():
         "    print(r.batch_temperatures.tolist(), r.batch_zeta, r.n_collisions)\n"
         "e = evolve_mixture(law, 40, times=[0.2, 0.4], seed=2, n_runs=2)\n"
         "print(e.temperatures.tolist())\n")
-    out = []
-    for jit_off in ("0", "1"):
-        env = dict(os.environ, NUMBA_DISABLE_JIT=jit_off)
-        out.append(subprocess.run([sys.executable, "-W", "ignore", "-c", code], check=True,
-                                  env=env, timeout=300, capture_output=True,
-                                  text=True).stdout)
-    assert out[0] == out[1] and out[0].count("\n") == 3
+    compiled, plain = jit_and_plain(code)
+    assert compiled == plain and compiled.count("\n") == 3
