@@ -189,7 +189,8 @@ def evolve_mixture(mixture: Mixture, *, times: ArrayLike, density: float = 1.0,
     Parameters
     ----------
     mixture : Mixture
-        Constant restitution per pair; forced species (heated) or none (free cooling).
+        Forced species (heated) or none (free cooling); constant restitution per pair,
+        or (``"fem"``, heated) any restitution law per pair.
     times : array_like, shape (n_t,)
         Output times, >= 0, strictly increasing.
     density : float
@@ -218,8 +219,9 @@ def evolve_mixture(mixture: Mixture, *, times: ArrayLike, density: float = 1.0,
     Raises
     ------
     UnsupportedModelError
-        ``"maxwell"`` for a kernel other than 0; a velocity-dependent restitution law;
-        ``"fem"`` for a free-cooling mixture with a kernel that is not a power law.
+        ``"maxwell"`` for a kernel other than 0; a velocity-dependent restitution law
+        (except ``"fem"`` heated); ``"fem"`` for a free-cooling mixture with a kernel that
+        is not a power law.
     ValueError
         An unknown method, bad times or temperatures.
 

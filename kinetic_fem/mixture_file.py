@@ -6,7 +6,7 @@ The file holds a ``[mixture]`` table::
     masses = [1.0, 4.0]
     fractions = [0.5, 0.5]
     alpha = 0.9                 # or a symmetric table [[0.9, 0.8], [0.8, 0.7]]
-    # a restitution law in place of a number (here or in the table; particle methods):
+    # a restitution law in place of a number (here or in the table; particles, FEM heated):
     # "viscoelastic:DELTA", or "threshold:ALPHA:SPEED" (elastic below |g| = SPEED)
     kernel = 1.0                # gamma of |g|^gamma
     forcing = "same_diffusion"  # "same_power", "cooling" or "baths"

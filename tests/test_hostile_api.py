@@ -163,6 +163,32 @@ def test_mixture_particles_with_laws_tiny(entry, mass, n, cpp, seed, forced, met
     _mixture_particles(entry, mass, n, cpp, seed, forced, method)
 
 
+def _mixture_fem(entry, mass, spacing):
+    """The FEM heated state of a binary mixture from a mixture-file table whose alpha is
+    ``entry`` (a number, a law string, a table of them, junk)."""
+    def call():
+        table = {"masses": [1.0, mass], "fractions": [0.5, 0.5], "alpha": entry}
+        mix, density = mixture_from_table(table)
+        return kf.solve_heated(mix, density=density, spacing=spacing)
+
+    state = outcome(call)
+    if state is not None:
+        assert np.all(np.isfinite(state.temperatures)) and np.all(state.temperatures > 0)
+        assert np.all(np.isfinite(state.a2))
+
+
+# (spacings of at least 0.2: finer meshes are valid and only slow, 110 s at 0.01)
+mixture_fem_args = (law_entry, st.sampled_from([0.5, 1.0, 3.0, 0.0, float("nan")]),
+                    st.one_of(st.sampled_from([0.5, 0.25]), st.floats(0.2, 2.0),
+                              st.sampled_from([0.0, -1.0, float("nan"), float("inf")])))
+
+
+@FAST
+@given(*mixture_fem_args)
+def test_mixture_fem_with_laws_tiny(entry, mass, spacing):
+    _mixture_fem(entry, mass, spacing)
+
+
 @FAST
 @given(*dsmc_args)
 def test_dsmc_heated_tiny(a, n, cpp, every, seed):
@@ -244,6 +270,13 @@ def test_dsmc_heated_many(a, n, cpp, every, seed):
 @given(*mixture_args)
 def test_mixture_particles_with_laws_many(entry, mass, n, cpp, seed, forced, method):
     _mixture_particles(entry, mass, n, cpp, seed, forced, method)
+
+
+@pytest.mark.slow
+@MANY
+@given(*mixture_fem_args)
+def test_mixture_fem_with_laws_many(entry, mass, spacing):
+    _mixture_fem(entry, mass, spacing)
 
 
 @pytest.mark.slow

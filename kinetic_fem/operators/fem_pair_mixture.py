@@ -34,6 +34,12 @@ end (mass is conserved exactly; the pieces where that happens start at the pre-i
 of the end vertices, so the rule stays exact on each piece, and they carry only the
 product of two far tails).
 
+A velocity-dependent restitution law :math:`\\alpha_{sr}(|g|)` makes the rule nonlinear,
+:math:`x' = x - \\mu_{sr}(1 + \\alpha_{sr}(|x - y|))(x - y)`; the pieces then split at
+the pre-images of the outer vertices under it (:func:`cross_law_breaks`: both linear
+families and the jumps of the threshold law, the monotone root of the viscoelastic
+law), as the one-species law rule (:func:`~kinetic_fem.operators.fem_pair_breaks.law_breaks`).
+
 The pairs of one species with itself (:math:`a = (1 - \\alpha)/2`, one mesh) are the
 one-species reduced bracket: :func:`self_collision` sums them with the one-species P2/P3
 kernel (:func:`~kinetic_fem.operators.fem_pair_fast.pair_sweep`, per-piece sums in
@@ -46,12 +52,19 @@ from __future__ import annotations
 import numpy as np
 
 from .._jit import jit
+from ..model.restitution import CONSTANT, THRESHOLD, VISCOELASTIC, restitution_value
 from .fem_kernels import shape_values
-from .fem_pair_breaks import GRADING_LEVELS, kernel_graded, kernel_rate, pieces
+from .fem_pair_breaks import (
+    GRADING_LEVELS,
+    kernel_graded,
+    kernel_rate,
+    pieces,
+    preimage_distance,
+)
 from .fem_pair_fast import pair_sweep
 from .fem_pair_sums import locate, visited_points, work_arrays
 
-__all__ = ["cross_breaks", "cross_collision", "self_collision"]
+__all__ = ["cross_breaks", "cross_law_breaks", "cross_collision", "self_collision"]
 
 
 @jit
@@ -92,13 +105,64 @@ def cross_breaks(verts_i: np.ndarray, verts_o: np.ndarray, x: float, a: float, b
 
 
 @jit
+def cross_law_breaks(verts_i: np.ndarray, verts_o: np.ndarray, x: float, mu: float,
+                     code: int, p0: float, p1: float, b_lo: float, buf: np.ndarray) -> int:
+    """:func:`cross_breaks` for a velocity-dependent law; returns the count.
+
+    :math:`x' = x + \\mu(1 + \\alpha(|t|))\\,t`, :math:`t = y - x`.  The inner mesh's
+    vertices, :math:`y = x` and the pre-images of the outer mesh's vertices :math:`v_k`:
+    for the threshold law both linear families (:math:`b = \\mu(1 + \\alpha)` and the
+    elastic :math:`b = 2\\mu`) and the jumps :math:`y = x \\pm g_{th}`; for a law with
+    :math:`t\\,(1 + \\alpha(t))` increasing (viscoelastic) the root of
+    :math:`|t|(1 + \\alpha(|t|))/2 = |v_k - x|/(2\\mu)`
+    (:func:`~kinetic_fem.operators.fem_pair_breaks.preimage_distance`).  ``buf`` needs
+    ``verts_i.size + 2 * verts_o.size + 3`` entries.
+    """
+    ni = verts_i.size
+    no = verts_o.size
+    n = 0
+    for k in range(ni):
+        buf[n] = verts_i[k]
+        n += 1
+    buf[n] = x
+    n += 1
+    if code == THRESHOLD:
+        b_in = mu * (1.0 + p0)
+        b_el = 2.0 * mu
+        for k in range(no):
+            buf[n] = x + (verts_o[k] - x) / b_in
+            buf[n + 1] = x + (verts_o[k] - x) / b_el
+            n += 2
+        buf[n] = x - p1
+        buf[n + 1] = x + p1
+        n += 2
+    else:
+        for k in range(no):
+            d = verts_o[k] - x
+            t = preimage_distance(code, p0, p1, 1.0, abs(d) / (2.0 * mu), b_lo)
+            buf[n] = x + t if d >= 0.0 else x - t
+            n += 1
+    merged = np.sort(buf[:n])
+    lo = verts_i[0]
+    hi = verts_i[-1]
+    m = 0
+    for j in range(n):
+        if merged[j] >= lo and merged[j] <= hi:
+            buf[m] = merged[j]
+            m += 1
+    return m
+
+
+@jit
 def cross_collision(verts_o: np.ndarray, dofs_o: np.ndarray, coef_o: np.ndarray,
                     xq: np.ndarray, wq: np.ndarray, eq: np.ndarray, verts_i: np.ndarray,
                     dofs_i: np.ndarray, coef_i: np.ndarray, order: int, ref_x: np.ndarray,
                     ref_w: np.ndarray, a: float, b: float, kernel: float | tuple[int, float],
                     w_gain: float, w_lossx: float, w_lossy: float, with_jacobian: bool,
-                    even: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray,
-                                         np.ndarray, np.ndarray, float]:
+                    even: bool, code: int = CONSTANT, p0: float = 0.0, p1: float = 0.0,
+                    mu: float = 0.5, b_lo: float = 0.5
+                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray,
+                               np.ndarray, float]:
     """The pair sums of the module text for an outer and an inner species.
 
     Parameters
@@ -125,6 +189,13 @@ def cross_collision(verts_o: np.ndarray, dofs_o: np.ndarray, coef_o: np.ndarray,
     even : bool
         Both states even on meshes symmetric about 0: only the outer points at
         :math:`x > 0` are visited (the caller adds the mirror images).
+    code, p0, p1 : int, float, float, optional
+        A velocity-dependent restitution law of the pair
+        (:func:`kinetic_fem.model.restitution_value`, at the physical speed
+        :math:`|x - y|`): :math:`x' = x - \\mu(1 + \\alpha(|x - y|))(x - y)` replaces
+        ``a, b`` (default: the constant rule ``a, b``, unchanged bit for bit).
+    mu, b_lo : float, optional
+        With a law: :math:`\\mu_{sr}` and :math:`(1 + \\min_g \\alpha(g))/2`.
 
     Returns
     -------
@@ -139,7 +210,8 @@ def cross_collision(verts_o: np.ndarray, dofs_o: np.ndarray, coef_o: np.ndarray,
     n_o = coef_o.size
     n_i = coef_i.size
     k = dofs_o.shape[1]
-    graded = kernel_graded(kernel)
+    constant = code == CONSTANT
+    graded = kernel_graded(kernel) or code == VISCOELASTIC
     res_o = np.zeros(n_o)
     res_i = np.zeros(n_i)
     if with_jacobian:
@@ -158,7 +230,7 @@ def cross_collision(verts_o: np.ndarray, dofs_o: np.ndarray, coef_o: np.ndarray,
         bqo = np.zeros(1)
         bqi = np.zeros(1)
         cy = np.zeros(1)
-    buf = np.empty(verts_i.size + verts_o.size + 3)
+    buf = np.empty(verts_i.size + 2 * verts_o.size + 3)
     n_max = buf.size + 2 * (GRADING_LEVELS + 1)
     starts = np.empty(n_max)
     lengths = np.empty(n_max)
@@ -186,7 +258,10 @@ def cross_collision(verts_o: np.ndarray, dofs_o: np.ndarray, coef_o: np.ndarray,
         for j in range(k):
             ux += coef_o[dofs_o[ex, j]] * phx[j]
         px = np.exp(ux)
-        n_br = cross_breaks(verts_i, verts_o, x, a, b, buf)
+        if constant:
+            n_br = cross_breaks(verts_i, verts_o, x, a, b, buf)
+        else:
+            n_br = cross_law_breaks(verts_i, verts_o, x, mu, code, p0, p1, b_lo, buf)
         n_p = pieces(buf, n_br, x, scale, graded, starts, lengths)
         ey = 0
         e1 = 0
@@ -196,7 +271,15 @@ def cross_collision(verts_o: np.ndarray, dofs_o: np.ndarray, coef_o: np.ndarray,
             length = lengths[s]
             mid = y0 + 0.5 * length
             ey = locate(verts_i, ey, mid)
-            e1 = locate(verts_o, e1, min(max(a * x + b * mid, lo_o), hi_o))
+            if constant:
+                e1 = locate(verts_o, e1, min(max(a * x + b * mid, lo_o), hi_o))
+            else:
+                bm = mu * (1.0 + restitution_value(code, p0, p1, abs(x - mid)))
+                target = min(max(x - bm * (x - mid), lo_o), hi_o)
+                # x'(y) jumps back where the threshold law switches (y = x -+ g_th)
+                while e1 > 0 and verts_o[e1] > target:
+                    e1 -= 1
+                e1 = locate(verts_o, e1, target)
             hy = 1.0 / (verts_i[ey + 1] - verts_i[ey])
             h1 = 1.0 / (verts_o[e1 + 1] - verts_o[e1])
             wm = wq[q] * length * px
@@ -215,7 +298,11 @@ def cross_collision(verts_o: np.ndarray, dofs_o: np.ndarray, coef_o: np.ndarray,
                 for j in range(k):
                     uy += coef_i[dofs_i[ey, j]] * phy[j]
                 g = abs(x - y)
-                x1 = min(max(a * x + b * y, lo_o), hi_o)
+                if constant:
+                    x1 = min(max(a * x + b * y, lo_o), hi_o)
+                else:
+                    bl = mu * (1.0 + restitution_value(code, p0, p1, g))
+                    x1 = min(max(x - bl * (x - y), lo_o), hi_o)
                 shape_values(order, (x1 - verts_o[e1]) * h1, ph1)
                 c = wm * ref_w[r] * np.exp(uy) * kernel_rate(kernel, g)
                 loss += c * g * g

@@ -48,9 +48,17 @@ inelasticities of at least 0.2, grade the tail as the one-species HCS meshes do
 (:func:`mixture_meshes`); Newton's step is measured where :math:`f_s > 10^{-15}`
 (:data:`COOLING_MONITOR_LOG_F`; heated: :math:`10^{-30}`, :data:`HEATED_MONITOR_LOG_F`).
 
-Constant restitution per pair and kernels with a compiled rate (power laws, the
-saturating kernel; the cooling state power laws) only; a restitution law raises
-:class:`~kinetic_fem.model.UnsupportedModelError`.
+Kernels with a compiled rate (power laws, the saturating kernel; the cooling state power
+laws only).  **Restitution laws per pair** (heated state): a pair with a velocity-dependent
+law :math:`\\alpha_{sr}(|g|)` collides by :math:`x' = x - \\mu_{sr}(1 + \\alpha_{sr}(|x -
+y|))(x - y)` (the pair sums with the law's breakpoints,
+:func:`~kinetic_fem.operators.fem_pair_mixture.cross_law_breaks`; self pairs with a law
+by the same sums, not the constant-coefficient kernel); the start and the meshes are
+those of the mixture with each law replaced by its effective constant
+(:func:`constant_model`); the meshes' relative speeds must stay in each law's range.
+Identical species with a law are the one-species FEM state with that law to round-off.
+The cooling state needs constant coefficients (a law has no scaling state): a law
+raises :class:`~kinetic_fem.model.UnsupportedModelError`.
 """
 
 from __future__ import annotations
@@ -76,6 +84,7 @@ from ...mixture_state import MixtureState
 from ...model import PowerLawKernel
 from ...model.kernel_base import FAMILY_POWER_LAW
 from ...model.mixture import Mixture
+from ...model.restitution import CONSTANT
 from ...model.validation import UnsupportedModelError, check_positive
 from ...operators.fem_discretisation import LAGRANGE_ELEMENTS, FEMDiscretisation
 from ...operators.fem_pair_mixture import cross_collision, self_collision
@@ -98,7 +107,7 @@ from .newton import (
 
 __all__ = ["MixtureDiscretisation", "solve_mixture_heated", "solve_mixture_cooling",
            "mixture_meshes", "check_mixture_model", "check_mixture_vertices",
-           "gaussian_variances", "DEFAULT_ORDER", "DEFAULT_SPACING"]
+           "gaussian_variances", "constant_model", "DEFAULT_ORDER", "DEFAULT_SPACING"]
 
 logger = logging.getLogger(__name__)
 
@@ -297,15 +306,43 @@ class MixtureDiscretisation:
 
     @cached_property
     def rules(self) -> NDArray[np.float64]:
-        """``(a, b)`` of :math:`x' = a x + b y` for every pair, shape (k, k, 2)."""
+        """``(a, b)`` of :math:`x' = a x + b y` for every pair, shape (k, k, 2) (NaN for a
+        pair with a velocity-dependent law: :attr:`law_arguments`)."""
         k = self.mixture.n_species
-        alpha = self.mixture.constant_alpha()
-        out = np.empty((k, k, 2))
+        out = np.full((k, k, 2), np.nan)
         for s in range(k):
             for r in range(k):
-                b = self.mixture.reduced_mass(s, r) * (1.0 + alpha[s, r])
-                out[s, r] = (1.0 - b, b)
+                alpha = self.mixture.laws[s][r].constant
+                if alpha is not None:
+                    b = self.mixture.reduced_mass(s, r) * (1.0 + alpha)
+                    out[s, r] = (1.0 - b, b)
         return out
+
+    @cached_property
+    def law_arguments(self) -> tuple[tuple[tuple[int, float, float, float, float] | None,
+                                           ...], ...]:
+        """``(code, p0, p1, mu, b_lo)`` of the compiled pair rule for every pair with a
+        velocity-dependent law (None for a constant coefficient); checks that the
+        relative speeds of the meshes, up to the sum of the two cut-offs, stay in the
+        law's range."""
+        k = self.mixture.n_species
+        out = []
+        for s in range(k):
+            row: list[tuple[int, float, float, float, float] | None] = []
+            for r in range(k):
+                law = self.mixture.laws[s][r]
+                if law.constant is not None:
+                    row.append(None)
+                    continue
+                law.check_speed(float(self.vertices[s][-1] + self.vertices[r][-1]),
+                                f"the FEM meshes of species {s} and {r} (cut-offs "
+                                f"{float(self.vertices[s][-1]):.4g} and "
+                                f"{float(self.vertices[r][-1]):.4g})")
+                p0, p1 = law.parameters
+                row.append((int(law.code), float(p0), float(p1),
+                            self.mixture.reduced_mass(s, r), 0.5 * (1.0 + law.min_alpha)))
+            out.append(tuple(row))
+        return tuple(out)
 
     @cached_property
     def _kernel_argument(self) -> float | tuple[int, float]:
@@ -350,19 +387,20 @@ class MixtureDiscretisation:
         loss = np.zeros((k, k))
         ref_x, ref_w = self.discs[0].basis.quadrature
         ref_x = np.ascontiguousarray(ref_x[0])
-        alphas = self.mixture.constant_alpha()
+        laws = self.law_arguments
         for o in range(k):
             verts_o, dofs_o = self.discs[o].mesh_arrays
             xq, wq, eq = self.discs[o].points
             for i in range(k):
                 verts_i, dofs_i = self.discs[i].mesh_arrays
                 a, b = self.rules[o, i]
-                alpha = float(alphas[o, i])
-                if o == i and self.order >= 2 and alpha < 1.0:
+                law = laws[o][i]
+                alpha = self.mixture.laws[o][i].constant
+                if alpha is not None and o == i and self.order >= 2 and alpha < 1.0:
                     # the one-species bracket at density n x_o, by its P2/P3 kernel
                     r_s, j_s, lo = self_collision(
                         verts_o, dofs_o, np.ascontiguousarray(us[o]), xq, wq, eq, ref_x,
-                        ref_w, alpha, n * x[o], self._kernel_argument, jacobian)
+                        ref_w, float(alpha), n * x[o], self._kernel_argument, jacobian)
                     res_full[o] += r_s
                     loss[o, o] = 2.0 * lo
                     if jacobian:
@@ -373,7 +411,7 @@ class MixtureDiscretisation:
                     verts_o, dofs_o, np.ascontiguousarray(us[o]), xq, wq, eq, verts_i, dofs_i,
                     np.ascontiguousarray(us[i]), self.order, ref_x, ref_w, float(a), float(b),
                     self._kernel_argument, n * x[i], 0.5 * n * x[i], 0.5 * n * x[o],
-                    jacobian, True)
+                    jacobian, True, *(law or _CONSTANT_RULE))
                 res_full[o] += r_o
                 res_full[i] += r_i
                 loss[o, i] = 2.0 * lo
@@ -394,6 +432,10 @@ class MixtureDiscretisation:
                       ) -> tuple[VelocityDistribution, ...]:
         """One :class:`VelocityDistribution` per species (quadrature points and weights)."""
         return tuple(d.distribution(u, **kwargs) for d, u in zip(self.discs, us, strict=True))
+
+
+_CONSTANT_RULE = (CONSTANT, 0.0, 0.0, 0.5, 0.5)
+"""The law arguments of :func:`cross_collision` for a constant coefficient (unused)."""
 
 
 def _fold_block(jac: NDArray, rows: EvenFold, cols: EvenFold) -> NDArray:
@@ -427,11 +469,13 @@ def check_mixture_model(mixture: object, what: str, *, cooling: bool) -> Mixture
         raise TypeError(f"mixture must be a kinetic_fem.Mixture, got {mixture!r}")
     for s, row in enumerate(mixture.laws):
         for r, law in enumerate(row):
-            if law.constant is None:
+            if cooling and law.constant is None:
                 raise UnsupportedModelError(
-                    f"the FEM mixture solver needs a constant restitution coefficient for "
-                    f"every pair, got {law!r} for the pair ({s}, {r}); use "
-                    "particles.dsmc_mixture.simulate_mixture for restitution laws")
+                    f"the FEM cooling state of a mixture needs a constant restitution "
+                    f"coefficient for every pair (a velocity-dependent law has no scaling "
+                    f"state), got {law!r} for the pair ({s}, {r}); use the heated state, or "
+                    "particles.dsmc_mixture.evolve_mixture for free cooling in physical "
+                    "time")
     kernel = mixture.collision_kernel
     if cooling and not isinstance(kernel, PowerLawKernel):
         raise UnsupportedModelError(
@@ -635,6 +679,62 @@ def gaussian_variances(mixture: Mixture, density: float, cooling: bool) -> NDArr
     except (ConvergenceError, ValueError) as err:  # pragma: no cover - fallback
         logger.info("Gaussian estimate failed (%s); equal temperatures", err)
     return 1.0 / np.asarray(mixture.masses, dtype=float)
+
+
+def constant_model(mixture: Mixture, density: float) -> Mixture:
+    """The mixture with each velocity-dependent law replaced by its effective constant
+    (the start and the meshes of the heated state; ``mixture`` itself if every pair's
+    coefficient is constant).
+
+    For the pair :math:`(s, r)`, :math:`1 - \\alpha_{sr}^2` is the average of
+    :math:`1 - \\alpha(g)^2` weighted by the energy loss :math:`B(g)g^2` over the
+    Gaussian relative velocity of variance :math:`\\sigma_s^2 + \\sigma_r^2` (as the
+    one-species :attr:`~kinetic_fem.solvers.fem.defaults.ScaledModel.effective_epsilon`),
+    the variances those of the Gaussian theory (:func:`gaussian_variances`) of the
+    effective mixture: a fixed point, iterated from every law at its smallest value
+    until the coefficients move by less than 1e-6 (at most
+    :data:`EFFECTIVE_ITERATIONS` times).
+
+    Parameters
+    ----------
+    mixture : Mixture
+        A heated mixture.
+    density : float
+        Total number density.
+
+    Returns
+    -------
+    Mixture
+    """
+    laws = mixture.laws
+    k = mixture.n_species
+    if all(law.constant is not None for row in laws for law in row):
+        return mixture
+    s_h, w_h = np.polynomial.hermite.hermgauss(120)
+    table = np.array([[law.min_alpha if law.constant is None else law.constant
+                       for law in row] for row in laws])
+    for _ in range(EFFECTIVE_ITERATIONS):
+        variances = gaussian_variances(replace(mixture, alpha=table.tolist()), density, False)
+        new = table.copy()
+        for a in range(k):
+            for b in range(k):
+                law = laws[a][b]
+                if law.constant is not None:
+                    continue
+                g = math.sqrt(2.0 * (variances[a] + variances[b])) * np.abs(s_h)
+                weight = w_h * mixture.collision_kernel.weighted_rate(g, 2.0)
+                alpha_g = law(np.minimum(g, law.max_speed))
+                mean = float(np.sum(weight * (1.0 - alpha_g**2)) / np.sum(weight))
+                new[a, b] = math.sqrt(max(1.0 - mean, 0.0))
+        moved = float(np.max(np.abs(new - table)))
+        table = new
+        if moved < 1e-6:
+            break
+    return replace(mixture, alpha=table.tolist())
+
+
+EFFECTIVE_ITERATIONS = 30
+"""Fixed-point iterations of :func:`constant_model`."""
 
 
 # ---------------------------------------------------------------- Newton
@@ -945,10 +1045,11 @@ def _solve_state(mixture: Mixture, density: float, cooling: bool, *, order: int,
     k = mixture.n_species
     zeta0 = None
     if start is None:
-        variances = gaussian_variances(mixture, density, cooling)
+        model = mixture if cooling else constant_model(mixture, density)
+        variances = gaussian_variances(model, density, cooling)
         if cooling:
             zeta0 = _gaussian_zeta(mixture, density)
-        profiles = _start_profiles(mixture, density, variances, cooling, one_species)
+        profiles = _start_profiles(model, density, variances, cooling, one_species)
     else:
         variances, profiles = _profiles_of(start)
     fixed = vertices is not None or cutoff is not None
@@ -1076,8 +1177,9 @@ def solve_mixture_heated(mixture: Mixture, *, density: float = 1.0,
     Parameters
     ----------
     mixture : Mixture
-        Every species forced (white noise or a bath); constant restitution per pair; a
-        kernel with a compiled rate (power laws, the saturating kernel).
+        Every species forced (white noise or a bath); a restitution law per pair
+        (constant or velocity-dependent); a kernel with a compiled rate (power laws, the
+        saturating kernel).
     density : float
         Total number density :math:`n > 0`.
     order : int
@@ -1103,8 +1205,8 @@ def solve_mixture_heated(mixture: Mixture, *, density: float = 1.0,
 
     Raises
     ------
-    UnsupportedModelError
-        For a restitution law.
+    ValueError
+        If the meshes reach relative speeds beyond a law's range.
     ConvergenceError
         If Newton's method does not converge.
 

@@ -52,6 +52,7 @@ from .mixture import (
     MixtureDiscretisation,
     check_mixture_model,
     check_mixture_vertices,
+    constant_model,
     gaussian_variances,
 )
 from .options import EvolveOptions
@@ -356,10 +357,12 @@ def _visited_variances(mixture: Mixture, density: float, var0: NDArray,
     t_end = float(times[-1])
     samples = np.union1d(np.linspace(0.0, t_end, 41), times)
     # the Gaussian steady state too, as the one-species transient's mesh
-    steady = gaussian_variances(mixture, density, False)[None, :]
+    # (velocity-dependent laws: their effective constants at the steady state)
+    model = constant_model(mixture, density)
+    steady = gaussian_variances(model, density, False)[None, :]
     if t_end == 0.0:
         return np.vstack([var0[None, :], steady])
-    gauss = mixture_gaussian.relaxation(mixture, var0, samples, density=density, rtol=1e-8)
+    gauss = mixture_gaussian.relaxation(model, var0, samples, density=density, rtol=1e-8)
     return np.vstack([var0[None, :], steady, gauss])
 
 
@@ -374,7 +377,8 @@ def evolve_mixture_fem(mixture: Mixture, *, times: NDArray, density: float,
     Parameters
     ----------
     mixture : Mixture
-        Every species forced; constant restitution per pair.
+        Every species forced; a restitution law per pair (constant or
+        velocity-dependent).
     times : ndarray, shape (n_t,)
         Output times (checked).
     density : float
@@ -403,9 +407,8 @@ def evolve_mixture_fem(mixture: Mixture, *, times: NDArray, density: float,
     Raises
     ------
     ValueError
-        For a free-cooling mixture, bad options or meshes.
-    UnsupportedModelError
-        For a restitution law.
+        For a free-cooling mixture, bad options or meshes; relative speeds on the meshes
+        beyond a law's range.
     """
     cpu = time.process_time()
     mixture = check_mixture_model(mixture, "the FEM mixture transient (method='fem')",
