@@ -247,7 +247,6 @@ def evolve_mixture(mixture: Mixture, *, times: ArrayLike, density: float = 1.0,
     if method == "fem":
         return _evolve_fem(mixture, t, density, initial_temperature, rtol, fem_options)
     rtol = check_positive("rtol", 1e-10 if rtol is None else rtol)
-    mixture.constant_alpha()
     var0 = initial_temperatures_of(mixture, initial_temperature) / np.asarray(mixture.masses)
     k = mixture.n_species
     from .solvers import mixture_gaussian
@@ -255,6 +254,7 @@ def evolve_mixture(mixture: Mixture, *, times: ArrayLike, density: float = 1.0,
     if method == "maxwell":
         from .solvers import maxwell_mixture
 
+        mixture.constant_alpha()  # the moment equations close for constant coefficients
         if mixture.collision_kernel.gamma != 0.0:
             raise UnsupportedModelError(
                 f"method='maxwell' is the Maxwell mixture (kernel 0), got kernel "

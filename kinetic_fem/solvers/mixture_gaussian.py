@@ -16,7 +16,12 @@ of two independent Gaussians is Gaussian with variance
         + 2D_s - 2\\xi_s\\sigma_s^2,
     \\qquad G(\\Sigma) = \\langle B(|g|)\\,g^2\\rangle_{g \\sim N(0, \\Sigma)},
 
-for any kernel (:meth:`~kinetic_fem.model.CollisionKernel.gaussian_mean`).  The heated
+for any kernel (:meth:`~kinetic_fem.model.CollisionKernel.gaussian_mean`).  With a
+velocity-dependent restitution law :math:`\\alpha_{sr}(|g|)` the pair's term is
+:math:`\\mu_{sr}(\\mu_{sr}\\langle Bg^2(1+\\alpha)^2\\rangle - 2\\langle Bg^2(1+\\alpha)
+\\rangle\\sigma_s^2/\\Sigma_{sr})` (adaptive quadrature,
+:meth:`~kinetic_fem.model.CollisionKernel.gaussian_average`): heated states and the
+relaxation; the cooling state needs constant coefficients.  The heated
 steady state sets every rate to zero; the cooling state asks every
 :math:`\\dot\\sigma_s^2/\\sigma_s^2` to be one common rate :math:`-2\\zeta n` at
 :math:`T = \\sum_s x_s m_s\\sigma_s^2 = 1` (free cooling of a power law
@@ -28,6 +33,7 @@ For the Maxwell kernel the second-moment equations close and these temperatures 
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 
 import numpy as np
@@ -37,7 +43,9 @@ from scipy.optimize import root
 
 from ..exceptions import ConvergenceError
 from ..mixture_state import MixtureMoments
+from ..model.kernel_base import CollisionKernel
 from ..model.mixture import Mixture
+from ..model.restitution import RestitutionLaw, ThresholdRestitution
 from ..model.validation import UnsupportedModelError, check_positive
 
 __all__ = ["variance_rates", "steady_state", "cooling_state", "solve_root", "relaxed",
@@ -49,12 +57,28 @@ _ROOT_TOL = 1e-14
 _RESIDUAL_TOL = 1e-12
 
 
-def _check(mixture: Mixture, density: float) -> tuple[NDArray[np.float64], float]:
+def _check(mixture: Mixture, density: float) -> float:
     if not isinstance(mixture, Mixture):
         raise TypeError(f"mixture must be a kinetic_fem.Mixture, got {mixture!r}")
-    density = check_positive("density", density)
-    alpha = mixture.constant_alpha()
-    return alpha, density
+    return check_positive("density", density)
+
+
+def _law_means(law: RestitutionLaw, kernel: CollisionKernel, total: float
+               ) -> tuple[float, float]:
+    """:math:`\\langle B g^2 (1+\\alpha(g))^2\\rangle` and
+    :math:`\\langle B g^2 (1+\\alpha(g))\\rangle` over :math:`g \\sim N(0, \\Sigma)`,
+    ``total`` :math:`= \\Sigma` (adaptive quadrature to 1e-12, split at a threshold; a
+    law continued beyond its range by its value there, as the one-species estimate
+    :meth:`~kinetic_fem.model.InelasticGas.loss_rate`: a scale estimate)."""
+    top = 2.0 * math.sqrt(0.5 * total) * 12.0
+    breaks = [law.threshold] if isinstance(law, ThresholdRestitution) and \
+        0.0 < law.threshold < top else []
+
+    def one_plus(g: float) -> float:
+        return 1.0 + float(law(min(g, law.max_speed)))
+
+    square = kernel.gaussian_average(0.5 * total, lambda g: one_plus(g) ** 2, 2.0, breaks)
+    return square, kernel.gaussian_average(0.5 * total, one_plus, 2.0, breaks)
 
 
 def variance_rates(mixture: Mixture, variances: np.ndarray, density: float = 1.0
@@ -64,7 +88,7 @@ def variance_rates(mixture: Mixture, variances: np.ndarray, density: float = 1.0
     Parameters
     ----------
     mixture : Mixture
-        Any kernel, constant restitution per pair.
+        Any kernel, any restitution law per pair.
     variances : array_like, shape (k,)
         :math:`\\sigma_s^2 > 0`.
     density : float
@@ -74,7 +98,7 @@ def variance_rates(mixture: Mixture, variances: np.ndarray, density: float = 1.0
     -------
     ndarray, shape (k,)
     """
-    alpha, density = _check(mixture, density)
+    density = _check(mixture, density)
     var = np.asarray(variances, dtype=float)
     kernel = mixture.collision_kernel
     masses = np.asarray(mixture.masses)
@@ -82,7 +106,14 @@ def variance_rates(mixture: Mixture, variances: np.ndarray, density: float = 1.0
     for s in range(mixture.n_species):
         for r in range(mixture.n_species):
             total = var[s] + var[r]
-            a = masses[r] / (masses[s] + masses[r]) * (1.0 + alpha[s, r])
+            mu = masses[r] / (masses[s] + masses[r])
+            law = mixture.laws[s][r]
+            if law.constant is None:  # a(g) = mu (1 + alpha(g)) inside the averages
+                square, mean = _law_means(law, kernel, total)
+                rates[s] += density * mixture.fractions[r] * mu * (
+                    mu * square - 2.0 * mean * var[s] / total)
+                continue
+            a = mu * (1.0 + law.constant)
             # <B(g) g^2> over g ~ N(0, total): two Gaussians of variance total/2 each
             g2 = kernel.gaussian_mean(0.5 * total, 2.0)
             rates[s] += density * mixture.fractions[r] * g2 * (a * a - 2.0 * a * var[s] / total)
@@ -126,7 +157,7 @@ def relaxation(mixture: Mixture, variances: NDArray[np.float64], times: NDArray[
     Parameters
     ----------
     mixture : Mixture
-        Any kernel, constant restitution per pair.
+        Any kernel, any restitution law per pair.
     variances : ndarray, shape (k,)
         :math:`\\sigma_s^2(0) > 0`.
     times : ndarray
@@ -223,7 +254,7 @@ def steady_state(mixture: Mixture, *, density: float = 1.0) -> MixtureMoments:
     Parameters
     ----------
     mixture : Mixture
-        Any kernel, constant restitution per pair, every species forced.
+        Any kernel, any restitution law per pair, every species forced.
     density : float
         Total number density :math:`n > 0`.
 
@@ -237,7 +268,7 @@ def steady_state(mixture: Mixture, *, density: float = 1.0) -> MixtureMoments:
     ConvergenceError
         If the root finder fails.
     """
-    alpha, density = _check(mixture, density)
+    density = _check(mixture, density)
     if not mixture.heated:
         raise ValueError("a steady state needs forced species; for free cooling use "
                          "cooling_state")
@@ -274,10 +305,17 @@ def cooling_state(mixture: Mixture, *, density: float = 1.0) -> MixtureMoments:
     MixtureMoments
         At :math:`T = 1`; ``zeta`` from :math:`dT/dt = -2\\zeta n T^{1+\\gamma/2}`.
     """
-    alpha, density = _check(mixture, density)
+    density = _check(mixture, density)
     if mixture.heated:
         raise ValueError("the homogeneous cooling state is for free cooling; this mixture is "
                          "forced (use steady_state)")
+    for row in mixture.laws:
+        for law in row:
+            if law.constant is None:
+                raise UnsupportedModelError(
+                    f"a homogeneous cooling state needs constant restitution coefficients (a "
+                    f"velocity-dependent law has no scaling state), got {law!r}; "
+                    "evolve_mixture(method='gaussian') follows free cooling in physical time")
     if mixture.collision_kernel.homogeneity_degree is None:
         raise UnsupportedModelError(
             f"a homogeneous cooling state needs a homogeneous kernel (a power law), got "

@@ -50,6 +50,28 @@ def test_gaussian_relaxation_ends_on_the_gaussian_state(heated):
     assert np.all(ev.a2 == 0.0) and ev.temperature_ratio_error() is None
 
 
+def test_gaussian_free_cooling_with_a_law_in_physical_time():
+    """A law in free cooling (no scaled state): the Gaussian ODE in physical time; a
+    threshold below every speed is the constant coefficient (to the ODE's tolerance), and
+    with the viscoelastic law the cooling slows as alpha(g) -> 1 (T(t) above Haff's
+    decay of the law's coefficient at the start)."""
+    from kinetic_fem.mixture_evolution import evolve_mixture
+    from kinetic_fem.model import ThresholdRestitution, ViscoelasticRestitution
+
+    times = [0.0, 1.0, 10.0, 100.0]
+    law = kf.Mixture((1.0, 3.0), (0.5, 0.5), alpha=ThresholdRestitution(0.7, 1e-200))
+    const = kf.Mixture((1.0, 3.0), (0.5, 0.5), alpha=0.7)
+    a, b = (evolve_mixture(m, times=times, method="gaussian") for m in (law, const))
+    np.testing.assert_allclose(a.temperatures, b.temperatures, rtol=1e-8)
+    visco = kf.Mixture((1.0, 3.0), (0.5, 0.5), alpha=ViscoelasticRestitution(0.1))
+    ev = evolve_mixture(visco, times=times, method="gaussian")
+    assert np.all(np.diff(ev.temperatures, axis=0) < 0)
+    start = ViscoelasticRestitution(0.1)(2.0)  # alpha at the initial thermal |g|
+    haff = evolve_mixture(kf.Mixture((1.0, 3.0), (0.5, 0.5), alpha=float(start)),
+                          times=times, method="gaussian")
+    assert np.all(ev.temperatures[-1] > haff.temperatures[-1])
+
+
 def test_mixture_evolution_bad_input_names_the_argument():
     heated = kf.Mixture.white_noise((1.0, 2.0), (0.5, 0.5), kernel=0.0)
     cooling = kf.Mixture((1.0, 2.0), (0.5, 0.5), kernel=1.0)

@@ -53,9 +53,11 @@ laws only).  **Restitution laws per pair** (heated state): a pair with a velocit
 law :math:`\\alpha_{sr}(|g|)` collides by :math:`x' = x - \\mu_{sr}(1 + \\alpha_{sr}(|x -
 y|))(x - y)` (the pair sums with the law's breakpoints,
 :func:`~kinetic_fem.operators.fem_pair_mixture.cross_law_breaks`; self pairs with a law
-by the same sums, not the constant-coefficient kernel); the start and the meshes are
-those of the mixture with each law replaced by its effective constant
-(:func:`constant_model`); the meshes' relative speeds must stay in each law's range.
+by the same sums, not the constant-coefficient kernel); the meshes are graded on the
+variances of the Gaussian theory with the laws
+(:mod:`kinetic_fem.solvers.mixture_gaussian`) and the one-species starts solved at each
+law's effective constant (:func:`constant_model`); the meshes' relative speeds must stay
+in each law's range.
 Identical species with a law are the one-species FEM state with that law to round-off.
 The cooling state needs constant coefficients (a law has no scaling state): a law
 raises :class:`~kinetic_fem.model.UnsupportedModelError`.
@@ -681,19 +683,17 @@ def gaussian_variances(mixture: Mixture, density: float, cooling: bool) -> NDArr
     return 1.0 / np.asarray(mixture.masses, dtype=float)
 
 
-def constant_model(mixture: Mixture, density: float) -> Mixture:
+def constant_model(mixture: Mixture, density: float,
+                   variances: NDArray[np.float64] | None = None) -> Mixture:
     """The mixture with each velocity-dependent law replaced by its effective constant
-    (the start and the meshes of the heated state; ``mixture`` itself if every pair's
+    (the one-species starts of the heated state; ``mixture`` itself if every pair's
     coefficient is constant).
 
     For the pair :math:`(s, r)`, :math:`1 - \\alpha_{sr}^2` is the average of
     :math:`1 - \\alpha(g)^2` weighted by the energy loss :math:`B(g)g^2` over the
     Gaussian relative velocity of variance :math:`\\sigma_s^2 + \\sigma_r^2` (as the
     one-species :attr:`~kinetic_fem.solvers.fem.defaults.ScaledModel.effective_epsilon`),
-    the variances those of the Gaussian theory (:func:`gaussian_variances`) of the
-    effective mixture: a fixed point, iterated from every law at its smallest value
-    until the coefficients move by less than 1e-6 (at most
-    :data:`EFFECTIVE_ITERATIONS` times).
+    the variances those of the Gaussian theory with the laws (:func:`gaussian_variances`).
 
     Parameters
     ----------
@@ -701,40 +701,32 @@ def constant_model(mixture: Mixture, density: float) -> Mixture:
         A heated mixture.
     density : float
         Total number density.
+    variances : ndarray, shape (k,), optional
+        :math:`\\sigma_s^2` (default: :func:`gaussian_variances`).
 
     Returns
     -------
     Mixture
     """
     laws = mixture.laws
-    k = mixture.n_species
     if all(law.constant is not None for row in laws for law in row):
         return mixture
+    if variances is None:
+        variances = gaussian_variances(mixture, density, False)
     s_h, w_h = np.polynomial.hermite.hermgauss(120)
-    table = np.array([[law.min_alpha if law.constant is None else law.constant
-                       for law in row] for row in laws])
-    for _ in range(EFFECTIVE_ITERATIONS):
-        variances = gaussian_variances(replace(mixture, alpha=table.tolist()), density, False)
-        new = table.copy()
-        for a in range(k):
-            for b in range(k):
-                law = laws[a][b]
-                if law.constant is not None:
-                    continue
-                g = math.sqrt(2.0 * (variances[a] + variances[b])) * np.abs(s_h)
-                weight = w_h * mixture.collision_kernel.weighted_rate(g, 2.0)
-                alpha_g = law(np.minimum(g, law.max_speed))
-                mean = float(np.sum(weight * (1.0 - alpha_g**2)) / np.sum(weight))
-                new[a, b] = math.sqrt(max(1.0 - mean, 0.0))
-        moved = float(np.max(np.abs(new - table)))
-        table = new
-        if moved < 1e-6:
-            break
-    return replace(mixture, alpha=table.tolist())
-
-
-EFFECTIVE_ITERATIONS = 30
-"""Fixed-point iterations of :func:`constant_model`."""
+    table: list[list[float]] = []
+    for a, row in enumerate(laws):
+        table.append([])
+        for b, law in enumerate(row):
+            if law.constant is not None:
+                table[-1].append(law.constant)
+                continue
+            g = math.sqrt(2.0 * (variances[a] + variances[b])) * np.abs(s_h)
+            weight = w_h * mixture.collision_kernel.weighted_rate(g, 2.0)
+            alpha_g = law(np.minimum(g, law.max_speed))
+            mean = float(np.sum(weight * (1.0 - alpha_g**2)) / np.sum(weight))
+            table[-1].append(math.sqrt(max(1.0 - mean, 0.0)))
+    return replace(mixture, alpha=table)
 
 
 # ---------------------------------------------------------------- Newton
@@ -1045,10 +1037,10 @@ def _solve_state(mixture: Mixture, density: float, cooling: bool, *, order: int,
     k = mixture.n_species
     zeta0 = None
     if start is None:
-        model = mixture if cooling else constant_model(mixture, density)
-        variances = gaussian_variances(model, density, cooling)
+        variances = gaussian_variances(mixture, density, cooling)
         if cooling:
             zeta0 = _gaussian_zeta(mixture, density)
+        model = mixture if cooling else constant_model(mixture, density, variances)
         profiles = _start_profiles(model, density, variances, cooling, one_species)
     else:
         variances, profiles = _profiles_of(start)

@@ -52,7 +52,6 @@ from .mixture import (
     MixtureDiscretisation,
     check_mixture_model,
     check_mixture_vertices,
-    constant_model,
     gaussian_variances,
 )
 from .options import EvolveOptions
@@ -357,12 +356,10 @@ def _visited_variances(mixture: Mixture, density: float, var0: NDArray,
     t_end = float(times[-1])
     samples = np.union1d(np.linspace(0.0, t_end, 41), times)
     # the Gaussian steady state too, as the one-species transient's mesh
-    # (velocity-dependent laws: their effective constants at the steady state)
-    model = constant_model(mixture, density)
-    steady = gaussian_variances(model, density, False)[None, :]
+    steady = gaussian_variances(mixture, density, False)[None, :]
     if t_end == 0.0:
         return np.vstack([var0[None, :], steady])
-    gauss = mixture_gaussian.relaxation(model, var0, samples, density=density, rtol=1e-8)
+    gauss = mixture_gaussian.relaxation(mixture, var0, samples, density=density, rtol=1e-8)
     return np.vstack([var0[None, :], steady, gauss])
 
 

@@ -16,6 +16,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from kinetic_fem import sonine
+from kinetic_fem.model import HeatedProblem, ThresholdRestitution, ViscoelasticRestitution
 from kinetic_fem.model.mixture import Mixture
 from kinetic_fem.solvers import maxwell
 from kinetic_fem.solvers import maxwell_mixture as mm
@@ -98,6 +99,32 @@ def test_frozen_bath_species_is_the_tracer_limit_of_the_maxwell_mixture():
     mix = Mixture.white_noise((1.0, m2), (1.0 - 1e-9, 1e-9), alpha=alpha, kernel=0.0)
     state = mm.steady_state(mix)
     assert state.moments[1, 2] == pytest.approx(tracer, rel=1e-8)
+
+
+@pytest.mark.parametrize("law", [ViscoelasticRestitution(0.1), ThresholdRestitution(0.6, 0.5)])
+@pytest.mark.parametrize("kernel", [0.0, 0.5, 1.0])
+def test_gaussian_species_with_a_law_of_identical_species_are_the_one_species_balance(
+        law, kernel):
+    """A velocity-dependent law per pair (averages of B g^2 (1 + alpha(g))^p over the
+    Gaussian relative velocity): identical species give the one-species Gaussian energy
+    balance, HeatedProblem.temperature_estimate (measured to 1e-14)."""
+    mix = Mixture.white_noise((2.0, 2.0), (0.3, 0.7), alpha=law, kernel=kernel)
+    one = HeatedProblem.from_parameters(law, kernel=kernel).temperature_estimate()
+    np.testing.assert_allclose(mg.steady_state(mix).temperatures / 2.0, one, rtol=1e-12)
+
+
+def test_gaussian_law_at_a_constant_value_is_the_constant():
+    """A threshold below every speed (1e-200) is the constant coefficient: the quadrature
+    path equals the closed form (measured 4e-16); the cooling state refuses a law."""
+    law = [[ThresholdRestitution(0.6, 1e-200), 0.8], [0.8, 0.7]]
+    const = [[0.6, 0.8], [0.8, 0.7]]
+    a, b = (mg.steady_state(Mixture.white_noise((1.0, 3.0), (0.4, 0.6), alpha=t))
+            for t in (law, const))
+    np.testing.assert_allclose(a.temperatures, b.temperatures, rtol=1e-13)
+    from kinetic_fem.model import UnsupportedModelError
+
+    with pytest.raises(UnsupportedModelError, match="no scaling state"):
+        mg.cooling_state(Mixture((1.0, 3.0), (0.4, 0.6), alpha=law))
 
 
 def test_moment_rates_vanish_at_the_steady_state():
