@@ -48,7 +48,7 @@ from ..model.restitution import RestitutionLaw, ThresholdRestitution
 from ..model.validation import UnsupportedModelError, check_positive
 
 __all__ = ["variance_rates", "steady_state", "cooling_state", "solve_root", "relaxed",
-           "integrate", "relaxation"]
+           "integrate", "relaxation", "law_rule"]
 
 #: relative step tolerance of the root finder (it may stop with 'xtol too small' at round-off)
 _ROOT_TOL = 1e-14
@@ -65,20 +65,34 @@ def _check(mixture: Mixture, density: float) -> float:
 _LEGENDRE = np.polynomial.legendre.leggauss(24)
 _PIECES = (0.0, 1e-8, 1e-6, 1e-4, 1e-3, 1e-2, 0.05, 0.2, 0.5, 1.0, 1.5, 2.0, 3.0, 4.0, 6.0,
            8.0, 12.0)
-"""Pieces in :math:`x = |g|/\\sqrt{2\\Sigma}` of the rule of :func:`_law_means`: 24 Gauss
+"""Pieces in :math:`x = |g|/\\sqrt{2\\Sigma}` of :func:`law_rule`: 24 Gauss
 points each, graded geometrically towards 0 (the viscoelastic :math:`g^{1/5}`; fractional
 kernel powers) out to 12 (:math:`e^{-144}`); equal to the adaptive quadrature of
 :meth:`~kinetic_fem.model.CollisionKernel.gaussian_average` to 2e-14 (measured over
 four laws, five kernels and variances 1e-4 ... 1e5), 30-50 times faster."""
 
 
-def _law_means(law: RestitutionLaw, kernel: CollisionKernel, total: float
-               ) -> tuple[float, float]:
-    """:math:`\\langle B g^2 (1+\\alpha(g))^2\\rangle` and
-    :math:`\\langle B g^2 (1+\\alpha(g))\\rangle` over :math:`g \\sim N(0, \\Sigma)`,
-    ``total`` :math:`= \\Sigma` (composite Gauss rule :data:`_PIECES`, split at a
-    threshold and at the end of the law's range; a law continued beyond its range by its value there, as the one-species
-    estimate :meth:`~kinetic_fem.model.InelasticGas.loss_rate`: a scale estimate)."""
+def law_rule(law: RestitutionLaw, kernel: CollisionKernel, total: float
+             ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """Nodes :math:`g`, weights (times :math:`B(g)`) and :math:`1 + \\alpha(g)` of the rule
+    for averages over :math:`g \\sim N(0, \\Sigma)`, ``total`` :math:`= \\Sigma`, of a
+    pair with the law ``law``: :math:`\\langle B(|g|)\\,h(|g|)\\rangle \\approx \\sum_i
+    w_i h(g_i)` (composite Gauss rule :data:`_PIECES` in :math:`x = |g|/\\sqrt{2\\Sigma}`,
+    split at a threshold and at the end of the law's range; a law continued beyond its
+    range by its value there, as the one-species estimate
+    :meth:`~kinetic_fem.model.InelasticGas.loss_rate`: a scale estimate).
+
+    Parameters
+    ----------
+    law : RestitutionLaw
+    kernel : CollisionKernel
+    total : float
+        :math:`\\Sigma > 0`.
+
+    Returns
+    -------
+    g, weights, one_plus_alpha : ndarray
+    """
     scale = math.sqrt(2.0 * total)
     edges = list(_PIECES)
     kinks = [law.max_speed, law.threshold if isinstance(law, ThresholdRestitution) else 0.0]
@@ -88,8 +102,17 @@ def _law_means(law: RestitutionLaw, kernel: CollisionKernel, total: float
     x = (lo[:, None] + half * (_LEGENDRE[0][None, :] + 1.0)).ravel()
     w = (half * _LEGENDRE[1][None, :]).ravel()
     g = scale * x
-    base = w * (2.0 / math.sqrt(math.pi)) * np.exp(-x * x) * kernel.rate(g) * g * g
-    one_plus = 1.0 + law(np.minimum(g, law.max_speed))
+    weights = w * (2.0 / math.sqrt(math.pi)) * np.exp(-x * x) * kernel.rate(g)
+    return g, weights, 1.0 + law(np.minimum(g, law.max_speed))
+
+
+def _law_means(law: RestitutionLaw, kernel: CollisionKernel, total: float
+               ) -> tuple[float, float]:
+    """:math:`\\langle B g^2 (1+\\alpha(g))^2\\rangle` and
+    :math:`\\langle B g^2 (1+\\alpha(g))\\rangle` over :math:`g \\sim N(0, \\Sigma)`
+    (:func:`law_rule`)."""
+    g, weights, one_plus = law_rule(law, kernel, total)
+    base = weights * g * g
     return float(np.sum(base * one_plus**2)), float(np.sum(base * one_plus))
 
 

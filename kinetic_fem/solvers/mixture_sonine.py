@@ -36,6 +36,13 @@ rate :math:`\\lambda` and every scaled fourth moment is stationary, at :math:`T 
 :math:`\\lambda_0 = \\dot T/T` of Gaussian species: for one species this is van Noije and Ernst's
 :math:`a_2 = 16(1-2\\alpha^2)/(33 + 30\\alpha^2)`).
 
+A velocity-dependent restitution law :math:`\\alpha_{sr}(|g|)` (heated states): the change
+:math:`\\psi(v_s - a(g)g) - \\psi(v_s)` expanded in powers of :math:`a(g) = \\mu_{sr}(1 +
+\\alpha_{sr}(|g|))`, whose averages :math:`\\langle B g^k a(g)^j\\rangle` replace the
+kernel's Gaussian means (the rule of
+:func:`~kinetic_fem.solvers.mixture_gaussian.law_rule`); the cooling state needs constant
+coefficients.
+
 For the Maxwell kernel the truncation is exact (the :math:`a_{2,s}a_{2,r}` terms multiply
 moments of order 8 that the fourth-moment balance does not contain): the tests check this
 module against :mod:`kinetic_fem.solvers.maxwell_mixture`.
@@ -49,6 +56,7 @@ Dufty, Phys. Rev. E 60, 5706 (1999).
 from __future__ import annotations
 
 from collections import defaultdict
+from collections.abc import Callable
 from math import comb, prod
 
 import numpy as np
@@ -100,8 +108,11 @@ def _sonine(var: float, v_index: int) -> Poly:
     return {mono(4): 0.125 / var**2, mono(2): -0.75 / var, mono(0): 0.375}
 
 
-def _expect(kernel: CollisionKernel, var_s: float, var_r: float, p: Poly) -> float:
-    """:math:`\\langle B(|v_1 - v_2|)\\,p(v_1, v_2)\\rangle` over independent Gaussians."""
+def _expect(kernel: CollisionKernel, var_s: float, var_r: float, p: Poly,
+            moment: Callable[[int], float] | None = None) -> float:
+    """:math:`\\langle B(|v_1 - v_2|)\\,p(v_1, v_2)\\rangle` over independent Gaussians
+    (``moment(k)``: :math:`\\langle B(|g|) g^k h(|g|)\\rangle` in place of the kernel's
+    Gaussian mean, for a weight :math:`h` of the relative speed)."""
     total = var_s + var_r
     gw = _substitute(p, var_s / total, var_r / total)
     var_w = var_s * var_r / total
@@ -109,8 +120,42 @@ def _expect(kernel: CollisionKernel, var_s: float, var_r: float, p: Poly) -> flo
     for (k, m), coef in gw.items():
         if k % 2 or m % 2 or coef == 0.0:
             continue
-        out += coef * kernel.gaussian_mean(0.5 * total, float(k)) * _gauss_moment(var_w, m)
+        g_k = kernel.gaussian_mean(0.5 * total, float(k)) if moment is None else moment(k)
+        out += coef * g_k * _gauss_moment(var_w, m)
     return out
+
+
+def _law_rates(mixture: Mixture, s: int, r: int, var: NDArray[np.float64],
+               a2: NDArray[np.float64]) -> tuple[float, float]:
+    """The pair's terms of :func:`collision_rates` for a velocity-dependent law:
+    :math:`\\psi(v_1 - a(g)g) - \\psi(v_1) = \\sum_{j \\ge 1}\\binom pj v_1^{p-j}
+    (v_2 - v_1)^j a(g)^j`, each power of :math:`a(g) = \\mu_{sr}(1 + \\alpha(|g|))` inside
+    the average over the relative velocity
+    (:func:`~kinetic_fem.solvers.mixture_gaussian.law_rule`)."""
+    from .mixture_gaussian import law_rule
+
+    mu = mixture.masses[r] / (mixture.masses[s] + mixture.masses[r])
+    kernel = mixture.collision_kernel
+    g, weights, one_plus = law_rule(mixture.laws[s][r], kernel, var[s] + var[r])
+    out = []
+    for power in (2, 4):
+        value = 0.0
+        for j in range(1, power + 1):
+            weight_j = weights * (mu * one_plus) ** j
+            term = {(power - j, 0): float(comb(power, j))}
+            for _ in range(j):
+                term = _mul(term, {(0, 1): 1.0, (1, 0): -1.0})
+
+            def moment(k: int, w: NDArray[np.float64] = weight_j) -> float:
+                return float(np.sum(w * g**k))
+
+            value += _expect(kernel, var[s], var[r], term, moment)
+            value += a2[s] * _expect(kernel, var[s], var[r], _mul(term, _sonine(var[s], 0)),
+                                     moment)
+            value += a2[r] * _expect(kernel, var[s], var[r], _mul(term, _sonine(var[r], 1)),
+                                     moment)
+        out.append(value)
+    return out[0], out[1]
 
 
 def _change(power: int, a: float) -> Poly:
@@ -131,7 +176,7 @@ def collision_rates(mixture: Mixture, variances: np.ndarray, a2: np.ndarray,
     Parameters
     ----------
     mixture : Mixture
-        Any kernel with Gaussian means, constant restitution per pair.
+        Any kernel with Gaussian means, any restitution law per pair.
     variances : array_like, shape (k,)
         :math:`\\sigma_s^2 > 0`.
     a2 : array_like, shape (k,)
@@ -143,7 +188,6 @@ def collision_rates(mixture: Mixture, variances: np.ndarray, a2: np.ndarray,
     -------
     rate2, rate4 : ndarray, shape (k,)
     """
-    alpha = mixture.constant_alpha()
     density = check_positive("density", density)
     var = np.asarray(variances, dtype=float)
     a2 = np.asarray(a2, dtype=float)
@@ -152,7 +196,12 @@ def collision_rates(mixture: Mixture, variances: np.ndarray, a2: np.ndarray,
     rates = np.zeros((2, mixture.n_species))
     for s in range(mixture.n_species):
         for r in range(mixture.n_species):
-            a = masses[r] / (masses[s] + masses[r]) * (1.0 + alpha[s, r])
+            alpha = mixture.laws[s][r].constant
+            if alpha is None:
+                pair = _law_rates(mixture, s, r, var, a2)
+                rates[:, s] += density * mixture.fractions[r] * np.array(pair)
+                continue
+            a = masses[r] / (masses[s] + masses[r]) * (1.0 + alpha)
             for row, power in enumerate((2, 4)):
                 change = _change(power, a)
                 value = _expect(kernel, var[s], var[r], change)
@@ -190,7 +239,7 @@ def steady_state(mixture: Mixture, *, density: float = 1.0) -> MixtureMoments:
     Parameters
     ----------
     mixture : Mixture
-        Every species forced; constant restitution per pair.
+        Every species forced; any restitution law per pair.
     density : float
         Total number density :math:`n > 0`.
 

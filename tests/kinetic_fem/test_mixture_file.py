@@ -75,8 +75,9 @@ def test_a_method_that_cannot_do_the_mixture_is_a_clear_cli_error(tmp_path, caps
 
 
 def test_restitution_laws_in_a_mixture_file(tmp_path, capsys):
-    """Laws as strings, alone or in the alpha table: the DSMC and the FEM heated state run
-    them; Sonine names what it cannot do; a malformed law names the key and the forms."""
+    """Laws as strings, alone or in the alpha table: the DSMC, the FEM and the first-order
+    Sonine heated states run them; the Sonine Galerkin series names what it cannot do; a
+    malformed law names the key and the forms."""
     path = tmp_path / "laws.toml"
     path.write_text('[mixture]\nmasses = [1.0, 3.0]\nfractions = [0.5, 0.5]\n'
                     'alpha = [[0.8, "viscoelastic:0.1"], ["viscoelastic:0.1", '
@@ -87,10 +88,11 @@ def test_restitution_laws_in_a_mixture_file(tmp_path, capsys):
     assert main(["mixture", str(path), "--method", "dsmc", "-N", "200", "--collisions",
                  "40", "--seed", "1", "--quiet"]) == 0
     assert "T_1/T_2" in capsys.readouterr().out
-    assert main(["mixture", str(path), "--method", "fem", "--quiet"]) == 0
-    assert "T_1/T_2" in capsys.readouterr().out
+    for method in ("fem", "sonine", "gaussian"):
+        assert main(["mixture", str(path), "--method", method, "--quiet"]) == 0
+        assert "T_1/T_2" in capsys.readouterr().out
     with pytest.raises(SystemExit) as info:
-        main(["mixture", str(path), "--method", "sonine", "--quiet"])
+        main(["mixture", str(path), "--method", "spectral", "--quiet"])
     assert info.value.code == 2
     assert "constant restitution coefficient" in capsys.readouterr().err
     with pytest.raises(ValueError, match=r"alpha: .*threshold:ALPHA:SPEED"):
