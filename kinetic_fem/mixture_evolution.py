@@ -13,8 +13,8 @@ physical units (free cooling is not rescaled).  Two methods, both cheap ODE syst
 * ``"fem"``: the coupled Galerkin system of the species integrated by the one-species
   adaptive BDF integrator; heated (:mod:`kinetic_fem.solvers.fem.mixture_transient`, any
   compiled kernel) or free cooling on segments of fixed velocity unit, remapped as the
-  temperatures fall (:mod:`kinetic_fem.solvers.fem.mixture_cooling_transient`, power-law
-  kernels; it also keeps every species' distribution at the output times and the
+  temperatures fall (:mod:`kinetic_fem.solvers.fem.mixture_cooling_transient`, any
+  compiled kernel; it also keeps every species' distribution at the output times and the
   cooling rates); ``ev.error`` reruns it at ``rtol / 100`` (heated: on the same meshes;
   cooling: with the same options) when first read.
 
@@ -189,8 +189,8 @@ def evolve_mixture(mixture: Mixture, *, times: ArrayLike, density: float = 1.0,
     Parameters
     ----------
     mixture : Mixture
-        Forced species (heated) or none (free cooling); constant restitution per pair,
-        or (``"fem"``, heated) any restitution law per pair.
+        Forced species (heated) or none (free cooling); any restitution law per pair
+        (``"maxwell"``: constant coefficients).
     times : array_like, shape (n_t,)
         Output times, >= 0, strictly increasing.
     density : float
@@ -199,7 +199,7 @@ def evolve_mixture(mixture: Mixture, *, times: ArrayLike, density: float = 1.0,
         :math:`T_s(0)`: one value for every species or one per species (default 1).
     method : {"maxwell", "gaussian", "fem"}
         Exact moments of the Maxwell mixture (kernel 0), Gaussian species (any kernel),
-        or the FEM transient (heated: any compiled kernel; free cooling: power laws).
+        or the FEM transient (any compiled kernel, any restitution law per pair).
     rtol : float, optional
         Relative tolerance of the ODE integration (absolute: ``rtol`` times 1e-6 of the
         initial moments; default 1e-10); ``"fem"``: the tolerance of the local error
@@ -219,9 +219,7 @@ def evolve_mixture(mixture: Mixture, *, times: ArrayLike, density: float = 1.0,
     Raises
     ------
     UnsupportedModelError
-        ``"maxwell"`` for a kernel other than 0; a velocity-dependent restitution law
-        (except ``"fem"`` heated); ``"fem"`` for a free-cooling mixture with a kernel that
-        is not a power law.
+        ``"maxwell"`` for a kernel other than 0 or a velocity-dependent restitution law.
     ValueError
         An unknown method, bad times or temperatures.
 

@@ -450,9 +450,11 @@ def _fold_block(jac: NDArray, rows: EvenFold, cols: EvenFold) -> NDArray:
 
 
 # ---------------------------------------------------------------- checks and meshes
-def check_mixture_model(mixture: object, what: str, *, cooling: bool) -> Mixture:
-    """``mixture`` if the FEM solvers can take it (a constant restitution per pair; a
-    power-law kernel in free cooling; forced species exactly when not ``cooling``).
+def check_mixture_model(mixture: object, what: str, *, cooling: bool,
+                        scaled: bool = True) -> Mixture:
+    """``mixture`` if the FEM solvers can take it (forced species exactly when not
+    ``cooling``; the scaled cooling state: constant restitution per pair and a power-law
+    kernel).
 
     Parameters
     ----------
@@ -462,6 +464,10 @@ def check_mixture_model(mixture: object, what: str, *, cooling: bool) -> Mixture
         The caller's name, for the error.
     cooling : bool
         Free cooling (True) or heated.
+    scaled : bool
+        With ``cooling``: the scaled (homogeneous) cooling state, which needs constant
+        coefficients and a homogeneous kernel; False: free cooling in physical time (any
+        law, any kernel).
 
     Returns
     -------
@@ -469,20 +475,22 @@ def check_mixture_model(mixture: object, what: str, *, cooling: bool) -> Mixture
     """
     if not isinstance(mixture, Mixture):
         raise TypeError(f"mixture must be a kinetic_fem.Mixture, got {mixture!r}")
+    scaled = cooling and scaled
     for s, row in enumerate(mixture.laws):
         for r, law in enumerate(row):
-            if cooling and law.constant is None:
+            if scaled and law.constant is None:
                 raise UnsupportedModelError(
                     f"the FEM cooling state of a mixture needs a constant restitution "
                     f"coefficient for every pair (a velocity-dependent law has no scaling "
                     f"state), got {law!r} for the pair ({s}, {r}); use the heated state, or "
-                    "particles.dsmc_mixture.evolve_mixture for free cooling in physical "
+                    "evolve_cooling(mixture, method='fem') for free cooling in physical "
                     "time")
     kernel = mixture.collision_kernel
-    if cooling and not isinstance(kernel, PowerLawKernel):
+    if scaled and not isinstance(kernel, PowerLawKernel):
         raise UnsupportedModelError(
             f"the FEM cooling state of a mixture needs a homogeneous kernel |g|^gamma (the "
-            f"scaling state exists only then), got {kernel!r}")
+            f"scaling state exists only then), got {kernel!r}; "
+            "evolve_cooling(mixture, method='fem') follows free cooling in physical time")
     if mixture.heated == cooling:
         raise ValueError(f"{what} needs " + (
             "a mixture without forcing (free cooling); this one is forced" if cooling else

@@ -48,8 +48,11 @@ global error of the time integration, not the meshes.  Hard rods, masses 1:3, al
 (rtol 1e-4), -3.5e-4 (1e-5) and 6e-6 (1e-6) at t = 1000, while spacing 0.35 against 0.5
 changes it by 4e-5 or less (benchmarks/results/mixture_transient.md).
 
-Constant restitution per pair and power-law kernels only (the free-cooling FEM mixture's
-model, :func:`~kinetic_fem.solvers.fem.mixture.check_mixture_model`); Gaussian starts.
+**Any law per pair, any kernel** (as one species): in the unit :math:`V` the collision term
+is that of the laws :math:`g \\mapsto \\alpha_{sr}(Vg)` and of the kernel
+:math:`B(Vg)/V^d` at the density :math:`nV^d` (:func:`in_unit`), rebuilt at each remap;
+no scaling state is needed (the reported :math:`\\zeta` is then a diagnostic of the
+power-law definition).  Gaussian starts.
 """
 
 from __future__ import annotations
@@ -57,7 +60,7 @@ from __future__ import annotations
 import logging
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -80,7 +83,7 @@ from .options import CoolingEvolveOptions
 from .transient import TimeIntegrator, TransientOptions, build_mesh, floor_log
 from .transient_setup import SCHEMES, default_newton_tol
 
-__all__ = ["MixtureCoolingRun", "evolve_mixture_cooling_fem"]
+__all__ = ["MixtureCoolingRun", "evolve_mixture_cooling_fem", "in_unit"]
 
 logger = logging.getLogger(__name__)
 
@@ -109,6 +112,30 @@ class MixtureCoolingRun:
     info: dict[str, Any]
 
 
+def in_unit(mixture: Mixture, unit: float) -> Mixture:
+    """The mixture in velocities measured in ``unit``: every law
+    :math:`g \\mapsto \\alpha(Vg)` (:meth:`~kinetic_fem.model.RestitutionLaw.rescaled`) and
+    the kernel :math:`B(Vg)/V^d` (:meth:`~kinetic_fem.model.CollisionKernel.rescaled`);
+    ``mixture`` itself for constant coefficients and a homogeneous kernel.
+
+    Parameters
+    ----------
+    mixture : Mixture
+    unit : float
+        :math:`V > 0`.
+
+    Returns
+    -------
+    Mixture
+    """
+    kernel = mixture.collision_kernel
+    if kernel.homogeneity_degree is not None and all(
+            law.constant is not None for row in mixture.laws for law in row):
+        return mixture
+    return replace(mixture, alpha=[[law.rescaled(unit) for law in row] for row in mixture.laws],
+                   kernel=kernel.rescaled(unit))
+
+
 class _SpeciesMasses:
     """One species of the stacked integrator as :func:`normalise` reads it."""
 
@@ -126,7 +153,7 @@ def evolve_mixture_cooling_fem(mixture: Mixture, *, times: NDArray, density: flo
     Parameters
     ----------
     mixture : Mixture
-        No forcing; constant restitution per pair; a power-law kernel.
+        No forcing; any restitution law per pair; a kernel with a compiled rate.
     times : ndarray, shape (n_t,)
         Output times (physical; checked by the caller).
     density : float
@@ -149,15 +176,14 @@ def evolve_mixture_cooling_fem(mixture: Mixture, *, times: NDArray, density: flo
     Raises
     ------
     ValueError
-        For a forced mixture or bad options.
-    UnsupportedModelError
-        For a restitution law or a kernel that is not a power law.
+        For a forced mixture or bad options; relative speeds on a mesh beyond a law's
+        range.
     ConvergenceError
         If a species can no longer be resolved (refine ``spacing``).
     """
     cpu = time.process_time()
     mixture = check_mixture_model(mixture, "the FEM mixture cooling transient "
-                                  "(method='fem')", cooling=True)
+                                  "(method='fem')", cooling=True, scaled=False)
     o = gather(CoolingEvolveOptions, options, option_keywords, "evolve_cooling")
     kernel = mixture.collision_kernel
     spacing, c_cut = cooling_settings(o, kernel)
@@ -171,9 +197,16 @@ def evolve_mixture_cooling_fem(mixture: Mixture, *, times: NDArray, density: flo
     unit = [math.sqrt(float(fractions @ var0))]   # the velocity unit V of the segment
 
     def discretise(verts: Any) -> MixtureDiscretisation:
-        """The collision term in the unit V: density n V^gamma."""
-        return MixtureDiscretisation(mixture, tuple(verts), density * unit[0] ** degree,
-                                     o.order)
+        """The collision term in the unit V: the laws alpha(V g), the kernel B(V g)/V^d
+        at the density n V^d (relative speeds checked in physical units)."""
+        verts = tuple(verts)
+        for s, row in enumerate(mixture.laws):
+            for r, law in enumerate(row[s:], start=s):
+                law.check_speed(float(verts[s][-1] + verts[r][-1]) * unit[0],
+                                f"the FEM meshes of species {s} and {r} (relative speeds up "
+                                f"to the sum of their extents: start colder or lower cutoff)")
+        return MixtureDiscretisation(in_unit(mixture, unit[0]), verts,
+                                     density * unit[0] ** degree, o.order)
 
     scales = var0 / unit[0] ** 2     # <w^2>_s at the segment's start
     mdisc = discretise(build_mesh(c_cut * math.sqrt(v), h_el * math.sqrt(v)) for v in scales)
