@@ -15,13 +15,18 @@ probability :math:`B(|g|)/B(g_{max})` (every one for the Maxwell kernel), collid
 (:func:`kinetic_fem.model.restitution_value`).  The scaled free cooling of
 :func:`particles.dsmc_mixture.simulate_mixture` has no splitting: :func:`cooling_segment`
 runs its collisions on a clock that ticks once per candidate, with a majorant widened by
-the collisions, and no pass over the rods.
+the collisions, and no pass over the rods but a vectorised range every ``REFRESH N``
+candidates.
 
-Random numbers (:mod:`particles.rng`, the 5-word state of
-:func:`~particles.rng.heated_state`): the kicks' normals and the candidates (pair and
-acceptance uniform from one draw, :func:`particles._dsmc_heated.candidate`) from the
-wyrand word, the ziggurat's rare slow paths from the xoshiro256** words; the same seed
-gives the same run with or without the JIT.
+Random numbers (:mod:`particles.rng`, the 37-word state of
+:func:`~particles.rng.mixture_state`): the kicks' normals and the heated candidates (pair
+and acceptance uniform from one draw, :func:`particles._dsmc_heated.candidate`) from the
+wyrand word, the ziggurat's rare slow paths from the xoshiro256** words; the candidates of
+the scaled free cooling from the eight lock-step xoshiro256++ lanes
+(:func:`particles.rng.xoshiro_lanes`) in blocks of :data:`CANDIDATE_BLOCK`
+(:func:`pair_block`, as the one-species free cooling of hard rods,
+:func:`particles._dsmc_kernels.collide_lanes`); the same seed gives the same run with or
+without the JIT.
 """
 
 from __future__ import annotations
@@ -33,11 +38,14 @@ import numpy as np
 from kinetic_fem.model.restitution import CONSTANT, restitution_value
 
 from ._dsmc_heated import ONE_DRAW_MAX_N, candidate, kick
+from ._dsmc_kernels import candidate_block
 from ._dsmc_model import KERNEL_HARD_RODS, KERNEL_MAXWELL, kernel_majorant, kernel_value
+from ._dsmc_segments import extent_fast
 from ._jit import jit
-from .rng import WYRAND_WORD
+from .rng import LANE_WORD, WYRAND_WORD
 
-__all__ = ["mixture_segment", "cooling_segment", "measure", "mean_squares", "recentre"]
+__all__ = ["mixture_segment", "cooling_segment", "measure", "mean_squares", "recentre",
+           "recentre_measure", "pair_block", "pair_tables", "CANDIDATE_BLOCK"]
 
 _INV53 = 1.0 / 9007199254740992.0  # 2^-53
 
@@ -208,15 +216,24 @@ def measure(v, bounds, lows, widths, sums, hist):  # pragma: no cover - compiled
     ``hist[s]``, ``s`` its species (rods ``bounds[s] <= i < bounds[s + 1]``).
 
     For ``K = 12`` (:data:`kinetic_fem.distribution.MAX_MOMENT`) the sums stay in
-    registers (:func:`_measure_12`; an accumulator array was stored and reloaded for
-    every rod: 4.1 against 1.4 ns per rod at N = 5000), with the same products and sums
-    in the same order, so the same bits."""
+    registers and the powers come from a product tree (:func:`_measure_12`; an
+    accumulator array was stored and reloaded for every rod, and the powers were a chain
+    of twelve multiplies: 4.1 against 1.5 ns per rod at N = 5000)."""
+    _measure(v, bounds, lows, widths, sums, hist, 0.0, 1.0)
+
+
+@jit
+def _measure(v, bounds, lows, widths, sums, hist, shift, factor):  # pragma: no cover
+    """:func:`measure` of ``(v - shift) * factor``, stored back into ``v`` in the same
+    pass (``shift = 0``, ``factor = 1``: ``v`` unchanged, bit for bit)."""
     top = sums.shape[1]
     if top == 13:
         for sp in range(bounds.shape[0] - 1):
             _measure_12(v[bounds[sp]:bounds[sp + 1]], lows[sp], widths[sp], sums[sp],
-                        hist[sp])
+                        hist[sp], shift, factor)
         return
+    for i in range(v.shape[0]):
+        v[i] = (v[i] - shift) * factor
     bins = hist.shape[1]
     acc = np.zeros(top)
     for sp in range(bounds.shape[0] - 1):
@@ -236,40 +253,32 @@ def measure(v, bounds, lows, widths, sums, hist):  # pragma: no cover - compiled
 
 
 @jit
-def _measure_12(v, low, width, sums, hist):  # pragma: no cover - compiled
-    """:func:`measure` of one species' rods ``v``, powers 0-12 summed in registers (each
-    power the previous one times ``x``, each sum from 0.0 rod by rod: as the loop over an
-    accumulator array)."""
+def _measure_12(v, low, width, sums, hist, shift, factor):  # pragma: no cover - compiled
+    """:func:`_measure` of one species' rods ``v``, the powers 0-12 by a product tree of
+    depth four and their sums in registers."""
     bins = hist.shape[0]
     inv = 1.0 / width
     a0 = a1 = a2 = a3 = a4 = a5 = a6 = a7 = a8 = a9 = a10 = a11 = a12 = 0.0
     for i in range(v.shape[0]):
-        x = v[i]
-        p1 = x  # 1.0 * x
-        p2 = p1 * x
-        p3 = p2 * x
-        p4 = p3 * x
-        p5 = p4 * x
-        p6 = p5 * x
-        p7 = p6 * x
-        p8 = p7 * x
-        p9 = p8 * x
-        p10 = p9 * x
-        p11 = p10 * x
-        p12 = p11 * x
+        x = (v[i] - shift) * factor
+        v[i] = x
+        x2 = x * x
+        x3 = x2 * x
+        x4 = x2 * x2
+        x8 = x4 * x4
         a0 += 1.0
-        a1 += p1
-        a2 += p2
-        a3 += p3
-        a4 += p4
-        a5 += p5
-        a6 += p6
-        a7 += p7
-        a8 += p8
-        a9 += p9
-        a10 += p10
-        a11 += p11
-        a12 += p12
+        a1 += x
+        a2 += x2
+        a3 += x3
+        a4 += x4
+        a5 += x4 * x
+        a6 += x4 * x2
+        a7 += x4 * x3
+        a8 += x8
+        a9 += x8 * x
+        a10 += x8 * x2
+        a11 += x8 * x3
+        a12 += x8 * x4
         b = math.floor((x - low) * inv)
         if 0 <= b < bins:
             hist[int(b)] += 1.0
@@ -292,122 +301,217 @@ def mean_squares(v, bounds):  # pragma: no cover - compiled
 
 
 @jit
-def recentre(v, bounds, masses, centre, scaled):  # pragma: no cover - compiled
-    """Remove the centre-of-mass velocity (``centre``) and rescale to
-    :math:`T = \\sum_i m_i v_i^2 / N = 1` (``scaled``), in place."""
+def _frame(v, bounds, masses, centre, scaled):  # pragma: no cover - compiled
+    """``(shift, factor, temperature)`` of :func:`recentre` (one pass of sums)."""
+    if not (centre or scaled):
+        return 0.0, 1.0, 1.0
     k = bounds.shape[0] - 1
     n = v.shape[0]
-    if centre:
-        momentum = 0.0
-        total = 0.0
-        for sp in range(k):
-            acc = 0.0
-            for i in range(bounds[sp], bounds[sp + 1]):
-                acc += v[i]
-            momentum += masses[sp] * acc
-            total += masses[sp] * (bounds[sp + 1] - bounds[sp])
-        shift = momentum / total
-        for i in range(n):
-            v[i] -= shift
-    if scaled:
-        energy = 0.0
-        for sp in range(k):
-            acc = 0.0
-            for i in range(bounds[sp], bounds[sp + 1]):
-                acc += v[i] * v[i]
-            energy += masses[sp] * acc
-        factor = 1.0 / math.sqrt(energy / n)
-        for i in range(n):
-            v[i] *= factor
+    momentum = 0.0
+    energy = 0.0
+    total = 0.0
+    for sp in range(k):
+        a1 = 0.0
+        a2 = 0.0
+        for i in range(bounds[sp], bounds[sp + 1]):
+            x = v[i]
+            a1 += x
+            a2 += x * x
+        momentum += masses[sp] * a1
+        energy += masses[sp] * a2
+        total += masses[sp] * (bounds[sp + 1] - bounds[sp])
+    shift = momentum / total if centre else 0.0
+    temperature = (energy - shift * momentum) / n
+    if not scaled:
+        return shift, 1.0, 1.0
+    return shift, 1.0 / math.sqrt(temperature), temperature
 
 
 @jit
-def cooling_segment(v, species, mu, reduced, p0, kcode, kparam, rate, gamma, s, counts,
+def recentre(v, bounds, masses, centre, scaled):  # pragma: no cover - compiled
+    """Remove the centre-of-mass velocity ``u = P/M`` (``centre``) and rescale to
+    :math:`T = \\sum_i m_i v_i^2 / N = 1` (``scaled``), in place, in two passes (the sums,
+    then the shift and the factor together); returns the temperature before the rescaling
+    (:math:`\\sum m_i (v_i - u)^2/N = (E - P u)/N`; 1.0 unless ``scaled``)."""
+    shift, factor, temperature = _frame(v, bounds, masses, centre, scaled)
+    if centre or scaled:
+        for i in range(v.shape[0]):
+            v[i] = (v[i] - shift) * factor
+    return temperature
+
+
+@jit
+def recentre_measure(v, bounds, masses, centre, scaled, lows, widths, sums,
+                     hist):  # pragma: no cover - compiled
+    """:func:`recentre`, then :func:`measure`, the second pass of the one the first of the
+    other (the same numbers as the two in turn)."""
+    shift, factor, temperature = _frame(v, bounds, masses, centre, scaled)
+    _measure(v, bounds, lows, widths, sums, hist, shift, factor)
+    return temperature
+
+
+CANDIDATE_BLOCK = 512
+"""Candidates per block of :func:`cooling_segment` (drawn from the lanes in one vector
+pass; a multiple of :data:`particles.rng.LANES`)."""
+
+REFRESH = 2
+"""The range of :func:`cooling_segment` is measured again every ``REFRESH N`` candidates
+(about 0.3 collisions per rod; a pass of 0.5 ns per rod against a range that shrinks as
+the gas cools: 1 and 4 were 3 % slower at N = 5000-20000)."""
+
+LANES_OFFSET = WYRAND_WORD + 1 - LANE_WORD
+"""The lanes of a mixture state (:func:`particles.rng.mixture_state`: the five heated
+words, then the lane words) are those of the cooling state ``s[LANES_OFFSET:]``."""
+
+
+@jit
+def pair_block(st, n, bounds, raw, ci, cj, cu, cp, m):  # pragma: no cover - compiled
+    """``m`` (a multiple of ``LANES``) candidates from the lanes of ``st`` (a cooling
+    state, :func:`particles.rng.cooling_state`): :func:`particles._dsmc_kernels.
+    candidate_block` with ``g_max = 1`` (``ci``, ``cj`` distinct rods, ``cu`` uniform in
+    ``[0, 1)``) and ``cp`` the pair's index ``k s_i + s_j`` (``k`` species, the rods sorted
+    by species, ``bounds`` as :func:`mixture_segment`): a count of the bounds each rod
+    reaches, elementwise, so vectorised as the draws."""
+    candidate_block(st, n, 1.0, raw, ci, cj, cu, m)
+    k = bounds.shape[0] - 1
+    for c in range(m):
+        cp[c] = 0
+    for sp in range(1, k):
+        b = np.uint64(bounds[sp])
+        for c in range(m):
+            cp[c] += k * np.int64(ci[c] >= b) + np.int64(cj[c] >= b)
+
+
+@jit
+def pair_tables(mu, reduced, p0):  # pragma: no cover - compiled
+    """The coefficients of each ordered pair ``p = k s + r`` of constant restitution
+    ``p0``: ``(ci, cj, lw)`` with :math:`v_s' = v_s - c_i g`, :math:`v_r' = v_r + c_j g`
+    (:math:`c_i = \\mu_{sr}(1+\\alpha_{sr})`, :math:`c_j = \\mu_{rs}(1+\\alpha_{sr})`)
+    and ``lw`` :math:`\\times g^2` the energy lost (``reduced (1 - alpha^2)``)."""
+    k = mu.shape[0]
+    c1 = np.empty(k * k)
+    c2 = np.empty(k * k)
+    lw = np.empty(k * k)
+    for a in range(k):
+        for b in range(k):
+            q = a * k + b
+            c1[q] = mu[a, b] * (1.0 + p0[a, b])
+            c2[q] = mu[b, a] * (1.0 + p0[a, b])
+            lw[q] = reduced[a, b] * (1.0 - p0[a, b] * p0[a, b])
+    return c1, c2, lw
+
+
+@jit
+def add_pair_counts(counts, ordered):  # pragma: no cover - compiled
+    """``counts[s, r]`` (symmetric, each collision once) += the collisions of the
+    ordered pairs ``ordered[k s + r]`` and, for ``r != s``, ``ordered[k r + s]``."""
+    k = counts.shape[0]
+    for a in range(k):
+        for b in range(k):
+            counts[a, b] += ordered[a * k + b] + (ordered[b * k + a] if a != b else 0)
+
+
+@jit
+def cooling_segment(v, bounds, mu, reduced, p0, kcode, kparam, rate, s, counts,
                     max_collisions):  # pragma: no cover - compiled
     """Free cooling in scaled variables until ``max_collisions`` collisions, one clock tick
     per candidate (no pass over the rods).
 
-    The velocities start at :math:`T = 1` (unit mixture temperature); the majorant is
-    the range ``[lo, hi]``, measured every ``N`` candidates and widened by every
-    post-collision velocity outside it in between (a heavier partner can throw a rod
-    beyond the range), so it always bounds the relative speeds.  Each candidate advances
-    the clock by :math:`1/(\\mathrm{rate}\\,B(hi - lo))` (``rate`` :math:`= nN/2`; the
-    expected spacing, as the one-species free cooling of :mod:`particles._dsmc_kernels`)
-    and is
-    accepted with probability :math:`B(|g|)/B(hi - lo)`.  The temperature falls by
-    :math:`2\\Delta E/N` per collision; ``weighted``, the energy lost weighted by
-    :math:`T^{-(1+\\gamma/2)}`, is :math:`(N/2)\\int_{T_{end}}^1 dT/T^{1+\\gamma/2}`, so
-    that ``weighted / (N n time)`` estimates :math:`\\zeta` of
-    :math:`dT/dt = -2\\zeta n T^{1+\\gamma/2}`.
+    The majorant is the range ``[lo, hi]``, measured every ``REFRESH N`` candidates (at
+    the start of a block) and widened by every post-collision velocity outside it in between
+    (a heavier partner can throw a rod beyond the range), so it always bounds the
+    relative speeds.  Each candidate advances the clock by
+    :math:`1/(\\mathrm{rate}\\,B(hi - lo))` (``rate`` :math:`= nN/2`; the expected
+    spacing, as the one-species free cooling of :mod:`particles._dsmc_kernels`) and is
+    accepted with probability :math:`B(|g|)/B(hi - lo)`.  The candidates come in blocks
+    of :data:`CANDIDATE_BLOCK` from the lanes of ``s`` (:func:`pair_block`: the pair, the
+    acceptance uniform and the pair of species, in vector passes), thinned by the
+    branch-free loop of :func:`_thin` (a branch on the acceptance was mispredicted for a
+    fifth of the candidates); the draws of a block past the last collision are dropped.
+    The energy lost is not summed here: the driver measures the temperature at the end
+    (:func:`recentre`).
 
     Parameters
     ----------
     v : ndarray of float64, shape (N,)
-        Velocities at :math:`T = 1`, updated in place (not rescaled at the end).
-    species, mu, reduced, p0 : ndarray
+        Velocities, updated in place (not rescaled).
+    bounds, mu, reduced, p0 : ndarray
         As :func:`mixture_segment`; ``p0`` the constant restitution coefficients.
     kcode, kparam : int, float
         A power-law kernel (:func:`particles._dsmc_model.kernel_model`).
     rate : float
         :math:`nN/2`.
-    gamma : float
-        The kernel's exponent.
-    s : ndarray of uint64, shape (5,)
+    s : ndarray of uint64, shape (37,)
+        Mixture state (:func:`particles.rng.mixture_state`); its lanes advance.
     counts : ndarray of int64, shape (k, k)
+        Collisions per pair of species, incremented.
     max_collisions : int
 
     Returns
     -------
-    (collisions, loss, weighted, time)
+    (collisions, time, candidates)
     """
     n = v.shape[0]
-    un = np.uint64(n)
-    n1 = un - np.uint64(1)
-    one_draw = n <= ONE_DRAW_MAX_N
+    k = bounds.shape[0] - 1
+    st = s[LANES_OFFSET:]
+    c1, c2, _ = pair_tables(mu, reduced, p0)
+    ordered = np.zeros(k * k, np.int64)
+    block = CANDIDATE_BLOCK
+    raw = np.empty(2 * block, np.uint64)
+    ci = np.empty(block, np.uint64)
+    cj = np.empty(block, np.uint64)
+    cu = np.empty(block)
+    cp = np.empty(block, np.int64)
     hard_rods = kcode == KERNEL_HARD_RODS
-    lo, hi = _rescale(v, 1.0)
+    lo, hi = extent_fast(v)
     b_max = kernel_majorant(kcode, kparam, hi - lo)
-    scale = b_max * _INV53
-    w = s[WYRAND_WORD]
     time = 0.0
     ticks = 0  # candidates since the majorant last changed
+    since = 0  # candidates since the range was measured
     collisions = 0
-    loss = 0.0
+    candidates = 0
     while collisions < max_collisions:
-        if ticks >= n:  # the exact range again (the widened one only grows)
+        if since >= REFRESH * n:  # the exact range again (the widened one only grows)
             time += ticks / (rate * b_max)
             ticks = 0
-            lo, hi = _rescale(v, 1.0)
+            since = 0
+            lo, hi = extent_fast(v)
             b_max = kernel_majorant(kcode, kparam, hi - lo)
-            scale = b_max * _INV53
-        i, j, threshold, w = candidate(w, un, n1, scale, one_draw)
-        ticks += 1
-        vi = v[i]
-        vj = v[j]
-        if not _accepted(abs(vi - vj), threshold, hard_rods, kcode, kparam):
-            continue
-        sa = species[i]
-        sb = species[j]
-        loss += _pair(v, i, j, vi, vj, p0[sa, sb], sa, sb, mu, reduced, counts)
-        vi = v[i]
-        vj = v[j]
-        collisions += 1
-        if vi < lo or vj < lo or vi > hi or vj > hi:
-            time += ticks / (rate * b_max)
-            ticks = 0
-            lo = min(lo, min(vi, vj))
-            hi = max(hi, max(vi, vj))
-            b_max = kernel_majorant(kcode, kparam, hi - lo)
-            scale = b_max * _INV53
-    s[WYRAND_WORD] = w
+        pair_block(st, n, bounds, raw, ci, cj, cu, cp, block)
+        c = 0
+        while c < block:
+            if collisions >= max_collisions:
+                break
+            i = ci[c]
+            j = cj[c]
+            p = cp[c]
+            vi = v[i]
+            vj = v[j]
+            g = vi - vj
+            ag = abs(g)
+            threshold = cu[c] * b_max
+            if hard_rods:
+                a = np.int64(ag > threshold)
+            else:
+                a = np.int64(kcode == KERNEL_MAXWELL or kernel_value(kcode, kparam, ag)
+                             > threshold)
+            d = g * float(a)
+            wi = vi - c1[p] * d
+            wj = vj + c2[p] * d
+            v[i] = wi
+            v[j] = wj
+            ordered[p] += a
+            collisions += a
+            c += 1
+            if min(wi, wj) < lo or max(wi, wj) > hi:  # rare: the majorant widened
+                time += (ticks + c) / (rate * b_max)
+                ticks = -c
+                lo = min(lo, min(wi, wj))
+                hi = max(hi, max(wi, wj))
+                b_max = kernel_majorant(kcode, kparam, hi - lo)
+        ticks += c
+        since += c
+        candidates += c
+    add_pair_counts(counts, ordered)
     time += ticks / (rate * b_max)
-    # sum over the collisions of dE / T_mid^p, T falling by 2 dE / N from 1: the
-    # integral (N/2) int dT / T^p between the two temperatures (equal to the sum up to
-    # O((dE/N)^3) per collision; no power per collision)
-    power = 1.0 + 0.5 * gamma
-    end = 1.0 - 2.0 * loss / n
-    if power == 1.0:
-        weighted = 0.5 * n * math.log(1.0 / end)
-    else:
-        weighted = 0.5 * n * (end ** (1.0 - power) - 1.0) / (power - 1.0)
-    return collisions, loss, weighted, time
+    return collisions, time, candidates

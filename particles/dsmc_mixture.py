@@ -71,12 +71,12 @@ from kinetic_fem.progress import resolve_progress
 from ._dsmc_mixture_kernels import (
     cooling_segment,
     mean_squares,
-    measure,
     mixture_segment,
     recentre,
+    recentre_measure,
 )
 from ._dsmc_model import kernel_model, power_exponent
-from .rng import heated_state, ziggurat_tables
+from .rng import mixture_state, ziggurat_tables
 from .run import check_seed
 
 __all__ = ["MixtureRun", "simulate_mixture", "simulate_binary", "evolve_mixture", "species_counts",
@@ -281,7 +281,7 @@ def simulate_mixture(mixture: Mixture, n_particles: int, *, density: float = 1.0
     mass = masses[species]
     heated = mixture.heated
     rods = _Rods.of(mixture, species, density)
-    state = heated_state(kernel_seq)
+    state = mixture_state(kernel_seq)
     # initial Gaussians: the Gaussian-approximation temperatures would be closer; unit
     # variance per species is enough, the relaxation does the rest
     v = rng.standard_normal(n)
@@ -312,29 +312,42 @@ def simulate_mixture(mixture: Mixture, n_particles: int, *, density: float = 1.0
         if heated:
             dt = rods.time_step(v, opts.collisions_per_step, mixture, gamma)
             new, _, debt, taken = rods.segment(v, dt, steps, debt, pair_counts, state,
-                                               max_collisions=target)
-            weighted, elapsed = 0.0, taken * dt
+                                               max_collisions=target, centre=False)
+            elapsed = taken * dt
         else:
-            assert gamma is not None  # a power law in free cooling (checked above)
-            new, weighted, elapsed = rods.cool(v, gamma, pair_counts, state, target)
+            new, elapsed = rods.cool(v, pair_counts, state, target)
         n_collisions += new
         step = 2.0 * new / n
         done += step
         bar.update(step)
+        # the centre-of-mass velocity removed (unless a bath holds it), free cooling
+        # rescaled to T = 1, and the measurement in the same pass
+        centre, scaled = (rods.free_centre, False) if heated else (True, True)
+        if done >= next_sample and done >= relax:
+            first = not widths[0]
+            if first:  # the histograms' ranges from the first measured state
+                end = recentre(v, rods.bounds, rods.masses, centre, scaled)
+                centre = scaled = False
+                for s in range(mixture.n_species):
+                    half = opts.c_max * math.sqrt(np.mean(v[species == s]**2))
+                    lows[s], widths[s] = -half, 2.0 * half / opts.bins
+            batch = min(int((done - relax) / collisions_per_particle * opts.n_batches),
+                        opts.n_batches - 1)
+            measured = recentre_measure(v, rods.bounds, rods.masses, centre, scaled, lows,
+                                        widths, sums[batch], hist[batch])
+            end = end if first else measured
+            next_sample += opts.sample_every
+        else:
+            end = recentre(v, rods.bounds, rods.masses, centre, scaled)
         if done >= relax:
             batch = min(int((done - relax) / collisions_per_particle * opts.n_batches),
                         opts.n_batches - 1)
-            # free cooling: each collision's loss over the temperature at the middle of
-            # its drop (the kernel's ``weighted``)
-            batch_loss[batch] += weighted
+            if not heated:
+                assert gamma is not None  # a power law in free cooling (checked above)
+                # free cooling: each collision's loss over the temperature at the middle
+                # of its drop
+                batch_loss[batch] += rods.weighted(end, gamma)
             batch_time[batch] += elapsed
-            if done >= next_sample:
-                if not widths[0]:
-                    for s in range(mixture.n_species):
-                        half = opts.c_max * math.sqrt(np.mean(v[species == s]**2))
-                        lows[s], widths[s] = -half, 2.0 * half / opts.bins
-                measure(v, rods.bounds, lows, widths, sums[batch], hist[batch])
-                next_sample += opts.sample_every
     bar.close()
     if np.any(sums[:, :, 0] == 0):
         raise ValueError(f"a batch holds no measurement: collisions_per_particle="
@@ -459,11 +472,13 @@ class _Rods:  # (cached properties: frozen, not slotted)
 
     def segment(self, v: NDArray[np.float64], dt: float, n_steps: int, debt: float,
                 pair_counts: NDArray[np.int64], state: NDArray[np.uint64], *,
-                max_collisions: int = 2**62) -> tuple[int, float, float, int]:
+                max_collisions: int = 2**62, centre: bool = True
+                ) -> tuple[int, float, float, int]:
         """``n_steps`` Strang steps of ``dt`` (:func:`particles._dsmc_mixture_kernels.
         mixture_segment`; free cooling in physical velocities), then the centre-of-mass
         velocity removed (unless a bath holds it); it ends early after the step in which
-        the collisions reach ``max_collisions``.
+        the collisions reach ``max_collisions``.  ``centre=False``: the velocities are
+        left as they are (the caller recentres them, with its measurement).
 
         Returns
         -------
@@ -487,25 +502,36 @@ class _Rods:  # (cached properties: frozen, not slotted)
             raise ValueError(f"a relative speed {g_max:.4g} exceeds {self.g_limit:.4g}, the "
                              "largest a restitution law of the mixture allows (its "
                              "max_speed); lower the temperature or widen the law's range")
-        recentre(v, self.bounds, self.masses, self.free_centre, False)
+        if centre:
+            recentre(v, self.bounds, self.masses, self.free_centre, False)
         return int(collisions), float(loss), float(debt), int(steps)
 
-    def cool(self, v: NDArray[np.float64], gamma: float, pair_counts: NDArray[np.int64],
-             state: NDArray[np.uint64], max_collisions: int) -> tuple[int, float, float]:
+    def cool(self, v: NDArray[np.float64], pair_counts: NDArray[np.int64],
+             state: NDArray[np.uint64], max_collisions: int) -> tuple[int, float]:
         """Scaled free cooling (``v`` at :math:`T = 1`) for ``max_collisions`` collisions
-        (:func:`particles._dsmc_mixture_kernels.cooling_segment`), then recentred and
-        rescaled to :math:`T = 1`.
+        (:func:`particles._dsmc_mixture_kernels.cooling_segment`); ``v`` is left
+        unscaled (:meth:`weighted` of its temperature, then recentred and rescaled).
 
         Returns
         -------
-        (collisions, weighted loss, time)
-            ``weighted / (N n time)`` is the cooling rate's estimate.
+        (collisions, time)
         """
-        collisions, _, weighted, time = cooling_segment(
-            v, self.species, self.mu, self.reduced, self.p0, self.kcode, self.kparam,
-            0.5 * v.size * self.density, gamma, state, pair_counts, max_collisions)
-        recentre(v, self.bounds, self.masses, True, True)
-        return int(collisions), float(weighted), float(time)
+        collisions, time, _ = cooling_segment(
+            v, self.bounds, self.mu, self.reduced, self.p0, self.kcode, self.kparam,
+            0.5 * v.size * self.density, state, pair_counts, max_collisions)
+        return int(collisions), float(time)
+
+    def weighted(self, end: float, gamma: float) -> float:
+        """The energy lost while the temperature fell from 1 to ``end``, weighted by
+        :math:`T^{-(1+\\gamma/2)}`: each collision lowers :math:`T` by :math:`2\\Delta E/N`,
+        so the sum over the collisions is the integral :math:`(N/2)\\int_{end}^1
+        dT/T^{1+\\gamma/2}` (no power per collision); over :math:`N n` times the time it
+        estimates :math:`\\zeta`."""
+        n = self.species.size
+        power = 1.0 + 0.5 * gamma
+        if power == 1.0:
+            return 0.5 * n * math.log(1.0 / end)
+        return 0.5 * n * (end ** (1.0 - power) - 1.0) / (power - 1.0)
 
 
 _ZIGGURAT = ziggurat_tables()
@@ -614,7 +640,7 @@ def evolve_mixture(mixture: Mixture, n_particles: int, *, times: Any, density: f
     for run, child in enumerate(ss.spawn(n_runs)):
         start_seq, kernel_seq = child.spawn(2)
         rng = np.random.default_rng(start_seq)
-        state = heated_state(kernel_seq)
+        state = mixture_state(kernel_seq)
         v = rng.standard_normal(n_particles) * np.sqrt(temps0 / masses)[species]
         v -= np.sum(mass * v) / np.sum(mass)
         t, debt = 0.0, 0.0
