@@ -12,21 +12,23 @@ scans) the rods; a candidate is two distinct rods, whatever their species, accep
 probability :math:`B(|g|)/B(g_{max})` (every one for the Maxwell kernel), colliding by
 :math:`v_s' = v_s - \\mu_{sr}(1+\\alpha_{sr})g`, :math:`v_r' = v_r + \\mu_{rs}
 (1+\\alpha_{sr})g` with the pair's restitution law at :math:`|g|`
-(:func:`kinetic_fem.model.restitution_value`).  The scaled free cooling of
-:func:`particles.dsmc_mixture.simulate_mixture` has no splitting: :func:`cooling_segment`
-runs its collisions on a clock that ticks once per candidate, with a majorant widened by
-the collisions, and no pass over the rods but a vectorised range every ``REFRESH N``
-candidates.
+(:func:`kinetic_fem.model.restitution_value`).  A heavier partner can throw a rod out of
+the range (:math:`\\mu_{sr}(1+\\alpha_{sr}) > 1`): the range is then widened and the
+stage's candidates left rescaled to the new majorant (:func:`_stage`).  The scaled free
+cooling of :func:`particles.dsmc_mixture.simulate_mixture` has no splitting:
+:func:`cooling_segment` runs its collisions on a clock that ticks once per candidate, with
+a majorant widened by the collisions, and no pass over the rods but a vectorised range
+every ``REFRESH N`` candidates.
 
 Random numbers (:mod:`particles.rng`, the 37-word state of
-:func:`~particles.rng.mixture_state`): the kicks' normals and the heated candidates (pair
-and acceptance uniform from one draw, :func:`particles._dsmc_heated.candidate`) from the
-wyrand word, the ziggurat's rare slow paths from the xoshiro256** words; the candidates of
-the scaled free cooling from the eight lock-step xoshiro256++ lanes
-(:func:`particles.rng.xoshiro_lanes`) in blocks of :data:`CANDIDATE_BLOCK`
-(:func:`pair_block`, as the one-species free cooling of hard rods,
-:func:`particles._dsmc_kernels.collide_lanes`); the same seed gives the same run with or
-without the JIT.
+:func:`~particles.rng.mixture_state`): the kicks' normals from the wyrand word, the
+ziggurat's rare slow paths from the xoshiro256** words, the candidates from the eight
+lock-step xoshiro256++ lanes (:func:`particles.rng.xoshiro_lanes`) in blocks of at most
+:data:`CANDIDATE_BLOCK` (:func:`pair_block`: the pair, the acceptance uniform and the
+pair of species in vector passes, as the one-species free cooling of hard rods,
+:func:`particles._dsmc_kernels.collide_lanes`), thinned by branch-free loops for constant
+coefficients (the loops inline: as small functions returning at a widening they were
+25 % slower); the same seed gives the same run with or without the JIT.
 """
 
 from __future__ import annotations
@@ -37,17 +39,15 @@ import numpy as np
 
 from kinetic_fem.model.restitution import CONSTANT, restitution_value
 
-from ._dsmc_heated import ONE_DRAW_MAX_N, candidate, kick
+from ._dsmc_heated import kick
 from ._dsmc_kernels import candidate_block
 from ._dsmc_model import KERNEL_HARD_RODS, KERNEL_MAXWELL, kernel_majorant, kernel_value
 from ._dsmc_segments import extent_fast
 from ._jit import jit
-from .rng import LANE_WORD, WYRAND_WORD
+from .rng import LANE_WORD, LANES, WYRAND_WORD
 
 __all__ = ["mixture_segment", "cooling_segment", "measure", "mean_squares", "recentre",
            "recentre_measure", "pair_block", "pair_tables", "CANDIDATE_BLOCK"]
-
-_INV53 = 1.0 / 9007199254740992.0  # 2^-53
 
 
 @jit
@@ -65,74 +65,127 @@ def _kick(v, bounds, decay, amp, s, ki, wi, fi):  # pragma: no cover - compiled
 
 
 @jit
-def _rescale(v, factor):  # pragma: no cover - compiled
-    """``v *= factor``; ``(min, max)`` of the result."""
-    lo = np.inf
-    hi = -np.inf
-    for k in range(v.shape[0]):
-        y = v[k] * factor
-        v[k] = y
-        lo = min(lo, y)
-        hi = max(hi, y)
-    return lo, hi
+def _flat(mu, lcode, p0, p1):  # pragma: no cover - compiled
+    """The pair tables of :func:`_stage` for the ordered pairs ``q = k s + r``:
+    ``(e, muf, mub, lf, q0, q1)``, ``e`` :math:`1 + \\alpha_{sr}` of a constant law,
+    ``muf`` :math:`\\mu_{sr}`, ``mub`` :math:`\\mu_{rs}`, the law's code and
+    parameters."""
+    k = mu.shape[0]
+    e = np.empty(k * k)
+    muf = np.empty(k * k)
+    mub = np.empty(k * k)
+    lf = np.empty(k * k, np.int64)
+    q0 = np.empty(k * k)
+    q1 = np.empty(k * k)
+    for a in range(k):
+        for b in range(k):
+            q = a * k + b
+            muf[q] = mu[a, b]
+            mub[q] = mu[b, a]
+            e[q] = 1.0 + p0[a, b]
+            lf[q] = lcode[a, b]
+            q0[q] = p0[a, b]
+            q1[q] = p1[a, b]
+    return e, muf, mub, lf, q0, q1
 
 
 @jit
-def _accepted(ag, threshold, hard_rods, kcode, kparam):  # pragma: no cover - compiled
-    """The thinning test of a candidate at relative speed ``ag`` (hard rods without the
-    kernel's dispatch; every candidate for the Maxwell kernel)."""
-    if hard_rods:
-        return ag > threshold
-    return kcode == KERNEL_MAXWELL or kernel_value(kcode, kparam, ag) > threshold
+def _widen_stage(lo, hi, wi, wj, b_max, x, c, drawn, kcode, kparam):  # pragma: no cover
+    """The range widened to hold ``wi``, ``wj`` after ``c`` candidates of a stage of
+    budget ``x``: ``(lo, hi, majorant, budget, candidates to use of the block)``, the
+    candidates left rescaled by the ratio of the majorants (the stage's remaining time at
+    the new candidate rate)."""
+    lo = min(lo, min(wi, wj))
+    hi = max(hi, max(wi, wj))
+    b_new = kernel_majorant(kcode, kparam, hi - lo)
+    x = c + (x - c) * (b_new / b_max)
+    return lo, hi, b_new, x, min(drawn, int(x))
 
 
 @jit
-def _pair(v, i, j, vi, vj, a, sa, sb, mu, reduced, counts):  # pragma: no cover - compiled
-    """The collision of rods ``i`` and ``j`` (velocities ``vi``, ``vj``, species ``sa``,
-    ``sb``) with coefficient ``a``, the pair counted (branch-free); the energy lost."""
-    share = (1.0 + a) * (vi - vj)
-    v[i] = vi - mu[sa, sb] * share
-    v[j] = vj + mu[sb, sa] * share
-    counts[sa, sb] += 1
-    counts[sb, sa] += sb != sa
-    return reduced[sa, sb] * (1.0 - a * a) * (vi - vj) ** 2
+def _stage(v, bounds, st, raw, ci, cj, cu, cp, tables, constant, kcode, kparam, lo, hi, x,
+           ordered):  # pragma: no cover - compiled
+    """One collision stage: ``floor(x)`` candidates (``x`` the stage's expected number, the
+    carried fraction included); returns ``(collisions, x - candidates, lo, hi)``.
 
-
-@jit
-def _collide(v, species, mu, reduced, lcode, p0, p1, constant, kcode, kparam, g_max, m, s,
-             counts):  # pragma: no cover - compiled
-    """``m`` candidates (module text; ``mu[s, r]`` :math:`= m_r/(m_s + m_r)`,
-    ``reduced[s, r]`` half the reduced mass; ``constant``: every law a constant, ``p0``
-    the coefficients, without the laws' dispatch); returns ``(collisions, energy lost)``.
-    (A branch-free loop, as the one-species ``collide_heated``, was slower here: the
-    species' look-ups and the pair counts per candidate, 5.5-7.6 against 4.9 ns.)"""
-    n = np.uint64(v.shape[0])
-    n1 = n - np.uint64(1)
-    one_draw = v.shape[0] <= ONE_DRAW_MAX_N
-    scale = kernel_majorant(kcode, kparam, g_max) * _INV53
+    The candidates come in blocks from the lanes of ``st`` (:func:`pair_block`), each
+    accepted with probability :math:`B(|g|)/B(hi - lo)` and collided with its pair's law
+    (``tables`` of :func:`_flat`).  Constant laws (``constant``) run a branch-free loop
+    (the update times the acceptance, 0 or 1; the same numbers as the laws' loop with
+    constant values), the laws a loop that evaluates each accepted pair's law at ``|g|``.
+    A collision that throws a rod out of ``[lo, hi]`` (a heavier partner can) widens the
+    range (:func:`_widen_stage`), so that the majorant always bounds the relative
+    speeds."""
+    e, muf, mub, lf, q0, q1 = tables
+    n = v.shape[0]
+    block = ci.shape[0]
     hard_rods = kcode == KERNEL_HARD_RODS
-    w = s[WYRAND_WORD]
-    accepted = 0
-    loss = 0.0
-    for _ in range(m):
-        i, j, threshold, w = candidate(w, n, n1, scale, one_draw)
-        vi = v[i]
-        vj = v[j]
-        ag = abs(vi - vj)
-        if not _accepted(ag, threshold, hard_rods, kcode, kparam):
-            continue
-        sa = species[i]
-        sb = species[j]
-        a = p0[sa, sb] if constant else restitution_value(lcode[sa, sb], p0[sa, sb],
-                                                          p1[sa, sb], ag)
-        loss += _pair(v, i, j, vi, vj, a, sa, sb, mu, reduced, counts)
-        accepted += 1
-    s[WYRAND_WORD] = w
-    return accepted, loss
+    b_max = kernel_majorant(kcode, kparam, hi - lo)
+    collisions = 0
+    while x >= 1.0:
+        m = min(block, int(x))
+        drawn = (m + LANES - 1) // LANES * LANES
+        pair_block(st, n, bounds, raw, ci, cj, cu, cp, drawn)
+        c = 0
+        if constant:
+            while c < m:
+                i = ci[c]
+                j = cj[c]
+                p = cp[c]
+                vi = v[i]
+                vj = v[j]
+                g = vi - vj
+                ag = abs(g)
+                threshold = cu[c] * b_max
+                if hard_rods:
+                    a = np.int64(ag > threshold)
+                else:
+                    a = np.int64(kcode == KERNEL_MAXWELL
+                                 or kernel_value(kcode, kparam, ag) > threshold)
+                share = e[p] * (g * float(a))
+                wi = vi - muf[p] * share
+                wj = vj + mub[p] * share
+                v[i] = wi
+                v[j] = wj
+                ordered[p] += a
+                collisions += a
+                c += 1
+                if min(wi, wj) < lo or max(wi, wj) > hi:  # rare: the majorant widened
+                    lo, hi, b_max, x, m = _widen_stage(lo, hi, wi, wj, b_max, x, c, drawn,
+                                                       kcode, kparam)
+        else:
+            while c < m:
+                i = ci[c]
+                j = cj[c]
+                p = cp[c]
+                vi = v[i]
+                vj = v[j]
+                g = vi - vj
+                ag = abs(g)
+                threshold = cu[c] * b_max
+                c += 1
+                if hard_rods:
+                    acc = ag > threshold
+                else:
+                    acc = kcode == KERNEL_MAXWELL or kernel_value(kcode, kparam, ag) > threshold
+                if not acc:
+                    continue
+                share = (1.0 + restitution_value(lf[p], q0[p], q1[p], ag)) * (g * 1.0)
+                wi = vi - muf[p] * share
+                wj = vj + mub[p] * share
+                v[i] = wi
+                v[j] = wj
+                ordered[p] += 1
+                collisions += 1
+                if min(wi, wj) < lo or max(wi, wj) > hi:
+                    lo, hi, b_max, x, m = _widen_stage(lo, hi, wi, wj, b_max, x, c, drawn,
+                                                       kcode, kparam)
+        x -= c
+    return collisions, x, lo, hi
 
 
 @jit
-def mixture_segment(v, species, bounds, mu, reduced, lcode, p0, p1, kcode, kparam, decay, amp,
+def mixture_segment(v, bounds, mu, lcode, p0, p1, kcode, kparam, decay, amp,
                     half_decay, half_amp, heated, rate, dt, n_steps, g_limit, debt, s, ki,
                     wi, fi, counts, max_collisions):  # pragma: no cover - compiled
     """``n_steps`` steps of the module text.
@@ -141,12 +194,11 @@ def mixture_segment(v, species, bounds, mu, reduced, lcode, p0, p1, kcode, kpara
     ----------
     v : ndarray of float64, shape (N,)
         Velocities, updated in place.
-    species : ndarray of int64, shape (N,)
-        Sorted: the rods of species ``s`` are ``bounds[s] <= i < bounds[s + 1]``.
     bounds : ndarray of int64, shape (k + 1,)
-    mu, reduced : ndarray, shape (k, k)
-        :math:`\\mu_{sr} = m_r/(m_s + m_r)` and half the reduced mass
-        :math:`m_s m_r/(2(m_s + m_r))`.
+        The rods sorted by species: those of species ``s`` are
+        ``bounds[s] <= i < bounds[s + 1]``.
+    mu : ndarray, shape (k, k)
+        :math:`\\mu_{sr} = m_r/(m_s + m_r)`.
     lcode, p0, p1 : ndarray, shape (k, k)
         Restitution law code and parameters of each pair.
     kcode, kparam : int, float
@@ -164,7 +216,9 @@ def mixture_segment(v, species, bounds, mu, reduced, lcode, p0, p1, kcode, kpara
         stage whose ``g_max`` exceeds it.
     debt : float
         Fraction of a candidate carried over.
-    s : ndarray of uint64, shape (5,)
+    s : ndarray of uint64, shape (37,)
+        Mixture state (:func:`particles.rng.mixture_state`): the kicks from its wyrand
+        word, the candidates from its lanes.
     ki, wi, fi : ndarray
         Ziggurat tables.
     counts : ndarray of int64, shape (k, k)
@@ -175,38 +229,47 @@ def mixture_segment(v, species, bounds, mu, reduced, lcode, p0, p1, kcode, kpara
 
     Returns
     -------
-    (collisions, loss, debt, steps_done, g_max, exceeded)
-        ``loss`` the energy lost; ``exceeded``: the segment stopped before a stage whose
-        ``g_max`` exceeds a law's range (``g_max`` then the offending value).
+    (collisions, debt, steps_done, g_max, exceeded)
+        ``exceeded``: the segment stopped before a stage whose ``g_max`` exceeds a law's
+        range (``g_max`` then the offending value).
     """
+    k = bounds.shape[0] - 1
+    tables = _flat(mu, lcode, p0, p1)
     constant = True
     for code in lcode.ravel():
         constant = constant and code == CONSTANT
+    ordered = np.zeros(k * k, np.int64)
+    st = s[LANES_OFFSET:]
+    block = CANDIDATE_BLOCK
+    raw = np.empty(2 * block, np.uint64)
+    ci = np.empty(block, np.uint64)
+    cj = np.empty(block, np.uint64)
+    cu = np.empty(block)
+    cp = np.empty(block, np.int64)
     collisions = 0
-    loss = 0.0
     if heated:
         lo, hi = _kick(v, bounds, half_decay, half_amp, s, ki, wi, fi)
     else:
-        lo, hi = _rescale(v, 1.0)
+        lo, hi = extent_fast(v)
     for step in range(n_steps):
         if hi - lo > g_limit:
-            return collisions, loss, debt, step, hi - lo, True
+            add_pair_counts(counts, ordered)
+            return collisions, debt, step, hi - lo, True
         x = debt + dt * rate * kernel_majorant(kcode, kparam, hi - lo)
-        m = int(math.floor(x))
-        debt = x - m
-        a, dloss = _collide(v, species, mu, reduced, lcode, p0, p1, constant, kcode, kparam,
-                            hi - lo, m, s, counts)
+        a, debt, lo, hi = _stage(v, bounds, st, raw, ci, cj, cu, cp, tables, constant, kcode,
+                                 kparam, lo, hi, x, ordered)
         collisions += a
-        loss += dloss
         last = step == n_steps - 1 or collisions >= max_collisions
         if heated:
             lo, hi = _kick(v, bounds, half_decay if last else decay,
                            half_amp if last else amp, s, ki, wi, fi)
         else:
-            lo, hi = _rescale(v, 1.0)
+            lo, hi = extent_fast(v)
         if last:
-            return collisions, loss, debt, step + 1, hi - lo, False
-    return collisions, loss, debt, n_steps, hi - lo, False
+            add_pair_counts(counts, ordered)
+            return collisions, debt, step + 1, hi - lo, False
+    add_pair_counts(counts, ordered)
+    return collisions, debt, n_steps, hi - lo, False
 
 
 @jit

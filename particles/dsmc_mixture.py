@@ -311,8 +311,8 @@ def simulate_mixture(mixture: Mixture, n_particles: int, *, density: float = 1.0
         target = max(1, math.ceil(0.5 * n * (min(next_sample, total) - done)))
         if heated:
             dt = rods.time_step(v, opts.collisions_per_step, mixture, gamma)
-            new, _, debt, taken = rods.segment(v, dt, steps, debt, pair_counts, state,
-                                               max_collisions=target, centre=False)
+            new, debt, taken = rods.segment(v, dt, steps, debt, pair_counts, state,
+                                            max_collisions=target, centre=False)
             elapsed = taken * dt
         else:
             new, elapsed = rods.cool(v, pair_counts, state, target)
@@ -477,7 +477,7 @@ class _Rods:  # (cached properties: frozen, not slotted)
     def segment(self, v: NDArray[np.float64], dt: float, n_steps: int, debt: float,
                 pair_counts: NDArray[np.int64], state: NDArray[np.uint64], *,
                 max_collisions: int = 2**62, centre: bool = True
-                ) -> tuple[int, float, float, int]:
+                ) -> tuple[int, float, int]:
         """``n_steps`` Strang steps of ``dt`` (:func:`particles._dsmc_mixture_kernels.
         mixture_segment`; free cooling in physical velocities), then the centre-of-mass
         velocity removed (unless a bath holds it); it ends early after the step in which
@@ -486,8 +486,8 @@ class _Rods:  # (cached properties: frozen, not slotted)
 
         Returns
         -------
-        (collisions, loss, debt, steps)
-            The energy lost, the carried fraction of a candidate, the steps taken.
+        (collisions, debt, steps)
+            The carried fraction of a candidate, the steps taken.
 
         Raises
         ------
@@ -496,19 +496,19 @@ class _Rods:  # (cached properties: frozen, not slotted)
         """
         decay, amp, half_decay, half_amp = self.kicks(dt)
         ki, wi, fi = _ZIGGURAT
-        out = mixture_segment(v, self.species, self.bounds, self.mu, self.reduced,
-                              self.lcode, self.p0, self.p1, self.kcode, self.kparam, decay,
-                              amp, half_decay, half_amp, self.heated,
-                              0.5 * v.size * self.density, dt, n_steps, self.g_limit, debt,
-                              state, ki, wi, fi, pair_counts, max_collisions)
-        collisions, loss, debt, steps, g_max, exceeded = out
+        out = mixture_segment(v, self.bounds, self.mu, self.lcode, self.p0, self.p1,
+                              self.kcode, self.kparam, decay, amp, half_decay, half_amp,
+                              self.heated, 0.5 * v.size * self.density, dt, n_steps,
+                              self.g_limit, debt, state, ki, wi, fi, pair_counts,
+                              max_collisions)
+        collisions, debt, steps, g_max, exceeded = out
         if exceeded:
             raise ValueError(f"a relative speed {g_max:.4g} exceeds {self.g_limit:.4g}, the "
                              "largest a restitution law of the mixture allows (its "
                              "max_speed); lower the temperature or widen the law's range")
         if centre:
             recentre(v, self.bounds, self.masses, self.free_centre, False)
-        return int(collisions), float(loss), float(debt), int(steps)
+        return int(collisions), float(debt), int(steps)
 
     def cool(self, v: NDArray[np.float64], pair_counts: NDArray[np.int64],
              state: NDArray[np.uint64], max_collisions: int) -> tuple[int, float]:
@@ -656,7 +656,7 @@ def evolve_mixture(mixture: Mixture, n_particles: int, *, times: Any, density: f
                     dt, t = (t_next - t) / n_steps, t_next
                 else:
                     t += n_steps * dt
-                debt = rods.segment(v, dt, n_steps, debt, pair_counts, state)[2]
+                debt = rods.segment(v, dt, n_steps, debt, pair_counts, state)[1]
             for s in range(k):
                 m2, m4 = np.mean(v[sel[s]]**2), np.mean(v[sel[s]]**4)
                 temps[run, i, s] = masses[s] * m2
