@@ -48,8 +48,9 @@ from .rng import LANE_WORD, LANES, WYRAND_WORD, bits_to_double, xoshiro_lanes
 _LOW32 = np.uint64(0xFFFFFFFF)
 _ONE_BITS = np.uint64(0x3FF0000000000000)  # the bits of 1.0
 
-__all__ = ["mixture_segment", "cooling_segment", "measure", "mean_squares", "recentre",
-           "recentre_measure", "pair_block", "pair_shift", "pair_tables", "CANDIDATE_BLOCK"]
+__all__ = ["mixture_segment", "cooling_segment", "cool_measure", "measure", "mean_squares",
+           "recentre", "recentre_measure", "pair_block", "pair_shift", "pair_tables",
+           "CANDIDATE_BLOCK"]
 
 
 @jit
@@ -625,3 +626,24 @@ def cooling_segment(v, bounds, mu, reduced, p0, kcode, kparam, rate, s, counts,
     add_pair_counts(counts, ordered)
     time += ticks / (rate * b_max)
     return collisions, time, candidates
+
+
+@jit
+def cool_measure(v, bounds, masses, mu, reduced, p0, kcode, kparam, rate, s, counts,
+                 max_collisions, fused, lows, widths, sums, hist):  # pragma: no cover
+    """:func:`cooling_segment`, then :func:`recentre_measure` (``fused``) or
+    :func:`recentre` (centred and rescaled to :math:`T = 1`), in one call (one dispatch
+    and no Python between them: 3-4 microseconds per measurement).
+
+    Returns
+    -------
+    (collisions, time, temperature)
+        The temperature before the rescaling.
+    """
+    collisions, time, _ = cooling_segment(v, bounds, mu, reduced, p0, kcode, kparam, rate, s,
+                                          counts, max_collisions)
+    if fused:
+        end = recentre_measure(v, bounds, masses, True, True, lows, widths, sums, hist)
+    else:
+        end = recentre(v, bounds, masses, True, True)
+    return collisions, time, end

@@ -69,7 +69,7 @@ from kinetic_fem.model.mixture import Mixture
 from kinetic_fem.progress import resolve_progress
 
 from ._dsmc_mixture_kernels import (
-    cooling_segment,
+    cool_measure,
     mean_squares,
     mixture_segment,
     recentre,
@@ -307,41 +307,50 @@ def simulate_mixture(mixture: Mixture, n_particles: int, *, density: float = 1.0
     steps = 2 * max(1, math.ceil(opts.sample_every / opts.collisions_per_step))
     bar = tqdm(total=total, disable=not resolve_progress(progress), unit="coll/rod",
                leave=False)
+
+    def batch_of(x: float) -> int:
+        return min(int((x - relax) / collisions_per_particle * opts.n_batches),
+                   opts.n_batches - 1)
+
     while done < total:
         target = max(1, math.ceil(0.5 * n * (min(next_sample, total) - done)))
+        fused = False
         if heated:
             dt = rods.time_step(v, opts.collisions_per_step, mixture, gamma)
             new, debt, taken = rods.segment(v, dt, steps, debt, pair_counts, state,
                                             max_collisions=target, centre=False)
             elapsed = taken * dt
         else:
-            new, elapsed = rods.cool(v, pair_counts, state, target)
+            # the segment reaches its target exactly: a measurement now is known before it
+            after = done + 2.0 * target / n
+            fused = bool(widths[0]) and after >= next_sample and after >= relax
+            b = batch_of(after) if fused else 0
+            new, elapsed, end = rods.cool(v, pair_counts, state, target, fused, lows, widths,
+                                          sums[b], hist[b])
         n_collisions += new
         step = 2.0 * new / n
         done += step
         bar.update(step)
-        # the centre-of-mass velocity removed (unless a bath holds it), free cooling
-        # rescaled to T = 1, and the measurement in the same pass
-        centre, scaled = (rods.free_centre, False) if heated else (True, True)
+        # heated: the centre-of-mass velocity removed (unless a bath holds it) and the
+        # measurement in the same pass; free cooling: recentred and rescaled to T = 1 by
+        # the cooling call (measured there too once the histograms have their ranges)
+        centre = heated and rods.free_centre
         if done >= next_sample and done >= relax:
-            first = not widths[0]
-            if first:  # the histograms' ranges from the first measured state
-                end = recentre(v, rods.bounds, rods.masses, centre, scaled)
-                centre = scaled = False
-                for s in range(mixture.n_species):
-                    half = opts.c_max * math.sqrt(np.mean(v[species == s]**2))
-                    lows[s], widths[s] = -half, 2.0 * half / opts.bins
-            batch = min(int((done - relax) / collisions_per_particle * opts.n_batches),
-                        opts.n_batches - 1)
-            measured = recentre_measure(v, rods.bounds, rods.masses, centre, scaled, lows,
-                                        widths, sums[batch], hist[batch])
-            end = end if first else measured
+            if not fused:
+                if not widths[0]:  # the histograms' ranges from the first measured state
+                    recentre(v, rods.bounds, rods.masses, centre, False)
+                    centre = False
+                    for s in range(mixture.n_species):
+                        half = opts.c_max * math.sqrt(np.mean(v[species == s]**2))
+                        lows[s], widths[s] = -half, 2.0 * half / opts.bins
+                batch = batch_of(done)
+                recentre_measure(v, rods.bounds, rods.masses, centre, False, lows, widths,
+                                 sums[batch], hist[batch])
             next_sample += opts.sample_every
-        else:
-            end = recentre(v, rods.bounds, rods.masses, centre, scaled)
+        elif heated:
+            recentre(v, rods.bounds, rods.masses, centre, False)
         if done >= relax:
-            batch = min(int((done - relax) / collisions_per_particle * opts.n_batches),
-                        opts.n_batches - 1)
+            batch = batch_of(done)
             if not heated:
                 assert gamma is not None  # a power law in free cooling (checked above)
                 # free cooling: each collision's loss over the temperature at the middle
@@ -511,19 +520,23 @@ class _Rods:  # (cached properties: frozen, not slotted)
         return int(collisions), float(debt), int(steps)
 
     def cool(self, v: NDArray[np.float64], pair_counts: NDArray[np.int64],
-             state: NDArray[np.uint64], max_collisions: int) -> tuple[int, float]:
-        """Scaled free cooling (``v`` at :math:`T = 1`) for ``max_collisions`` collisions
-        (:func:`particles._dsmc_mixture_kernels.cooling_segment`); ``v`` is left
-        unscaled (:meth:`weighted` of its temperature, then recentred and rescaled).
+             state: NDArray[np.uint64], max_collisions: int, fused: bool,
+             lows: NDArray[np.float64], widths: NDArray[np.float64],
+             sums: NDArray[np.float64], hist: NDArray[np.float64]) -> tuple[int, float, float]:
+        """Scaled free cooling (``v`` at :math:`T = 1`) for ``max_collisions`` collisions,
+        then recentred and rescaled to :math:`T = 1`, measured into ``sums`` and ``hist``
+        if ``fused`` (:func:`particles._dsmc_mixture_kernels.cool_measure`).
 
         Returns
         -------
-        (collisions, time)
+        (collisions, time, temperature)
+            The temperature reached before the rescaling (:meth:`weighted`).
         """
-        collisions, time, _ = cooling_segment(
-            v, self.bounds, self.mu, self.reduced, self.p0, self.kcode, self.kparam,
-            0.5 * v.size * self.density, state, pair_counts, max_collisions)
-        return int(collisions), float(time)
+        collisions, time, end = cool_measure(
+            v, self.bounds, self.masses, self.mu, self.reduced, self.p0, self.kcode,
+            self.kparam, 0.5 * v.size * self.density, state, pair_counts, max_collisions,
+            fused, lows, widths, sums, hist)
+        return int(collisions), float(time), float(end)
 
     def weighted(self, end: float, gamma: float) -> float:
         """The energy lost while the temperature fell from 1 to ``end``, weighted by
