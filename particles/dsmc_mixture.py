@@ -42,11 +42,13 @@ rod after ``relax`` collisions per rod, in ``n_batches`` consecutive batches: th
 bars are standard errors of the batch means.
 
 The collisions between two measurements run in one call of a compiled kernel
-(:mod:`particles._dsmc_mixture_kernels`; random numbers from its own stream,
-:mod:`particles.rng`, the initial velocities from ``numpy.random``, both from ``seed``):
-9.6 million collisions per CPU second heated and 25 million cooling against 0.51 and
-0.80 million when every step went through numpy (N = 5000, masses 1:2, hard rods, alpha
-0.9; 0.79 and 0.54 of the one-species DSMC; ``benchmarks/bench_dsmc_mixture.py``).
+(:mod:`particles._dsmc_mixture_kernels`; random numbers from its own streams,
+:mod:`particles.rng`, the candidates from eight lock-step lanes as in the one-species free
+cooling, the initial velocities from ``numpy.random``, all from ``seed``): 10.1 million
+collisions per CPU second heated and 38 million cooling against 0.51 and 0.80 million when
+every step went through numpy (N = 5000, masses 1:2, hard rods, alpha 0.9; 0.85 and 0.85
+of the one-species DSMC, 0.86 and 0.71 at N = 20000;
+``benchmarks/bench_dsmc_mixture.py``).
 """
 
 from __future__ import annotations
