@@ -5,7 +5,7 @@ rods, alpha 0.9, masses 1:2 at x 0.5/0.5 (white noise of one D, or free cooling 
 scaled variables) against ``particles.dsmc.simulate_heated`` / ``simulate_cooling`` at
 the same alpha: the whole public call with default options (relaxation and measurements
 included), and the compiled steps alone (the share of the call in ``mixture_segment``,
-heated, and ``cooling_segment``, free cooling).
+heated, and ``cool_measure``, free cooling: its collisions, recentring and measurement).
 CPU time (``time.process_time``), best of ``--repeat`` runs of each, interleaved, at
 each ``N`` (the cost per collision should not grow with N).  Usage::
 
@@ -39,7 +39,7 @@ def main(n: int = 5000, cpp: float = 200.0, repeat: int = 3, alpha: float = 0.9
     heated = Mixture.white_noise((1.0, 2.0), (0.5, 0.5), alpha=alpha)
     cooling = Mixture((1.0, 2.0), (0.5, 0.5), alpha=alpha)
     inside: list[float] = []
-    plain = {name: getattr(kernels, name) for name in ("mixture_segment", "cooling_segment")}
+    plain = {name: getattr(kernels, name) for name in ("mixture_segment", "cool_measure")}
 
     def timed(func: Callable[..., Any]) -> Callable[..., Any]:
         def kernel(*args: Any) -> Any:

@@ -42,11 +42,13 @@ rod after ``relax`` collisions per rod, in ``n_batches`` consecutive batches: th
 bars are standard errors of the batch means.
 
 The collisions between two measurements run in one call of a compiled kernel
-(:mod:`particles._dsmc_mixture_kernels`; random numbers from its own stream,
-:mod:`particles.rng`, the initial velocities from ``numpy.random``, both from ``seed``):
-9.6 million collisions per CPU second heated and 25 million cooling against 0.51 and
-0.80 million when every step went through numpy (N = 5000, masses 1:2, hard rods, alpha
-0.9; 0.79 and 0.54 of the one-species DSMC; ``benchmarks/bench_dsmc_mixture.py``).
+(:mod:`particles._dsmc_mixture_kernels`; random numbers from its own streams,
+:mod:`particles.rng`, the candidates from eight lock-step lanes as in the one-species free
+cooling, the initial velocities from ``numpy.random``, all from ``seed``): 10.1 million
+collisions per CPU second heated and 38 million cooling against 0.51 and 0.80 million when
+every step went through numpy (N = 5000, masses 1:2, hard rods, alpha 0.9; 0.85 and 0.85
+of the one-species DSMC, 0.86 and 0.71 at N = 20000;
+``benchmarks/bench_dsmc_mixture.py``).
 """
 
 from __future__ import annotations
@@ -69,14 +71,14 @@ from kinetic_fem.model.mixture import Mixture
 from kinetic_fem.progress import resolve_progress
 
 from ._dsmc_mixture_kernels import (
-    cooling_segment,
+    cool_measure,
     mean_squares,
-    measure,
     mixture_segment,
     recentre,
+    recentre_measure,
 )
 from ._dsmc_model import kernel_model, power_exponent
-from .rng import heated_state, ziggurat_tables
+from .rng import mixture_state, ziggurat_tables
 from .run import check_seed
 
 __all__ = ["MixtureRun", "simulate_mixture", "simulate_binary", "evolve_mixture", "species_counts",
@@ -281,7 +283,7 @@ def simulate_mixture(mixture: Mixture, n_particles: int, *, density: float = 1.0
     mass = masses[species]
     heated = mixture.heated
     rods = _Rods.of(mixture, species, density)
-    state = heated_state(kernel_seq)
+    state = mixture_state(kernel_seq)
     # initial Gaussians: the Gaussian-approximation temperatures would be closer; unit
     # variance per species is enough, the relaxation does the rest
     v = rng.standard_normal(n)
@@ -307,34 +309,56 @@ def simulate_mixture(mixture: Mixture, n_particles: int, *, density: float = 1.0
     steps = 2 * max(1, math.ceil(opts.sample_every / opts.collisions_per_step))
     bar = tqdm(total=total, disable=not resolve_progress(progress), unit="coll/rod",
                leave=False)
+
+    def batch_of(x: float) -> int:
+        return min(int((x - relax) / collisions_per_particle * opts.n_batches),
+                   opts.n_batches - 1)
+
     while done < total:
         target = max(1, math.ceil(0.5 * n * (min(next_sample, total) - done)))
+        fused = False
         if heated:
             dt = rods.time_step(v, opts.collisions_per_step, mixture, gamma)
-            new, _, debt, taken = rods.segment(v, dt, steps, debt, pair_counts, state,
-                                               max_collisions=target)
-            weighted, elapsed = 0.0, taken * dt
+            new, debt, taken = rods.segment(v, dt, steps, debt, pair_counts, state,
+                                            max_collisions=target, centre=False)
+            elapsed = taken * dt
         else:
-            assert gamma is not None  # a power law in free cooling (checked above)
-            new, weighted, elapsed = rods.cool(v, gamma, pair_counts, state, target)
+            # the segment reaches its target exactly: a measurement now is known before it
+            after = done + 2.0 * target / n
+            fused = bool(widths[0]) and after >= next_sample and after >= relax
+            b = batch_of(after) if fused else 0
+            new, elapsed, end = rods.cool(v, pair_counts, state, target, fused, lows, widths,
+                                          sums[b], hist[b])
         n_collisions += new
         step = 2.0 * new / n
         done += step
         bar.update(step)
-        if done >= relax:
-            batch = min(int((done - relax) / collisions_per_particle * opts.n_batches),
-                        opts.n_batches - 1)
-            # free cooling: each collision's loss over the temperature at the middle of
-            # its drop (the kernel's ``weighted``)
-            batch_loss[batch] += weighted
-            batch_time[batch] += elapsed
-            if done >= next_sample:
-                if not widths[0]:
+        # heated: the centre-of-mass velocity removed (unless a bath holds it) and the
+        # measurement in the same pass; free cooling: recentred and rescaled to T = 1 by
+        # the cooling call (measured there too once the histograms have their ranges)
+        centre = heated and rods.free_centre
+        if done >= next_sample and done >= relax:
+            if not fused:
+                if not widths[0]:  # the histograms' ranges from the first measured state
+                    recentre(v, rods.bounds, rods.masses, centre, False)
+                    centre = False
                     for s in range(mixture.n_species):
                         half = opts.c_max * math.sqrt(np.mean(v[species == s]**2))
                         lows[s], widths[s] = -half, 2.0 * half / opts.bins
-                measure(v, rods.bounds, lows, widths, sums[batch], hist[batch])
-                next_sample += opts.sample_every
+                batch = batch_of(done)
+                recentre_measure(v, rods.bounds, rods.masses, centre, False, lows, widths,
+                                 sums[batch], hist[batch])
+            next_sample += opts.sample_every
+        elif heated:
+            recentre(v, rods.bounds, rods.masses, centre, False)
+        if done >= relax:
+            batch = batch_of(done)
+            if not heated:
+                assert gamma is not None  # a power law in free cooling (checked above)
+                # free cooling: each collision's loss over the temperature at the middle
+                # of its drop
+                batch_loss[batch] += rods.weighted(end, gamma)
+            batch_time[batch] += elapsed
     bar.close()
     if np.any(sums[:, :, 0] == 0):
         raise ValueError(f"a batch holds no measurement: collisions_per_particle="
@@ -420,14 +444,18 @@ class _Rods:  # (cached properties: frozen, not slotted)
         """The step with ``per_step`` expected collisions per rod (Gaussian species at the
         current variances), recomputed only when a species' :math:`\\langle v^2\\rangle`
         has moved by :data:`STEP_REFRESH` since (the same step, and its kick factors,
-        otherwise: 14 of the 25 microseconds of Python per call at N = 1000)."""
+        otherwise: 14 of the 25 microseconds of Python per call at N = 1000; the test in
+        Python floats, 1.4 against 3.6 microseconds with numpy's on two species)."""
         var = mean_squares(v, self.bounds)
         kept = self._step
-        if kept and kept[0] == per_step and float(np.max(np.abs(var / kept[1] - 1.0))) \
-                <= STEP_REFRESH:
-            return kept[2]
+        if kept and kept[0] == per_step:
+            for now, then in zip(var.tolist(), kept[1], strict=True):
+                if not (then > 0.0 and abs(now / then - 1.0) <= STEP_REFRESH):  # (NaN: new)
+                    break
+            else:
+                return float(kept[2])
         dt = per_step / (self.density * _mean_rate(var, mixture, gamma))
-        self._step[:] = [per_step, var, dt]
+        self._step[:] = [per_step, var.tolist(), dt]
         return dt
 
     @cached_property
@@ -459,16 +487,18 @@ class _Rods:  # (cached properties: frozen, not slotted)
 
     def segment(self, v: NDArray[np.float64], dt: float, n_steps: int, debt: float,
                 pair_counts: NDArray[np.int64], state: NDArray[np.uint64], *,
-                max_collisions: int = 2**62) -> tuple[int, float, float, int]:
+                max_collisions: int = 2**62, centre: bool = True
+                ) -> tuple[int, float, int]:
         """``n_steps`` Strang steps of ``dt`` (:func:`particles._dsmc_mixture_kernels.
         mixture_segment`; free cooling in physical velocities), then the centre-of-mass
         velocity removed (unless a bath holds it); it ends early after the step in which
-        the collisions reach ``max_collisions``.
+        the collisions reach ``max_collisions``.  ``centre=False``: the velocities are
+        left as they are (the caller recentres them, with its measurement).
 
         Returns
         -------
-        (collisions, loss, debt, steps)
-            The energy lost, the carried fraction of a candidate, the steps taken.
+        (collisions, debt, steps)
+            The carried fraction of a candidate, the steps taken.
 
         Raises
         ------
@@ -477,35 +507,50 @@ class _Rods:  # (cached properties: frozen, not slotted)
         """
         decay, amp, half_decay, half_amp = self.kicks(dt)
         ki, wi, fi = _ZIGGURAT
-        out = mixture_segment(v, self.species, self.bounds, self.mu, self.reduced,
-                              self.lcode, self.p0, self.p1, self.kcode, self.kparam, decay,
-                              amp, half_decay, half_amp, self.heated,
-                              0.5 * v.size * self.density, dt, n_steps, self.g_limit, debt,
-                              state, ki, wi, fi, pair_counts, max_collisions)
-        collisions, loss, debt, steps, g_max, exceeded = out
+        out = mixture_segment(v, self.bounds, self.mu, self.lcode, self.p0, self.p1,
+                              self.kcode, self.kparam, decay, amp, half_decay, half_amp,
+                              self.heated, 0.5 * v.size * self.density, dt, n_steps,
+                              self.g_limit, debt, state, ki, wi, fi, pair_counts,
+                              max_collisions)
+        collisions, debt, steps, g_max, exceeded = out
         if exceeded:
             raise ValueError(f"a relative speed {g_max:.4g} exceeds {self.g_limit:.4g}, the "
                              "largest a restitution law of the mixture allows (its "
                              "max_speed); lower the temperature or widen the law's range")
-        recentre(v, self.bounds, self.masses, self.free_centre, False)
-        return int(collisions), float(loss), float(debt), int(steps)
+        if centre:
+            recentre(v, self.bounds, self.masses, self.free_centre, False)
+        return int(collisions), float(debt), int(steps)
 
-    def cool(self, v: NDArray[np.float64], gamma: float, pair_counts: NDArray[np.int64],
-             state: NDArray[np.uint64], max_collisions: int) -> tuple[int, float, float]:
-        """Scaled free cooling (``v`` at :math:`T = 1`) for ``max_collisions`` collisions
-        (:func:`particles._dsmc_mixture_kernels.cooling_segment`), then recentred and
-        rescaled to :math:`T = 1`.
+    def cool(self, v: NDArray[np.float64], pair_counts: NDArray[np.int64],
+             state: NDArray[np.uint64], max_collisions: int, fused: bool,
+             lows: NDArray[np.float64], widths: NDArray[np.float64],
+             sums: NDArray[np.float64], hist: NDArray[np.float64]) -> tuple[int, float, float]:
+        """Scaled free cooling (``v`` at :math:`T = 1`) for ``max_collisions`` collisions,
+        then recentred and rescaled to :math:`T = 1`, measured into ``sums`` and ``hist``
+        if ``fused`` (:func:`particles._dsmc_mixture_kernels.cool_measure`).
 
         Returns
         -------
-        (collisions, weighted loss, time)
-            ``weighted / (N n time)`` is the cooling rate's estimate.
+        (collisions, time, temperature)
+            The temperature reached before the rescaling (:meth:`weighted`).
         """
-        collisions, _, weighted, time = cooling_segment(
-            v, self.species, self.mu, self.reduced, self.p0, self.kcode, self.kparam,
-            0.5 * v.size * self.density, gamma, state, pair_counts, max_collisions)
-        recentre(v, self.bounds, self.masses, True, True)
-        return int(collisions), float(weighted), float(time)
+        collisions, time, end = cool_measure(
+            v, self.bounds, self.masses, self.mu, self.reduced, self.p0, self.kcode,
+            self.kparam, 0.5 * v.size * self.density, state, pair_counts, max_collisions,
+            fused, lows, widths, sums, hist)
+        return int(collisions), float(time), float(end)
+
+    def weighted(self, end: float, gamma: float) -> float:
+        """The energy lost while the temperature fell from 1 to ``end``, weighted by
+        :math:`T^{-(1+\\gamma/2)}`: each collision lowers :math:`T` by :math:`2\\Delta E/N`,
+        so the sum over the collisions is the integral :math:`(N/2)\\int_{end}^1
+        dT/T^{1+\\gamma/2}` (no power per collision); over :math:`N n` times the time it
+        estimates :math:`\\zeta`."""
+        n = self.species.size
+        power = 1.0 + 0.5 * gamma
+        if power == 1.0:
+            return 0.5 * n * math.log(1.0 / end)
+        return 0.5 * n * (end ** (1.0 - power) - 1.0) / (power - 1.0)
 
 
 _ZIGGURAT = ziggurat_tables()
@@ -614,7 +659,7 @@ def evolve_mixture(mixture: Mixture, n_particles: int, *, times: Any, density: f
     for run, child in enumerate(ss.spawn(n_runs)):
         start_seq, kernel_seq = child.spawn(2)
         rng = np.random.default_rng(start_seq)
-        state = heated_state(kernel_seq)
+        state = mixture_state(kernel_seq)
         v = rng.standard_normal(n_particles) * np.sqrt(temps0 / masses)[species]
         v -= np.sum(mass * v) / np.sum(mass)
         t, debt = 0.0, 0.0
@@ -626,7 +671,7 @@ def evolve_mixture(mixture: Mixture, n_particles: int, *, times: Any, density: f
                     dt, t = (t_next - t) / n_steps, t_next
                 else:
                     t += n_steps * dt
-                debt = rods.segment(v, dt, n_steps, debt, pair_counts, state)[2]
+                debt = rods.segment(v, dt, n_steps, debt, pair_counts, state)[1]
             for s in range(k):
                 m2, m4 = np.mean(v[sel[s]]**2), np.mean(v[sel[s]]**4)
                 temps[run, i, s] = masses[s] * m2

@@ -62,7 +62,8 @@ from ._jit import jit
 __all__ = ["LANES", "LANE_WORD", "cooling_state", "xoshiro_lanes", "bits_to_double",
            "ZIGGURAT_R", "ziggurat_tables", "xoshiro", "next_u64", "next_double", "mul128",
            "mulhi", "mul128_pair", "zig_draw", "normal_slow", "fill_normal", "WYRAND_WORD",
-           "WYRAND_INC", "WYRAND_XOR", "wyrand", "wyrand_next", "heated_state"]
+           "WYRAND_INC", "WYRAND_XOR", "wyrand", "wyrand_next", "heated_state",
+           "mixture_state"]
 
 ZIGGURAT_R = 3.6541528853610088
 """Start of the tail of the 256-layer normal ziggurat."""
@@ -391,6 +392,32 @@ def heated_state(seed_seq: np.random.SeedSequence) -> np.ndarray:
     (5,)
     """
     return seed_seq.generate_state(5, dtype=np.uint64)
+
+
+def mixture_state(seed_seq: np.random.SeedSequence) -> np.ndarray:
+    """A ``5 + 4 LANES``-word kernel state of the mixture DSMC: the words of
+    :func:`heated_state` (the same five for the same seed) and then the lane words, so that
+    ``state[WYRAND_WORD + 1 - LANE_WORD:]`` is a :func:`cooling_state` for
+    :func:`xoshiro_lanes`.
+
+    Parameters
+    ----------
+    seed_seq : numpy.random.SeedSequence
+        Source of the state.
+
+    Returns
+    -------
+    ndarray of uint64, shape (37,)
+
+    Examples
+    --------
+    >>> mixture_state(np.random.SeedSequence(1)).shape
+    (37,)
+    """
+    state = seed_seq.generate_state(WYRAND_WORD + 1 + 4 * LANES, dtype=np.uint64)
+    lanes = state[WYRAND_WORD + 1:].reshape(4, LANES)
+    lanes[0, ~lanes.any(axis=0)] = 1  # an all-zero xoshiro state never leaves zero
+    return state
 
 
 @jit
