@@ -105,6 +105,28 @@ def _widen_stage(lo, hi, wi, wj, b_max, x, c, drawn, kcode, kparam):  # pragma: 
     return lo, hi, b_new, x, min(drawn, int(x))
 
 
+@jit(inline="always")
+def _candidate(w, cu_c, b_max, v, mask, sh, sh2, hard_rods, kcode,
+               kparam):  # pragma: no cover - compiled
+    """Candidate word ``w`` of :func:`pair_block` decoded, and its acceptance: returns
+    ``(i, j, p, v_i, v_j, g, |g|, accepted)`` (rods, ordered pair of species, their
+    velocities, relative velocity; accepted with probability :math:`B(|g|)/B_{max}`
+    from the uniform ``cu_c``).  Inlined into the compiled loops."""
+    i = w & mask
+    j = (w >> sh) & mask
+    p = np.int64(w >> sh2)
+    vi = v[i]
+    vj = v[j]
+    g = vi - vj
+    ag = abs(g)
+    threshold = cu_c * b_max
+    if hard_rods:
+        accepted = ag > threshold
+    else:
+        accepted = kcode == KERNEL_MAXWELL or kernel_value(kcode, kparam, ag) > threshold
+    return i, j, p, vi, vj, g, ag, accepted
+
+
 @jit
 def _stage(v, bounds, st, raw, cij, cu, shift, tables, constant, kcode, kparam, lo, hi, x,
            ordered):  # pragma: no cover - compiled
@@ -135,20 +157,9 @@ def _stage(v, bounds, st, raw, cij, cu, shift, tables, constant, kcode, kparam, 
         c = 0
         if constant:
             while c < m:
-                w = cij[c]
-                i = w & mask
-                j = (w >> sh) & mask
-                p = np.int64(w >> sh2)
-                vi = v[i]
-                vj = v[j]
-                g = vi - vj
-                ag = abs(g)
-                threshold = cu[c] * b_max
-                if hard_rods:
-                    a = np.int64(ag > threshold)
-                else:
-                    a = np.int64(kcode == KERNEL_MAXWELL
-                                 or kernel_value(kcode, kparam, ag) > threshold)
+                i, j, p, vi, vj, g, ag, acc = _candidate(
+                    cij[c], cu[c], b_max, v, mask, sh, sh2, hard_rods, kcode, kparam)
+                a = np.int64(acc)
                 share = e[p] * (g * float(a))
                 wi = vi - muf[p] * share
                 wj = vj + mub[p] * share
@@ -162,20 +173,9 @@ def _stage(v, bounds, st, raw, cij, cu, shift, tables, constant, kcode, kparam, 
                                                        kcode, kparam)
         else:
             while c < m:
-                w = cij[c]
-                i = w & mask
-                j = (w >> sh) & mask
-                p = np.int64(w >> sh2)
-                vi = v[i]
-                vj = v[j]
-                g = vi - vj
-                ag = abs(g)
-                threshold = cu[c] * b_max
+                i, j, p, vi, vj, g, ag, acc = _candidate(
+                    cij[c], cu[c], b_max, v, mask, sh, sh2, hard_rods, kcode, kparam)
                 c += 1
-                if hard_rods:
-                    acc = ag > threshold
-                else:
-                    acc = kcode == KERNEL_MAXWELL or kernel_value(kcode, kparam, ag) > threshold
                 if not acc:
                     continue
                 share = (1.0 + restitution_value(lf[p], q0[p], q1[p], ag)) * (g * 1.0)
@@ -592,20 +592,9 @@ def cooling_segment(v, bounds, mu, reduced, p0, kcode, kparam, rate, s, counts,
         while c < block:
             if collisions >= max_collisions:
                 break
-            w = cij[c]
-            i = w & mask
-            j = (w >> sh) & mask
-            p = np.int64(w >> sh2)
-            vi = v[i]
-            vj = v[j]
-            g = vi - vj
-            ag = abs(g)
-            threshold = cu[c] * b_max
-            if hard_rods:
-                a = np.int64(ag > threshold)
-            else:
-                a = np.int64(kcode == KERNEL_MAXWELL or kernel_value(kcode, kparam, ag)
-                             > threshold)
+            i, j, p, vi, vj, g, ag, acc = _candidate(
+                cij[c], cu[c], b_max, v, mask, sh, sh2, hard_rods, kcode, kparam)
+            a = np.int64(acc)
             d = g * float(a)
             wi = vi - c1[p] * d
             wj = vj + c2[p] * d
