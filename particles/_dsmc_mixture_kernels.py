@@ -36,6 +36,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from llvmlite import ir
+from numba.core import cgutils, types
+from numba.extending import intrinsic, overload
 
 from kinetic_fem.model.restitution import CONSTANT, restitution_value
 
@@ -348,48 +351,100 @@ def _measure(v, bounds, lows, widths, sums, hist, shift, factor):  # pragma: no 
             sums[sp, k] += acc[k]
 
 
+POWER_LANES = 4
+"""Lanes of :func:`power_sums`: rod ``i`` is summed in lane ``i % POWER_LANES``."""
+
+
+def power_sums(x, acc):
+    """``acc[k, l] += x_i^k``, ``k = 1 .. 12``, for the rods ``i`` of lane ``l = i % 4``
+    (each power the previous one times ``x_i``, each lane's sums rod by rod).  Compiled:
+    one loop on ``<4 x double>`` vectors (:func:`_power_sums_ir`; scalar sums were 2.4 ns
+    per rod, bound by the floating-point ports), the same numbers.
+
+    Parameters
+    ----------
+    x : ndarray of float64, shape (n,)
+    acc : ndarray of float64, shape (13, 4)
+        Row 0 unused."""
+    for i in range(x.shape[0]):
+        _power_lane(x[i], acc, i % POWER_LANES)
+
+
+@jit(inline="always")
+def _power_lane(x, acc, lane):  # pragma: no cover - compiled
+    """``acc[k, lane] += x^k``, ``k = 1 .. 12`` (:func:`power_sums`)."""
+    p = x
+    for k in range(1, 13):
+        acc[k, lane] += p
+        p = p * x
+
+
+@intrinsic
+def _power_sums_ir(typingctx, x, acc, n_vec):  # pragma: no cover - compiled
+    """The loop of :func:`power_sums` over the first ``4 n_vec`` rods, the twelve sums on
+    ``<4 x double>`` vectors in registers (LLVM IR; no fast-math flags, so the same
+    products and sums as the plain loop)."""
+    sig = types.void(x, acc, n_vec)
+
+    def codegen(context, builder, signature, args):
+        f64 = ir.DoubleType()
+        i64 = ir.IntType(64)
+        vec = ir.VectorType(f64, POWER_LANES)
+        vptr = vec.as_pointer()
+        xa = context.make_array(signature.args[0])(context, builder, args[0])
+        aa = context.make_array(signature.args[1])(context, builder, args[1])
+
+        def at(base, off):
+            return builder.bitcast(builder.gep(base, [off]), vptr)
+
+        rows = [at(aa.data, ir.Constant(i64, POWER_LANES * k)) for k in range(13)]
+        slots = [cgutils.alloca_once(builder, vec) for _ in range(13)]
+        for k in range(1, 13):
+            builder.store(builder.load(rows[k], align=8), slots[k])
+        with cgutils.for_range(builder, args[2]) as loop:
+            off = builder.mul(loop.index, ir.Constant(i64, POWER_LANES))
+            xv = builder.load(at(xa.data, off), align=8)
+            p = xv
+            for k in range(1, 13):
+                builder.store(builder.fadd(builder.load(slots[k]), p), slots[k])
+                if k < 12:
+                    p = builder.fmul(p, xv)
+        for k in range(1, 13):
+            builder.store(builder.load(slots[k]), rows[k], align=8)
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
+@overload(power_sums, jit_options={"cache": True})  # type: ignore[typeddict-unknown-key]
+def _power_sums_jit(x, acc):  # pragma: no cover - compiled
+    def impl(x, acc):
+        n_vec = x.shape[0] // POWER_LANES
+        _power_sums_ir(x, acc, n_vec)
+        for i in range(POWER_LANES * n_vec, x.shape[0]):
+            _power_lane(x[i], acc, i % POWER_LANES)
+
+    return impl
+
+
 @jit
 def _measure_12(v, low, width, sums, hist, shift, factor):  # pragma: no cover - compiled
-    """:func:`_measure` of one species' rods ``v``, the powers 0-12 summed in registers
-    (each power the previous one times ``x``, each sum from 0.0 rod by rod: as the loop
-    over an accumulator array)."""
+    """:func:`_measure` of one species' rods ``v``: the shift, factor and histogram in one
+    pass, then the powers 1-12 summed in four lanes (:func:`power_sums`, vectorised:
+    2.8 -> 1.2 ns per rod), each sum ``(l_0 + l_1) + (l_2 + l_3)`` of its lanes."""
     bins = hist.shape[0]
     inv = 1.0 / width
-    a0 = a1 = a2 = a3 = a4 = a5 = a6 = a7 = a8 = a9 = a10 = a11 = a12 = 0.0
     for i in range(v.shape[0]):
         x = (v[i] - shift) * factor
         v[i] = x
-        p1 = x  # 1.0 * x
-        p2 = p1 * x
-        p3 = p2 * x
-        p4 = p3 * x
-        p5 = p4 * x
-        p6 = p5 * x
-        p7 = p6 * x
-        p8 = p7 * x
-        p9 = p8 * x
-        p10 = p9 * x
-        p11 = p10 * x
-        p12 = p11 * x
-        a0 += 1.0
-        a1 += p1
-        a2 += p2
-        a3 += p3
-        a4 += p4
-        a5 += p5
-        a6 += p6
-        a7 += p7
-        a8 += p8
-        a9 += p9
-        a10 += p10
-        a11 += p11
-        a12 += p12
         b = math.floor((x - low) * inv)
         if 0 <= b < bins:
             hist[int(b)] += 1.0
-    out = (a0, a1, a2, a3, a4, a5, a6, a7, a8, a9, a10, a11, a12)
-    for k in range(13):
-        sums[k] += out[k]
+    acc = np.zeros((13, POWER_LANES))
+    power_sums(v, acc)
+    sums[0] += float(v.shape[0])
+    for k in range(1, 13):
+        sums[k] += (acc[k, 0] + acc[k, 1]) + (acc[k, 2] + acc[k, 3])
 
 
 @jit
