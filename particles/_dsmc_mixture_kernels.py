@@ -18,7 +18,10 @@ stage's candidates left rescaled to the new majorant (:func:`_stage`).  The scal
 cooling of :func:`particles.dsmc_mixture.simulate_mixture` has no splitting:
 :func:`cooling_segment` runs its collisions on a clock that ticks once per candidate, with
 a majorant widened by the collisions, and no pass over the rods but a vectorised range
-every ``REFRESH N`` candidates.
+every ``REFRESH N`` candidates; a block of candidates runs speculatively with the range
+checked once at its end (:func:`_speculative`: a block that left the range is undone and
+run again by the loop that checks each collision, :func:`_checked`), so the runs are those
+of the checking loop bit for bit.
 
 Random numbers (:mod:`particles.rng`, the 37-word state of
 :func:`~particles.rng.mixture_state`): the kicks' normals from the wyrand word, the
@@ -313,11 +316,11 @@ def measure(v, bounds, lows, widths, sums, hist):  # pragma: no cover - compiled
     its bin (``lows[s] + widths[s] * [b, b + 1)``, inside ``hist.shape[1]`` bins) to
     ``hist[s]``, ``s`` its species (rods ``bounds[s] <= i < bounds[s + 1]``).
 
-    For ``K = 12`` (:data:`kinetic_fem.distribution.MAX_MOMENT`) the sums stay in
-    registers (:func:`_measure_12`; an accumulator array was stored and reloaded for
-    every rod: 4.1 against 2.4 ns per rod at N = 5000), with the same products and sums in
-    the same order, so the same bits (a product tree for the powers and two chains of
-    sums, even and odd rods, were no faster)."""
+    For ``K = 12`` (:data:`kinetic_fem.distribution.MAX_MOMENT`) the powers are summed in
+    four lanes on vectors (:func:`_measure_12`, :func:`power_sums`: 1.3 ns per rod against
+    2.8 for the sums in scalar registers, 4.1 with an accumulator array stored and reloaded
+    for every rod; a product tree for the powers and two chains of sums, even and odd rods,
+    were no faster); the same numbers with or without the JIT."""
     _measure(v, bounds, lows, widths, sums, hist, 0.0, 1.0)
 
 
@@ -517,7 +520,9 @@ pass; a multiple of :data:`particles.rng.LANES`)."""
 REFRESH = 2
 """The range of :func:`cooling_segment` is measured again every ``REFRESH N`` candidates
 (about 0.3 collisions per rod; a pass of 0.5 ns per rod against a range that shrinks as
-the gas cools: 1 and 4 were 3 % slower at N = 5000-20000)."""
+the gas cools: 1 and 4 were 3 % slower at N = 5000-20000; with the pass of
+:func:`extent_keys`, 0.05 ns per rod, 0.5, 1 and 4 are no faster either: a tighter range
+gives fewer candidates but more blocks that leave it)."""
 
 LANES_OFFSET = WYRAND_WORD + 1 - LANE_WORD
 """The lanes of a mixture state (:func:`particles.rng.mixture_state`: the five heated
@@ -679,9 +684,17 @@ def cooling_segment(v, bounds, mu, reduced, p0, kcode, kparam, rate, s, counts,
     spacing, as the one-species free cooling of :mod:`particles._dsmc_kernels`) and is
     accepted with probability :math:`B(|g|)/B(hi - lo)`.  The candidates come in blocks
     of :data:`CANDIDATE_BLOCK` from the lanes of ``s`` (:func:`pair_block`: the pair, the
-    acceptance uniform and the pair of species, in vector passes), thinned by the
-    branch-free loop of :func:`_thin` (a branch on the acceptance was mispredicted for a
-    fifth of the candidates); the draws of a block past the last collision are dropped.
+    acceptance uniform and the pair of species, in vector passes), thinned by branch-free
+    loops (:func:`_update`; a branch on the acceptance was mispredicted for a fifth of the
+    candidates); the draws of a block past the last collision are dropped.  A block that
+    cannot reach ``max_collisions`` runs speculatively (:func:`_speculative`, the range
+    tested once after it: 2.6-2.7 against 2.9-3.0 ns per candidate at N = 20000 with the
+    test per collision, which cost 15 %); in the rare block whose collisions left the
+    range (1 % of the blocks at N = 20000, masses 1:2, alpha 0.9; 4 % at N = 5000, 21 % at
+    N = 1000) the velocities and pair counts are restored and the block is run again by
+    :func:`_checked`, which widens the range where a collision leaves it, so that every
+    candidate is tested against a majorant of all relative speeds and the run is that of
+    :func:`_checked` alone, bit for bit.
     The energy lost is not summed here: the driver measures the temperature at the end
     (:func:`recentre`).
 

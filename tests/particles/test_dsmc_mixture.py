@@ -169,3 +169,31 @@ def test_mixture_runs_without_jit_are_bit_identical(jit_and_plain):
         "print(e.temperatures.tolist())\n")
     compiled, plain = jit_and_plain(code)
     assert compiled == plain and compiled.count("\n") == 3
+
+
+def test_vector_range_and_power_sums_are_the_plain_loops():
+    """The compiled range from integer keys is (min, max), zeros and infinities included;
+    the compiled power sums on vectors equal the plain loop's (lane i % 4) bit for bit,
+    whatever the remainder of the rods over the lanes."""
+    import numba
+
+    from particles import _dsmc_mixture_kernels as mk
+
+    special = np.array([0.0, -0.0, 5e-324, -5e-324, 1e-300, -2.5, np.inf, -np.inf])
+    for v in (special, special[:4], -np.abs(special[2:6]), np.array([3.0])):
+        lo, hi = mk.extent_keys(v)
+        assert lo == v.min() and hi == v.max()
+
+    @numba.njit
+    def compiled(x, acc):
+        mk.power_sums(x, acc)
+
+    rng = np.random.default_rng(5)
+    for n in (0, 1, 3, 4, 7, 1001):
+        x = rng.standard_normal(n)
+        plain, fast = np.zeros((13, 4)), np.zeros((13, 4))
+        mk.power_sums(x, plain)
+        compiled(x, fast)
+        assert np.array_equal(plain, fast)
+        lanes = [x[lane::4] for lane in range(4)]
+        assert np.allclose(plain[1:].T, [[np.sum(y**k) for k in range(1, 13)] for y in lanes])
