@@ -48,7 +48,7 @@ from kinetic_fem.model.restitution import CONSTANT, restitution_value
 from ._dsmc_heated import kick
 from ._dsmc_model import KERNEL_HARD_RODS, KERNEL_MAXWELL, kernel_majorant, kernel_value
 from ._dsmc_segments import extent_fast
-from ._jit import jit
+from ._jit import jit, vector_arrays
 from .rng import LANE_WORD, LANES, WYRAND_WORD, bits_to_double, xoshiro_lanes
 
 _LOW32 = np.uint64(0xFFFFFFFF)
@@ -390,23 +390,17 @@ def _power_sums_ir(typingctx, x, acc, n_vec):  # pragma: no cover - compiled
     sig = types.void(x, acc, n_vec)
 
     def codegen(context, builder, signature, args):
-        f64 = ir.DoubleType()
         i64 = ir.IntType(64)
-        vec = ir.VectorType(f64, POWER_LANES)
-        vptr = vec.as_pointer()
-        xa = context.make_array(signature.args[0])(context, builder, args[0])
-        aa = context.make_array(signature.args[1])(context, builder, args[1])
+        vec = ir.VectorType(ir.DoubleType(), POWER_LANES)
+        (x_data, acc_data), at = vector_arrays(context, builder, signature, args, vec, 2)
 
-        def at(base, off):
-            return builder.bitcast(builder.gep(base, [off]), vptr)
-
-        rows = [at(aa.data, ir.Constant(i64, POWER_LANES * k)) for k in range(13)]
+        rows = [at(acc_data, ir.Constant(i64, POWER_LANES * k)) for k in range(13)]
         slots = [cgutils.alloca_once(builder, vec) for _ in range(13)]
         for k in range(1, 13):
             builder.store(builder.load(rows[k], align=8), slots[k])
         with cgutils.for_range(builder, args[2]) as loop:
             off = builder.mul(loop.index, ir.Constant(i64, POWER_LANES))
-            xv = builder.load(at(xa.data, off), align=8)
+            xv = builder.load(at(x_data, off), align=8)
             p = xv
             for k in range(1, 13):
                 builder.store(builder.fadd(builder.load(slots[k]), p), slots[k])

@@ -29,7 +29,7 @@ try:  # the name of llvm.prefetch's pointer overload follows the pointer kind
 except ImportError:  # pragma: no cover - older llvmlite: typed pointers
     _TYPED_POINTERS = True
 
-__all__ = ["jit", "prefetch"]
+__all__ = ["jit", "prefetch", "vector_arrays"]
 
 configure_cache_dir(Path(__file__).parent)  # a user folder if the package is read-only
 ensure_fresh_cache(Path(__file__).parent)  # before any cached kernel is loaded
@@ -80,3 +80,17 @@ def _prefetch_jit(arr, idx):  # pragma: no cover - compiled
         _llvm_prefetch(arr, idx)
 
     return impl
+
+
+def vector_arrays(context, builder, signature, args, vec, count):  # pragma: no cover
+    """For an intrinsic's codegen on ``vec`` vectors: the data pointers of its first
+    ``count`` array arguments and ``at(base, offset)``, the ``vec`` pointer at element
+    ``offset`` of ``base``."""
+    vptr = vec.as_pointer()
+    data = [context.make_array(signature.args[a])(context, builder, args[a]).data
+            for a in range(count)]
+
+    def at(base, off):
+        return builder.bitcast(builder.gep(base, [off]), vptr)
+
+    return data, at

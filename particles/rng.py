@@ -57,7 +57,7 @@ from llvmlite import ir
 from numba.core import cgutils, types
 from numba.extending import intrinsic, overload
 
-from ._jit import jit
+from ._jit import jit, vector_arrays
 
 __all__ = ["LANES", "LANE_WORD", "cooling_state", "xoshiro_lanes", "bits_to_double",
            "ZIGGURAT_R", "ziggurat_tables", "xoshiro", "next_u64", "next_double", "mul128",
@@ -285,12 +285,7 @@ def _lanes_ir(typingctx, st, out, n_steps):  # pragma: no cover - compiled
     def codegen(context, builder, signature, args):
         i64 = ir.IntType(64)
         vec = ir.VectorType(i64, LANES)
-        vptr = vec.as_pointer()
-        sa = context.make_array(signature.args[0])(context, builder, args[0])
-        oa = context.make_array(signature.args[1])(context, builder, args[1])
-
-        def at(base, off):
-            return builder.bitcast(builder.gep(base, [off]), vptr)
+        (st_data, out_data), at = vector_arrays(context, builder, signature, args, vec, 2)
 
         def splat(c):
             return ir.Constant(vec, [ir.Constant(i64, c)] * LANES)
@@ -298,7 +293,7 @@ def _lanes_ir(typingctx, st, out, n_steps):  # pragma: no cover - compiled
         def rotl(x, r):
             return builder.or_(builder.shl(x, splat(r)), builder.lshr(x, splat(64 - r)))
 
-        words = [at(sa.data, ir.Constant(i64, LANE_WORD + w * LANES)) for w in range(4)]
+        words = [at(st_data, ir.Constant(i64, LANE_WORD + w * LANES)) for w in range(4)]
         slots = [cgutils.alloca_once(builder, vec) for _ in range(4)]
         for word, slot in zip(words, slots, strict=True):
             builder.store(builder.load(word, align=8), slot)
@@ -315,7 +310,7 @@ def _lanes_ir(typingctx, st, out, n_steps):  # pragma: no cover - compiled
             for slot, x in zip(slots, (s0, s1, s2, s3), strict=True):
                 builder.store(x, slot)
             off = builder.mul(loop.index, ir.Constant(i64, LANES))
-            builder.store(res, at(oa.data, off), align=8)
+            builder.store(res, at(out_data, off), align=8)
         for word, slot in zip(words, slots, strict=True):
             builder.store(builder.load(slot), word, align=8)
         return context.get_dummy_value()
