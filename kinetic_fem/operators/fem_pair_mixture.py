@@ -28,11 +28,20 @@ the sums over the species are the one-species reduced bracket
 :math:`\\tfrac n2\\sum c\\,[2\\varphi(x') - \\varphi(x) - \\varphi(y)]` term for term (a
 mixture of identical species is the one-species discretisation, to round-off).
 
-A heavier partner gives :math:`b > 1`: :math:`x'` then leaves the interval between
-:math:`x` and :math:`y` and may leave the mesh of :math:`s`; it is clamped to the mesh's
-end (mass is conserved exactly; the pieces where that happens start at the pre-images
-of the end vertices, so the rule stays exact on each piece, and they carry only the
-product of two far tails).
+The collision operator is truncated to the pairs whose two post-collision velocities
+stay on their species' meshes: a pair :math:`(x, y)` is summed, in both orders of the
+two species, exactly when :math:`x'` lies on the mesh of :math:`s` and
+:math:`y' = (1 - b_r) y + b_r x` (:math:`b_r = \\mu_{rs}(1 + \\alpha_{sr})`) on the mesh
+of :math:`r`, so gain and loss come from one set of pairs and each species keeps its
+mass.  A heavier partner gives :math:`b > 1`, and meshes of different extents let a
+light partner's velocity lie beyond the mesh: :math:`x'` then leaves the interval
+between :math:`x` and :math:`y` and may leave the mesh.  With constant coefficients the
+pieces split at the pre-images of the end vertices of both meshes, so every piece is
+wholly kept or dropped (the rule stays exact on each piece); with a law the points are
+tested one by one where no pre-image is known in closed form.  The dropped pairs carry
+products of two far tails.  (Clamping :math:`x'` to the mesh's end instead put the
+gain of those pairs on the last element, where it could exceed the element's own mass
+by many orders of magnitude and stop a free-cooling transient at its first step.)
 
 A velocity-dependent restitution law :math:`\\alpha_{sr}(|g|)` makes the rule nonlinear,
 :math:`x' = x - \\mu_{sr}(1 + \\alpha_{sr}(|x - y|))(x - y)`; the pieces then split at
@@ -105,6 +114,20 @@ def cross_breaks(verts_i: np.ndarray, verts_o: np.ndarray, x: float, a: float, b
 
 
 @jit
+def insert_break(buf: np.ndarray, n: int, value: float, lo: float, hi: float) -> int:
+    """Insert ``value`` into the sorted ``buf[:n]`` if it lies in ``[lo, hi]``; returns
+    the new count (``buf`` needs room for one more)."""
+    if not (value > lo and value < hi):
+        return n
+    j = n
+    while j > 0 and buf[j - 1] > value:
+        buf[j] = buf[j - 1]
+        j -= 1
+    buf[j] = value
+    return n + 1
+
+
+@jit
 def cross_law_breaks(verts_i: np.ndarray, verts_o: np.ndarray, x: float, mu: float,
                      code: int, p0: float, p1: float, b_lo: float, buf: np.ndarray) -> int:
     """:func:`cross_breaks` for a velocity-dependent law; returns the count.
@@ -115,8 +138,10 @@ def cross_law_breaks(verts_i: np.ndarray, verts_o: np.ndarray, x: float, mu: flo
     elastic :math:`b = 2\\mu`) and the jumps :math:`y = x \\pm g_{th}`; for a law with
     :math:`t\\,(1 + \\alpha(t))` increasing (viscoelastic) the root of
     :math:`|t|(1 + \\alpha(|t|))/2 = |v_k - x|/(2\\mu)`
-    (:func:`~kinetic_fem.operators.fem_pair_breaks.preimage_distance`).  ``buf`` needs
-    ``verts_i.size + 2 * verts_o.size + 3`` entries.
+    (:func:`~kinetic_fem.operators.fem_pair_breaks.preimage_distance`); for the
+    threshold law also the pre-images of the inner mesh's ends under
+    :math:`y' = x + (1 - \\mu_{rs}(1 + \\alpha))(y - x)`, :math:`\\mu_{rs} = 1 - \\mu`,
+    in both families.  ``buf`` needs ``verts_i.size + 2 * verts_o.size + 7`` entries.
     """
     ni = verts_i.size
     no = verts_o.size
@@ -136,6 +161,12 @@ def cross_law_breaks(verts_i: np.ndarray, verts_o: np.ndarray, x: float, mu: flo
         buf[n] = x - p1
         buf[n + 1] = x + p1
         n += 2
+        # the inner velocity y' = x + (1 - b_r)(y - x) at the inner mesh's ends
+        for b_r in ((1.0 - mu) * (1.0 + p0), 2.0 * (1.0 - mu)):
+            if b_r != 1.0:
+                buf[n] = x + (verts_i[0] - x) / (1.0 - b_r)
+                buf[n + 1] = x + (verts_i[-1] - x) / (1.0 - b_r)
+                n += 2
     else:
         for k in range(no):
             d = verts_o[k] - x
@@ -160,7 +191,7 @@ def cross_collision(verts_o: np.ndarray, dofs_o: np.ndarray, coef_o: np.ndarray,
                     ref_w: np.ndarray, a: float, b: float, kernel: float | tuple[int, float],
                     w_gain: float, w_lossx: float, w_lossy: float, with_jacobian: bool,
                     even: bool, code: int = CONSTANT, p0: float = 0.0, p1: float = 0.0,
-                    mu: float = 0.5, b_lo: float = 0.5
+                    mu: float = 0.5, b_lo: float = 0.5, b_in: float = 0.5
                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray,
                                np.ndarray, float]:
     """The pair sums of the module text for an outer and an inner species.
@@ -230,7 +261,7 @@ def cross_collision(verts_o: np.ndarray, dofs_o: np.ndarray, coef_o: np.ndarray,
         bqo = np.zeros(1)
         bqi = np.zeros(1)
         cy = np.zeros(1)
-    buf = np.empty(verts_i.size + 2 * verts_o.size + 3)
+    buf = np.empty(verts_i.size + 2 * verts_o.size + 7)
     n_max = buf.size + 2 * (GRADING_LEVELS + 1)
     starts = np.empty(n_max)
     lengths = np.empty(n_max)
@@ -245,6 +276,9 @@ def cross_collision(verts_o: np.ndarray, dofs_o: np.ndarray, coef_o: np.ndarray,
     scale = verts_i[-1] - verts_i[0]
     lo_o = verts_o[0]
     hi_o = verts_o[-1]
+    lo_i = verts_i[0]
+    hi_i = verts_i[-1]
+    mu_in = 1.0 - mu
     loss = 0.0
     for q in range(xq.size):
         x = xq[q]
@@ -260,6 +294,10 @@ def cross_collision(verts_o: np.ndarray, dofs_o: np.ndarray, coef_o: np.ndarray,
         px = np.exp(ux)
         if constant:
             n_br = cross_breaks(verts_i, verts_o, x, a, b, buf)
+            if b_in != 1.0:
+                # the pre-images of the inner mesh's ends under y' = (1 - b_in) y + b_in x
+                n_br = insert_break(buf, n_br, (lo_i - b_in * x) / (1.0 - b_in), lo_i, hi_i)
+                n_br = insert_break(buf, n_br, (hi_i - b_in * x) / (1.0 - b_in), lo_i, hi_i)
         else:
             n_br = cross_law_breaks(verts_i, verts_o, x, mu, code, p0, p1, b_lo, buf)
         n_p = pieces(buf, n_br, x, scale, graded, starts, lengths)
@@ -272,7 +310,11 @@ def cross_collision(verts_o: np.ndarray, dofs_o: np.ndarray, coef_o: np.ndarray,
             mid = y0 + 0.5 * length
             ey = locate(verts_i, ey, mid)
             if constant:
-                e1 = locate(verts_o, e1, min(max(a * x + b * mid, lo_o), hi_o))
+                x_mid = a * x + b * mid
+                y_mid = mid + b_in * (x - mid)
+                if x_mid < lo_o or x_mid > hi_o or y_mid < lo_i or y_mid > hi_i:
+                    continue  # the whole piece throws a velocity off its mesh
+                e1 = locate(verts_o, e1, x_mid)
             else:
                 bm = mu * (1.0 + restitution_value(code, p0, p1, abs(x - mid)))
                 target = min(max(x - bm * (x - mid), lo_o), hi_o)
@@ -301,8 +343,11 @@ def cross_collision(verts_o: np.ndarray, dofs_o: np.ndarray, coef_o: np.ndarray,
                 if constant:
                     x1 = min(max(a * x + b * y, lo_o), hi_o)
                 else:
-                    bl = mu * (1.0 + restitution_value(code, p0, p1, g))
-                    x1 = min(max(x - bl * (x - y), lo_o), hi_o)
+                    one_alpha = 1.0 + restitution_value(code, p0, p1, g)
+                    x1 = x - mu * one_alpha * (x - y)
+                    y1 = y - mu_in * one_alpha * (y - x)
+                    if x1 < lo_o or x1 > hi_o or y1 < lo_i or y1 > hi_i:
+                        continue
                 shape_values(order, (x1 - verts_o[e1]) * h1, ph1)
                 c = wm * ref_w[r] * np.exp(uy) * kernel_rate(kernel, g)
                 loss += c * g * g

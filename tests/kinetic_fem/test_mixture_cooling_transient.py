@@ -56,6 +56,24 @@ def test_maxwell_mixture_short_run_follows_the_exact_moments():
     assert abs(ev.series["zeta"][-1] / zeta - 1.0) < 1e-3
 
 
+def test_start_under_a_heavier_partners_layer_follows_the_exact_moments():
+    """Masses 1:3 from T_s = (1, 3): a heavier partner (mu (1 + alpha) = 1.35) throws light
+    rods past the light Gaussian's mesh and far tail.  Before the fix the pairs landing
+    off the mesh were clamped onto its last element and no first step converged (from
+    1e-4 down to 1e-9 collision times); now they are dropped (in both orders, so each
+    species keeps its mass), the far-tail layer is filled at the start, and the run
+    follows the exact moments of the inelastic Maxwell mixture: measured at t = 0.5
+    (spacing 0.5, cutoff 10, rtol 1e-4) T_s 3.8e-6 relative, a2_s 3.3e-6 absolute (3 s)."""
+    mix = kf.Mixture((1.0, 3.0), (0.5, 0.5), alpha=0.8, kernel=0.0)
+    times = [0.0, 0.5]
+    exact = kf.evolve_cooling(mix, times=times, method="maxwell", initial_temperature=[1.0, 3.0])
+    ev = kf.evolve_cooling(mix, times=times, initial_temperature=[1.0, 3.0], spacing=0.5,
+                           cutoff=10.0, rtol=1e-4)
+    assert np.allclose(ev.temperatures[0], [1.0, 3.0], rtol=1e-14, atol=0)
+    assert np.allclose(ev.temperatures, exact.temperatures, rtol=8e-6, atol=0)
+    assert np.allclose(ev.a2, exact.a2, rtol=0, atol=7e-6)
+
+
 @pytest.mark.slow   # 63 s (loaded machine)
 def test_identical_species_follow_the_one_species_cooling_transient():
     # measured: 1.4e-13 (T relative) and 1.4e-13 (a2) at hard rods alpha 0.7, t = 8 with

@@ -117,3 +117,23 @@ def test_heated_fem_transient_returns_each_species_distribution():
             kurt = dist.moment(4, central=False) / (3.0 * var**2) - 1.0
             assert kurt == pytest.approx(ev.a2[i, s], abs=1e-12)
     assert ev.distributions[0][0].moment(2, central=False) == pytest.approx(1.0, rel=1e-3)
+
+
+def test_start_under_a_heavier_partners_layer_follows_the_exact_moments():
+    """Masses 1:3 from T_s = (1, 3) (equal <v^2>): the heavy species throws light rods
+    beyond the light Gaussian's far tail, which gains there up to 1e11 times its value per
+    unit time.  Before the fix no first step converged (Newton down to 7e-15); now the
+    layer is filled (``layer_start``) and the run follows the inelastic Maxwell mixture's
+    exact moments: measured at t = 0.5 (spacing 1, cutoff 8, rtol 1e-3) T_s 4.2e-6
+    relative, a2_s 7.7e-5 absolute (4 s)."""
+    mix = kf.Mixture.white_noise((1.0, 3.0), (0.5, 0.5), alpha=0.8, kernel=0.0)
+    times = [0.0, 0.5]
+    exact = kf.evolve_heated(mix, times=times, initial_temperature=[1.0, 3.0],
+                             method="maxwell")
+    ev = kf.evolve_heated(mix, times=times, initial_temperature=[1.0, 3.0], spacing=1.0,
+                          cutoff=8.0, rtol=1e-3)
+    # the start: the Gaussians on the coarse meshes (measured 2.5e-6 and 2.6e-6 off)
+    assert np.allclose(ev.temperatures[0], [1.0, 3.0], rtol=5e-6, atol=0)
+    assert np.allclose(ev.temperatures, exact.temperatures, rtol=1e-5, atol=0)
+    assert np.allclose(ev.a2, exact.a2, rtol=0, atol=1.5e-4)
+

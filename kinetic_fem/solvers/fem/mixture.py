@@ -413,7 +413,8 @@ class MixtureDiscretisation:
                     verts_o, dofs_o, np.ascontiguousarray(us[o]), xq, wq, eq, verts_i, dofs_i,
                     np.ascontiguousarray(us[i]), self.order, ref_x, ref_w, float(a), float(b),
                     self._kernel_argument, n * x[i], 0.5 * n * x[i], 0.5 * n * x[o],
-                    jacobian, True, *(law or _CONSTANT_RULE))
+                    jacobian, True, *(law or _CONSTANT_RULE),
+                    0.5 if law else float(self.rules[i, o, 1]))
                 res_full[o] += r_o
                 res_full[i] += r_i
                 loss[o, i] = 2.0 * lo

@@ -57,6 +57,7 @@ power-law definition).  Gaussian starts.
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import math
 import time
@@ -78,7 +79,7 @@ from .cooling_segments import (
 )
 from .cooling_transient import cooling_settings
 from .mixture import MixtureDiscretisation, check_mixture_model
-from .mixture_transient import MixtureBDF, collision_time
+from .mixture_transient import MixtureBDF, collision_time, layer_start
 from .options import CoolingEvolveOptions
 from .transient import TimeIntegrator, TransientOptions, build_mesh, floor_log
 from .transient_setup import SCHEMES, default_newton_tol
@@ -240,8 +241,18 @@ def evolve_mixture_cooling_fem(mixture: Mixture, *, times: NDArray, density: flo
             for sp, d, us_, (_, resolved), v in
             zip(integ.species, olds, us, meshes, targets, strict=True)])
 
-    h0 = o.first_step if o.first_step is not None else 0.1 * math.sqrt(o.rtol) * t_coll
-    integ.start(integ.level(0.0, remap(u, 1.0, scales, 0.0)), h0)
+    u = remap(u, 1.0, scales, 0.0)
+    h0 = 0.1 * math.sqrt(o.rtol) * t_coll
+    if o.first_step is None:
+        filled, h0 = layer_start(integ, u, h0)
+        if filled is not u:   # the start's temperatures again, to round-off
+            u = np.concatenate([normalise(_SpeciesMasses(sp), filled[sl], v) for sp, sl, v
+                                in zip(integ.species, integ.full, scales, strict=True)])
+    else:
+        h0 = o.first_step
+    # forced steps (below min_step) stay below a first step in a far tail's layer
+    integ.opt = dataclasses.replace(opt, min_step=min(opt.min_step, 0.01 * h0))
+    integ.start(integ.level(0.0, u), h0)
     start_scales = scales.copy()
     count = {"segments": 0, "edge": 0}
 
