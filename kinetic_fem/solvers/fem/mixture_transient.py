@@ -325,8 +325,9 @@ def layer_start(integ: MixtureBDF, u: NDArray, h0: float) -> tuple[NDArray, floa
     start there, :math:`\\ln(P + \\delta \\dot P)`, what the collisions put there in
     the time :math:`\\delta` (the moments change by that gain: 7e-13 relative in T_1 for
     the inelastic Maxwell mixture, masses 1:3 from T_s = (1, 3), rtol 1e-4; the
-    free-cooling transient restores the start's temperatures), and the first step is kept to a predicted change of
-    :data:`LAYER_CHANGE`.  Starts without such a layer are returned as they are.
+    free-cooling transient restores the start's temperatures), and the first step is
+    kept to a predicted change of :data:`LAYER_CHANGE`.  Starts without such a layer
+    are returned as they are.
 
     Parameters
     ----------
