@@ -39,6 +39,7 @@ BENCHMARKS: dict[str, tuple[str, bool]] = {
     "bench_md_mixture": ("speed", False),
     "bench_dsmc_mixture": ("speed", False),
     "bench_fem_mixture": ("speed", False),
+    "bench_fem_mixture_accuracy": ("speed", False),
     "bench_mixture_transient": ("speed", True),
     "bench_transient_speed": ("speed", False),
     "bench_first_hour": ("speed", True),

@@ -349,3 +349,22 @@ def test_heated_chord_steps_in_p_give_the_plain_newton_state(monkeypatch):
         return int(state.info.message.rsplit(";", 1)[1].split()[0])
 
     assert jacobians(fast) <= jacobians(plain)
+
+
+def test_the_wide_species_mesh_is_finer_so_m_1_10_is_as_accurate_as_one_species():
+    """At one spacing in thermal velocities the light (wide) species of masses 1:10 set
+    the error (T_s 1.2e-9, a2_s 3.1e-9 at spacing 0.25 against 2e-10 for one species);
+    with ``species_spacing`` its spacing is (sigma_min/sigma)^0.8 finer: measured against
+    spacing 0.125, T_s 2.2e-11 relative and a2_s 6.0e-11 absolute (2 x 0.6 s).  Equal
+    thermal velocities keep one spacing (identical species: the one-species state)."""
+    sig = np.array([1.0, 2.0])
+    assert fem_mixture.species_spacing(1.0, sig) == 1.0
+    assert fem_mixture.species_spacing(2.0, sig) == pytest.approx(0.5**0.8, rel=1e-15)
+    assert fem_mixture.species_spacing(1.5, np.array([1.5, 1.5])) == 1.0
+    mix = kf.Mixture.white_noise((1.0, 10.0), (0.5, 0.5), alpha=0.9)
+    state = kf.solve_heated(mix)
+    fine = kf.solve_heated(mix, spacing=0.125)
+    assert np.allclose(state.temperatures, fine.temperatures, rtol=5e-11, atol=0)
+    assert np.allclose(state.a2, fine.a2, rtol=0, atol=1.2e-10)
+    sizes = [len(d.values) for d in state.distributions]
+    assert sizes[0] > 1.8 * sizes[1]   # the light species' mesh: 624 points against 320
