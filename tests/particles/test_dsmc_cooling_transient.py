@@ -109,9 +109,13 @@ def test_dsmc_viscoelastic_cooling_follows_evolve_cooling(times):
 @pytest.mark.slow
 def test_dsmc_threshold_cooling_stops_as_evolve_cooling():
     """Threshold law (alpha 0.5 above |g| = 0.5): cooling stops (T -> ~0.0167 by
-    t = 100, collisions below the threshold elastic); DSMC and FEM agree on the way."""
+    t = 100, collisions below the threshold elastic); DSMC and FEM agree on the way.
+    The FEM needs spacing 0.25 and rtol 1e-6 here: at spacing 0.5, rtol 1e-5 its a2 at
+    t = 30 is -0.2350 against -0.2416 (the state very non-Gaussian once the threshold
+    is four thermal speeds out), 5.6 standard errors of the DSMC off (measured; this
+    slow test failed so); refined, the largest |z| are 2.1 (T) and 2.7 (a2)."""
     z_t, z_a = protocol_z_scores(ThresholdRestitution(0.5, 0.5), [1.0, 3.0, 10.0, 30.0, 100.0],
-                                 spacing=0.5, rtol=1e-5)
+                                 spacing=0.25, rtol=1e-6)
     assert np.abs(z_t).max() < Z_MAX, z_t
     assert np.abs(z_a).max() < Z_MAX, z_a
 
