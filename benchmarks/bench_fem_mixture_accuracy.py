@@ -18,33 +18,23 @@ call).  Problem sizes: one species 50-170 dofs (half line), mixture 2 x 80-330.
 from __future__ import annotations
 
 import argparse
-import time
 import warnings
 from collections.abc import Callable
+from functools import partial
 from typing import Any
 
 import numpy as np
+from bench_fem_mixture import cold
 from numpy.typing import NDArray
+from yardstick import best_cpu
 
 import kinetic_fem as kf
 from kinetic_fem.distribution import VelocityDistribution
 from kinetic_fem.exceptions import ConvergenceError, ResolutionWarning
-from kinetic_fem.solvers.fem import mixture as fem_mixture
 
 ONE_SPACINGS = (0.5, 0.4, 0.35, 0.3, 0.25, 0.2, 0.15)
 REFERENCE_SPACING = 0.08
-
-
-def first_call_cpu(solve: Callable[[], Any], repeats: int = 3) -> tuple[float, Any]:
-    """Best CPU time of ``solve()`` with the kept one-species starts cleared."""
-    best, out = np.inf, None
-    for _ in range(repeats):
-        fem_mixture._one_species_heated.cache_clear()
-        fem_mixture._one_species_cooling.cache_clear()
-        cpu = time.process_time()
-        out = solve()
-        best = min(best, time.process_time() - cpu)
-    return best, out
+REPEATS = 3
 
 
 def observables(state: Any) -> tuple[NDArray, NDArray]:
@@ -72,7 +62,7 @@ def one_species_curve(alpha: float, solve: Callable[..., Any], reference: float
     rows = []
     for h in ONE_SPACINGS:
         try:
-            cpu, state = first_call_cpu(lambda h=h: solve(alpha, spacing=h, order=3))
+            cpu, state = best_cpu(partial(solve, alpha, spacing=h, order=3), REPEATS)
         except ConvergenceError:
             print(f"(one species, alpha {alpha:g}, spacing {h:g}: no convergence)")
             continue
@@ -107,7 +97,7 @@ def main() -> None:
         for m in (float(x) for x in args.masses.split(",")):
             mix = model((1.0, m), (0.5, 0.5), alpha=alpha, kernel=1.0)
             ref = solve(mix, spacing=reference, order=3)
-            cpu, state = first_call_cpu(lambda mix=mix: solve(mix, order=3))
+            cpu, state = best_cpu(partial(cold, solve, mix, order=3), REPEATS)
             err = state_error(state, ref)
             c1 = cost_at(one, err)
             print(f"| {alpha:g} | {m:g} | {err:.2e} | {cpu:.4f} | {c1:.4f} | {cpu / c1:.2f} "
