@@ -256,6 +256,14 @@ def _check_sample_every(every: float, n: int, step: float | None) -> None:
         f"sample_every must be > {0.5 * step:.6g}, or pass a smaller dt")
 
 
+def _check_dt(dt: float, per_step: float) -> None:
+    """Refuse a heated time step with more than :data:`MAX_COLLISIONS_PER_STEP` collisions."""
+    if per_step > MAX_COLLISIONS_PER_STEP:
+        raise ValueError(f"dt={dt!r} gives {per_step:.3g} expected collisions per particle per "
+                         f"step; at most {MAX_COLLISIONS_PER_STEP} are allowed (dt <= "
+                         f"{MAX_COLLISIONS_PER_STEP / per_step * dt:.3g})")
+
+
 def _window(gas: InelasticGas, temperature: float, friction: float = 0.0) -> float:
     """Relaxation window: three linear relaxation times of T, in collisions per particle.
 
@@ -425,6 +433,7 @@ def simulate_heated(alpha: float | RestitutionLaw, n_particles: int, *, density:
     rate = gas.density * gas.kernel.gaussian_mean(t_ref)  # collisions per particle and time
     xi = problem.friction
     dt = 0.05 / max(rate, 2.0 * xi) if dt is None else check_positive("dt", dt)
+    _check_dt(dt, dt * rate)  # at T_ref; at the initial state's T once it is drawn
     o = _common(n_particles, collisions_per_particle, relax, sample_every, average_every,
                 n_batches, bins, c_max, checkpoint, checkpoint_every, resume, max_wall_time,
                 progress, _window(gas, t_ref, problem.friction), step=dt * rate)
@@ -437,11 +446,7 @@ def simulate_heated(alpha: float | RestitutionLaw, n_particles: int, *, density:
     _check_spread(v)
     _check_range(gas, v, "the initial velocities")
     t_max = max(t_ref, float(np.mean(v**2)))
-    per_step = dt * gas.density * gas.kernel.gaussian_mean(t_max)
-    if per_step > MAX_COLLISIONS_PER_STEP:
-        raise ValueError(f"dt={dt!r} gives {per_step:.3g} expected collisions per particle per "
-                         f"step; at most {MAX_COLLISIONS_PER_STEP} are allowed (dt <= "
-                         f"{MAX_COLLISIONS_PER_STEP / per_step * dt:.3g})")
+    _check_dt(dt, dt * gas.density * gas.kernel.gaussian_mean(t_max))
     if xi > 0.0:  # exact Ornstein-Uhlenbeck flow over dt and dt/2
         t_bath = problem.thermostat.bath_temperature
         kicks: dict[str, Any] = {
