@@ -138,6 +138,10 @@ alpha <= 0.99999 for hard rods; beyond, give ``relax`` explicitly."""
 _BYTES_PER_PARTICLE = 48
 """Arrays per particle of a DSMC run (velocities, their copy, indices), for the check."""
 
+_MEASUREMENT_EVENTS = 5000.0
+"""Cost of one measurement beyond its N particles, in events of :data:`particles.run.MAX_EVENTS`
+(the Python of a measurement, about 50 us, at 1e8 events per second)."""
+
 
 def _check_int(name: str, value: object, lo: int, hi: int | None = None) -> int:
     if isinstance(value, bool) or not isinstance(value, numbers.Integral):
@@ -163,25 +167,42 @@ def _common(n_particles: int, collisions_per_particle: float, relax: str | float
             c_max: float,
             checkpoint: str | Path | None, checkpoint_every: float, resume: bool,
             max_wall_time: float | None, progress: bool | None,
-            w: float) -> dict[str, Any]:
-    """Validate the run options shared by both problems; ``w``: :func:`_window`."""
+            w: float, step: float | None = None) -> dict[str, Any]:
+    """Validate the run options shared by both problems.
+
+    Parameters
+    ----------
+    w : float
+        The relaxation window, :func:`_window`.
+    step : float, optional
+        Heated: expected collisions per particle in one time step (``dt`` times the
+        collision rate), the unit a measurement interval is rounded to; None (cooling):
+        the interval is rounded to whole collisions.
+    """
     n = _check_int("n_particles", n_particles, 2, 2**32 - 1)
     cpp = check_positive("collisions_per_particle", collisions_per_particle)
     every = check_positive("sample_every", sample_every)
+    _check_sample_every(every, n, step)
     nb = _check_int("n_batches", n_batches, 2)
-    check_work(0.5 * n * cpp, f"collisions_per_particle={cpp:g} with N={n}")
-    check_work(cpp / every, f"collisions_per_particle={cpp:g} / sample_every={every:g} "
-                            "(measurements)")
-    check_memory(_BYTES_PER_PARTICLE * n + 100.0 * cpp / every,
-                 f"DSMC of N={n} with {cpp / every:.3g} measurements")
-    n_samples = int(math.ceil(cpp / every - 1e-9))
-    if n_samples < nb:
-        raise ValueError(f"collisions_per_particle={cpp} / sample_every={every} gives "
-                         f"{n_samples} samples, fewer than n_batches={nb}")
     if not (relax == "auto" or (isinstance(relax, numbers.Real) and not isinstance(relax, bool)
                                 and math.isfinite(relax) and relax >= 0)):
         raise ValueError(f"relax must be 'auto' or a number of collisions per particle >= 0, "
                          f"got {relax!r}")
+    fixed = 0.0 if relax == "auto" else float(relax)
+    check_work(0.5 * n * (cpp + fixed), f"collisions_per_particle={cpp:g}"
+               + (f" after relax={fixed:g}" if fixed else "") + f" with N={n}")
+    # measurements of the averaging and of a fixed relaxation (relax='auto': its first
+    # two windows, the fewest the detector needs); each costs N and the Python around it
+    measurements = (cpp + fixed) / every + (2 * max(10.0, w / every) if relax == "auto" else 0)
+    check_work(measurements * (n + _MEASUREMENT_EVENTS),
+               f"{measurements:.3g} measurements of N={n} (collisions_per_particle={cpp:g}"
+               + (f" and relax={fixed:g}" if fixed else "") + f" / sample_every={every:g})")
+    check_memory(_BYTES_PER_PARTICLE * n + 100.0 * measurements,
+                 f"DSMC of N={n} with {measurements:.3g} measurements")
+    n_samples = int(math.ceil(cpp / every - 1e-9))
+    if n_samples < nb:
+        raise ValueError(f"collisions_per_particle={cpp} / sample_every={every} gives "
+                         f"{n_samples} samples, fewer than n_batches={nb}")
     if not (average_every == "auto" or (isinstance(average_every, numbers.Real) and not
             isinstance(average_every, bool) and 0 < average_every < math.inf)):
         raise ValueError(f"average_every must be 'auto' or a positive number of collisions per "
@@ -206,6 +227,41 @@ def _common(n_particles: int, collisions_per_particle: float, relax: str | float
             "bins": _check_int("bins", bins, 1),
             "window": max(10, int(math.ceil(w / every))), "checkpointing": ck,
             "progress": resolve_progress(progress)}
+
+
+def _check_sample_every(every: float, n: int, step: float | None) -> None:
+    """Refuse a measurement interval the engine would round to nothing.
+
+    The engine advances whole units between measurements: ``round(0.5 * N *
+    sample_every)`` collisions (cooling) or ``round(sample_every / step)`` time steps
+    (heated).  An interval that rounds to zero was silently made one unit, so the run
+    measured more rarely than asked and, counting ``collisions_per_particle /
+    sample_every`` intervals, ran far longer; such an interval is refused (the
+    bound is exact: Python's ``round`` gives 0 up to and including one half).
+    """
+    units = 0.5 * n * every if step is None else every / step if step > 0 else math.inf
+    if units > 0.5:
+        return
+    if step is None:
+        raise ValueError(
+            f"sample_every={every:.6g} collisions per particle is at most half a collision "
+            f"between measurements for N={n} (0.5 * N * sample_every = {units:.3g}; the "
+            f"run advances whole collisions and would round it up to one): sample_every "
+            f"must be > 1/N = {1.0 / n:.6g} (2/N = {2.0 / n:.6g} is one collision per "
+            f"measurement)")
+    raise ValueError(
+        f"sample_every={every:.6g} collisions per particle is at most half a time step "
+        f"between measurements (one step of dt is {step:.6g} expected collisions per "
+        f"particle; the run advances whole steps and would round it up to one): "
+        f"sample_every must be > {0.5 * step:.6g}, or pass a smaller dt")
+
+
+def _check_dt(dt: float, per_step: float) -> None:
+    """Refuse a heated time step with more than :data:`MAX_COLLISIONS_PER_STEP` collisions."""
+    if per_step > MAX_COLLISIONS_PER_STEP:
+        raise ValueError(f"dt={dt!r} gives {per_step:.3g} expected collisions per particle per "
+                         f"step; at most {MAX_COLLISIONS_PER_STEP} are allowed (dt <= "
+                         f"{MAX_COLLISIONS_PER_STEP / per_step * dt:.3g})")
 
 
 def _window(gas: InelasticGas, temperature: float, friction: float = 0.0) -> float:
@@ -308,13 +364,18 @@ def simulate_heated(alpha: float | RestitutionLaw, n_particles: int, *, density:
         temperature
         (:meth:`kinetic_fem.model.HeatedProblem.temperature_estimate`).  The expected
         number of collisions per particle per step must not exceed
-        :data:`MAX_COLLISIONS_PER_STEP`.
+        :data:`MAX_COLLISIONS_PER_STEP`.  Measuring every 0.025 collisions per particle or
+        more often may need a smaller ``dt`` (``sample_every`` below).
     relax : "auto" or float
         Start of averaging: the detector of the module docstring, or a fixed number
         of collisions per particle.
     sample_every : float
         Collisions per particle between measurements (time series and histogram)
-        until averaging starts.
+        until averaging starts.  The run advances whole time steps between
+        measurements (cooling: whole collisions), so ``sample_every`` must exceed half
+        a step, ``0.5 * dt`` times the collision rate at ``T_ref`` (at most 0.025 at the
+        default ``dt``; cooling: half a collision, ``sample_every > 1/N``); a smaller
+        value is refused (it was silently rounded up to one step or collision).
     average_every : "auto" or float
         Collisions per particle between measurements while averaging (a multiple of
         ``sample_every``; batches and run length count time).  "auto": half the
@@ -369,9 +430,13 @@ def simulate_heated(alpha: float | RestitutionLaw, n_particles: int, *, density:
                                             friction=friction, kernel=kernel)
     gas = problem.gas
     t_ref = problem.temperature_estimate()
+    rate = gas.density * gas.kernel.gaussian_mean(t_ref)  # collisions per particle and time
+    xi = problem.friction
+    dt = 0.05 / max(rate, 2.0 * xi) if dt is None else check_positive("dt", dt)
+    _check_dt(dt, dt * rate)  # at T_ref; at the initial state's T once it is drawn
     o = _common(n_particles, collisions_per_particle, relax, sample_every, average_every,
                 n_batches, bins, c_max, checkpoint, checkpoint_every, resume, max_wall_time,
-                progress, _window(gas, t_ref, problem.friction))
+                progress, _window(gas, t_ref, problem.friction), step=dt * rate)
     c_max = check_positive("c_max", c_max)
     init_seq, run_seq, entropy = _seeds(seed)
     paper = gas.kernel.is_hard_rods and gas.restitution.constant is not None and \
@@ -381,14 +446,7 @@ def simulate_heated(alpha: float | RestitutionLaw, n_particles: int, *, density:
     _check_spread(v)
     _check_range(gas, v, "the initial velocities")
     t_max = max(t_ref, float(np.mean(v**2)))
-    rate = gas.density * gas.kernel.gaussian_mean(t_ref)  # collisions per particle and time
-    xi = problem.friction
-    dt = 0.05 / max(rate, 2.0 * xi) if dt is None else check_positive("dt", dt)
-    per_step = dt * gas.density * gas.kernel.gaussian_mean(t_max)
-    if per_step > MAX_COLLISIONS_PER_STEP:
-        raise ValueError(f"dt={dt!r} gives {per_step:.3g} expected collisions per particle per "
-                         f"step; at most {MAX_COLLISIONS_PER_STEP} are allowed (dt <= "
-                         f"{MAX_COLLISIONS_PER_STEP / per_step * dt:.3g})")
+    _check_dt(dt, dt * gas.density * gas.kernel.gaussian_mean(t_max))
     if xi > 0.0:  # exact Ornstein-Uhlenbeck flow over dt and dt/2
         t_bath = problem.thermostat.bath_temperature
         kicks: dict[str, Any] = {
@@ -399,10 +457,11 @@ def simulate_heated(alpha: float | RestitutionLaw, n_particles: int, *, density:
         amp = math.sqrt(2.0 * problem.diffusion * dt)
         kicks = {"decay": 1.0, "amp": amp, "half_decay": 1.0, "half_amp": amp / math.sqrt(2.0)}
     half = c_max * math.sqrt(t_ref)
-    check_work(o["n"] * (o["sample_every"] * o["n_samples"] + 20 * o["window"]
-                         * o["sample_every"]) / (dt * rate),
+    # steps per measurement: sample_every is more than half a step (_check_sample_every)
+    per_sample = o["sample_every"] / (dt * rate) if dt * rate > 0 else math.inf
+    check_work(o["n"] * (o["n_samples"] + 20 * o["window"]) * (per_sample + 0.5),
                f"dt={dt:g} (time steps times particles)")
-    steps = max(1, int(round(o["sample_every"] / (dt * rate))))
+    steps = max(1, int(round(per_sample)))
     key = {"kind": "heated", **_key_model(gas, xi), "diffusion": problem.diffusion,
            "n": o["n"], "dt": dt, "steps": steps, "samples": o["n_samples"],
            "batches": o["n_batches"], "bins": o["bins"], "lo": -half, "relax": o["relax"],

@@ -272,6 +272,14 @@ def simulate_mixture(mixture: Mixture, n_particles: int, *, density: float = 1.0
                          f"for n_batches={opts.n_batches} measured every "
                          f"{opts.sample_every:g} collisions per rod (at least "
                          f"{opts.n_batches * opts.sample_every:g})")
+    if 0.5 * int(n_particles) * opts.sample_every < 1.0 - 1e-9:
+        # measurements are at least one collision apart (each segment's target is at
+        # least one): a shorter interval was silently a measurement every collision
+        raise ValueError(f"options.sample_every={opts.sample_every:.6g} collisions per rod is "
+                         f"less than one collision between measurements for n_particles="
+                         f"{int(n_particles)} (0.5 * N * sample_every = "
+                         f"{0.5 * int(n_particles) * opts.sample_every:.3g}): it must be "
+                         f">= 2/N = {2.0 / int(n_particles):.6g}")
     masses = np.asarray(mixture.masses, dtype=float)
     checked = check_seed(seed)
     root = checked if isinstance(checked, np.random.SeedSequence) \
@@ -566,7 +574,8 @@ class MixtureDSMCOptions:
         Mean collisions per rod per time step of the forced runs, in (0, 0.5] (free
         cooling in scaled variables has no time step).
     sample_every : float
-        Collisions per rod between measurements.
+        Collisions per rod between measurements; :func:`simulate_mixture` refuses less
+        than one collision between them (``sample_every < 2/N``).
     n_batches : int
         Consecutive batches for the error bars, >= 2.
     bins : int

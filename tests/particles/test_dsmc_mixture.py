@@ -197,3 +197,16 @@ def test_vector_range_and_power_sums_are_the_plain_loops():
         assert np.array_equal(plain, fast)
         lanes = [x[lane::4] for lane in range(4)]
         assert np.allclose(plain[1:].T, [[np.sum(y**k) for k in range(1, 13)] for y in lanes])
+
+
+def test_sample_every_below_one_collision_is_refused():
+    """Measurements are at least one collision apart: below 2/N they were silently taken
+    every collision."""
+    mix = Mixture.white_noise((1.0, 2.0), (0.5, 0.5))
+    with pytest.raises(ValueError, match=r"options.sample_every=0.01 .*n_particles=100.*"
+                                         r">= 2/N = 0\.02"):
+        simulate_mixture(mix, 100, collisions_per_particle=1.0, relax=0.0,
+                         options=MixtureDSMCOptions(sample_every=0.01, n_batches=2))
+    run = simulate_mixture(mix, 100, seed=1, collisions_per_particle=1.0, relax=0.0,
+                           options=MixtureDSMCOptions(sample_every=0.02, n_batches=2))
+    assert np.all(run.temperatures > 0)
