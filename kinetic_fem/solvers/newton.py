@@ -260,7 +260,7 @@ class NewtonOptions:
     ----------
     tol, max_iter, criterion, norm, step_norm, update, linear_solver, row_scale, \
 column_scale, line_search, armijo, min_damping, on_failure, stall_level, factorize, \
-chord, chord_rate, predict, predict_newton, pseudo_time, name
+chord, chord_rate, chord_contracted, predict, predict_newton, pseudo_time, name
         As in :func:`newton` (``tol`` required).
 
     Examples
@@ -287,6 +287,7 @@ chord, chord_rate, predict, predict_newton, pseudo_time, name
     factorize: Callable[[Any], Callable[[Array], Array]] | None = None
     chord: float = 0.0
     chord_rate: float = 0.1
+    chord_contracted: float = 0.0
     predict: float = 0.0
     predict_newton: bool = False
     pseudo_time: PseudoTransient | None = None
@@ -360,6 +361,11 @@ def newton(fun: System, x0: ArrayLike, options: NewtonOptions | None = None,
     chord_rate : float
         Contraction a chord step must reach, in (0, 1).  Without a line search the
         Jacobian of an iterate that will take a chord step is not evaluated.
+    chord_contracted : float
+        With ``chord``: a full Newton step below this (and above ``chord``) that
+        contracts the previous full step by ``chord_rate**2`` or more (the quadratic
+        regime: the chord iteration then contracts by about the square of that) is
+        followed by chord steps too.  0 (the default): off.
     predict : float
         With ``criterion="step"``: take a chord step whose size times its contraction
         rate (the next step a chord iteration predicts) is below ``predict * tol`` and
@@ -407,6 +413,7 @@ def newton(fun: System, x0: ArrayLike, options: NewtonOptions | None = None,
     armijo, min_damping, on_failure = o.armijo, o.min_damping, o.on_failure
     stall_level, factorize, chord = o.stall_level, o.factorize, o.chord
     chord_rate, predict, predict_newton = o.chord_rate, o.predict, o.predict_newton
+    chord_contracted = o.chord_contracted
     if o.pseudo_time is not None:
         return _pseudo_transient(fun, x0, o)
     _check_options(tol, max_iter, criterion, armijo, min_damping, on_failure, stall_level)
@@ -550,7 +557,9 @@ def newton(fun: System, x0: ArrayLike, options: NewtonOptions | None = None,
                        f"{name} stopped: {why}, residual {res:.2e} (tol {tol:.1e})")
             break
         step_size = newton_step
-        use_chord = chord > 0.0 and theta == 1.0 and newton_step < chord
+        use_chord = chord > 0.0 and theta == 1.0 and (newton_step < chord or (
+            newton_step < chord_contracted and last_full
+            and newton_step <= chord_rate * chord_rate * last_step))
         last_step, last_full = newton_step, theta == 1.0
         x_old = x
         x, r, jac = x_t, r_t, jac_t

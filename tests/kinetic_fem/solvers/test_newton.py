@@ -228,6 +228,36 @@ def test_chord_steps_reuse_the_factorisation():
     assert slow.converged
 
 
+def test_chord_contracted_reuses_the_factors_in_the_quadratic_regime():
+    """With ``chord_contracted``: a full step above ``chord`` that contracted the one
+    before by ``chord_rate**2`` is followed by chord steps (one Jacobian fewer here, the
+    same root); a step without that contraction (the first) is not."""
+    target = np.array([1.0, 2.0, 3.0])
+    calls = {"jac": 0}
+
+    def fun(x, jacobian):
+        if jacobian:
+            calls["jac"] += 1
+        return x**3 + x - (target**3 + target), np.diag(3 * x**2 + 1.0) if jacobian else None
+
+    def factorize(j):
+        lu = scipy.linalg.lu_factor(j)
+        return lambda b: scipy.linalg.lu_solve(lu, b)
+
+    runs = {}
+    for contracted in (0.0, 0.5):
+        calls["jac"] = 0
+        res = newton(fun, np.full(3, 1.5), tol=1e-13, factorize=factorize, chord=1e-6,
+                     chord_rate=0.1, chord_contracted=contracted, criterion="step")
+        assert res.converged
+        np.testing.assert_allclose(res.x, target, rtol=1e-14)
+        runs[contracted] = (calls["jac"], list(res.history))
+    (plain, steps), (fewer, _) = runs[0.0], runs[0.5]
+    # the plain run's steps: a full step below 0.5 contracting the one before by 1e-2
+    assert any(b < 0.5 and b <= 1e-2 * a for a, b in zip(steps, steps[1:], strict=False))
+    assert fewer < plain
+
+
 @pytest.mark.parametrize("kw", [dict(chord=-1.0), dict(chord=1e-3, chord_rate=1.5),
                                 dict(chord=1e-3)])
 def test_bad_chord_options_raise(kw):
