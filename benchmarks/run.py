@@ -57,6 +57,7 @@ BENCHMARKS: dict[str, tuple[str, bool]] = {
     "convergence_transient": ("convergence", True),
     "convergence_dsmc": ("convergence", True),
     "convergence_fem_mixture": ("convergence", False),
+    "convergence_fem_mixture_cooling": ("convergence", False),
     "convergence_fem_mixture_laws": ("convergence", False),
     "convergence_mixture_spectral": ("convergence", False),
     # validation
