@@ -47,6 +47,10 @@ B(g)`).  The meshes end where the one-species start has fallen 38 decades and, f
 inelasticities of at least 0.2, grade the tail as the one-species HCS meshes do
 (:func:`mixture_meshes`); Newton's step is measured where :math:`f_s > 10^{-15}`
 (:data:`COOLING_MONITOR_LOG_F`; heated: :math:`10^{-30}`, :data:`HEATED_MONITOR_LOG_F`).
+With a kernel :math:`|g|^\\gamma`, :math:`\\gamma > 0`, the pair sums of two species
+integrate the outer velocity on the outer elements cut at the inner species' bulk
+vertices (:func:`merged_rule`, :data:`SPLIT_REACH`: order 8 as one species, where the
+element rule of two meshes erred at order 4).
 
 Kernels with a compiled rate (power laws, the saturating kernel; the cooling state power
 laws only).  **Restitution laws per pair** (heated state): a pair with a velocity-dependent
