@@ -120,7 +120,7 @@ from kinetic_fem.sonine import a2_first_order
 
 from ._dsmc_engine import DSMCOptions, DSMCRun, Engine
 from ._dsmc_model import kernel_model
-from .run import Checkpointing, check_memory, check_seed, check_work
+from .run import MEASUREMENT_EVENTS, Checkpointing, check_memory, check_seed, check_work
 from .sampling import initial_velocities_of
 
 __all__ = ["DSMCRun", "simulate_heated", "simulate_cooling", "combine_runs",
@@ -137,10 +137,6 @@ alpha <= 0.99999 for hard rods; beyond, give ``relax`` explicitly."""
 
 _BYTES_PER_PARTICLE = 48
 """Arrays per particle of a DSMC run (velocities, their copy, indices), for the check."""
-
-_MEASUREMENT_EVENTS = 5000.0
-"""Cost of one measurement beyond its N particles, in events of :data:`particles.run.MAX_EVENTS`
-(the Python of a measurement, about 50 us, at 1e8 events per second)."""
 
 
 def _check_int(name: str, value: object, lo: int, hi: int | None = None) -> int:
@@ -194,7 +190,7 @@ def _common(n_particles: int, collisions_per_particle: float, relax: str | float
     # measurements of the averaging and of a fixed relaxation (relax='auto': its first
     # two windows, the fewest the detector needs); each costs N and the Python around it
     measurements = (cpp + fixed) / every + (2 * max(10.0, w / every) if relax == "auto" else 0)
-    check_work(measurements * (n + _MEASUREMENT_EVENTS),
+    check_work(measurements * (n + MEASUREMENT_EVENTS),
                f"{measurements:.3g} measurements of N={n} (collisions_per_particle={cpp:g}"
                + (f" and relax={fixed:g}" if fixed else "") + f" / sample_every={every:g})")
     check_memory(_BYTES_PER_PARTICLE * n + 100.0 * measurements,

@@ -110,8 +110,14 @@ from ._md_run import (
     density_fluctuations,
     run_md,
 )
-from .rods import check_geometry, hard_rods, initial_state, mean_free_time
-from .run import check_memory, check_seed, check_work
+from .rods import (
+    check_geometry,
+    check_sample_interval,
+    hard_rods,
+    initial_state,
+    mean_free_time,
+)
+from .run import check_measurements, check_memory, check_seed, check_work
 
 __all__ = ["simulate_heated", "simulate_cooling", "MDRun", "Snapshot", "DensityFluctuations",
            "InelasticCollapseError", "initial_state", "density_fluctuations",
@@ -126,6 +132,12 @@ MAX_KICK_INTERVAL = 10.0
 """Largest kick interval of heated runs, in estimated mean free times."""
 _BYTES_PER_ROD = 160
 """Arrays per rod of an MD run (positions, velocities, event calendar), for the check."""
+_BYTES_PER_RECORD = 600
+"""Memory of one record of the time series (its place in the schedule and the set of
+stops, its row of 8 floats as a Python list, the series arrays and checkpoint copy)."""
+_BYTES_PER_SAMPLE_POINT = 200
+"""Memory of one sample point of a cooling run (its collision count in the schedule arrays
+and in the dict of sample points)."""
 HEATED_THRESHOLD = 1e-2
 """Default threshold of heated runs, in units of the estimated thermal speed."""
 LAW_SPEED_SPAN = 10.0
@@ -134,10 +146,11 @@ LAW_SPEED_SPAN = 10.0
 
 
 def _common(n_particles, density, sigma, collisions_per_particle, n_samples, n_batches,
-            n_bins, box_counts, collapse_tol, max_stall):
+            n_bins, n_records, box_counts, collapse_tol, max_stall):
     n, sig = check_geometry(n_particles, density, sigma)
     cpp = check_positive("collisions_per_particle", collisions_per_particle)
-    for name, val in (("n_samples", n_samples), ("n_batches", n_batches), ("n_bins", n_bins)):
+    for name, val in (("n_samples", n_samples), ("n_batches", n_batches), ("n_bins", n_bins),
+                      ("n_records", n_records)):
         if isinstance(val, bool) or not isinstance(val, (int, np.integer)) or val < 1:
             raise ValueError(f"{name} must be a positive int, got {val!r}")
     if n_samples < n_batches:
@@ -154,6 +167,36 @@ def _common(n_particles, density, sigma, collisions_per_particle, n_samples, n_b
     check_work(0.5 * n * cpp, f"collisions_per_particle={cpp:g} with N={n}")
     check_memory(_BYTES_PER_ROD * n, f"MD of N={n}")
     return n, sig, cpp, tuple(int(m) for m in boxes), stall
+
+
+def _check_stops(n: int, samples: float, sample_bytes: float, given: str, n_records: int,
+                 n_snapshots: int) -> None:
+    """Refuse up front the stops of a run beyond ``MAX_EVENTS`` or the available memory.
+
+    Each sample, record and snapshot reads the N rods (``N + MEASUREMENT_EVENTS`` events,
+    :func:`particles.run.check_measurements`); beside the rods' arrays, a sample point
+    costs ``sample_bytes``, a record ``_BYTES_PER_RECORD``, a snapshot its ``16 N`` bytes
+    of positions and velocities.
+
+    Parameters
+    ----------
+    n : int
+        Rods.
+    samples : float
+        Planned samples (an estimate for samples uniform in time).
+    sample_bytes : float
+        Memory of one sample point.
+    given : str
+        The arguments that set ``samples``, for the message.
+    n_records, n_snapshots : int
+        Records of the time series and snapshots asked for.
+    """
+    n_bytes = (_BYTES_PER_ROD * n + samples * sample_bytes + n_records * _BYTES_PER_RECORD
+               + n_snapshots * (16.0 * n + _BYTES_PER_RECORD))
+    check_measurements(samples + n_records + n_snapshots, n, n_bytes,
+                       f"MD of N={n} with {given}, n_records={n_records} and "
+                       f"len(snapshots_at)={n_snapshots}",
+                       "take fewer samples, records or snapshots")
 
 
 def _check_snapshots(snapshots_at: Sequence[float], cpp: float) -> tuple[float, ...]:
@@ -282,7 +325,7 @@ def simulate_heated(alpha: float | RestitutionLaw, n_particles: int, *, density:
     gas, law = problem.gas, problem.gas.restitution
     n, sig, cpp, boxes, stall = _common(
         n_particles, gas.density, sigma, collisions_per_particle, n_batches, n_batches,
-        n_bins, box_counts, collapse_tol, max_stall)
+        n_bins, n_records, box_counts, collapse_tol, max_stall)
     ck = Checkpointing.from_arguments(checkpoint, checkpoint_every, resume, max_wall_time)
     dens = gas.density
     # the model's scales at the collision density of the reduced ring (Enskog factor)
@@ -299,15 +342,21 @@ def simulate_heated(alpha: float | RestitutionLaw, n_particles: int, *, density:
                              f"most {MAX_KICK_INTERVAL:g} (<= {MAX_KICK_INTERVAL * tau:.4g}) "
                              "are allowed: rarer kicks do not model the white noise (default "
                              f"{KICK_FRACTION:g} mean free times)")
-    sample_dt = check_positive("sample_interval", sample_interval) * tau
+    warm = 0.5 * cpp if warmup is None else float(warmup)
+    if not 0.0 <= warm < cpp:
+        raise ValueError(f"warmup={warmup!r} must lie in [0, collisions_per_particle)")
+    every, samples = check_sample_interval(sample_interval, cpp, warm)
+    snaps = _check_snapshots(snapshots_at, cpp)
+    # samples are accumulated, not kept: they cost work only
+    _check_stops(n, samples, 0.0, f"sample_interval={every:g} (about {samples:.3g} samples "
+                 f"in collisions_per_particle - warmup = {cpp - warm:g} mean free times)",
+                 n_records, len(snaps))
+    sample_dt = every * tau
     thr = (HEATED_THRESHOLD * math.sqrt(t_est) if threshold is None
            else check_positive("threshold", threshold))
     logger.info("heated MD %r N=%d: T_est %.4g, kick interval %.4g (%.3g mean free times), "
                 "threshold %.3g (%.2g thermal speeds)", law, n, t_est, dt_k, dt_k / tau, thr,
                 thr / math.sqrt(t_est))
-    warm = 0.5 * cpp if warmup is None else float(warmup)
-    if not 0.0 <= warm < cpp:
-        raise ValueError(f"warmup={warmup!r} must lie in [0, collisions_per_particle)")
     rng = _seeded(seed)
     y, v = initial_state(n, density=dens, sigma=sig, temperature=t_est, rng=rng,
                          positions=positions, velocities=velocities)
@@ -322,8 +371,8 @@ def simulate_heated(alpha: float | RestitutionLaw, n_particles: int, *, density:
     plan = RunPlan(scaled=False, total=int(round(cpp * n / 2)),
                    sample_from=int(round(warm * n / 2)), n_samples=n_batches,
                    n_batches=n_batches, hist_range=12.0 * math.sqrt(t_est), n_bins=n_bins,
-                   snapshots_at=_check_snapshots(snapshots_at, cpp), n_records=n_records,
-                   box_counts=boxes, sample_dt=sample_dt)
+                   snapshots_at=snaps, n_records=int(n_records), box_counts=boxes,
+                   sample_dt=sample_dt)
     return run_md(params, seed=seed, y=y, v=v, rng=rng, options=options, plan=plan,
                   checkpointing=ck, progress=resolve_progress(progress))
 
@@ -387,13 +436,15 @@ checkpoint_every, resume, max_wall_time, collapse_tol, max_stall
     law = gas.restitution
     n, sig, cpp, boxes, stall = _common(
         n_particles, gas.density, sigma, collisions_per_particle, n_samples, n_batches,
-        n_bins, box_counts, collapse_tol, max_stall)
+        n_bins, n_records, box_counts, collapse_tol, max_stall)
     ck = Checkpointing.from_arguments(checkpoint, checkpoint_every, resume, max_wall_time)
     thr = 0.0 if threshold is None else check_positive("threshold", threshold)
     start = 0.5 * cpp if sample_from is None else float(sample_from)
     if not 0.0 <= start <= cpp:
         raise ValueError(f"sample_from={sample_from!r} must lie in [0, collisions_per_particle]")
     snapshots_at = _check_snapshots(snapshots_at, cpp)
+    _check_stops(n, n_samples, _BYTES_PER_SAMPLE_POINT, f"n_samples={n_samples}", n_records,
+                 len(snapshots_at))
     rng = _seeded(seed)
     dens = gas.density
     y, v = initial_state(n, density=dens, sigma=sig, rng=rng, positions=positions,
@@ -407,7 +458,7 @@ checkpoint_every, resume, max_wall_time, collapse_tol, max_stall
     plan = RunPlan(scaled=True, total=int(round(cpp * n / 2)),
                    sample_from=int(round(start * n / 2)), n_samples=n_samples,
                    n_batches=n_batches, hist_range=c_max, n_bins=n_bins,
-                   snapshots_at=tuple(float(s) for s in snapshots_at), n_records=n_records,
+                   snapshots_at=tuple(float(s) for s in snapshots_at), n_records=int(n_records),
                    box_counts=boxes)
     return run_md(params, seed=seed, y=y, v=v, rng=rng, options=options, plan=plan,
                   checkpointing=ck, progress=resolve_progress(progress))

@@ -60,14 +60,18 @@ from kinetic_fem.solvers import mixture_gaussian
 from ._md_engine import EngineOptions, Kicks, MDEngine, MixtureRods
 from ._md_kernels import F_T
 from .dsmc_mixture import MixtureRun, species_counts
-from .md import HEATED_THRESHOLD, KICK_FRACTION
-from .rods import check_geometry, hard_rods, initial_state
-from .run import check_seed, check_work
+from .md import _BYTES_PER_ROD, HEATED_THRESHOLD, KICK_FRACTION
+from .rods import check_geometry, check_sample_interval, hard_rods, initial_state
+from .run import check_measurements, check_seed, check_work
 from .sampling import Accumulator
 
 __all__ = ["simulate_mixture"]
 
 logger = logging.getLogger(__name__)
+
+_SAMPLE_OVERHEAD = 300
+"""Memory of one kept sample beyond its N velocities (the array object and its list entry,
+free cooling's (time, temperature) and schedule entry)."""
 
 
 def _mean_relative_speed(mixture: Mixture, temperatures: NDArray[np.float64]) -> float:
@@ -191,8 +195,18 @@ def simulate_mixture(mixture: Mixture, n_particles: int, *, density: float = 1.0
         raise ValueError(f"warmup must lie in [0, collisions_per_particle={cpp:g}), got "
                          f"{warmup!r}")
     check_work(0.5 * n * cpp, f"collisions_per_particle={cpp:g} with N={n}")
-    masses = np.asarray(mixture.masses, dtype=float)
     heated = mixture.heated
+    # every sample's N velocities are kept until the end
+    if heated:
+        every, samples = check_sample_interval(sample_interval, cpp, warm)
+        given = (f"sample_interval={every:g} (about {samples:.3g} samples in "
+                 f"collisions_per_particle - warmup = {cpp - warm:g} mean free times)")
+    else:
+        samples, given = float(n_samples), f"n_samples={n_samples}"
+    check_measurements(samples, n, (_BYTES_PER_ROD + 24 + mixture.n_species) * n
+                       + samples * (8.0 * n + _SAMPLE_OVERHEAD),
+                       f"MD of a mixture of N={n} keeping the velocities of {given}")
+    masses = np.asarray(mixture.masses, dtype=float)
     frictions = mixture.frictions()
     if heated and np.ptp(frictions) > 0.0:
         raise UnsupportedModelError(
@@ -255,7 +269,7 @@ def simulate_mixture(mixture: Mixture, n_particles: int, *, density: float = 1.0
         warm_cpp = 2.0 * engine.n_collisions / n
         if warm_cpp > 0.0:
             tau = float(engine.fstate[F_T]) / warm_cpp
-        sample_dt = check_positive("sample_interval", sample_interval) * tau
+        sample_dt = every * tau
         t_next = float(engine.fstate[F_T]) + sample_dt
         while engine.advance(total, t_next):
             sample()

@@ -4,6 +4,7 @@ The geometry that :mod:`particles.md` builds its runs on: MD simulates hard rods
 (:func:`hard_rods` refuses other kernels), rods of length ``sigma`` at density ``n`` on a
 ring of length ``L = N/n`` are mapped to points on the reduced ring of length
 ``L - N sigma``, and :func:`initial_state` places them without overlap.
+:func:`check_sample_interval` plans the samples of a heated run (uniform in time).
 """
 
 from __future__ import annotations
@@ -19,9 +20,56 @@ from kinetic_fem.model import (
     UnsupportedModelError,
     as_kernel,
     check_finite_array,
+    check_positive,
 )
 
-__all__ = ["mean_free_time", "hard_rods", "initial_state", "check_geometry"]
+__all__ = ["mean_free_time", "hard_rods", "initial_state", "check_geometry",
+           "check_sample_interval", "SAMPLE_CLOCK_RESOLUTION"]
+
+SAMPLE_CLOCK_RESOLUTION = 1e-12
+"""Smallest heated ``sample_interval`` per collision per particle of the run: a step of
+the sampling clock below it is lost in the double-precision time of the run's end (the
+clock stops and the run samples forever)."""
+
+
+def check_sample_interval(sample_interval: object, collisions_per_particle: float,
+                          warmup: float) -> tuple[float, float]:
+    """Validate a heated run's ``sample_interval``, in mean free times, and plan its samples.
+
+    A run of ``collisions_per_particle`` lasts about as many mean free times, so sampling
+    every ``sample_interval`` of them from ``warmup`` on takes about
+    ``(collisions_per_particle - warmup) / sample_interval`` samples (an estimate: the
+    run's mean free time can differ from the one the interval is scaled by).
+
+    Parameters
+    ----------
+    sample_interval : float
+        The argument: time between samples in mean free times.
+    collisions_per_particle, warmup : float
+        The run's length and its warm-up (validated), collisions per particle.
+
+    Returns
+    -------
+    sample_interval, samples : float
+        The interval and the planned number of samples.
+
+    Raises
+    ------
+    TypeError
+        If ``sample_interval`` is not a real number.
+    ValueError
+        If it is not positive and finite, or below :data:`SAMPLE_CLOCK_RESOLUTION`
+        ``* collisions_per_particle``.
+    """
+    every = check_positive("sample_interval", sample_interval)
+    least = SAMPLE_CLOCK_RESOLUTION * collisions_per_particle
+    if every < least:
+        raise ValueError(f"sample_interval={every:.6g} mean free times is below the "
+                         "resolution of the run's clock over collisions_per_particle="
+                         f"{collisions_per_particle:g} (about as many mean free times): "
+                         f"sample_interval must be >= {least:.3g} "
+                         f"({SAMPLE_CLOCK_RESOLUTION:g} * collisions_per_particle)")
+    return every, (collisions_per_particle - warmup) / every
 
 
 def mean_free_time(temperature: float, density: float, sigma: float) -> float:

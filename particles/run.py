@@ -29,12 +29,17 @@ from kinetic_fem.model import check_nonnegative, check_positive
 
 from .sampling import load_checkpoint
 
-__all__ = ["ParticleRun", "Checkpointing", "MAX_EVENTS", "check_seed", "check_work",
-           "check_memory"]
+__all__ = ["ParticleRun", "Checkpointing", "MAX_EVENTS", "MEASUREMENT_EVENTS", "check_seed",
+           "check_work", "check_memory", "check_measurements"]
 
 MAX_EVENTS = 1e13
 """Most collisions (or time steps times particles) a run may plan: about a day at 1e8 per
 second.  Longer studies are several checkpointed runs; raise it here to go beyond."""
+
+MEASUREMENT_EVENTS = 5000.0
+"""Cost of one measurement (a sample, record or snapshot of the N particles) beyond its N,
+in events of :data:`MAX_EVENTS`: the Python around it, about 50 us at 1e8 events per
+second."""
 
 
 def check_seed(seed: object) -> object:
@@ -66,7 +71,8 @@ def check_seed(seed: object) -> object:
     return int(seed)
 
 
-def check_work(events: float, what: str) -> None:
+def check_work(events: float, what: str,
+               advice: str = "shorten the run or split it into checkpointed runs") -> None:
     """Refuse up front a run of more than :data:`MAX_EVENTS` planned events.
 
     Parameters
@@ -75,11 +81,13 @@ def check_work(events: float, what: str) -> None:
         The estimate (collisions, or time steps times particles).
     what : str
         How the estimate arose, for the message.
+    advice : str
+        What to change, for the message.
     """
     if not events <= MAX_EVENTS:
         raise ValueError(f"{what} plans about {events:.3g} events, more than "
                          f"particles.run.MAX_EVENTS = {MAX_EVENTS:.3g} (a day at 1e8 per "
-                         "second): shorten the run or split it into checkpointed runs")
+                         f"second): {advice}")
 
 
 def available_memory() -> float:
@@ -90,7 +98,7 @@ def available_memory() -> float:
         return math.inf
 
 
-def check_memory(n_bytes: float, what: str) -> None:
+def check_memory(n_bytes: float, what: str, advice: str = "use fewer particles") -> None:
     """Refuse up front a run whose arrays would not fit in the available memory.
 
     Parameters
@@ -99,6 +107,8 @@ def check_memory(n_bytes: float, what: str) -> None:
         Estimated bytes of the run's arrays.
     what : str
         The run, for the message.
+    advice : str
+        What to change, for the message.
 
     Raises
     ------
@@ -108,7 +118,40 @@ def check_memory(n_bytes: float, what: str) -> None:
     free = available_memory()
     if n_bytes > free:
         raise MemoryError(f"{what} needs about {n_bytes / 2**30:.3g} GiB of arrays; "
-                          f"{free / 2**30:.3g} GiB are available: use fewer particles")
+                          f"{free / 2**30:.3g} GiB are available: {advice}")
+
+
+def check_measurements(count: float, n: int, n_bytes: float, what: str,
+                       advice: str = "take fewer samples") -> None:
+    """Refuse up front the measurements of a run beyond :data:`MAX_EVENTS` or the memory.
+
+    Each of the ``count`` measurements reads the N particles and costs
+    :data:`MEASUREMENT_EVENTS` more (:func:`check_work`); ``n_bytes`` is the memory of the
+    run with them (:func:`check_memory`).
+
+    Parameters
+    ----------
+    count : float
+        Planned measurements (samples, records, snapshots), an estimate where the run
+        decides (samples uniform in time).
+    n : int
+        Particles read by each.
+    n_bytes : float
+        Estimated bytes of the run's arrays with those measurements.
+    what : str
+        The measurements and the arguments that set them, for the message.
+    advice : str
+        What to change, for the message.
+
+    Raises
+    ------
+    ValueError
+        Beyond :data:`MAX_EVENTS`.
+    MemoryError
+        Beyond the available memory.
+    """
+    check_work(count * (n + MEASUREMENT_EVENTS), what, advice)
+    check_memory(n_bytes, what, advice)
 
 
 class ParticleRun:
