@@ -1,11 +1,13 @@
 """Particle runs refuse up front what cannot finish or is misspelt (issue 28)."""
 
 import math
+import time
 
 import numpy as np
 import pytest
 
-from particles import dsmc, md
+from kinetic_fem import Mixture
+from particles import dsmc, md, md_mixture
 
 KW = dict(seed=1, collisions_per_particle=10, n_batches=2)
 
@@ -111,3 +113,88 @@ def test_dsmc_measurements_are_bounded_by_their_cost():
 def test_dsmc_fixed_relax_counts_in_the_work_bound():
     with pytest.raises(ValueError, match="relax=1e\\+300"):
         dsmc.simulate_cooling(0.6, 200, **{**KW, "relax": 1e300})
+
+
+# MD: every sample, record and snapshot reads the N rods (N + 5000 events each against
+# MAX_EVENTS), cooling sample points and records are scheduled up front and the mixture
+# keeps every sample's N velocities: hostile counts are refused by name before any work
+# (n_samples=10**12 built a linspace of 8 TB; sample_interval=1e-9 kept 5e9 samples)
+
+MD_KW = dict(seed=1, collisions_per_particle=10.0, n_batches=2)
+
+
+def _refused_at_once(call, error, match):
+    start = time.perf_counter()
+    with pytest.raises(error, match=match):
+        call()
+    assert time.perf_counter() - start < 1.0
+
+
+@pytest.mark.parametrize("simulate, changes, error, match", [
+    (md.simulate_heated, dict(sample_interval=1e-9), ValueError,
+     r"sample_interval=1e-09 \(about 5e\+09 samples.*MAX_EVENTS.*take fewer samples"),
+    (md.simulate_heated, dict(sample_interval=1e-300), ValueError,
+     r"sample_interval=1e-300 mean free times.*must be >= 1e-11"),
+    (md.simulate_heated, dict(n_records=10**12), ValueError,
+     r"n_records=1000000000000.*MAX_EVENTS"),
+    (md.simulate_cooling, dict(n_samples=10**12), ValueError,
+     r"n_samples=1000000000000.*MAX_EVENTS"),
+    (md.simulate_cooling, dict(n_records=10**12), ValueError,
+     r"n_records=1000000000000.*MAX_EVENTS"),
+    (md.simulate_cooling, dict(n_samples=True), ValueError, "n_samples must be a positive int"),
+    (md.simulate_cooling, dict(n_samples=50.0), ValueError, "n_samples must be a positive int"),
+    (md.simulate_cooling, dict(n_samples=-5), ValueError, "n_samples must be a positive int"),
+    (md.simulate_heated, dict(n_records=True), ValueError, "n_records must be a positive int"),
+    (md.simulate_heated, dict(n_records=2.5), ValueError, "n_records must be a positive int"),
+    (md.simulate_cooling, dict(n_records=0), ValueError, "n_records must be a positive int"),
+    (md.simulate_cooling, dict(n_records=-1), ValueError, "n_records must be a positive int"),
+])
+def test_md_refuses_hostile_sample_counts_at_once(simulate, changes, error, match):
+    _refused_at_once(lambda: simulate(0.9, 50, **{**MD_KW, **changes}), error, match)
+
+
+def test_md_snapshots_beyond_the_memory_are_refused_by_name():
+    # 1e5 snapshots of N = 1e7 rods: 16 TB of positions and velocities
+    _refused_at_once(lambda: md.simulate_cooling(0.9, 10**7, snapshots_at=[1.0] * 10**5,
+                                                 **MD_KW),
+                     MemoryError, r"len\(snapshots_at\)=100000.*GiB.*take fewer samples")
+
+
+HEATED_MIX = Mixture.white_noise((1.0, 4.0), (0.5, 0.5), alpha=0.9)
+COOLING_MIX = Mixture((1.0, 2.0), (0.5, 0.5))
+
+
+@pytest.mark.parametrize("mixture, n, changes, error, match", [
+    (HEATED_MIX, 100, dict(sample_interval=1e-9), ValueError,
+     r"keeping the velocities of sample_interval=1e-09 \(about 5e\+09 samples.*MAX_EVENTS"),
+    (HEATED_MIX, 100, dict(sample_interval=1e-13), ValueError,
+     r"sample_interval=1e-13 .*must be >= 1e-11"),
+    (HEATED_MIX, 100, dict(sample_interval=-1.0), ValueError, "sample_interval"),
+    (HEATED_MIX, 100, dict(sample_interval=math.nan), ValueError, "sample_interval"),
+    # 5e5 samples of 1e6 velocities (4 TB) pass the work bound, not the memory
+    (HEATED_MIX, 10**6, dict(sample_interval=1e-5), MemoryError,
+     r"sample_interval=1e-05 \(about 5e\+05 samples.*GiB.*take fewer samples"),
+    (COOLING_MIX, 100, dict(n_samples=10**12), ValueError,
+     r"n_samples=1000000000000.*MAX_EVENTS"),
+    (COOLING_MIX, 10**6, dict(n_samples=10**6), MemoryError, r"n_samples=1000000.*GiB"),
+    (COOLING_MIX, 100, dict(n_samples=True), ValueError, "n_samples must be an integer"),
+    (COOLING_MIX, 100, dict(n_samples=50.0), ValueError, "n_samples must be an integer"),
+])
+def test_md_mixture_refuses_hostile_sample_counts_at_once(mixture, n, changes, error, match):
+    _refused_at_once(lambda: md_mixture.simulate_mixture(
+        mixture, n, **{**MD_KW, "threshold": 1e-3, **changes}), error, match)
+
+
+def test_md_largest_planned_runs_of_the_repository_pass_the_checks():
+    """Beyond the largest stops among the callers (figures: heated N = 5000 over 3001
+    collisions per particle, 2000 samples, here 10000 at the mixture figure's
+    sample_interval 0.2; cooling 400 samples, 20000 records, 20 snapshots) are allowed (the
+    run is stopped at once by the wall-time limit, before any sample)."""
+    with pytest.raises(RuntimeError, match="before any sample was taken"):
+        md.simulate_heated(0.999, 5000, seed=1, collisions_per_particle=3001.0,
+                           warmup=1000.0, n_records=20000, sample_interval=0.2,
+                           max_wall_time=1e-9)
+    with pytest.raises(RuntimeError, match="before any sample was taken"):
+        md.simulate_cooling(0.9, 25000, seed=1, collisions_per_particle=1e4, n_samples=400,
+                            n_records=20000, snapshots_at=np.linspace(500.0, 1e4, 20),
+                            threshold=1e-3, max_wall_time=1e-9)
