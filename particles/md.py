@@ -268,14 +268,17 @@ def simulate_heated(alpha: float | RestitutionLaw, n_particles: int, *, density:
         docstring).
     sample_interval : float
         Time between samples (all N velocities and positions each), in estimated mean
-        free times; sampling is uniform in time after the warm-up.
+        free times; sampling is uniform in time after the warm-up.  At least
+        ``1e-12 * collisions_per_particle``; the planned samples, about
+        ``(collisions_per_particle - warmup) / sample_interval``, records and snapshots
+        count ``N + 5000`` events each against ``particles.run.MAX_EVENTS``.
     n_batches, n_bins : int
         Batches for error bars (consecutive stretches of the sampling period) and
         histogram bins on :math:`\\pm 12\\sqrt{T_{est}}`.
     snapshots_at : sequence of float
         Collisions per particle of x-c snapshots.
     n_records : int
-        Points of the time series (linear in collisions).
+        Points of the time series (linear in collisions), a positive int.
     box_counts : sequence of int, optional
         Numbers of boxes for the density fluctuations (default 2, 4, ..., N/4).
     positions, velocities : array_like, optional

@@ -138,7 +138,11 @@ def simulate_mixture(mixture: Mixture, n_particles: int, *, density: float = 1.0
         cooling default None (plain dynamics: inelastic collapse is raised).
     sample_interval : float
         Heated: time between samples, in mean free times (measured over the warm-up;
-        without one, the Gaussian estimate).
+        without one, the Gaussian estimate), at least ``1e-12 *
+        collisions_per_particle``.  Every sample's N velocities are kept: about
+        ``(collisions_per_particle - warmup) / sample_interval`` samples (free cooling:
+        ``n_samples``) must fit in the memory and ``particles.run.MAX_EVENTS`` (``N +
+        5000`` events each).
     n_samples : int
         Free cooling: samples (evenly spaced in collisions from ``warmup`` to the end), more
         than ``n_batches`` (each batch's cooling rate needs an interval between samples).
