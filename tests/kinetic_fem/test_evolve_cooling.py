@@ -114,12 +114,16 @@ def test_maxwell_to_1e6_over_three_segments():
 
 @pytest.mark.slow
 def test_gaussian_start_approaches_the_hcs_and_haff(hcs_state):
-    """Hard rods, alpha 0.5, from a Gaussian (spacing 0.25, rtol 1e-7) to t = 1000: zeta
+    """Hard rods, alpha 0.5, from a Gaussian (spacing 0.25, rtol 1e-6) to t = 1000: zeta
     and a2 tend to the HCS of kf.solve_cooling, T(t) to Haff's law with its zeta, and
-    d ln T / d ln t to -2 (measured figures: benchmarks/results/cooling_transient.md)."""
+    d ln T / d ln t to -2 (measured figures: benchmarks/results/cooling_transient.md).
+    rtol was 1e-7 under the per-step error control; since the error is controlled per
+    collision time (42df862) rtol 1e-7 took 20000 steps (max_steps) before t = 910, and
+    rtol 1e-6 measures zeta 3.1e-6, a2 1.9e-5, Haff 8.9e-6, slope -1.9913 (5854 steps,
+    181 CPU s; at 1e-5: 2.4e-5, 1.5e-4, 7.5e-5, too close to the bounds)."""
     zeta = hcs_state.info.extra["zeta"]
     times = np.array([100.0, 300.0, 1000.0])
-    ev = kf.evolve_cooling(0.5, times=times, spacing=0.25, rtol=1e-7)
+    ev = kf.evolve_cooling(0.5, times=times, spacing=0.25, rtol=1e-6)
     assert abs(ev.series["zeta"][-1] / zeta - 1) < 3e-5
     assert abs(ev.a2[-1] - hcs_state.a2) < 2e-4
     haff = ev.temperature[0] / (1 + zeta * math.sqrt(ev.temperature[0]) * (times - times[0])) ** 2
